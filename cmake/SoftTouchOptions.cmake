@@ -1,0 +1,28 @@
+# Compiler settings shared by every SoftTouch target, through one interface target.
+add_library(softtouch_build_options INTERFACE)
+add_library(softtouch::build_options ALIAS softtouch_build_options)
+
+target_compile_options(softtouch_build_options INTERFACE
+  -Wall -Wextra -Wshadow -Wnon-virtual-dtor -Wpedantic
+  # Determinism: the same inputs on the same build give byte-identical caches. Fused
+  # multiply-adds change rounding depending on what the optimiser chooses, so they are off.
+  -ffp-contract=off)
+
+if(SOFTTOUCH_STRICT)
+  target_compile_options(softtouch_build_options INTERFACE -Werror)
+endif()
+
+if(SOFTTOUCH_SANITIZE)
+  target_compile_options(softtouch_build_options INTERFACE
+    -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(softtouch_build_options INTERFACE -fsanitize=address,undefined)
+endif()
+
+# softtouch_add_library(NAME ALIAS SOURCES ...) keeps each module's CMakeLists to a few lines.
+function(softtouch_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  add_library(softtouch::${name} ALIAS ${name})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE softtouch::build_options ${ARG_PRIVATE_LIBS})
+endfunction()

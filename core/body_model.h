@@ -1,0 +1,72 @@
+#pragma once
+/// The immutable description of a mass-spring body: nodes, springs, anchors, voids. Built once by
+/// buildBodyModel() and shared (std::shared_ptr<const BodyModel>) by every simulator that runs it.
+
+#include "core/result.h"
+#include "core/types.h"
+
+#include <memory>
+#include <vector>
+
+namespace softtouch {
+
+/// Where a spring sits in the lattice (for counts, per-kind stiffness and drawing).
+enum class SpringKind : std::uint8_t { Edge, FaceDiagonal, BodyDiagonal, Custom };
+
+/// A damped spring between two nodes.
+struct Spring {
+    std::uint32_t a = 0;       ///< First node.
+    std::uint32_t b = 0;       ///< Second node.
+    double restLength = 0.0;   ///< Metres, > 0; from the rest positions.
+    double stiffness = 0.0;    ///< k, N/m, [0, 1e9].
+    double damping = 0.0;      ///< c along the spring (relative velocity), N·s/m, [0, 1e6].
+    SpringKind kind = SpringKind::Custom; ///< Lattice role.
+};
+
+/// How a node is held.
+enum class AnchorMode : std::uint8_t {
+    Free,   ///< Simulated normally.
+    Pinned, ///< Kinematic: never moves (a constraint, not a huge mass).
+    Heavy,  ///< Simulated with its mass multiplied by heavyAnchorRatio (the paper's anchors).
+};
+
+/// A void node follows the mean displacement of its donors (already-resolved neighbours), so the
+/// mesh near a removed node keeps following the body.
+struct VoidFollower {
+    std::uint32_t node = 0;              ///< The void node.
+    std::vector<std::uint32_t> donors;   ///< Nodes whose displacement it copies (resolved before it).
+};
+
+/// Input to buildBodyModel(): plain arrays, one entry per node.
+struct BodyDescription {
+    std::vector<Vec3> restPositions;     ///< Metres.
+    std::vector<double> mass;            ///< kg, finite, > 0 (ignored for void nodes).
+    std::vector<AnchorMode> anchor;      ///< Empty means all Free.
+    std::vector<std::uint8_t> isVoid;    ///< 1: removed from the simulation. Empty means none.
+    std::vector<Spring> springs;         ///< Springs touching void nodes are dropped.
+    std::vector<VoidFollower> voidFollowers; ///< In resolution order; see VoidFollower.
+    double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors. Range [1, 1e9]. Paper: 1e4.
+    double airDamping = 0.0;             ///< Damping on absolute node velocity (the paper's d_i), N·s/m, [0, 1e6].
+};
+
+/// Immutable, validated body.
+struct BodyModel {
+    std::vector<Vec3> restPositions;     ///< Metres.
+    std::vector<double> mass;            ///< Effective mass (heavy anchors multiplied), kg; 0 for void.
+    std::vector<double> inverseMass;     ///< 0 for pinned and void nodes.
+    std::vector<std::uint8_t> simulated; ///< 1 unless void.
+    std::vector<std::uint8_t> pinned;    ///< 1 for pinned anchors.
+    std::vector<Spring> springs;         ///< Springs between simulated nodes only.
+    std::vector<VoidFollower> voidFollowers; ///< See VoidFollower.
+    double airDamping = 0.0;             ///< N·s/m on absolute velocity, every simulated node.
+    double maxStiffnessOverMass = 0.0;   ///< Largest eigenvalue of M^-1 K at rest (1/s^2); filled by build.
+    double maxDampingRatio = 0.0;        ///< Largest c/k over springs (s); filled by build.
+
+    std::size_t nodeCount() const { return restPositions.size(); }
+};
+
+/// Validates a description and builds the model (drops void springs, computes inverse masses and
+/// the stability data). Errors name the node or spring and the expected range.
+Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& description);
+
+}  // namespace softtouch

@@ -1,0 +1,182 @@
+#include "core/forces.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softtouch {
+
+bool BodyState::isFinite() const {
+    for (std::size_t i = 0; i < position.size(); ++i) {
+        if (!softtouch::isFinite(position[i]) || !softtouch::isFinite(velocity[i]))
+            return false;
+    }
+    return true;
+}
+
+BodyState restState(const BodyModel& model) {
+    BodyState s;
+    s.position = model.restPositions;
+    s.velocity.assign(model.nodeCount(), Vec3::Zero());
+    return s;
+}
+
+std::string ExternalForces::firstNonFinite() const {
+    if (!isFinite(gravity))
+        return "gravity";
+    for (std::size_t i = 0; i < drags.size(); ++i) {
+        const DragSpring& d = drags[i];
+        if (!isFinite(d.target) || !isFinite(d.targetVelocity) || !std::isfinite(d.stiffness) ||
+            !std::isfinite(d.damping))
+            return "drag " + std::to_string(i);
+        for (const NodeWeight& w : d.support) {
+            if (!std::isfinite(w.weight))
+                return "drag " + std::to_string(i) + " weights";
+        }
+    }
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+        const CollisionPlane& p = planes[i];
+        if (!isFinite(p.point) || !isFinite(p.normal) || !std::isfinite(p.restitution) || !std::isfinite(p.friction))
+            return "plane " + std::to_string(i);
+    }
+    return {};
+}
+
+void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                    Vec3& point, Vec3& pointVelocity) {
+    point.setZero();
+    pointVelocity.setZero();
+    for (const NodeWeight& w : drag.support) {
+        point += w.weight * position[w.node];
+        pointVelocity += w.weight * velocity[w.node];
+    }
+}
+
+std::vector<NodeWeight> dragDistribution(const BodyModel& model, const DragSpring& drag) {
+    std::vector<NodeWeight> out;
+    double total = 0.0;
+    for (const NodeWeight& w : drag.support) {
+        if (model.inverseMass[w.node] > 0.0 && w.weight != 0.0) {
+            out.push_back(w);
+            total += w.weight;
+        }
+    }
+    if (total <= 0.0)
+        return {};
+    for (NodeWeight& w : out)
+        w.weight /= total;
+    return out;
+}
+
+void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> x,
+                      std::span<const Vec3> v, std::span<Vec3> f, ForceTerms terms) {
+    const std::size_t n = model.nodeCount();
+    const bool gravity = !external.gravity.isZero();
+    for (std::size_t i = 0; i < n; ++i) {
+        f[i] = gravity ? Vec3(model.mass[i] * external.gravity) : Vec3::Zero();
+        if (terms.airDamping && model.airDamping > 0.0)
+            f[i] -= model.airDamping * v[i];
+    }
+    if (terms.springs || terms.springDamping) {
+        for (const Spring& s : model.springs) {
+            const Vec3 r = x[s.b] - x[s.a];
+            const double length = r.norm();
+            if (length <= 0.0)
+                continue;  // coincident nodes: no direction, no force (the implicit solve still couples them)
+            const Vec3 dir = r / length;
+            double magnitude = 0.0;
+            if (terms.springs)
+                magnitude += s.stiffness * (length - s.restLength);
+            if (terms.springDamping)
+                magnitude += s.damping * dir.dot(v[s.b] - v[s.a]);
+            f[s.a] += magnitude * dir;
+            f[s.b] -= magnitude * dir;
+        }
+    }
+    for (const DragSpring& drag : external.drags) {
+        Vec3 p, pv;
+        dragPointState(drag, x, v, p, pv);
+        const Vec3 pull = drag.stiffness * (drag.target - p) + drag.damping * (drag.targetVelocity - pv);
+        for (const NodeWeight& w : dragDistribution(model, drag))
+            f[w.node] += w.weight * pull;
+    }
+}
+
+void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes, double h,
+                          const Vec3& gravity, BodyState& state) {
+    // Below this approach speed a contact is resting: no bounce, so bodies settle instead of
+    // jittering (about the speed gravity adds in two steps).
+    const double restingSpeed = 2.0 * gravity.norm() * h;
+    for (const CollisionPlane& plane : planes) {
+        for (std::size_t i = 0; i < model.nodeCount(); ++i) {
+            if (model.inverseMass[i] == 0.0)
+                continue;
+            Vec3& x = state.position[i];
+            Vec3& v = state.velocity[i];
+            const double depth = (x - plane.point).dot(plane.normal);
+            if (depth > 0.0)
+                continue;
+            x -= depth * plane.normal;  // penetration: back onto the plane
+            const double vn = v.dot(plane.normal);
+            if (vn >= 0.0)
+                continue;  // leaving the plane
+            const Vec3 normalPart = vn * plane.normal;
+            Vec3 tangent = v - normalPart;
+            const double restitution = -vn < restingSpeed ? 0.0 : plane.restitution;
+            // Coulomb friction: the tangential speed drops by mu times the normal speed change.
+            const double tangentSpeed = tangent.norm();
+            if (tangentSpeed > 0.0) {
+                const double loss = plane.friction * (1.0 + restitution) * -vn;
+                tangent *= std::max(0.0, 1.0 - loss / tangentSpeed);
+            }
+            v = tangent - restitution * normalPart;
+        }
+    }
+}
+
+void updateVoidNodes(const BodyModel& model, BodyState& state) {
+    for (const VoidFollower& f : model.voidFollowers) {
+        if (f.donors.empty())
+            continue;
+        Vec3 displacement = Vec3::Zero();
+        Vec3 velocity = Vec3::Zero();
+        for (std::uint32_t d : f.donors) {
+            displacement += state.position[d] - model.restPositions[d];
+            velocity += state.velocity[d];
+        }
+        const double inv = 1.0 / double(f.donors.size());
+        state.position[f.node] = model.restPositions[f.node] + inv * displacement;
+        state.velocity[f.node] = inv * velocity;
+    }
+}
+
+double kineticEnergy(const BodyModel& model, const BodyState& state) {
+    double e = 0.0;
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        e += 0.5 * model.mass[i] * state.velocity[i].squaredNorm();
+    return e;
+}
+
+double springEnergy(const BodyModel& model, const BodyState& state) {
+    double e = 0.0;
+    for (const Spring& s : model.springs) {
+        const double stretch = (state.position[s.b] - state.position[s.a]).norm() - s.restLength;
+        e += 0.5 * s.stiffness * stretch * stretch;
+    }
+    return e;
+}
+
+double gravityEnergy(const BodyModel& model, const BodyState& state, const Vec3& gravity) {
+    double e = 0.0;
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        e -= model.mass[i] * gravity.dot(state.position[i]);
+    return e;
+}
+
+Vec3 linearMomentum(const BodyModel& model, const BodyState& state) {
+    Vec3 p = Vec3::Zero();
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        p += model.mass[i] * state.velocity[i];
+    return p;
+}
+
+}  // namespace softtouch

@@ -1,0 +1,89 @@
+#pragma once
+/// What acts on a body from outside during one step, and the state the solver writes.
+
+#include "core/body_model.h"
+#include "core/lattice.h"
+#include "core/types.h"
+
+#include <span>
+#include <vector>
+
+namespace softtouch {
+
+/// Positions and velocities of every node (void nodes included: derived from their donors).
+struct BodyState {
+    std::vector<Vec3> position; ///< Metres.
+    std::vector<Vec3> velocity; ///< m/s.
+    /// True when every value is finite.
+    bool isFinite() const;
+};
+
+/// The rest state of a model: rest positions, zero velocities.
+BodyState restState(const BodyModel& model);
+
+/// A spring from a material point of the body to a target (the paper's drag force
+/// F = Ks·d + Kd·v, where d is the distance to the target and v the relative velocity). The point
+/// is given by its lattice weights; its force is spread to the nodes by the same weights.
+struct DragSpring {
+    std::vector<NodeWeight> support;       ///< Weights of the dragged material point; sum 1.
+    Vec3 target = Vec3::Zero();            ///< Where the point is pulled, metres.
+    Vec3 targetVelocity = Vec3::Zero();    ///< Velocity of the target, m/s (for the Kd term).
+    double stiffness = 50.0;               ///< Ks, N/m, [0, 1e9].
+    double damping = 1.0;                  ///< Kd, N·s/m, [0, 1e6].
+};
+
+/// An infinite collision plane (the paper's point-to-plane model).
+struct CollisionPlane {
+    Vec3 point = Vec3::Zero();       ///< Any point on the plane, metres.
+    Vec3 normal = Vec3::UnitY();     ///< Unit normal pointing to the free side.
+    double restitution = 0.0;        ///< Kr: 1 elastic, 0 sticks. Range [0, 1].
+    double friction = 0.5;           ///< Coulomb coefficient on tangential velocity. Range [0, 10].
+};
+
+/// External influences for one step.
+struct ExternalForces {
+    Vec3 gravity = Vec3::Zero();            ///< m/s^2. Zero: no gravity pass.
+    std::vector<DragSpring> drags;          ///< Any number (two hands, drivers).
+    std::vector<CollisionPlane> planes;     ///< Empty: no collision pass.
+    /// Names the first non-finite input, or returns an empty string when all are finite.
+    std::string firstNonFinite() const;
+};
+
+/// Which force terms accumulateForces() adds.
+struct ForceTerms {
+    bool springs = true;       ///< Elastic spring forces k(|r|-L) r/|r|.
+    bool springDamping = true; ///< c ((v_b - v_a)·r̂) r̂ along each spring.
+    bool airDamping = true;    ///< −d v on every node (the paper's D).
+};
+
+/// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, air
+/// damping, gravity (m·g), drags. Forces on pinned and void nodes are computed but never used.
+void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,
+                      std::span<const Vec3> velocity, std::span<Vec3> force, ForceTerms terms = {});
+
+/// The current position and velocity of a drag's material point.
+void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                    Vec3& point, Vec3& pointVelocity);
+
+/// Weight of each simulated, unpinned node in a drag's force distribution (renormalised so the full
+/// force reaches the body when part of the support is void or pinned). Empty when nothing can move.
+std::vector<NodeWeight> dragDistribution(const BodyModel& model, const DragSpring& drag);
+
+/// Point-to-plane response after a step: a node behind a plane is put back onto it, and a node on it
+/// moving inwards gets V' = Vt·(friction loss) − Kr·Vn. Resting contacts do not bounce.
+void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes, double stepSeconds,
+                          const Vec3& gravity, BodyState& state);
+
+/// Moves every void node by the mean displacement (and velocity) of its donors.
+void updateVoidNodes(const BodyModel& model, BodyState& state);
+
+/// Kinetic energy ½ Σ m v² of the simulated nodes, joules.
+double kineticEnergy(const BodyModel& model, const BodyState& state);
+/// Elastic energy ½ Σ k (|r| − L)², joules.
+double springEnergy(const BodyModel& model, const BodyState& state);
+/// Gravitational energy −Σ m g·x of the simulated nodes, joules.
+double gravityEnergy(const BodyModel& model, const BodyState& state, const Vec3& gravity);
+/// Total linear momentum Σ m v of the simulated nodes, kg·m/s.
+Vec3 linearMomentum(const BodyModel& model, const BodyState& state);
+
+}  // namespace softtouch

@@ -1,0 +1,211 @@
+#include "core/lattice_body.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace softtouch {
+
+LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, double stiffness, double damping) {
+    const std::size_t n = std::size_t(lattice.nodeCount());
+    LatticeMaterial m;
+    m.mass.assign(n, massPerNode);
+    m.stiffness.assign(n, stiffness);
+    m.damping.assign(n, damping);
+    m.anchor.assign(n, AnchorMode::Free);
+    m.isVoid.assign(n, 0);
+    return m;
+}
+
+std::vector<Spring> latticeSprings(const Lattice& lattice, const LatticeMaterial& material) {
+    const int nx = lattice.count(0), ny = lattice.count(1), nz = lattice.count(2);
+    const std::vector<Vec3> rest = lattice.restNodes();
+    const Mat3 axes = lattice.box().axes;
+    std::vector<Spring> springs;
+    auto add = [&](int i0, int j0, int k0, int i1, int j1, int k1, SpringKind kind) {
+        const auto a = std::uint32_t(lattice.index(i0, j0, k0));
+        const auto b = std::uint32_t(lattice.index(i1, j1, k1));
+        Spring s;
+        s.a = a;
+        s.b = b;
+        s.kind = kind;
+        const Vec3 r = rest[b] - rest[a];
+        s.restLength = r.norm();
+        const Vec3 d = axes.transpose() * r / s.restLength;  // direction in the box frame
+        const double anisotropy = d.cwiseProduct(d).dot(material.anisotropy);
+        s.stiffness = 0.5 * (material.stiffness[a] + material.stiffness[b]) *
+                      material.kindScale[std::size_t(kind)] * anisotropy;
+        s.damping = 0.5 * (material.damping[a] + material.damping[b]);
+        springs.push_back(s);
+    };
+    // Edges: from each node to its +u, +v, +w neighbour.
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                if (i + 1 < nx) add(i, j, k, i + 1, j, k, SpringKind::Edge);
+                if (j + 1 < ny) add(i, j, k, i, j + 1, k, SpringKind::Edge);
+                if (k + 1 < nz) add(i, j, k, i, j, k + 1, SpringKind::Edge);
+            }
+    // Face diagonals: both diagonals of each unique face, faces keyed by their lowest corner.
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                if (i + 1 < nx && j + 1 < ny) {  // uv face
+                    add(i, j, k, i + 1, j + 1, k, SpringKind::FaceDiagonal);
+                    add(i + 1, j, k, i, j + 1, k, SpringKind::FaceDiagonal);
+                }
+                if (i + 1 < nx && k + 1 < nz) {  // uw face
+                    add(i, j, k, i + 1, j, k + 1, SpringKind::FaceDiagonal);
+                    add(i + 1, j, k, i, j, k + 1, SpringKind::FaceDiagonal);
+                }
+                if (j + 1 < ny && k + 1 < nz) {  // vw face
+                    add(i, j, k, i, j + 1, k + 1, SpringKind::FaceDiagonal);
+                    add(i, j + 1, k, i, j, k + 1, SpringKind::FaceDiagonal);
+                }
+            }
+    // Body diagonals: four per cell.
+    for (int k = 0; k + 1 < nz; ++k)
+        for (int j = 0; j + 1 < ny; ++j)
+            for (int i = 0; i + 1 < nx; ++i) {
+                add(i, j, k, i + 1, j + 1, k + 1, SpringKind::BodyDiagonal);
+                add(i + 1, j, k, i, j + 1, k + 1, SpringKind::BodyDiagonal);
+                add(i, j + 1, k, i + 1, j, k + 1, SpringKind::BodyDiagonal);
+                add(i + 1, j + 1, k, i, j, k + 1, SpringKind::BodyDiagonal);
+            }
+    return springs;
+}
+
+SpringCounts countSprings(const std::vector<Spring>& springs) {
+    SpringCounts c;
+    for (const Spring& s : springs) {
+        if (s.kind == SpringKind::Edge) ++c.edges;
+        if (s.kind == SpringKind::FaceDiagonal) ++c.faceDiagonals;
+        if (s.kind == SpringKind::BodyDiagonal) ++c.bodyDiagonals;
+    }
+    return c;
+}
+
+namespace {
+
+Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
+    const std::size_t n = std::size_t(lattice.nodeCount());
+    auto sized = [&](std::size_t size, const char* field) -> Status {
+        if (size != n)
+            return Status::error(std::string(field) + " has " + std::to_string(size) + " values for " +
+                                 std::to_string(n) + " lattice nodes");
+        return Status::success();
+    };
+    if (Status s = sized(m.mass.size(), "mass"); !s) return s;
+    if (Status s = sized(m.stiffness.size(), "stiffness"); !s) return s;
+    if (Status s = sized(m.damping.size(), "damping"); !s) return s;
+    if (Status s = sized(m.anchor.size(), "anchor"); !s) return s;
+    if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto c = lattice.coords(int(i));
+        const std::string node = "node (" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
+        if (!m.isVoid[i] && !(std::isfinite(m.mass[i]) && m.mass[i] >= 1e-12 && m.mass[i] <= 1e12))
+            return Status::error(node + " mass " + std::to_string(m.mass[i]) + " kg is outside [1e-12, 1e12]");
+        if (!(std::isfinite(m.stiffness[i]) && m.stiffness[i] >= 0.0 && m.stiffness[i] <= 1e9))
+            return Status::error(node + " stiffness " + std::to_string(m.stiffness[i]) + " N/m is outside [0, 1e9]");
+        if (!(std::isfinite(m.damping[i]) && m.damping[i] >= 0.0 && m.damping[i] <= 1e6))
+            return Status::error(node + " damping " + std::to_string(m.damping[i]) + " N·s/m is outside [0, 1e6]");
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double s = m.kindScale[std::size_t(a)];
+        if (!(std::isfinite(s) && s >= 0.0 && s <= 1e3))
+            return Status::error("spring kind scale " + std::to_string(s) + " is outside [0, 1e3]");
+        const double an = m.anisotropy[a];
+        if (!(std::isfinite(an) && an >= 1e-6 && an <= 1e6))
+            return Status::error("anisotropy " + std::to_string(an) + " is outside [1e-6, 1e6]");
+    }
+    return Status::success();
+}
+
+}  // namespace
+
+Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material) {
+    if (Status s = validateMaterial(lattice, material); !s)
+        return s;
+    BodyDescription d;
+    d.restPositions = lattice.restNodes();
+    d.mass = material.mass;
+    d.anchor = material.anchor;
+    d.isVoid = material.isVoid;
+    d.springs = latticeSprings(lattice, material);
+    d.heavyAnchorRatio = material.heavyAnchorRatio;
+    d.airDamping = material.airDamping;
+    // Void nodes follow already-resolved 26-neighbours, resolved ring by ring outward from the body.
+    const int n = lattice.nodeCount();
+    std::vector<std::uint8_t> resolved(std::size_t(n), 0);
+    for (int i = 0; i < n; ++i)
+        resolved[std::size_t(i)] = material.isVoid[std::size_t(i)] == 0;
+    for (bool progress = true; progress;) {
+        progress = false;
+        std::vector<VoidFollower> ring;
+        for (int node = 0; node < n; ++node) {
+            if (resolved[std::size_t(node)])
+                continue;
+            const auto c = lattice.coords(node);
+            VoidFollower f;
+            f.node = std::uint32_t(node);
+            for (int dk = -1; dk <= 1; ++dk)
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
+                        if (i < 0 || j < 0 || k < 0 || i >= lattice.count(0) || j >= lattice.count(1) || k >= lattice.count(2))
+                            continue;
+                        const int other = lattice.index(i, j, k);
+                        if (other != node && resolved[std::size_t(other)])
+                            f.donors.push_back(std::uint32_t(other));
+                    }
+            if (!f.donors.empty())
+                ring.push_back(std::move(f));
+        }
+        for (const VoidFollower& f : ring) {
+            resolved[f.node] = 1;
+            d.voidFollowers.push_back(f);
+            progress = true;
+        }
+    }
+    return buildBodyModel(d);
+}
+
+std::vector<std::uint8_t> findEmptyNodes(const Lattice& lattice, const Mesh& mesh) {
+    // Grid cells lie between neighbouring nodes' rest parameters (Greville points), nx-1 per axis.
+    std::array<std::vector<double>, 3> grid;
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i < lattice.count(a); ++i)
+            grid[std::size_t(a)].push_back(lattice.axis(a).greville(i));
+    const int cx = lattice.count(0) - 1, cy = lattice.count(1) - 1, cz = lattice.count(2) - 1;
+    std::vector<std::uint8_t> occupied(std::size_t(cx * cy * cz), 0);
+    auto mark = [&](const Vec3& world) {
+        const Vec3 uvw = lattice.box().toParameters(world);
+        int cell[3];
+        for (int a = 0; a < 3; ++a) {
+            const auto& g = grid[std::size_t(a)];
+            const auto it = std::upper_bound(g.begin(), g.end(), uvw[a]);
+            cell[a] = std::clamp(int(it - g.begin()) - 1, 0, int(g.size()) - 2);
+        }
+        occupied[std::size_t(cell[0] + cx * (cell[1] + cy * cell[2]))] = 1;
+    };
+    for (const Vec3f& p : mesh.positions)
+        mark(p.cast<double>());
+    for (const auto& t : mesh.triangles)
+        mark((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]).cast<double>() / 3.0);
+    std::vector<std::uint8_t> empty(std::size_t(lattice.nodeCount()), 1);
+    for (int node = 0; node < lattice.nodeCount(); ++node) {
+        const auto c = lattice.coords(node);
+        for (int dk = -1; dk <= 0; ++dk)
+            for (int dj = -1; dj <= 0; ++dj)
+                for (int di = -1; di <= 0; ++di) {
+                    const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
+                    if (i < 0 || j < 0 || k < 0 || i >= cx || j >= cy || k >= cz)
+                        continue;
+                    if (occupied[std::size_t(i + cx * (j + cy * k))])
+                        empty[std::size_t(node)] = 0;
+                }
+    }
+    return empty;
+}
+
+}  // namespace softtouch

@@ -1,0 +1,101 @@
+#include "core/scene.h"
+
+#include <cmath>
+
+namespace softtouch {
+
+Status WorldSettings::validate() {
+    if (!isFinite(gravity))
+        return Status::error("gravity must be finite");
+    if (Status s = simulation.validate(); !s)
+        return s;
+    if (frames < 1 || frames > 1000000)
+        return Status::error("frames must be in [1, 1000000], got " + std::to_string(frames));
+    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
+        return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+        CollisionPlane& p = planes[i];
+        const std::string name = "plane " + std::to_string(i);
+        if (!isFinite(p.point) || !isFinite(p.normal) || p.normal.norm() < 1e-9)
+            return Status::error(name + ": point and normal must be finite and the normal non-zero");
+        p.normal.normalize();
+        if (!(p.restitution >= 0.0 && p.restitution <= 1.0))
+            return Status::error(name + ": restitution must be in [0, 1]");
+        if (!(p.friction >= 0.0 && p.friction <= 10.0))
+            return Status::error(name + ": friction must be in [0, 10]");
+    }
+    return Status::success();
+}
+
+Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
+    auto scene = std::make_shared<Scene>(input);
+    if (scene->objects.empty())
+        return Status::error("the scene has no objects");
+    if (Status s = scene->world.validate(); !s)
+        return s;
+    SceneSimulation sim;
+    sim.m_scene = scene;
+    for (SceneObject& object : scene->objects) {
+        const std::string where = "object '" + object.name + "': ";
+        if (Status s = object.mesh.validate(); !s)
+            return Status::error(where + s.message());
+        if (object.mesh.normals.empty())
+            object.mesh.computeNormals();
+        for (std::size_t d = 0; d < object.drivers.size(); ++d) {
+            if (Status s = validateDriver(object.drivers[d]); !s)
+                return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
+        }
+        auto model = buildLatticeBody(object.lattice, object.material);
+        if (!model)
+            return Status::error(where + model.message());
+        sim.m_objects.push_back(Runtime{&object,
+                                        Binding::create(object.lattice, object.mesh.positions, object.mesh.normals),
+                                        Simulator(model.value(), scene->world.simulation)});
+    }
+    return sim;
+}
+
+ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
+    ExternalForces f;
+    f.gravity = m_scene->world.gravity;
+    f.planes = m_scene->world.planes;
+    const SceneObject& object = *m_objects[i].source;
+    for (const Driver& driver : object.drivers) {
+        if (auto drag = driverDrag(driver, object.lattice, seconds))
+            f.drags.push_back(std::move(*drag));
+    }
+    return f;
+}
+
+void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* problems) {
+    const double dt = m_scene->world.simulation.dt;
+    for (std::size_t i = 0; i < m_objects.size(); ++i) {
+        Simulator& sim = m_objects[i].simulator;
+        // Step while the next step ends at or before `seconds` (a relative tolerance absorbs rounding
+        // of seconds = frame / fps).
+        while (double(sim.stepCount() + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12) {
+            // Forces are sampled at the start of the step.
+            const StepReport report = sim.step(forcesAt(i, sim.time()));
+            if (problems && !report.problem.empty())
+                problems->push_back("object '" + m_objects[i].source->name + "' at t=" +
+                                    std::to_string(sim.time()) + " s: " + report.problem);
+        }
+    }
+}
+
+double SceneSimulation::time() const {
+    return m_objects.empty() ? 0.0 : m_objects.front().simulator.time();
+}
+
+void SceneSimulation::evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
+    m_objects[i].binding.evaluate(m_objects[i].simulator.state().position, positions, normals, threads);
+}
+
+std::size_t SceneSimulation::totalVertexCount() const {
+    std::size_t n = 0;
+    for (const Runtime& r : m_objects)
+        n += r.binding.vertexCount();
+    return n;
+}
+
+}  // namespace softtouch

@@ -1,0 +1,75 @@
+#pragma once
+/// A scene: objects (mesh + lattice + material + drivers) and the world they share, plus the
+/// runtime that simulates them. Only what a scene uses is computed: no planes, no collision pass;
+/// no gravity, no gravity term; a body at rest sleeps.
+
+#include "core/binding.h"
+#include "core/drivers.h"
+#include "core/lattice_body.h"
+#include "core/simulator.h"
+
+#include <string>
+#include <vector>
+
+namespace softtouch {
+
+/// One deformable object.
+struct SceneObject {
+    std::string name;                 ///< Shown to the user; unique in the scene.
+    Mesh mesh;                        ///< Rest mesh (normals filled on load).
+    Lattice lattice;                  ///< Lattice around the mesh.
+    LatticeMaterial material;         ///< Painted values, anchors, voids.
+    std::vector<Driver> drivers;      ///< Headless motion sources.
+};
+
+/// Settings shared by every object.
+struct WorldSettings {
+    Vec3 gravity = Vec3::Zero();              ///< m/s^2.
+    std::vector<CollisionPlane> planes;       ///< Collision planes.
+    SimulationSettings simulation;            ///< Integrator, dt, guards.
+    int frames = 48;                          ///< Default clip length, frames. [1, 1e6].
+    double fps = 24.0;                        ///< Default clip rate, frames per second. (0, 1000].
+    /// Checks ranges; planes get unit normals.
+    Status validate();
+};
+
+/// A whole scene as authored.
+struct Scene {
+    std::vector<SceneObject> objects; ///< At least one.
+    WorldSettings world;              ///< Shared settings.
+};
+
+/// Runtime of a scene: bodies, bindings and simulators built once, stepped together.
+class SceneSimulation {
+public:
+    /// Validates the scene and builds everything; errors name the object.
+    static Result<SceneSimulation> create(const Scene& scene);
+
+    /// Steps every object until the simulated time reaches `seconds` (fixed dt; a step is taken when
+    /// its end time is <= seconds). Problems reported by any step are appended to `problems`.
+    void advanceTo(double seconds, std::vector<std::string>* problems = nullptr);
+    /// Simulated time, seconds.
+    double time() const;
+    /// Number of objects.
+    std::size_t objectCount() const { return m_objects.size(); }
+    /// Object i's name, mesh, lattice and simulator.
+    const SceneObject& object(std::size_t i) const { return *m_objects[i].source; }
+    const Simulator& simulator(std::size_t i) const { return m_objects[i].simulator; }
+    /// Deformed positions and (optional) normals of object i, in its mesh order.
+    void evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
+    /// Total vertex count over all objects (the order of a concatenated cache).
+    std::size_t totalVertexCount() const;
+
+private:
+    struct Runtime {
+        const SceneObject* source = nullptr;
+        Binding binding;
+        Simulator simulator;
+    };
+    ExternalForces forcesAt(std::size_t object, double seconds) const;
+
+    std::shared_ptr<const Scene> m_scene;
+    std::vector<Runtime> m_objects;
+};
+
+}  // namespace softtouch

@@ -1,0 +1,72 @@
+// Extended position-based dynamics (Macklin, Müller, Chentanez 2016), one iteration per substep
+// ("Small Steps in Physics Simulation", Macklin et al. 2019).
+#include "core/integrator.h"
+
+namespace softtouch {
+namespace {
+
+/// Each spring is a distance constraint C = |x_a − x_b| − L with compliance α = 1/k. Per substep
+/// h (λ starts at 0 since there is one iteration):
+///   α̃ = α / h²,  γ = α̃ β h = c / (k h)          (β = c, the spring damping)
+///   Δλ = (−C − γ ∇C·(x − x_prev)) / ((1 + γ) (w_a + w_b) + α̃)
+/// Gravity, drags and air damping enter as forces in the prediction. Constraint projections move
+/// the pair along ∇C with weights 1/m, so linear momentum is conserved.
+class Xpbd final : public Integrator {
+public:
+    IntegratorKind kind() const override { return IntegratorKind::Xpbd; }
+    bool isExplicit() const override { return false; }
+    void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
+        const std::size_t n = model.nodeCount();
+        m_force.resize(n);
+        m_previous.resize(n);
+        ForceTerms terms;
+        terms.springs = false;
+        terms.springDamping = false;
+        accumulateForces(model, external, state.position, state.velocity, m_force, terms);
+        for (std::size_t i = 0; i < n; ++i) {
+            m_previous[i] = state.position[i];
+            if (model.inverseMass[i] == 0.0)
+                continue;
+            state.velocity[i] += h * model.inverseMass[i] * m_force[i];
+            state.position[i] += h * state.velocity[i];
+        }
+        for (const Spring& s : model.springs) {
+            if (s.stiffness <= 0.0)
+                continue;
+            const double wa = model.inverseMass[s.a];
+            const double wb = model.inverseMass[s.b];
+            const double wsum = wa + wb;
+            if (wsum == 0.0)
+                continue;
+            Vec3& xa = state.position[s.a];
+            Vec3& xb = state.position[s.b];
+            const Vec3 r = xa - xb;
+            const double length = r.norm();
+            if (length <= 0.0)
+                continue;
+            const Vec3 gradient = r / length;
+            const double C = length - s.restLength;
+            const double compliance = 1.0 / (s.stiffness * h * h);
+            const double gamma = s.damping / (s.stiffness * h);
+            const double rate = gradient.dot((xa - m_previous[s.a]) - (xb - m_previous[s.b]));
+            const double dlambda = (-C - gamma * rate) / ((1.0 + gamma) * wsum + compliance);
+            xa += wa * dlambda * gradient;
+            xb -= wb * dlambda * gradient;
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            if (model.inverseMass[i] == 0.0)
+                continue;
+            state.velocity[i] = (state.position[i] - m_previous[i]) / h;
+        }
+    }
+
+private:
+    std::vector<Vec3> m_force;
+    std::vector<Vec3> m_previous;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> makeXpbd() { return std::make_unique<Xpbd>(); }
+
+}  // namespace softtouch
