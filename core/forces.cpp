@@ -101,8 +101,8 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
     }
 }
 
-void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes, double h,
-                          const Vec3& gravity, BodyState& state) {
+void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes,
+                          std::span<const Vec3> stepStart, double h, const Vec3& gravity, BodyState& state) {
     // Below this approach speed a contact is resting: no bounce, so bodies settle instead of
     // jittering (about the speed gravity adds in two steps).
     const double restingSpeed = 2.0 * gravity.norm() * h;
@@ -121,7 +121,8 @@ void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane
                 continue;  // leaving the plane
             const Vec3 normalPart = vn * plane.normal;
             Vec3 tangent = v - normalPart;
-            const double restitution = -vn < restingSpeed ? 0.0 : plane.restitution;
+            const bool wasTouching = (stepStart[i] - plane.point).dot(plane.normal) <= 0.0;
+            const double restitution = (wasTouching || -vn < restingSpeed) ? 0.0 : plane.restitution;
             // Coulomb friction: the tangential speed drops by mu times the normal speed change.
             const double tangentSpeed = tangent.norm();
             if (tangentSpeed > 0.0) {

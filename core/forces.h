@@ -69,10 +69,12 @@ void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std:
 /// force reaches the body when part of the support is void or pinned). Empty when nothing can move.
 std::vector<NodeWeight> dragDistribution(const BodyModel& model, const DragSpring& drag);
 
-/// Point-to-plane response after a step: a node behind a plane is put back onto it, and a node on it
-/// moving inwards gets V' = Vt·(friction loss) − Kr·Vn. Resting contacts do not bounce.
-void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes, double stepSeconds,
-                          const Vec3& gravity, BodyState& state);
+/// Point-to-plane response after a step (the paper's model): a node behind a plane is put back onto
+/// it and its inward velocity Vn answered with V' = Vt·(friction loss) − Kr·Vn. Only a node that
+/// arrives (was in front of the plane at `stepStart`) bounces; one that was already touching is a
+/// resting contact and gets Kr = 0, so bodies settle instead of chattering.
+void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes,
+                          std::span<const Vec3> stepStart, double stepSeconds, const Vec3& gravity, BodyState& state);
 
 /// Moves every void node by the mean displacement (and velocity) of its donors.
 void updateVoidNodes(const BodyModel& model, BodyState& state);

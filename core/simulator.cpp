@@ -114,10 +114,13 @@ StepReport Simulator::step(const ExternalForces& external) {
         return report;
     }
     const double h = m_settings.dt / substeps;
+    const bool contacts = !external.planes.empty();
     for (int s = 0; s < substeps; ++s) {
+        if (contacts)
+            m_substepStart = m_state.position;
         m_integrator->step(*m_model, external, m_state, h);
-        if (!external.planes.empty())
-            resolvePlaneContacts(*m_model, external.planes, h, external.gravity, m_state);
+        if (contacts)
+            resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
         updateVoidNodes(*m_model, m_state);
     }
     report.substeps = substeps;

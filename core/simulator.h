@@ -70,6 +70,7 @@ private:
     std::unique_ptr<Integrator> m_integrator;
     BodyState m_state;
     BodyState m_lastGood;
+    std::vector<Vec3> m_substepStart;  ///< Positions before the current substep (contact history).
     long long m_stepCount = 0;
     bool m_sleeping = false;
     int m_quietSteps = 0;

@@ -2,7 +2,7 @@
 /// Basic vector types of the engine. Physics runs in double (tiny state, extreme stiffness and mass
 /// ratios); mesh data and deformation run in float (large arrays, exported as float anyway).
 
-#include <Eigen/Core>
+#include <Eigen/Dense>
 #include <cstdint>
 
 namespace softtouch {

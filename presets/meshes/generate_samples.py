@@ -18,6 +18,7 @@ Usage
     python3 generate_samples.py           # (re)generate the OBJ files
     python3 generate_samples.py --check   # validate the OBJ files on disk
 """
+import bisect
 import math
 import os
 import sys
@@ -236,14 +237,14 @@ def sub_polyline(poly, f0, f1):
 
     def at(f):
         d = cum[-1] * f
-        k = max(i for i in range(len(cum) - 1) if cum[i] <= d or i == 0)
+        k = min(max(bisect.bisect_right(cum, d) - 1, 0), len(cum) - 2)
         seg = cum[k + 1] - cum[k]
         return lerp(poly[k], poly[k + 1], 0.0 if seg == 0 else min(1.0, (d - cum[k]) / seg))
     d0, d1 = cum[-1] * f0, cum[-1] * f1
     return [at(f0)] + [p for p, c in zip(poly, cum) if d0 < c < d1] + [at(f1)]
 
 
-def fin_grid(root, edge, nu, nv, tip=(0.0, 1.0), smooth=0):
+def fin_grid(root, edge, nu, nv, tip=(0.0, 1.0)):
     """2D (nu+1) x (nv+1) grid over a fin outline, as a Coons patch.
     Sides: v=0 the root curve; v=1 the part of the free edge between
     arc-length fractions tip[0]..tip[1]; u=0 / u=1 the rest of the free edge
@@ -267,17 +268,10 @@ def fin_grid(root, edge, nu, nv, tip=(0.0, 1.0), smooth=0):
                 - ((1 - u) * (1 - v) * A[0][k] + u * (1 - v) * A[-1][k]
                    + (1 - u) * v * T[0][k] + u * v * T[-1][k]) for k in range(2)))
         grid.append(row)
-    for _ in range(smooth):  # optional Laplace relaxation of interior points
-        for i in range(1, nu):
-            for j in range(1, nv):
-                g = grid
-                grid[i][j] = mul(add(add(g[i - 1][j], g[i + 1][j]),
-                                     add(g[i][j - 1], g[i][j + 1])), 0.25)
     return grid
 
 
-def fin(name, root, edge, frame, thick, nu, nv, bend=None, tip=(0.0, 1.0), smooth=0,
-        taper=0.6):
+def fin(name, root, edge, frame, thick, nu, nv, bend=None, tip=(0.0, 1.0), taper=0.6):
     """Thin closed slab fin. root: 2D control points of the attachment line
     (hidden inside the body); edge: 2D control points of the free outline,
     running from near root[0] round to near root[-1] (see fin_grid). The
@@ -286,7 +280,7 @@ def fin(name, root, edge, frame, thick, nu, nv, bend=None, tip=(0.0, 1.0), smoot
     displaces the sheet along the normal (ripples, cupping)."""
     origin, ex, ey = frame
     nrm = normalize(cross(ex, ey))
-    grid = fin_grid(root, edge, nu, nv, tip, smooth)
+    grid = fin_grid(root, edge, nu, nv, tip)
     sign = None  # the 2D grid must not fold over itself
     for i in range(nu):
         for j in range(nv):
@@ -324,8 +318,8 @@ def fin(name, root, edge, frame, thick, nu, nv, bend=None, tip=(0.0, 1.0), smoot
     return part.orient_outward()
 
 
-def scaled(pts, s, dx=0.0, dy=0.0):
-    return [(x * s + dx, y * s + dy) for x, y in pts]
+def scaled(pts, s):
+    return [(x * s, y * s) for x, y in pts]
 
 
 # Generic paired-fin outline (root along local +y/-y at a=0, fin out along +a).
@@ -459,10 +453,10 @@ def guppy():
                      (0.38, 0.062), (0.5, 0.045)],
                 bot=[(-0.16, -0.022), (-0.09, -0.028), (0.05, -0.062), (0.2, -0.088),
                      (0.38, -0.055), (0.5, -0.03)],
-                width=[(-0.16, 0.014), (0.0, 0.035), (0.2, 0.048), (0.4, 0.04),
-                       (0.5, 0.016)], k=6)
-    parts = [body.mesh(36, 40)]
-    parts += eyes(body, 0.43, 0.018, 0.027)
+                width=[(-0.16, 0.014), (0.0, 0.035), (0.2, 0.048), (0.4, 0.042),
+                       (0.5, 0.03)], k=6)
+    parts = [body.mesh(40, 42)]
+    parts += eyes(body, 0.43, 0.018, 0.03)
     # fan tail: rays show as radial ripples across the sheet
     rays = lambda u, v: 0.006 * v * math.sin(2 * math.pi * 5 * u)
     parts.append(fin("tail_fin", [(-0.125, 0.025), (-0.125, -0.025)],
