@@ -1,0 +1,164 @@
+#include "app/cli_commands.h"
+
+#include "io/bake.h"
+#include "io/project_file.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+namespace softtouch::cli {
+namespace {
+
+constexpr const char* kBakeUsage = R"(Usage: softtouch-cli bake SCENE --out FILE [options]
+
+Simulate SCENE from its rest state and write one cache frame per clip frame (frame i at i/fps s).
+The rest mesh the cache matches is written beside it as FILE with extension .obj (for an OBJ
+sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
+
+Options:
+  --out FILE        Output cache (required). Format from the extension: .pc2, .mdd, .obj (sequence).
+  --format NAME     pc2 | mdd | objseq (overrides the extension).
+  --frames N        Frames to write (default: the scene's clip length).
+  --fps F           Frames per second (default: the scene's clip rate).
+  --threads N       Deformation threads (default: all).
+  --quiet           No progress output.
+)";
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
+    return 1;
+}
+
+int usage(const std::string& message) {
+    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli bake --help'\n", message.c_str());
+    return 2;
+}
+
+std::optional<double> parseNumber(const std::string& text) {
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+        return std::nullopt;
+    return value;
+}
+
+}  // namespace
+
+int runBake(const std::vector<std::string>& args) {
+    std::string scenePath, outPath, formatName;
+    std::optional<double> frames, fps, threads;
+    bool quiet = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&](const char* name) -> std::optional<std::string> {
+            if (i + 1 >= args.size())
+                return std::nullopt;
+            (void)name;
+            return args[++i];
+        };
+        if (a == "--help" || a == "-h") {
+            std::fputs(kBakeUsage, stdout);
+            return 0;
+        }
+        if (a == "--quiet") {
+            quiet = true;
+        } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads") {
+            const auto v = value(a.c_str());
+            if (!v)
+                return usage(a + " needs a value");
+            if (a == "--out") {
+                outPath = *v;
+            } else if (a == "--format") {
+                formatName = *v;
+            } else {
+                const auto n = parseNumber(*v);
+                if (!n)
+                    return usage(a + " expects a number, got '" + *v + "'");
+                (a == "--frames" ? frames : a == "--fps" ? fps : threads) = *n;
+            }
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown option '" + a + "'");
+        } else if (scenePath.empty()) {
+            scenePath = a;
+        } else {
+            return usage("unexpected argument '" + a + "'");
+        }
+    }
+    if (scenePath.empty())
+        return usage("bake needs a SCENE file");
+    if (outPath.empty())
+        return usage("bake needs --out FILE");
+    io::BakeOptions options;
+    options.output = outPath;
+    if (!formatName.empty()) {
+        const auto f = io::parseCacheFormat(formatName);
+        if (!f)
+            return usage("unknown format '" + formatName + "' (expected pc2, mdd or objseq)");
+        options.format = *f;
+    } else {
+        const auto f = io::cacheFormatFromPath(outPath);
+        if (!f)
+            return usage("cannot tell the format from '" + outPath + "'; use .pc2, .mdd, .obj or --format");
+        options.format = *f;
+    }
+    if (frames && (*frames < 1 || *frames > 1e6 || std::floor(*frames) != *frames))
+        return fail("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+    if (fps && (*fps <= 0 || *fps > 1000))
+        return fail("--fps must be in (0, 1000], got " + std::to_string(*fps));
+    if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
+        return fail("--threads must be a whole number in [0, 1024]");
+    options.frames = frames ? int(*frames) : 0;
+    options.fps = fps.value_or(0.0);
+    options.threads = threads ? int(*threads) : 0;
+    if (!quiet) {
+        options.progress = [](int done, int total) {
+            if (done == total || done % 24 == 0)
+                std::fprintf(stderr, "\rbaking frame %d/%d", done, total);
+            if (done == total)
+                std::fputc('\n', stderr);
+            return true;
+        };
+    }
+
+    auto project = io::loadProject(scenePath);
+    if (!project)
+        return fail(project.message());
+    auto result = io::bake(project->scene, options);
+    if (!result)
+        return fail(result.message());
+    const std::size_t shown = std::min<std::size_t>(result->warnings.size(), 5);
+    for (std::size_t i = 0; i < shown; ++i)
+        std::fprintf(stderr, "softtouch-cli: warning: %s\n", result->warnings[i].c_str());
+    if (result->warnings.size() > shown)
+        std::fprintf(stderr, "softtouch-cli: warning: ... and %zu more\n", result->warnings.size() - shown);
+    std::printf("wrote %s (%s, %d frames, %zu points)\nrest mesh %s\n", result->cache.string().c_str(),
+                std::string(io::cacheFormatName(options.format)).c_str(), result->frames, result->points,
+                result->restMesh.string().c_str());
+    return 0;
+}
+
+int runValidate(const std::vector<std::string>& args) {
+    if (args.empty())
+        return usage("validate needs at least one FILE");
+    if (args.front() == "--help" || args.front() == "-h") {
+        std::puts("Usage: softtouch-cli validate FILE...\n\nCheck *.softtouch projects and *.stpreset presets (the "
+                  "referenced meshes and presets too) and print every problem found, one per line.");
+        return 0;
+    }
+    int bad = 0;
+    for (const std::string& file : args) {
+        const std::vector<std::string> problems = io::validateFile(file);
+        for (const std::string& p : problems)
+            std::fprintf(stderr, "%s\n", p.c_str());
+        if (problems.empty())
+            std::printf("%s: ok\n", file.c_str());
+        else
+            ++bad;
+    }
+    return bad == 0 ? 0 : 1;
+}
+
+}  // namespace softtouch::cli

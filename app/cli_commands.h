@@ -1,0 +1,13 @@
+#pragma once
+/// The softtouch-cli subcommands. Each takes its arguments (after the subcommand name) and returns
+/// the process exit code: 0 success, 1 failure (a one-line reason on stderr), 2 bad usage.
+
+#include <string>
+#include <vector>
+
+namespace softtouch::cli {
+
+int runBake(const std::vector<std::string>& args);
+int runValidate(const std::vector<std::string>& args);
+
+}  // namespace softtouch::cli

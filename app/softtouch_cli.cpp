@@ -1,0 +1,50 @@
+// softtouch-cli: the headless front end of SoftTouch (bake, validate). Parses the subcommand only.
+#include "app/cli_commands.h"
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches
+
+Usage:
+  softtouch-cli bake SCENE --out FILE [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
+  softtouch-cli validate FILE...
+  softtouch-cli --help | --version
+
+Commands:
+  bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
+             it matches beside it. 'softtouch-cli bake --help' for details.
+  validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
+
+Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.empty()) {
+        std::fputs(kUsage, stderr);
+        return 2;
+    }
+    const std::string command = args.front();
+    args.erase(args.begin());
+    if (command == "--help" || command == "-h" || command == "help") {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
+    if (command == "--version") {
+        std::puts("softtouch-cli 0.1.0");
+        return 0;
+    }
+    if (command == "bake")
+        return softtouch::cli::runBake(args);
+    if (command == "validate")
+        return softtouch::cli::runValidate(args);
+    std::fprintf(stderr, "softtouch-cli: error: unknown command '%s'; see 'softtouch-cli --help'\n", command.c_str());
+    return 2;
+}

@@ -1,0 +1,80 @@
+#include "io/bake.h"
+
+#include <cmath>
+
+namespace softtouch::io {
+
+std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format) {
+    if (format == CacheFormat::ObjSequence)
+        return cache;
+    std::filesystem::path rest = cache;
+    return rest.replace_extension(".obj");
+}
+
+Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
+    auto simulation = SceneSimulation::create(scene);
+    if (!simulation)
+        return Status::error(simulation.message());
+    SceneSimulation& sim = simulation.value();
+    const int frames = options.frames > 0 ? options.frames : scene.world.frames;
+    const double fps = options.fps > 0.0 ? options.fps : scene.world.fps;
+    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
+        return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
+
+    // The rest mesh of all objects, concatenated in scene order: the cache's vertex order.
+    Mesh rest;
+    for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+        const Mesh& m = sim.object(i).mesh;
+        const auto base = std::uint32_t(rest.positions.size());
+        rest.positions.insert(rest.positions.end(), m.positions.begin(), m.positions.end());
+        if (!m.normals.empty())
+            rest.normals.insert(rest.normals.end(), m.normals.begin(), m.normals.end());
+        for (const auto& t : m.triangles)
+            rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    if (rest.normals.size() != rest.positions.size())
+        rest.computeNormals();
+
+    BakeResult result;
+    result.cache = options.format == CacheFormat::ObjSequence ? objSequenceFramePath(options.output, 0) : options.output;
+    result.restMesh = restMeshPath(options.output, options.format);
+    result.points = rest.positions.size();
+
+    auto writer = makeCacheWriter(options.format, rest);
+    CacheInfo info;
+    info.pointCount = rest.positions.size();
+    info.frameCount = std::size_t(frames);
+    info.fps = fps;
+    if (Status s = writer->begin(options.output, info); !s)
+        return s;
+
+    std::vector<Vec3f> frame(rest.positions.size());
+    for (int f = 0; f < frames; ++f) {
+        sim.advanceTo(double(f) / fps, &result.warnings);
+        std::size_t offset = 0;
+        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            const std::size_t n = sim.object(i).mesh.positions.size();
+            sim.evaluate(i, std::span<Vec3f>(frame).subspan(offset, n), {}, options.threads);
+            offset += n;
+        }
+        if (Status s = writer->writeFrame(frame); !s) {
+            writer->abort();
+            return s;
+        }
+        if (options.progress && !options.progress(f + 1, frames)) {
+            writer->abort();
+            return Status::error("the bake was cancelled; nothing was written");
+        }
+    }
+    // The rest mesh first: a cache is never published without the mesh it matches.
+    if (Status s = writeObj(result.restMesh, rest); !s) {
+        writer->abort();
+        return s;
+    }
+    if (Status s = writer->finish(); !s)
+        return s;
+    result.frames = frames;
+    return result;
+}
+
+}  // namespace softtouch::io

@@ -1,0 +1,43 @@
+#pragma once
+/// Baking: simulate a scene frame by frame and stream every frame into a vertex cache, with the
+/// rest mesh the cache matches written beside it. One frame in memory at a time; nothing is written
+/// unless everything succeeded; no non-finite frame ever reaches a file.
+
+#include "core/scene.h"
+#include "io/vertex_cache.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace softtouch::io {
+
+/// What to bake.
+struct BakeOptions {
+    std::filesystem::path output;           ///< Cache file (for an OBJ sequence: dir/name.obj).
+    CacheFormat format = CacheFormat::Pc2;  ///< Cache format.
+    int frames = 0;                         ///< Frames to write; 0 takes the scene's clip length.
+    double fps = 0.0;                       ///< Frame rate; 0 takes the scene's.
+    int threads = 0;                        ///< Deformation threads; 0 uses every hardware thread.
+    /// Called after each frame with (frames done, total); returning false cancels the bake.
+    std::function<bool(int, int)> progress;
+};
+
+/// What a bake wrote.
+struct BakeResult {
+    std::filesystem::path cache;     ///< The cache (for an OBJ sequence: the first frame).
+    std::filesystem::path restMesh;  ///< The OBJ whose vertex order the cache follows.
+    int frames = 0;                  ///< Frames written.
+    std::size_t points = 0;          ///< Vertices per frame.
+    std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …).
+};
+
+/// Where the rest mesh of a cache goes: the cache path with extension .obj (an OBJ sequence's
+/// --out path itself).
+std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format);
+
+/// Simulates `scene` from its rest state and writes the cache and the rest mesh.
+Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);
+
+}  // namespace softtouch::io

@@ -1,0 +1,207 @@
+#include "io/json_reader.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace softtouch::io {
+namespace {
+
+std::string describe(const nlohmann::json& v) {
+    std::string s = v.dump();
+    if (s.size() > 40)
+        s = s.substr(0, 37) + "...";
+    return s;
+}
+
+std::string formatNumber(double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+}
+
+}  // namespace
+
+void JsonIssues::add(const std::string& pointer, const std::string& problem) {
+    m_messages.push_back(m_file + ": " + (pointer.empty() ? "/" : pointer) + ": " + problem);
+}
+
+void JsonIssues::addGeneral(const std::string& problem) { m_messages.push_back(m_file + ": " + problem); }
+
+std::string JsonIssues::summary() const {
+    if (m_messages.empty())
+        return {};
+    std::string s = m_messages.front();
+    if (m_messages.size() > 1)
+        s += " (and " + std::to_string(m_messages.size() - 1) + " more problem" + (m_messages.size() > 2 ? "s" : "") +
+             "; 'softtouch-cli validate' lists them all)";
+    return s;
+}
+
+std::optional<nlohmann::json> parseJsonFile(const std::string& path, JsonIssues& issues) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        issues.addGeneral("cannot open the file");
+        return std::nullopt;
+    }
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        // Turn the byte offset into line and column for the message.
+        std::size_t line = 1, column = 1;
+        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+            if (text[i] == '\n') {
+                ++line;
+                column = 1;
+            } else {
+                ++column;
+            }
+        }
+        std::string what = e.what();
+        if (const auto pos = what.find("syntax error"); pos != std::string::npos)
+            what = what.substr(pos);
+        issues.addGeneral("invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
+                          what);
+        return std::nullopt;
+    }
+}
+
+JsonValue JsonValue::operator[](const char* key) const {
+    const nlohmann::json* child = nullptr;
+    if (isObject()) {
+        if (auto it = m_value->find(key); it != m_value->end())
+            child = &*it;
+    }
+    return JsonValue(child, m_pointer + "/" + key, m_issues);
+}
+
+JsonValue JsonValue::at(std::size_t i) const {
+    const nlohmann::json* child = (isArray() && i < m_value->size()) ? &(*m_value)[i] : nullptr;
+    return JsonValue(child, m_pointer + "/" + std::to_string(i), m_issues);
+}
+
+void JsonValue::problem(const std::string& what) const { m_issues->add(m_pointer, what); }
+
+void JsonValue::checkKeys(std::initializer_list<const char*> allowed) const {
+    if (!isObject())
+        return;
+    for (auto it = m_value->begin(); it != m_value->end(); ++it) {
+        bool known = false;
+        for (const char* key : allowed)
+            known = known || it.key() == key;
+        if (!known) {
+            std::string list;
+            for (const char* key : allowed)
+                list += std::string(list.empty() ? "" : ", ") + key;
+            m_issues->add(m_pointer + "/" + it.key(), "unknown field; expected one of: " + list);
+        }
+    }
+}
+
+bool JsonValue::missing(bool required) const {
+    if (m_value)
+        return false;
+    if (required)
+        m_issues->add(m_pointer, "missing; this field is required");
+    return true;
+}
+
+bool JsonValue::expectObject(bool required) const {
+    if (missing(required))
+        return false;
+    if (!m_value->is_object()) {
+        problem("expected an object, got " + describe(*m_value));
+        return false;
+    }
+    return true;
+}
+
+std::optional<double> JsonValue::number(double lo, double hi, const char* unit, bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    const std::string range = "a number in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]" +
+                              (unit && *unit ? std::string(" (") + unit + ")" : std::string());
+    if (!m_value->is_number()) {
+        problem("expected " + range + ", got " + describe(*m_value));
+        return std::nullopt;
+    }
+    const double x = m_value->get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi) {
+        problem("expected " + range + ", got " + describe(*m_value));
+        return std::nullopt;
+    }
+    return x;
+}
+
+std::optional<int> JsonValue::integer(int lo, int hi, bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    if (!m_value->is_number_integer() || m_value->get<long long>() < lo || m_value->get<long long>() > hi) {
+        problem("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + describe(*m_value));
+        return std::nullopt;
+    }
+    return int(m_value->get<long long>());
+}
+
+std::optional<std::string> JsonValue::string(bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    if (!m_value->is_string()) {
+        problem("expected a string, got " + describe(*m_value));
+        return std::nullopt;
+    }
+    return m_value->get<std::string>();
+}
+
+std::optional<bool> JsonValue::boolean(bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    if (!m_value->is_boolean()) {
+        problem("expected true or false, got " + describe(*m_value));
+        return std::nullopt;
+    }
+    return m_value->get<bool>();
+}
+
+std::optional<Vec3> JsonValue::vec3(bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    if (!m_value->is_array() || m_value->size() != 3) {
+        problem("expected an array of 3 numbers, got " + describe(*m_value));
+        return std::nullopt;
+    }
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        const auto& x = (*m_value)[std::size_t(i)];
+        if (!x.is_number() || !std::isfinite(x.get<double>())) {
+            problem("expected an array of 3 finite numbers, got " + describe(*m_value));
+            return std::nullopt;
+        }
+        v[i] = x.get<double>();
+    }
+    return v;
+}
+
+std::optional<std::array<int, 3>> JsonValue::int3(int lo, int hi, bool required) const {
+    if (missing(required))
+        return std::nullopt;
+    if (!m_value->is_array() || m_value->size() != 3) {
+        problem("expected an array of 3 integers, got " + describe(*m_value));
+        return std::nullopt;
+    }
+    std::array<int, 3> out{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const auto& x = (*m_value)[i];
+        if (!x.is_number_integer() || x.get<long long>() < lo || x.get<long long>() > hi) {
+            problem("expected 3 integers in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + describe(*m_value));
+            return std::nullopt;
+        }
+        out[i] = int(x.get<long long>());
+    }
+    return out;
+}
+
+}  // namespace softtouch::io

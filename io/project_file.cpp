@@ -1,0 +1,596 @@
+#include "io/project_file.h"
+
+#include "io/atomic_file.h"
+#include "io/mesh_import.h"
+
+#include <cmath>
+
+namespace softtouch::io {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kProjectFormat = "softtouch-project";
+constexpr const char* kPresetFormat = "softtouch-preset";
+
+/// Checks "format" and "version" of a document.
+bool readHeader(const JsonValue& root, const char* format, int maxVersion) {
+    if (!root.expectObject(true))
+        return false;
+    const auto f = root["format"].string(true);
+    if (f && *f != format) {
+        root["format"].problem(std::string("expected \"") + format + "\", got \"" + *f + "\"");
+        return false;
+    }
+    const auto v = root["version"].integer(1, 1000000, true);
+    if (v && *v > maxVersion) {
+        root["version"].problem("version " + std::to_string(*v) + " was written by a newer SoftTouch; this build reads up to " +
+                                std::to_string(maxVersion));
+        return false;
+    }
+    return f && v;
+}
+
+/// A per-node field: one number for every node, or an array of one number per node (i fastest).
+void readPerNode(const JsonValue& v, std::vector<double>& out, double lo, double hi, const char* unit) {
+    if (!v.exists())
+        return;
+    if (v.isArray()) {
+        if (v.size() != out.size()) {
+            v.problem("expected one value per lattice node (" + std::to_string(out.size()) + "), got " +
+                      std::to_string(v.size()));
+            return;
+        }
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            if (auto x = v.at(i).number(lo, hi, unit, true))
+                out[i] = *x;
+        }
+        return;
+    }
+    if (auto x = v.number(lo, hi, unit))
+        out.assign(out.size(), *x);
+}
+
+/// Applies a "material" object onto `m`. `totalMass` is returned for spreading once voids are known.
+void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, bool allowPreset,
+                  const fs::path& baseDir);
+
+void applyPreset(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, const fs::path& baseDir) {
+    const auto ref = v.string();
+    if (!ref)
+        return;
+    const fs::path path = baseDir / *ref;
+    auto preset = loadMaterialPreset(path);
+    if (!preset) {
+        v.problem("cannot use preset: " + preset.message());
+        return;
+    }
+    JsonIssues presetIssues(path.string());
+    readMaterial(JsonValue(&preset->material, "/material", &presetIssues), m, totalMass, false, baseDir);
+    for (const std::string& message : presetIssues.messages())
+        v.problem(message);
+}
+
+void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, bool allowPreset,
+                  const fs::path& baseDir) {
+    if (!v.expectObject())
+        return;
+    if (allowPreset) {
+        v.checkKeys({"preset", "mass", "totalMass", "stiffness", "damping", "springKindScale", "anisotropy",
+                     "heavyAnchorRatio", "airDamping"});
+        applyPreset(v["preset"], m, totalMass, baseDir);
+    } else {
+        v.checkKeys({"mass", "totalMass", "stiffness", "damping", "springKindScale", "anisotropy", "heavyAnchorRatio",
+                     "airDamping"});
+    }
+    if (v["mass"].exists() && v["totalMass"].exists())
+        v["totalMass"].problem("give either mass (per node) or totalMass, not both");
+    readPerNode(v["mass"], m.mass, 1e-12, 1e12, "kg per node");
+    if (v["mass"].exists())
+        totalMass.reset();
+    if (auto t = v["totalMass"].number(1e-9, 1e15, "kg"))
+        totalMass = *t;
+    readPerNode(v["stiffness"], m.stiffness, 0.0, 1e9, "N/m");
+    readPerNode(v["damping"], m.damping, 0.0, 1e6, "N·s/m");
+    if (const JsonValue k = v["springKindScale"]; k.expectObject()) {
+        k.checkKeys({"edge", "face", "body"});
+        const char* names[3] = {"edge", "face", "body"};
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (auto x = k[names[i]].number(0.0, 1e3))
+                m.kindScale[i] = *x;
+        }
+    }
+    if (auto a = v["anisotropy"].vec3()) {
+        if ((a->array() < 1e-6).any() || (a->array() > 1e6).any())
+            v["anisotropy"].problem("each anisotropy factor must be in [1e-6, 1e6]");
+        else
+            m.anisotropy = *a;
+    }
+    if (auto x = v["heavyAnchorRatio"].number(1.0, 1e9))
+        m.heavyAnchorRatio = *x;
+    if (auto x = v["airDamping"].number(0.0, 1e6, "N·s/m"))
+        m.airDamping = *x;
+}
+
+std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {
+    const auto c = v.int3(0, 1000000, true);
+    if (!c)
+        return std::nullopt;
+    for (int a = 0; a < 3; ++a) {
+        if ((*c)[std::size_t(a)] >= lattice.count(a)) {
+            v.problem("node index out of range for a " + std::to_string(lattice.count(0)) + "x" +
+                      std::to_string(lattice.count(1)) + "x" + std::to_string(lattice.count(2)) + " lattice");
+            return std::nullopt;
+        }
+    }
+    return c;
+}
+
+/// Nodes selected by {"nodes": [[i,j,k],…]} or {"region": {"min": [u,v,w], "max": [u,v,w]}}.
+std::vector<int> readNodeSelection(const JsonValue& v, const Lattice& lattice) {
+    std::vector<int> nodes;
+    if (const JsonValue list = v["nodes"]; list.exists()) {
+        if (!list.isArray())
+            list.problem("expected an array of [i,j,k] node indices");
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            if (auto c = readNode(list.at(i), lattice))
+                nodes.push_back(lattice.index((*c)[0], (*c)[1], (*c)[2]));
+        }
+    }
+    if (const JsonValue region = v["region"]; region.expectObject()) {
+        region.checkKeys({"min", "max"});
+        const auto lo = region["min"].vec3(true);
+        const auto hi = region["max"].vec3(true);
+        if (lo && hi) {
+            for (int n = 0; n < lattice.nodeCount(); ++n) {
+                const Vec3 p = lattice.restNodeParameters(n);
+                if ((p.array() >= lo->array() - 1e-9).all() && (p.array() <= hi->array() + 1e-9).all())
+                    nodes.push_back(n);
+            }
+            if (nodes.empty())
+                region.problem("the region selects no lattice node");
+        }
+    }
+    if (!v["nodes"].exists() && !v["region"].exists())
+        v.problem("expected \"nodes\" or \"region\"");
+    return nodes;
+}
+
+std::optional<Driver> readDriver(const JsonValue& v) {
+    if (!v.expectObject(true))
+        return std::nullopt;
+    const auto type = v["type"].string(true);
+    if (!type)
+        return std::nullopt;
+    if (*type == "swim") {
+        v.checkKeys({"type", "point", "direction", "frequency", "amplitude", "phase", "ramp", "stiffness", "damping"});
+        SwimDriver s;
+        if (auto p = v["point"].vec3()) s.point = *p;
+        if (auto d = v["direction"].vec3()) s.direction = *d;
+        if (auto x = v["frequency"].number(1e-9, 100.0, "Hz")) s.frequencyHz = *x;
+        if (auto x = v["amplitude"].number(0.0, 1e3, "m")) s.amplitude = *x;
+        if (auto x = v["phase"].number(-1e6, 1e6, "rad")) s.phase = *x;
+        if (auto x = v["ramp"].number(0.0, 1e6, "s")) s.rampSeconds = *x;
+        if (auto x = v["stiffness"].number(1e-12, 1e9, "N/m")) s.stiffness = *x;
+        if (auto x = v["damping"].number(0.0, 1e6, "N·s/m")) s.damping = *x;
+        return s;
+    }
+    if (*type == "drag") {
+        v.checkKeys({"type", "point", "keys", "stiffness", "damping", "release"});
+        ScriptedDrag d;
+        if (auto p = v["point"].vec3()) d.point = *p;
+        const JsonValue keys = v["keys"];
+        if (!keys.isArray() || keys.size() == 0)
+            keys.problem("expected a non-empty array of {\"time\", \"offset\"} keys");
+        for (std::size_t i = 0; i < keys.size(); ++i) {
+            const JsonValue k = keys.at(i);
+            if (!k.expectObject(true))
+                continue;
+            k.checkKeys({"time", "offset"});
+            const auto t = k["time"].number(-1e9, 1e9, "s", true);
+            const auto o = k["offset"].vec3(true);
+            if (t && o)
+                d.keys.push_back({*t, *o});
+        }
+        if (auto x = v["stiffness"].number(1e-12, 1e9, "N/m")) d.stiffness = *x;
+        if (auto x = v["damping"].number(0.0, 1e6, "N·s/m")) d.damping = *x;
+        if (auto x = v["release"].number(0.0, 1e9, "s")) d.releaseTime = *x;
+        return d;
+    }
+    v["type"].problem("expected \"swim\" or \"drag\", got \"" + *type + "\"");
+    return std::nullopt;
+}
+
+std::optional<Lattice> readLattice(const JsonValue& v, const Mesh& mesh) {
+    LatticeShape shape;
+    BoxFitSettings fit;
+    if (v.expectObject()) {
+        v.checkKeys({"kind", "nodes", "padding", "oriented", "minThickness", "box"});
+        if (auto k = v["kind"].string()) {
+            if (*k == "bezier")
+                shape.kind = LatticeKind::Bezier;
+            else if (*k == "bspline")
+                shape.kind = LatticeKind::BSpline;
+            else
+                v["kind"].problem("expected \"bezier\" or \"bspline\", got \"" + *k + "\"");
+        }
+        if (auto n = v["nodes"].int3(2, 64))
+            shape.nodes = *n;
+        if (auto x = v["padding"].number(0.0, 1.0)) fit.padding = *x;
+        if (auto x = v["minThickness"].number(1e-6, 1.0)) fit.minThickness = *x;
+        if (auto x = v["oriented"].boolean()) fit.oriented = *x;
+    }
+    if (Status s = shape.validate(); !s) {
+        v["nodes"].problem(s.message());
+        return std::nullopt;
+    }
+    OrientedBox box;
+    if (const JsonValue b = v["box"]; b.expectObject()) {
+        b.checkKeys({"origin", "size", "axes"});
+        const auto origin = b["origin"].vec3(true);
+        const auto size = b["size"].vec3(true);
+        const JsonValue axes = b["axes"];
+        if (!origin || !size)
+            return std::nullopt;
+        box.origin = *origin;
+        box.size = *size;
+        if (axes.exists()) {
+            if (axes.size() != 3) {
+                axes.problem("expected three axis vectors [[ux,uy,uz],[vx,vy,vz],[wx,wy,wz]]");
+                return std::nullopt;
+            }
+            for (std::size_t a = 0; a < 3; ++a) {
+                auto axis = axes.at(a).vec3(true);
+                if (!axis)
+                    return std::nullopt;
+                box.axes.col(Eigen::Index(a)) = *axis;
+            }
+        }
+        if (Status s = box.validate(); !s) {
+            b.problem(s.message());
+            return std::nullopt;
+        }
+    } else {
+        auto fitted = fitBox(mesh.positions, fit);
+        if (!fitted) {
+            v.problem(fitted.message());
+            return std::nullopt;
+        }
+        box = fitted.value();
+    }
+    auto lattice = Lattice::create(shape, box);
+    if (!lattice) {
+        v.problem(lattice.message());
+        return std::nullopt;
+    }
+    return lattice.value();
+}
+
+void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, JsonIssues& issues) {
+    if (!v.expectObject(true))
+        return;
+    v.checkKeys({"name", "mesh", "lattice", "material", "anchors", "voids", "drivers"});
+    SceneObject object;
+    object.name = v["name"].string().value_or("object " + std::to_string(project.scene.objects.size()));
+    const auto meshRef = v["mesh"].string(true);
+    if (!meshRef)
+        return;
+    auto mesh = importMesh(baseDir / *meshRef);
+    if (!mesh) {
+        v["mesh"].problem(mesh.message());
+        return;
+    }
+    object.mesh = std::move(mesh.value());
+    auto lattice = readLattice(v["lattice"], object.mesh);
+    if (!lattice)
+        return;
+    object.lattice = *lattice;
+    object.material = uniformMaterial(object.lattice, 0.02, 80.0, 0.9);
+    std::optional<double> totalMass;
+    readMaterial(v["material"], object.material, totalMass, true, baseDir);
+
+    if (const JsonValue anchors = v["anchors"]; anchors.exists()) {
+        if (!anchors.isArray())
+            anchors.problem("expected an array of anchor groups");
+        for (std::size_t i = 0; i < anchors.size(); ++i) {
+            const JsonValue a = anchors.at(i);
+            if (!a.expectObject(true))
+                continue;
+            a.checkKeys({"mode", "nodes", "region"});
+            AnchorMode mode = AnchorMode::Pinned;
+            if (auto m = a["mode"].string()) {
+                if (*m == "heavy")
+                    mode = AnchorMode::Heavy;
+                else if (*m != "pinned")
+                    a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
+            }
+            for (int node : readNodeSelection(a, object.lattice))
+                object.material.anchor[std::size_t(node)] = mode;
+        }
+    }
+    if (const JsonValue voids = v["voids"]; voids.expectObject()) {
+        voids.checkKeys({"auto", "nodes", "region"});
+        if (voids["auto"].boolean().value_or(false))
+            object.material.isVoid = findEmptyNodes(object.lattice, object.mesh);
+        if (voids["nodes"].exists() || voids["region"].exists()) {
+            for (int node : readNodeSelection(voids, object.lattice))
+                object.material.isVoid[std::size_t(node)] = 1;
+        }
+    }
+    if (totalMass) {
+        std::size_t solid = 0;
+        for (auto isVoid : object.material.isVoid)
+            solid += isVoid == 0;
+        if (solid > 0)
+            object.material.mass.assign(object.material.mass.size(), *totalMass / double(solid));
+    }
+    if (const JsonValue drivers = v["drivers"]; drivers.exists()) {
+        if (!drivers.isArray())
+            drivers.problem("expected an array of drivers");
+        for (std::size_t i = 0; i < drivers.size(); ++i) {
+            if (auto d = readDriver(drivers.at(i))) {
+                if (Status s = validateDriver(*d); !s)
+                    drivers.at(i).problem(s.message());
+                else
+                    object.drivers.push_back(*d);
+            }
+        }
+    }
+    // The body itself validates combinations (every node void, …).
+    if (issues.empty()) {
+        if (auto body = buildLatticeBody(object.lattice, object.material); !body)
+            v.problem(body.message());
+    }
+    project.meshReferences.push_back(*meshRef);
+    project.scene.objects.push_back(std::move(object));
+}
+
+void readWorld(const JsonValue& root, WorldSettings& w) {
+    if (const JsonValue world = root["world"]; world.expectObject()) {
+        world.checkKeys({"gravity", "planes"});
+        if (auto g = world["gravity"].vec3()) w.gravity = *g;
+        const JsonValue planes = world["planes"];
+        if (planes.exists() && !planes.isArray())
+            planes.problem("expected an array of planes");
+        for (std::size_t i = 0; i < planes.size(); ++i) {
+            const JsonValue p = planes.at(i);
+            if (!p.expectObject(true))
+                continue;
+            p.checkKeys({"point", "normal", "restitution", "friction"});
+            CollisionPlane plane;
+            if (auto x = p["point"].vec3()) plane.point = *x;
+            if (auto n = p["normal"].vec3()) {
+                if (n->norm() < 1e-9)
+                    p["normal"].problem("the normal must not be zero");
+                else
+                    plane.normal = n->normalized();
+            }
+            if (auto x = p["restitution"].number(0.0, 1.0)) plane.restitution = *x;
+            if (auto x = p["friction"].number(0.0, 10.0)) plane.friction = *x;
+            w.planes.push_back(plane);
+        }
+    }
+    if (const JsonValue sim = root["simulation"]; sim.expectObject()) {
+        sim.checkKeys({"integrator", "dt", "xpbdSubsteps", "sleep"});
+        if (auto name = sim["integrator"].string()) {
+            if (auto kind = parseIntegratorKind(*name))
+                w.simulation.integrator = *kind;
+            else
+                sim["integrator"].problem("expected \"symplectic-euler\", \"verlet\", \"implicit-euler\" or \"xpbd\", got \"" +
+                                          *name + "\"");
+        }
+        if (auto x = sim["dt"].number(1e-7, 0.1, "s")) w.simulation.dt = *x;
+        if (auto x = sim["xpbdSubsteps"].integer(1, 10000)) w.simulation.xpbdSubsteps = *x;
+        if (auto x = sim["sleep"].boolean()) w.simulation.sleep = *x;
+    }
+    if (const JsonValue clip = root["clip"]; clip.expectObject()) {
+        clip.checkKeys({"frames", "fps"});
+        if (auto x = clip["frames"].integer(1, 1000000)) w.frames = *x;
+        if (auto x = clip["fps"].number(1e-3, 1000.0, "frames per second")) w.fps = *x;
+    }
+}
+
+/// Reads a whole project, collecting every problem.
+std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return std::nullopt;
+    const JsonValue root(&*doc, "", &issues);
+    if (!readHeader(root, kProjectFormat, kProjectVersion))
+        return std::nullopt;
+    root.checkKeys({"format", "version", "objects", "world", "simulation", "clip"});
+    Project project;
+    project.path = path;
+    const fs::path baseDir = path.parent_path();
+    const JsonValue objects = root["objects"];
+    if (!objects.isArray() || objects.size() == 0)
+        objects.problem("expected a non-empty array of objects");
+    for (std::size_t i = 0; i < objects.size(); ++i)
+        readObject(objects.at(i), baseDir, project, issues);
+    readWorld(root, project.scene.world);
+    if (!issues.empty())
+        return std::nullopt;
+    return project;
+}
+
+}  // namespace
+
+Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (doc) {
+        const JsonValue root(&*doc, "", &issues);
+        if (readHeader(root, kPresetFormat, kPresetVersion)) {
+            root.checkKeys({"format", "version", "kind", "name", "description", "material"});
+            const auto kind = root["kind"].string(true);
+            if (kind && *kind != "material")
+                root["kind"].problem("expected \"material\", got \"" + *kind + "\"");
+            MaterialPreset preset;
+            preset.name = root["name"].string(true).value_or("");
+            preset.description = root["description"].string().value_or("");
+            if (root["material"].expectObject(true)) {
+                preset.material = (*doc)["material"];
+                // Validate against a one-node lattice: per-node arrays make no sense in a preset.
+                const Lattice probe = Lattice::create({LatticeKind::Bezier, {2, 2, 2}}, OrientedBox{}).value();
+                LatticeMaterial m = uniformMaterial(probe, 1.0, 1.0, 0.0);
+                std::optional<double> total;
+                const JsonValue material = root["material"];
+                for (const char* field : {"mass", "stiffness", "damping"}) {
+                    if (material[field].isArray())
+                        material[field].problem("a preset holds one value for every node, not an array");
+                }
+                readMaterial(material, m, total, false, path.parent_path());
+            }
+            if (issues.empty())
+                return preset;
+        }
+    }
+    return Status::error(issues.summary());
+}
+
+Result<Project> loadProject(const fs::path& path) {
+    JsonIssues issues(path.string());
+    auto project = readProject(path, issues);
+    if (!project)
+        return Status::error(issues.summary());
+    return std::move(*project);
+}
+
+std::vector<std::string> validateFile(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return issues.messages();
+    const std::string format = doc->is_object() && doc->contains("format") && (*doc)["format"].is_string()
+                                   ? (*doc)["format"].get<std::string>()
+                                   : std::string();
+    if (format == kPresetFormat) {
+        auto preset = loadMaterialPreset(path);
+        if (preset)
+            return {};
+        // loadMaterialPreset summarises; re-read for the full list.
+        JsonIssues all(path.string());
+        all.addGeneral(preset.message());
+        return all.messages();
+    }
+    readProject(path, issues);
+    return issues.messages();
+}
+
+namespace {
+
+json perNode(const std::vector<double>& values) {
+    bool uniform = true;
+    for (double v : values)
+        uniform = uniform && v == values.front();
+    if (uniform)
+        return values.front();
+    return values;
+}
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json nodeList(const Lattice& lattice, const std::vector<int>& nodes) {
+    json list = json::array();
+    for (int n : nodes) {
+        const auto c = lattice.coords(n);
+        list.push_back(json::array({c[0], c[1], c[2]}));
+    }
+    return list;
+}
+
+json driverJson(const Driver& driver) {
+    if (const auto* d = std::get_if<ScriptedDrag>(&driver)) {
+        json keys = json::array();
+        for (const PathKey& k : d->keys)
+            keys.push_back({{"time", k.time}, {"offset", vec(k.offset)}});
+        json out = {{"type", "drag"}, {"point", vec(d->point)}, {"keys", keys}, {"stiffness", d->stiffness},
+                    {"damping", d->damping}};
+        if (d->releaseTime >= 0.0)
+            out["release"] = d->releaseTime;
+        return out;
+    }
+    const auto& s = std::get<SwimDriver>(driver);
+    return {{"type", "swim"},           {"point", vec(s.point)},   {"direction", vec(s.direction)},
+            {"frequency", s.frequencyHz}, {"amplitude", s.amplitude}, {"phase", s.phase},
+            {"ramp", s.rampSeconds},     {"stiffness", s.stiffness}, {"damping", s.damping}};
+}
+
+}  // namespace
+
+Status saveProject(const Project& project, const fs::path& path) {
+    // Mesh references are relative to the project file: rebase them when saving somewhere else.
+    const fs::path from = fs::absolute(project.path).parent_path();
+    const fs::path to = fs::absolute(path).parent_path();
+    auto rebased = [&](const std::string& ref) {
+        if (ref.empty() || fs::path(ref).is_absolute() || project.path.empty())
+            return ref;
+        return (from / ref).lexically_normal().lexically_relative(to.lexically_normal()).generic_string();
+    };
+    json objects = json::array();
+    for (std::size_t i = 0; i < project.scene.objects.size(); ++i) {
+        const SceneObject& o = project.scene.objects[i];
+        const LatticeMaterial& m = o.material;
+        const OrientedBox& box = o.lattice.box();
+        json lattice = {
+            {"kind", o.lattice.shape().kind == LatticeKind::Bezier ? "bezier" : "bspline"},
+            {"nodes", {o.lattice.count(0), o.lattice.count(1), o.lattice.count(2)}},
+            {"box",
+             {{"origin", vec(box.origin)},
+              {"size", vec(box.size)},
+              {"axes", json::array({vec(box.axes.col(0)), vec(box.axes.col(1)), vec(box.axes.col(2))})}}}};
+        json material = {{"mass", perNode(m.mass)},
+                         {"stiffness", perNode(m.stiffness)},
+                         {"damping", perNode(m.damping)},
+                         {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
+                         {"anisotropy", vec(m.anisotropy)},
+                         {"heavyAnchorRatio", m.heavyAnchorRatio},
+                         {"airDamping", m.airDamping}};
+        std::vector<int> pinned, heavy, voids;
+        for (int n = 0; n < o.lattice.nodeCount(); ++n) {
+            if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
+            if (m.anchor[std::size_t(n)] == AnchorMode::Heavy) heavy.push_back(n);
+            if (m.isVoid[std::size_t(n)]) voids.push_back(n);
+        }
+        json anchors = json::array();
+        if (!pinned.empty()) anchors.push_back({{"mode", "pinned"}, {"nodes", nodeList(o.lattice, pinned)}});
+        if (!heavy.empty()) anchors.push_back({{"mode", "heavy"}, {"nodes", nodeList(o.lattice, heavy)}});
+        json drivers = json::array();
+        for (const Driver& d : o.drivers)
+            drivers.push_back(driverJson(d));
+        json object = {{"name", o.name},
+                       {"mesh", rebased(i < project.meshReferences.size() ? project.meshReferences[i] : std::string())},
+                       {"lattice", lattice},
+                       {"material", material},
+                       {"anchors", anchors},
+                       {"drivers", drivers}};
+        if (!voids.empty())
+            object["voids"] = {{"nodes", nodeList(o.lattice, voids)}};
+        objects.push_back(object);
+    }
+    const WorldSettings& w = project.scene.world;
+    json planes = json::array();
+    for (const CollisionPlane& p : w.planes)
+        planes.push_back({{"point", vec(p.point)}, {"normal", vec(p.normal)}, {"restitution", p.restitution},
+                          {"friction", p.friction}});
+    const json doc = {{"format", kProjectFormat},
+                      {"version", kProjectVersion},
+                      {"objects", objects},
+                      {"world", {{"gravity", vec(w.gravity)}, {"planes", planes}}},
+                      {"simulation",
+                       {{"integrator", std::string(integratorName(w.simulation.integrator))},
+                        {"dt", w.simulation.dt},
+                        {"xpbdSubsteps", w.simulation.xpbdSubsteps},
+                        {"sleep", w.simulation.sleep}}},
+                      {"clip", {{"frames", w.frames}, {"fps", w.fps}}}};
+    const std::string text = doc.dump(2) + "\n";
+    AtomicFile file(path);
+    if (Status s = file.open(); !s)
+        return s;
+    if (Status s = file.write(text.data(), text.size()); !s)
+        return s;
+    return file.commit();
+}
+
+}  // namespace softtouch::io

@@ -1,0 +1,251 @@
+#include "io/vertex_cache.h"
+
+#include "io/vertex_cache_internal.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <system_error>
+
+#include <sys/stat.h>
+
+namespace softtouch::io {
+
+namespace {
+
+std::string lowercase(std::string_view text) {
+    std::string out(text);
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return out;
+}
+
+}  // namespace
+
+std::string_view cacheFormatName(CacheFormat format) {
+    switch (format) {
+    case CacheFormat::Pc2:
+        return "pc2";
+    case CacheFormat::Mdd:
+        return "mdd";
+    case CacheFormat::ObjSequence:
+        return "objseq";
+    }
+    return "pc2";  // unreachable: every enumerator is handled above
+}
+
+std::optional<CacheFormat> parseCacheFormat(std::string_view name) {
+    // Case-insensitive: the same names are typed on the command line, where "PC2" is natural.
+    const std::string key = lowercase(name);
+    for (CacheFormat format : {CacheFormat::Pc2, CacheFormat::Mdd, CacheFormat::ObjSequence}) {
+        if (key == cacheFormatName(format))
+            return format;
+    }
+    return std::nullopt;
+}
+
+std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path) {
+    const std::string extension = lowercase(path.extension().string());
+    if (extension == ".pc2")
+        return CacheFormat::Pc2;
+    if (extension == ".mdd")
+        return CacheFormat::Mdd;
+    if (extension == ".obj")
+        return CacheFormat::ObjSequence;
+    return std::nullopt;
+}
+
+std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mesh& restMesh) {
+    switch (format) {
+    case CacheFormat::Pc2:
+        return detail::makePc2Writer();
+    case CacheFormat::Mdd:
+        return detail::makeMddWriter();
+    case CacheFormat::ObjSequence:
+        return detail::makeObjSequenceWriter(restMesh);
+    }
+    return nullptr;  // unreachable: every enumerator is handled above
+}
+
+std::filesystem::path objSequenceFramePath(const std::filesystem::path& path, std::size_t frame) {
+    // Four digits at least so that names sort in frame order in a file browser and match the
+    // "name_####" pattern importers look for; more digits rather than wrapping past 9999.
+    std::string number = std::to_string(frame);
+    if (number.size() < 4)
+        number.insert(0, 4 - number.size(), '0');
+    const std::filesystem::path extension = path.has_extension() ? path.extension() : ".obj";
+    std::filesystem::path name = path.stem();
+    name += "_" + number;
+    name += extension;
+    return path.parent_path() / name;
+}
+
+namespace detail {
+
+std::string quoted(const std::filesystem::path& path) {
+    // Appended piece by piece: "'" + path.string() + "'" trips GCC 12's false -Wrestrict at -O3.
+    std::string text = path.string();
+    text.insert(text.begin(), '\'');
+    text.push_back('\'');
+    return text;
+}
+
+std::string formatNumber(double value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+Status checkCacheInfo(const std::filesystem::path& path, const CacheInfo& info) {
+    const std::string prefix = "cannot write " + quoted(path) + ": ";
+    if (info.pointCount == 0)
+        return Status::error(prefix + "a vertex cache needs at least one vertex per frame");
+    if (info.frameCount == 0)
+        return Status::error(prefix + "a vertex cache needs at least one frame");
+    if (!std::isfinite(info.fps) || info.fps <= 0.0)
+        return Status::error(prefix + "the frame rate must be a finite number above 0 fps, got " +
+                             formatNumber(info.fps));
+    if (!std::isfinite(info.startFrame))
+        return Status::error(prefix + "the start frame must be finite, got " + formatNumber(info.startFrame));
+    return Status::success();
+}
+
+Status checkFrame(const std::filesystem::path& path, std::size_t frameIndex, const CacheInfo& info,
+                  std::span<const Vec3f> positions) {
+    const std::string nothingWritten = "; nothing was written to " + quoted(path);
+    const std::string frame = "frame " + std::to_string(frameIndex);
+    if (frameIndex >= info.frameCount)
+        return Status::error(frame + " is one more than the " + std::to_string(info.frameCount) +
+                             " frames announced" + nothingWritten);
+    if (positions.size() != info.pointCount)
+        return Status::error(frame + " has " + std::to_string(positions.size()) +
+                             " vertices, the cache has " + std::to_string(info.pointCount) + " per frame" +
+                             nothingWritten);
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (!isFinite(positions[v]))
+            return Status::error(frame + " vertex " + std::to_string(v) + " is not finite" + nothingWritten);
+    }
+    return Status::success();
+}
+
+Status frameCountMismatch(const std::filesystem::path& path, std::size_t written, std::size_t announced) {
+    return Status::error("cannot write " + quoted(path) + ": " + std::to_string(written) + " of the " +
+                         std::to_string(announced) + " announced frames were written; nothing was written");
+}
+
+Status SingleFileCacheWriter::begin(const std::filesystem::path& path, const CacheInfo& info) {
+    abort();  // a writer may be reused; whatever it was doing is dropped
+    if (Status s = checkCacheInfo(path, info); !s)
+        return s;
+    std::vector<std::uint8_t> header;
+    if (Status s = encodeHeader(path, info, header); !s)
+        return s;
+    m_file.emplace(path);
+    if (Status s = m_file->open(); !s) {
+        m_file.reset();
+        return s;
+    }
+    if (Status s = m_file->write(header.data(), header.size()); !s) {
+        m_file.reset();
+        return s;
+    }
+    m_path = path;
+    m_info = info;
+    m_framesWritten = 0;
+    return Status::success();
+}
+
+Status SingleFileCacheWriter::writeFrame(std::span<const Vec3f> positions) {
+    if (!m_file)
+        return Status::error("no vertex cache is being written: begin() was not called or the write failed");
+    if (Status s = checkFrame(m_path, m_framesWritten, m_info, positions); !s) {
+        abort();
+        return s;
+    }
+    m_buffer.clear();
+    encodeFrame(positions, m_buffer);
+    if (Status s = m_file->write(m_buffer.data(), m_buffer.size()); !s) {
+        abort();
+        return s;
+    }
+    ++m_framesWritten;
+    return Status::success();
+}
+
+Status SingleFileCacheWriter::finish() {
+    if (!m_file)
+        return Status::error("no vertex cache is being written: begin() was not called or the write failed");
+    if (m_framesWritten != m_info.frameCount) {
+        Status s = frameCountMismatch(m_path, m_framesWritten, m_info.frameCount);
+        abort();
+        return s;
+    }
+    Status s = m_file->commit();
+    m_file.reset();
+    m_framesWritten = 0;
+    return s;
+}
+
+void SingleFileCacheWriter::abort() {
+    m_file.reset();  // AtomicFile's destructor removes the temporary
+    m_framesWritten = 0;
+    m_buffer.clear();
+    m_buffer.shrink_to_fit();
+}
+
+InputFile::InputFile(std::filesystem::path path) : m_path(std::move(path)) {}
+
+InputFile::~InputFile() {
+    if (m_file != nullptr)
+        std::fclose(m_file);
+}
+
+Status InputFile::open() {
+    errno = 0;
+    m_file = std::fopen(m_path.c_str(), "rb");
+    if (m_file == nullptr)
+        return Status::error("cannot read " + quoted(m_path) + ": " + std::generic_category().message(errno));
+    struct stat info {};
+    if (::fstat(::fileno(m_file), &info) != 0)
+        return Status::error("cannot read " + quoted(m_path) + ": " + std::generic_category().message(errno));
+    if (!S_ISREG(info.st_mode))
+        return Status::error("cannot read " + quoted(m_path) + ": not a regular file");
+    m_size = static_cast<std::uint64_t>(info.st_size);
+    return Status::success();
+}
+
+Status InputFile::read(void* data, std::size_t size) {
+    errno = 0;
+    if (std::fread(data, 1, size, m_file) != size) {
+        const int error = errno;
+        if (error == 0)
+            return Status::error(quoted(m_path) + " ended early: it changed while being read");
+        return Status::error("cannot read " + quoted(m_path) + ": " + std::generic_category().message(error));
+    }
+    return Status::success();
+}
+
+Status sizeMismatch(const std::filesystem::path& path, const std::string& layout, std::uint64_t expected,
+                    std::uint64_t actual) {
+    if (actual < expected)
+        return Status::error(quoted(path) + " is truncated: its header announces " + layout + " (" +
+                             std::to_string(expected) + " bytes) but the file has " + std::to_string(actual) +
+                             " bytes");
+    return Status::error(quoted(path) + " has " + std::to_string(actual - expected) +
+                         " extra bytes after the " + layout + " its header announces");
+}
+
+std::optional<std::uint64_t> checkedSize(std::uint64_t header, std::uint64_t count, std::uint64_t bytesEach) {
+    constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+    if (bytesEach != 0 && count > (kMax - header) / bytesEach)
+        return std::nullopt;
+    return header + count * bytesEach;
+}
+
+}  // namespace detail
+
+}  // namespace softtouch::io

@@ -1,0 +1,73 @@
+#pragma once
+/// Vertex-cache exporters (PC2, MDD, OBJ sequence) behind one streaming interface: one frame in
+/// memory at a time, non-finite frames refused, the output published atomically by finish().
+/// Byte layouts: docs/formats.md.
+
+#include "core/mesh.h"
+#include "core/result.h"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace softtouch::io {
+
+/// The supported cache formats.
+enum class CacheFormat { Pc2, Mdd, ObjSequence };
+
+/// "pc2", "mdd", "objseq".
+std::string_view cacheFormatName(CacheFormat format);
+/// Parses a name written by cacheFormatName().
+std::optional<CacheFormat> parseCacheFormat(std::string_view name);
+/// From the file extension (.pc2, .mdd, .obj).
+std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path);
+
+/// What a cache holds.
+struct CacheInfo {
+    std::size_t pointCount = 0;  ///< Vertices per frame, > 0.
+    std::size_t frameCount = 0;  ///< Frames, > 0.
+    double fps = 24.0;           ///< Frames per second, > 0.
+    double startFrame = 0.0;     ///< Frame number of the first sample.
+};
+
+/// Streaming writer of one cache.
+class VertexCacheWriter {
+public:
+    virtual ~VertexCacheWriter() = default;
+    /// Starts writing `path`; nothing is visible there until finish().
+    virtual Status begin(const std::filesystem::path& path, const CacheInfo& info) = 0;
+    /// Appends one frame of exactly info.pointCount positions; refuses non-finite values.
+    virtual Status writeFrame(std::span<const Vec3f> positions) = 0;
+    /// Checks that every announced frame was written and publishes the file(s) atomically.
+    virtual Status finish() = 0;
+    /// Drops everything written so far; the previous file(s) stay untouched.
+    virtual void abort() = 0;
+};
+
+/// A writer for the format. OBJ sequences need the rest mesh's triangles (written into every frame).
+std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mesh& restMesh);
+
+/// A cache read back (tests, round trips, tools).
+struct VertexCache {
+    CacheInfo info;
+    std::vector<std::vector<Vec3f>> frames;
+};
+/// Reads a PC2 file; errors name the file and what is wrong (bad signature, truncated, …). PC2 stores
+/// no frame rate (its "sampleRate" is a frame step), so info.fps is 0, meaning unknown.
+Result<VertexCache> readPc2(const std::filesystem::path& path);
+/// Reads an MDD file; MDD stores no fps, so info.fps comes from the frame times when there are two
+/// (0, meaning unknown, for a single frame).
+Result<VertexCache> readMdd(const std::filesystem::path& path);
+
+/// Paths of an OBJ sequence written for `path` (dir/name.obj -> dir/name_0000.obj, …).
+std::filesystem::path objSequenceFramePath(const std::filesystem::path& path, std::size_t frame);
+
+/// Writes a mesh as Wavefront OBJ (v, vn, f; no groups, so vertex order survives any importer that
+/// keeps OBJ order), atomically. `positions`/`normals` override the mesh's own when non-empty.
+Status writeObj(const std::filesystem::path& path, const Mesh& mesh, std::span<const Vec3f> positions = {},
+                std::span<const Vec3f> normals = {});
+
+}  // namespace softtouch::io

@@ -1,0 +1,259 @@
+// End to end: run softtouch-cli on the bundled scenes and on bad input, check what it wrote.
+#include "io/vertex_cache.h"
+
+#include <QCryptographicHash>
+#include <QProcess>
+#include <QTemporaryDir>
+#include <QtTest>
+#include <fstream>
+
+using namespace softtouch;
+
+namespace {
+
+const QString kCli = QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli");
+const QString kScenes = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/");
+
+struct Run {
+    int exitCode = -1;
+    QString out;
+    QString err;
+};
+
+Run runCli(const QStringList& args) {
+    QProcess p;
+    p.start(kCli, args);
+    if (!p.waitForFinished(300000))
+        qFatal("softtouch-cli did not finish");
+    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
+            QString::fromUtf8(p.readAllStandardError())};
+}
+
+/// The v lines of an OBJ file.
+std::vector<Vec3f> objVertices(const QString& path) {
+    std::ifstream in(path.toStdString());
+    std::vector<Vec3f> out;
+    std::string tag;
+    while (in >> tag) {
+        if (tag == "v") {
+            float x, y, z;
+            in >> x >> y >> z;
+            out.emplace_back(x, y, z);
+        }
+        in.ignore(1 << 20, '\n');
+    }
+    return out;
+}
+
+QByteArray fileBytes(const QString& path) {
+    QFile f(path);
+    return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+}
+
+QString writeText(const QTemporaryDir& dir, const QString& name, const QString& text) {
+    const QString path = dir.filePath(name);
+    QFile f(path);
+    if (!f.open(QIODevice::WriteOnly))
+        qFatal("cannot write %s", qPrintable(path));
+    f.write(text.toUtf8());
+    return path;
+}
+
+}  // namespace
+
+class TestCli : public QObject {
+    Q_OBJECT
+private slots:
+    void helpAndUsage();
+    void bakeEverySample_data();
+    void bakeEverySample();
+    void bakeFormats_data();
+    void bakeFormats();
+    void bakeIsDeterministic();
+    void goldenHash();
+    void badInputFailsCleanly_data();
+    void badInputFailsCleanly();
+    void failedBakeKeepsPreviousFile();
+    void validateCommand();
+};
+
+void TestCli::helpAndUsage() {
+    const Run help = runCli({"--help"});
+    QCOMPARE(help.exitCode, 0);
+    QVERIFY(help.out.contains("bake") && help.out.contains("validate"));
+    const Run bakeHelp = runCli({"bake", "--help"});
+    QCOMPARE(bakeHelp.exitCode, 0);
+    QVERIFY(bakeHelp.out.contains("--frames"));
+    const Run none = runCli({});
+    QCOMPARE(none.exitCode, 2);
+    const Run unknown = runCli({"explode"});
+    QCOMPARE(unknown.exitCode, 2);
+    QVERIFY(unknown.err.contains("unknown command"));
+    const Run noOut = runCli({"bake", kScenes + "angelfish-swim.softtouch"});
+    QCOMPARE(noOut.exitCode, 2);
+    QVERIFY(noOut.err.contains("--out"));
+}
+
+void TestCli::bakeEverySample_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::newRow("angelfish") << "angelfish-swim";
+    QTest::newRow("demekin") << "demekin-swim";
+    QTest::newRow("guppy") << "guppy-swim";
+    QTest::newRow("star") << "star-drag";
+}
+
+void TestCli::bakeEverySample() {
+    QFETCH(QString, scene);
+    QTemporaryDir dir;
+    const QString out = dir.filePath(scene + ".pc2");
+    const Run r = runCli({"bake", kScenes + scene + ".softtouch", "--out", out, "--frames", "24", "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    QVERIFY(r.out.contains(out));
+
+    // Header, byte for byte.
+    const QByteArray bytes = fileBytes(out);
+    QVERIFY(bytes.size() >= 32);
+    QCOMPARE(QByteArray(bytes.constData(), 12), QByteArray("POINTCACHE2\0", 12));
+    auto readInt = [&](int offset) { std::int32_t v; std::memcpy(&v, bytes.constData() + offset, 4); return v; };
+    QCOMPARE(readInt(12), 1);
+    const int points = readInt(16);
+    QCOMPARE(readInt(28), 24);
+    QCOMPARE(qint64(bytes.size()), qint64(32) + qint64(24) * points * 12);
+
+    // The rest OBJ beside it has the same vertex count, and frame 0 is that rest pose.
+    const std::vector<Vec3f> rest = objVertices(dir.filePath(scene + ".obj"));
+    QCOMPARE(int(rest.size()), points);
+    auto cache = io::readPc2(out.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache->frames.size()), 24);
+    double first = 0.0, last = 0.0;
+    for (std::size_t v = 0; v < rest.size(); ++v) {
+        first = std::max(first, double((cache->frames[0][v] - rest[v]).norm()));
+        last = std::max(last, double((cache->frames[23][v] - rest[v]).norm()));
+        for (const auto& frame : cache->frames)
+            QVERIFY(frame[v].allFinite());
+    }
+    QVERIFY2(first < 1e-5, qPrintable(QString("frame 0 differs from rest by %1").arg(first)));
+    QVERIFY2(last > 1e-3, qPrintable(QString("the last frame only moved %1").arg(last)));
+}
+
+void TestCli::bakeFormats_data() {
+    QTest::addColumn<QString>("file");
+    QTest::addColumn<QStringList>("extra");
+    QTest::newRow("mdd by extension") << "fish.mdd" << QStringList();
+    QTest::newRow("objseq by extension") << "fish.obj" << QStringList();
+    QTest::newRow("pc2 forced") << "fish.cache" << QStringList{"--format", "pc2"};
+}
+
+void TestCli::bakeFormats() {
+    QFETCH(QString, file);
+    QFETCH(QStringList, extra);
+    QTemporaryDir dir;
+    const QString out = dir.filePath(file);
+    const Run r = runCli(QStringList{"bake", kScenes + "guppy-swim.softtouch", "--out", out, "--frames", "5", "--fps", "30",
+                                     "--quiet"} + extra);
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    if (file.endsWith(".mdd")) {
+        auto cache = io::readMdd(out.toStdString());
+        QVERIFY2(cache.ok(), cache.message().c_str());
+        QCOMPARE(int(cache->frames.size()), 5);
+        QVERIFY(std::abs(cache->info.fps - 30.0) < 1e-3);
+        QCOMPARE(cache->frames[0].size(), objVertices(dir.filePath("fish.obj")).size());
+    } else if (file.endsWith(".obj")) {
+        const auto rest = objVertices(out);
+        for (int f = 0; f < 5; ++f) {
+            const QString frame = QString::fromStdString(io::objSequenceFramePath(out.toStdString(), std::size_t(f)).string());
+            QVERIFY2(QFile::exists(frame), qPrintable(frame));
+            QCOMPARE(objVertices(frame).size(), rest.size());
+        }
+    } else {
+        QVERIFY(io::readPc2(out.toStdString()).ok());
+        QVERIFY(QFile::exists(dir.filePath("fish.obj")));
+    }
+}
+
+void TestCli::bakeIsDeterministic() {
+    QTemporaryDir dir;
+    const QString a = dir.filePath("a.pc2"), b = dir.filePath("b.pc2");
+    const QString scene = kScenes + "angelfish-swim.softtouch";
+    QCOMPARE(runCli({"bake", scene, "--out", a, "--quiet"}).exitCode, 0);
+    QCOMPARE(runCli({"bake", scene, "--out", b, "--quiet", "--threads", "1"}).exitCode, 0);
+    const QByteArray x = fileBytes(a), y = fileBytes(b);
+    QVERIFY(x.size() > 1000);
+    QVERIFY2(x == y, "two bakes of the default scene differ (one used one thread, one all)");
+}
+
+void TestCli::goldenHash() {
+    // A fixed scene for a fixed number of frames hashes to a known value on this build (Box2D's
+    // determinism test). When the physics changes on purpose, update the value from the message.
+    QTemporaryDir dir;
+    const QString out = dir.filePath("golden.pc2");
+    QCOMPARE(runCli({"bake", kScenes + "angelfish-swim.softtouch", "--out", out, "--frames", "24", "--quiet"}).exitCode, 0);
+    const QString hash = QString::fromLatin1(QCryptographicHash::hash(fileBytes(out), QCryptographicHash::Sha256).toHex());
+    const QString golden = QStringLiteral("f6bc2eba5396b1ed9e22c85ff43fe7cc9915a6b0a36a156f2db8406b8820acf8");
+    QVERIFY2(hash == golden, qPrintable("angelfish-swim, 24 frames: sha256 " + hash + ", golden " + golden));
+}
+
+void TestCli::badInputFailsCleanly_data() {
+    QTest::addColumn<QString>("text");
+    QTest::addColumn<QStringList>("extra");
+    QTest::addColumn<QString>("expected");
+    const QString mesh = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj");
+    const QString good = R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": ")" + mesh + R"("%1}]%2})";
+    QTest::newRow("missing mesh") << QString(R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": "gone.obj"}]})")
+                                  << QStringList() << "gone.obj";
+    QTest::newRow("corrupt JSON") << QString("{\"format\": \"softtouch-proj") << QStringList() << "invalid JSON";
+    QTest::newRow("negative mass") << good.arg(R"(, "material": {"mass": -0.5})", "") << QStringList() << "/objects/0/material/mass";
+    QTest::newRow("zero fps in file") << good.arg("", R"(, "clip": {"fps": 0})") << QStringList() << "/clip/fps";
+    QTest::newRow("zero fps on command line") << good.arg("", "") << QStringList{"--fps", "0"} << "--fps";
+    QTest::newRow("NaN in a field") << good.arg(R"(, "material": {"damping": NaN})", "") << QStringList() << "invalid JSON";
+    QTest::newRow("NaN on command line") << good.arg("", "") << QStringList{"--fps", "nan"} << "--fps";
+    QTest::newRow("empty mesh") << QString(R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": "empty.obj"}]})")
+                                << QStringList() << "empty.obj' is empty";
+}
+
+void TestCli::badInputFailsCleanly() {
+    QFETCH(QString, text);
+    QFETCH(QStringList, extra);
+    QFETCH(QString, expected);
+    QTemporaryDir dir;
+    writeText(dir, "empty.obj", "");
+    const QString scene = writeText(dir, "bad.softtouch", text);
+    const QString out = dir.filePath("out.pc2");
+    const Run r = runCli(QStringList{"bake", scene, "--out", out, "--quiet"} + extra);
+    QVERIFY(r.exitCode != 0);
+    QVERIFY2(r.err.contains(expected), qPrintable(r.err));
+    QCOMPARE(r.err.trimmed().count('\n'), 0);  // one line
+    QVERIFY(!QFile::exists(out));
+    QVERIFY(!QFile::exists(dir.filePath("out.obj")));
+    QCOMPARE(QDir(dir.path()).entryList({"*.tmp-*"}, QDir::Files | QDir::Hidden).size(), 0);
+}
+
+void TestCli::failedBakeKeepsPreviousFile() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("keep.pc2");
+    QCOMPARE(runCli({"bake", kScenes + "guppy-swim.softtouch", "--out", out, "--frames", "3", "--quiet"}).exitCode, 0);
+    const QByteArray before = fileBytes(out);
+    const QString bad = writeText(dir, "bad.softtouch", R"({"format": "softtouch-project", "version": 1, "objects": []})");
+    QVERIFY(runCli({"bake", bad, "--out", out, "--quiet"}).exitCode != 0);
+    QCOMPARE(fileBytes(out), before);
+}
+
+void TestCli::validateCommand() {
+    const Run ok = runCli({"validate", kScenes + "angelfish-swim.softtouch",
+                           QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/materials/jelly.stpreset")});
+    QVERIFY2(ok.exitCode == 0, qPrintable(ok.err));
+    QCOMPARE(ok.out.count(": ok"), 2);
+    QTemporaryDir dir;
+    const QString mesh = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj");
+    const QString bad = writeText(dir, "two.softtouch",
+                                  R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": ")" + mesh +
+                                      R"(", "material": {"mass": -1, "stiffness": -2}}]})");
+    const Run r = runCli({"validate", bad});
+    QCOMPARE(r.exitCode, 1);
+    QCOMPARE(r.err.trimmed().split('\n').size(), 2);
+    QVERIFY(r.err.contains("/objects/0/material/mass") && r.err.contains("/objects/0/material/stiffness"));
+}
+
+QTEST_GUILESS_MAIN(TestCli)
+#include "test_cli.moc"

@@ -1,0 +1,259 @@
+// Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
+#include "io/mesh_import.h"
+#include "io/project_file.h"
+
+#include <QTemporaryDir>
+#include <QtTest>
+#include <fstream>
+
+using namespace softtouch;
+using namespace softtouch::io;
+
+namespace {
+
+const std::filesystem::path kPresets = std::filesystem::path(SOFTTOUCH_SOURCE_DIR) / "presets";
+
+/// A minimal valid project referencing a sample mesh by absolute path, with `patch` merged in.
+std::string projectText(const std::string& objectExtra = "", const std::string& rootExtra = "") {
+    return R"({"format": "softtouch-project", "version": 1,
+      "objects": [{"name": "fish", "mesh": ")" + (kPresets / "meshes/guppy.obj").string() + R"(",
+                   "lattice": {"nodes": [4, 4, 4]})" + objectExtra + R"(}])" + rootExtra + "}";
+}
+
+std::filesystem::path writeFile(const QTemporaryDir& dir, const std::string& name, const std::string& text) {
+    const std::filesystem::path path = std::filesystem::path(dir.path().toStdString()) / name;
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+/// Positions after a short simulation: two scenes are the same when these are identical.
+std::vector<Vec3f> simulate(const Scene& scene, double seconds) {
+    auto sim = SceneSimulation::create(scene);
+    if (!sim)
+        qFatal("%s", sim.message().c_str());
+    sim->advanceTo(seconds);
+    std::vector<Vec3f> out(sim->object(0).mesh.positions.size());
+    sim->evaluate(0, out, {});
+    return out;
+}
+
+}  // namespace
+
+class TestProject : public QObject {
+    Q_OBJECT
+private slots:
+    void samplesLoad_data();
+    void samplesLoad();
+    void presetsValidate();
+    void saveAndReloadGivesTheSameScene();
+    void saveRebasesMeshPaths();
+    void badInputNamesFileFieldAndProblem_data();
+    void badInputNamesFileFieldAndProblem();
+    void validateListsEveryProblem();
+    void meshImportFormats_data();
+    void meshImportFormats();
+    void meshImportErrors();
+};
+
+void TestProject::samplesLoad_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::addColumn<int>("minTriangles");
+    QTest::newRow("angelfish") << "angelfish-swim.softtouch" << 5000;
+    QTest::newRow("demekin") << "demekin-swim.softtouch" << 5000;
+    QTest::newRow("guppy") << "guppy-swim.softtouch" << 5000;
+    QTest::newRow("star") << "star-drag.softtouch" << 8000;
+}
+
+void TestProject::samplesLoad() {
+    QFETCH(QString, scene);
+    QFETCH(int, minTriangles);
+    auto project = loadProject(kPresets / "scenes" / scene.toStdString());
+    QVERIFY2(project.ok(), project.message().c_str());
+    QCOMPARE(int(project->scene.objects.size()), 1);
+    const SceneObject& o = project->scene.objects[0];
+    QVERIFY(int(o.mesh.triangles.size()) >= minTriangles);
+    QVERIFY(int(o.mesh.triangles.size()) <= 8800);
+    QVERIFY(o.mesh.parts.size() >= 1);
+    QVERIFY(!o.drivers.empty());
+    int anchors = 0;
+    for (AnchorMode a : o.material.anchor)
+        anchors += a != AnchorMode::Free;
+    QVERIFY(anchors > 0);
+    // Every vertex lies inside the fitted lattice box.
+    for (const Vec3f& p : o.mesh.positions) {
+        const Vec3 uvw = o.lattice.box().toParameters(p.cast<double>());
+        QVERIFY((uvw.array() >= 0.0).all() && (uvw.array() <= 1.0).all());
+    }
+    QVERIFY(validateFile(kPresets / "scenes" / scene.toStdString()).empty());
+}
+
+void TestProject::presetsValidate() {
+    int count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(kPresets / "materials")) {
+        auto preset = loadMaterialPreset(entry.path());
+        QVERIFY2(preset.ok(), preset.message().c_str());
+        QVERIFY(!preset->name.empty());
+        QVERIFY(validateFile(entry.path()).empty());
+        ++count;
+    }
+    QVERIFY(count >= 5);
+}
+
+void TestProject::saveAndReloadGivesTheSameScene() {
+    QTemporaryDir dir;
+    auto original = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY(original.ok());
+    const std::filesystem::path saved = std::filesystem::path(dir.path().toStdString()) / "copy.softtouch";
+    QVERIFY(saveProject(original.value(), saved).ok());
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    const SceneObject& a = original->scene.objects[0];
+    const SceneObject& b = reloaded->scene.objects[0];
+    QCOMPARE(b.material.mass, a.material.mass);
+    QCOMPARE(b.material.stiffness, a.material.stiffness);
+    QVERIFY(b.material.anchor == a.material.anchor);
+    QVERIFY(b.lattice.box().origin == a.lattice.box().origin);
+    QVERIFY(b.lattice.box().size == a.lattice.box().size);
+    QCOMPARE(b.drivers.size(), a.drivers.size());
+    QVERIFY(simulate(original->scene, 0.5) == simulate(reloaded->scene, 0.5));
+    // Saving again gives the same bytes.
+    const std::filesystem::path again = std::filesystem::path(dir.path().toStdString()) / "again.softtouch";
+    QVERIFY(saveProject(reloaded.value(), again).ok());
+    std::ifstream x(saved), y(again);
+    const std::string sx((std::istreambuf_iterator<char>(x)), {}), sy((std::istreambuf_iterator<char>(y)), {});
+    QCOMPARE(sy, sx);
+}
+
+void TestProject::saveRebasesMeshPaths() {
+    QTemporaryDir dir;
+    auto project = loadProject(kPresets / "scenes/guppy-swim.softtouch");
+    QVERIFY(project.ok());
+    const std::filesystem::path nested = std::filesystem::path(dir.path().toStdString()) / "a/b";
+    std::filesystem::create_directories(nested);
+    QVERIFY(saveProject(project.value(), nested / "moved.softtouch").ok());
+    auto reloaded = loadProject(nested / "moved.softtouch");
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.objects[0].mesh.positions.size(), project->scene.objects[0].mesh.positions.size());
+}
+
+void TestProject::badInputNamesFileFieldAndProblem_data() {
+    QTest::addColumn<QString>("text");
+    QTest::addColumn<QString>("expected");  // substrings, '|' separated, all must appear
+    QTest::newRow("corrupt JSON") << QString::fromStdString(R"({"format": "softtouch-project", "version": 1,)")
+                                  << "invalid JSON|line 1";
+    QTest::newRow("NaN in a field") << QString::fromStdString(projectText(R"(, "material": {"stiffness": NaN})"))
+                                    << "invalid JSON|line";
+    QTest::newRow("negative mass") << QString::fromStdString(projectText(R"(, "material": {"mass": -1})"))
+                                   << "/objects/0/material/mass|expected a number|got -1";
+    QTest::newRow("zero fps") << QString::fromStdString(projectText("", R"(, "clip": {"fps": 0})"))
+                              << "/clip/fps|expected a number";
+    QTest::newRow("missing mesh") << QString::fromStdString(R"({"format": "softtouch-project", "version": 1,
+        "objects": [{"mesh": "no/such/fish.obj"}]})")
+                                  << "/objects/0/mesh|no/such/fish.obj|does not exist";
+    QTest::newRow("wrong format") << QString::fromStdString(R"({"format": "something-else", "version": 1})")
+                                  << "/format|expected \"softtouch-project\"";
+    QTest::newRow("newer version") << QString::fromStdString(R"({"format": "softtouch-project", "version": 99})")
+                                   << "/version|newer SoftTouch";
+    QTest::newRow("typo in a key") << QString::fromStdString(projectText(R"(, "material": {"stifness": 3})"))
+                                   << "/objects/0/material/stifness|unknown field";
+    QTest::newRow("too many Bezier nodes") << QString::fromStdString(projectText("").replace(
+                                                  projectText("").find("[4, 4, 4]"), 9, "[12, 4, 4]"))
+                                           << "/objects/0/lattice/nodes|B-spline";
+    QTest::newRow("anchor outside lattice")
+        << QString::fromStdString(projectText(R"(, "anchors": [{"nodes": [[0, 9, 0]]}])"))
+        << "/objects/0/anchors/0/nodes/0|out of range";
+    QTest::newRow("every node void")
+        << QString::fromStdString(projectText(R"(, "voids": {"region": {"min": [0,0,0], "max": [1,1,1]}})"))
+        << "every node is void";
+    QTest::newRow("absurd dt") << QString::fromStdString(projectText("", R"(, "simulation": {"dt": 5})"))
+                               << "/simulation/dt|expected a number";
+    QTest::newRow("unknown integrator")
+        << QString::fromStdString(projectText("", R"(, "simulation": {"integrator": "rk4"})"))
+        << "/simulation/integrator|implicit-euler";
+    QTest::newRow("zero plane normal")
+        << QString::fromStdString(projectText("", R"(, "world": {"planes": [{"normal": [0, 0, 0]}]})"))
+        << "/world/planes/0/normal|zero";
+    QTest::newRow("bad driver") << QString::fromStdString(projectText(R"(, "drivers": [{"type": "swim", "frequency": -1}])"))
+                                << "/objects/0/drivers/0/frequency|expected a number";
+}
+
+void TestProject::badInputNamesFileFieldAndProblem() {
+    QFETCH(QString, text);
+    QFETCH(QString, expected);
+    QTemporaryDir dir;
+    const auto path = writeFile(dir, "bad.softtouch", text.toStdString());
+    auto project = loadProject(path);
+    QVERIFY(!project.ok());
+    const QString message = QString::fromStdString(project.message());
+    QVERIFY2(message.contains(QString::fromStdString(path.string())), qPrintable(message));
+    for (const QString& part : expected.split('|'))
+        QVERIFY2(message.contains(part), qPrintable("'" + part + "' not in: " + message));
+    QVERIFY(!message.contains('\n'));
+}
+
+void TestProject::validateListsEveryProblem() {
+    QTemporaryDir dir;
+    const auto path = writeFile(dir, "many.softtouch",
+                                projectText(R"(, "material": {"mass": -1, "stiffness": "soft", "damping": [1, 2]})",
+                                            R"(, "clip": {"fps": 0, "frames": 0})"));
+    const auto problems = validateFile(path);
+    QCOMPARE(int(problems.size()), 5);
+    for (const std::string& p : problems)
+        QVERIFY(p.rfind(path.string() + ": /", 0) == 0);
+}
+
+void TestProject::meshImportFormats_data() {
+    QTest::addColumn<QString>("extension");
+    QTest::addColumn<QString>("text");
+    // One quad as two triangles, in several formats assimp reads.
+    QTest::newRow("obj") << "obj" << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    QTest::newRow("ply") << "ply" << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+    QTest::newRow("stl") << "stl" << "solid q\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\n"
+                                     "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\n"
+                                     "vertex 0 1 0\nendloop\nendfacet\nendsolid q\n";
+    QTest::newRow("gltf") << "gltf"
+                          << R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+      "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+      "buffers":[{"byteLength":60,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAABAAIAAAACAAMA"}],
+      "bufferViews":[{"buffer":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":12}],
+      "accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+                   {"bufferView":1,"componentType":5123,"count":6,"type":"SCALAR"}]})";
+}
+
+void TestProject::meshImportFormats() {
+    QFETCH(QString, extension);
+    QFETCH(QString, text);
+    QTemporaryDir dir;
+    const auto path = writeFile(dir, "quad." + extension.toStdString(), text.toStdString());
+    auto mesh = importMesh(path);
+    QVERIFY2(mesh.ok(), mesh.message().c_str());
+    QCOMPARE(int(mesh->triangles.size()), 2);
+    QCOMPARE(int(mesh->positions.size()), 4);
+    QCOMPARE(mesh->normals.size(), mesh->positions.size());
+    const Bounds b = mesh->bounds();
+    QVERIFY(std::abs(b.max.x() - 1.0) < 1e-6 && std::abs(b.max.y() - 1.0) < 1e-6);
+}
+
+void TestProject::meshImportErrors() {
+    QTemporaryDir dir;
+    auto missing = importMesh(std::filesystem::path(dir.path().toStdString()) / "none.obj");
+    QVERIFY(!missing.ok());
+    QVERIFY(missing.message().find("does not exist") != std::string::npos);
+    auto empty = importMesh(writeFile(dir, "empty.obj", "# nothing here\n"));
+    QVERIFY(!empty.ok());
+    QVERIFY2(empty.message().find("empty.obj") != std::string::npos, empty.message().c_str());
+    auto points = importMesh(writeFile(dir, "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n"));
+    QVERIFY(!points.ok());
+    QVERIFY2(points.message().find("points.obj") != std::string::npos, points.message().c_str());
+    auto zero = importMesh(writeFile(dir, "zero.obj", ""));
+    QVERIFY(!zero.ok());
+    QVERIFY2(zero.message().find("is empty") != std::string::npos, zero.message().c_str());
+    auto garbage = importMesh(writeFile(dir, "garbage.ply", "this is not a ply file at all\n"));
+    QVERIFY(!garbage.ok());
+    QVERIFY(garbage.message().find("garbage.ply") != std::string::npos);
+}
+
+QTEST_GUILESS_MAIN(TestProject)
+#include "test_project.moc"
