@@ -95,10 +95,9 @@ Status AtomicFile::commit() {
         return writeError(m_target, "the file is not open");
     // Flush and sync before the rename: otherwise a crash soon after could leave the new name
     // pointing at a file whose data never reached the disk, which is worse than the old file.
+    // fsync's EINVAL means the file cannot be synced at all (a special file), which is no failure.
     int error = 0;
-    if (std::fflush(m_file) != 0)
-        error = errno;
-    else if (::fsync(::fileno(m_file)) != 0 && errno != EINVAL)  // EINVAL: cannot be synced (e.g. a pipe)
+    if (std::fflush(m_file) != 0 || (::fsync(::fileno(m_file)) != 0 && errno != EINVAL))
         error = errno;
     if (std::fclose(m_file) != 0 && error == 0)
         error = errno;

@@ -125,10 +125,10 @@ Status checkFrame(const std::filesystem::path& path, std::size_t frameIndex, con
         return Status::error(frame + " has " + std::to_string(positions.size()) +
                              " vertices, the cache has " + std::to_string(info.pointCount) + " per frame" +
                              nothingWritten);
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        if (!isFinite(positions[v]))
-            return Status::error(frame + " vertex " + std::to_string(v) + " is not finite" + nothingWritten);
-    }
+    const auto bad = std::find_if(positions.begin(), positions.end(), [](const Vec3f& p) { return !isFinite(p); });
+    if (bad != positions.end())
+        return Status::error(frame + " vertex " + std::to_string(bad - positions.begin()) + " is not finite" +
+                             nothingWritten);
     return Status::success();
 }
 
