@@ -136,10 +136,9 @@ Result<VertexCache> readMdd(const std::filesystem::path& path) {
         return Status::error(name + " announces " + std::to_string(points) +
                              " points; an MDD file needs at least 1 (is it an MDD file?)");
     const std::uint64_t frameBytes = static_cast<std::uint64_t>(points) * kBytesPerPoint;
-    const std::uint64_t expected =
-        detail::checkedSize(kCountsSize, static_cast<std::uint64_t>(frames), kBytesPerTime + frameBytes)
-            .value_or(std::numeric_limits<std::uint64_t>::max());
-    if (file.size() != expected)
+    const std::optional<std::uint64_t> expected =
+        detail::checkedSize(kCountsSize, static_cast<std::uint64_t>(frames), kBytesPerTime + frameBytes);
+    if (expected != file.size())
         return detail::sizeMismatch(
             path, std::to_string(frames) + " frames of " + std::to_string(points) + " points", expected,
             file.size());

@@ -123,8 +123,8 @@ public:
                 const std::string replaced =
                     frame == 0 ? std::string("no frame was replaced")
                                : "frames 0 to " + std::to_string(frame - 1) + " are already the new ones";
-                return Status::error("cannot replace " + detail::quoted(target) + ": " + error.message() + "; " +
-                                     replaced);
+                return Status::error("cannot replace " + detail::quoted(target) + ": " + error.message() +
+                                     "; " + replaced);
             }
         }
         m_staged.clear();

@@ -100,10 +100,9 @@ Result<VertexCache> readPc2(const std::filesystem::path& path) {
         return Status::error(name + " announces a negative number of samples (" +
                              std::to_string(samples) + ")");
     const std::uint64_t frameBytes = static_cast<std::uint64_t>(points) * kBytesPerPoint;
-    const std::uint64_t expected =
-        detail::checkedSize(kHeaderSize, static_cast<std::uint64_t>(samples), frameBytes)
-            .value_or(std::numeric_limits<std::uint64_t>::max());
-    if (file.size() != expected)
+    const std::optional<std::uint64_t> expected =
+        detail::checkedSize(kHeaderSize, static_cast<std::uint64_t>(samples), frameBytes);
+    if (expected != file.size())
         return detail::sizeMismatch(
             path, std::to_string(samples) + " samples of " + std::to_string(points) + " points", expected,
             file.size());

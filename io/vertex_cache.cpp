@@ -125,7 +125,8 @@ Status checkFrame(const std::filesystem::path& path, std::size_t frameIndex, con
         return Status::error(frame + " has " + std::to_string(positions.size()) +
                              " vertices, the cache has " + std::to_string(info.pointCount) + " per frame" +
                              nothingWritten);
-    const auto bad = std::find_if(positions.begin(), positions.end(), [](const Vec3f& p) { return !isFinite(p); });
+    const auto bad =
+        std::find_if(positions.begin(), positions.end(), [](const Vec3f& p) { return !isFinite(p); });
     if (bad != positions.end())
         return Status::error(frame + " vertex " + std::to_string(bad - positions.begin()) + " is not finite" +
                              nothingWritten);
@@ -229,13 +230,17 @@ Status InputFile::read(void* data, std::size_t size) {
     return Status::success();
 }
 
-Status sizeMismatch(const std::filesystem::path& path, const std::string& layout, std::uint64_t expected,
-                    std::uint64_t actual) {
-    if (actual < expected)
-        return Status::error(quoted(path) + " is truncated: its header announces " + layout + " (" +
-                             std::to_string(expected) + " bytes) but the file has " + std::to_string(actual) +
+Status sizeMismatch(const std::filesystem::path& path, const std::string& layout,
+                    std::optional<std::uint64_t> expected, std::uint64_t actual) {
+    if (!expected)
+        return Status::error(quoted(path) + " is truncated: its header announces " + layout +
+                             ", more than any file can hold, but the file has " + std::to_string(actual) +
                              " bytes");
-    return Status::error(quoted(path) + " has " + std::to_string(actual - expected) +
+    if (actual < *expected)
+        return Status::error(quoted(path) + " is truncated: its header announces " + layout + " (" +
+                             std::to_string(*expected) + " bytes) but the file has " + std::to_string(actual) +
+                             " bytes");
+    return Status::error(quoted(path) + " has " + std::to_string(actual - *expected) +
                          " extra bytes after the " + layout + " its header announces");
 }
 

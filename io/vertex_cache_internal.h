@@ -175,9 +175,10 @@ private:
 };
 
 /// The message for a file whose size is not what its header says: "is truncated" or "has N extra
-/// bytes". `layout` describes what the header announced ("3 samples of 10 points").
-Status sizeMismatch(const std::filesystem::path& path, const std::string& layout, std::uint64_t expected,
-                    std::uint64_t actual);
+/// bytes". `layout` describes what the header announced ("3 samples of 10 points"); `expected` is
+/// nullopt when that size does not even fit 64 bits (garbage counts).
+Status sizeMismatch(const std::filesystem::path& path, const std::string& layout,
+                    std::optional<std::uint64_t> expected, std::uint64_t actual);
 
 /// header + count * bytesEach, or nullopt when that overflows 64 bits (no real file is that big).
 std::optional<std::uint64_t> checkedSize(std::uint64_t header, std::uint64_t count, std::uint64_t bytesEach);

@@ -2,6 +2,7 @@
 #include "io/vertex_cache.h"
 
 #include <QCryptographicHash>
+#include <QDataStream>
 #include <QProcess>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -114,10 +115,17 @@ void TestCli::bakeEverySample() {
     const QByteArray bytes = fileBytes(out);
     QVERIFY(bytes.size() >= 32);
     QCOMPARE(QByteArray(bytes.constData(), 12), QByteArray("POINTCACHE2\0", 12));
-    auto readInt = [&](int offset) { std::int32_t v; std::memcpy(&v, bytes.constData() + offset, 4); return v; };
-    QCOMPARE(readInt(12), 1);
-    const int points = readInt(16);
-    QCOMPARE(readInt(28), 24);
+    QDataStream header(bytes);
+    header.setByteOrder(QDataStream::LittleEndian);
+    header.setFloatingPointPrecision(QDataStream::SinglePrecision);
+    header.skipRawData(12);
+    qint32 version = 0, points = 0, samples = 0;
+    float startFrame = -1.0f, sampleRate = -1.0f;
+    header >> version >> points >> startFrame >> sampleRate >> samples;
+    QCOMPARE(version, 1);
+    QCOMPARE(startFrame, 0.0f);
+    QCOMPARE(sampleRate, 1.0f);
+    QCOMPARE(samples, 24);
     QCOMPARE(qint64(bytes.size()), qint64(32) + qint64(24) * points * 12);
 
     // The rest OBJ beside it has the same vertex count, and frame 0 is that rest pose.

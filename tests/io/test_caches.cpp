@@ -699,6 +699,7 @@ void TestCaches::badCacheFilesAreRejected_data() {
     QTest::newRow("pc2 extra bytes") << "pc2" << "extra 3" << "has 3 extra bytes";
     QTest::newRow("pc2 version 2") << "pc2" << "version" << "PC2 version 2";
     QTest::newRow("pc2 negative samples") << "pc2" << "negative" << "negative number of samples";
+    QTest::newRow("pc2 absurd counts") << "pc2" << "huge" << "more than any file can hold";
     QTest::newRow("pc2 missing") << "pc2" << "missing" << "cannot read";
     QTest::newRow("mdd last byte missing") << "mdd" << "cut 1" << "is truncated";
     QTest::newRow("mdd extra bytes") << "mdd" << "extra 4" << "has 4 extra bytes";
@@ -740,6 +741,9 @@ void TestCaches::badCacheFilesAreRejected() {
         b[12] = 2;
     else if (damage == "negative")
         std::fill_n(b.begin() + (pc2 ? 28 : 0), 4, 0xff);  // -1 either way round
+    else if (damage == "huge")
+        for (std::size_t at : {16, 28})  // INT32_MAX points and samples: 2^62 · 12 bytes overflow 64 bits
+            std::copy_n(Bytes{0xff, 0xff, 0xff, 0x7f}.begin(), 4, b.begin() + std::ptrdiff_t(at));
     else if (damage == "swapped")
         std::reverse(b.begin(), b.begin() + 4);  // 3 frames read as 0x03000000
     writeBytes(path, b);
