@@ -1,5 +1,9 @@
 #include "app/cli_commands.h"
 
+#include "app/study_plot.h"
+#include "bench/bench.h"
+#include "bench/study.h"
+#include "io/atomic_file.h"
 #include "io/bake.h"
 #include "io/project_file.h"
 
@@ -7,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <optional>
 
 namespace softtouch::cli {
@@ -33,7 +38,7 @@ int fail(const std::string& message) {
 }
 
 int usage(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli bake --help'\n", message.c_str());
+    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli --help'\n", message.c_str());
     return 2;
 }
 
@@ -43,6 +48,16 @@ std::optional<double> parseNumber(const std::string& text) {
     if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
         return std::nullopt;
     return value;
+}
+
+Status writeText(const std::filesystem::path& path, const std::string& text) {
+    io::AtomicFile file(path);
+    Status s = file.open();
+    if (s)
+        s = file.write(text.data(), text.size());
+    if (s)
+        s = file.commit();
+    return s;
 }
 
 }  // namespace
@@ -159,6 +174,102 @@ int runValidate(const std::vector<std::string>& args) {
             ++bad;
     }
     return bad == 0 ? 0 : 1;
+}
+
+int runBench(const std::vector<std::string>& args) {
+    bench::BenchOptions options;
+    std::string jsonPath;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        if (args[i] == "--help" || args[i] == "-h") {
+            std::puts("Usage: softtouch-cli bench [--json FILE] [--quick]\n\n"
+                      "Lattice step cost per integrator, deformation throughput against a plain scalar kernel,\n"
+                      "the paper's Table 1 redone (lattice vs global and local mass-spring vs Bullet btSoftBody),\n"
+                      "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
+                      "  --json FILE   also write the results as JSON (keys: docs/benchmarks.md)\n"
+                      "  --quick       small sizes only (seconds, not minutes)");
+            return 0;
+        }
+        if (args[i] == "--quick")
+            options.quick = true;
+        else if (args[i] == "--json" && i + 1 < args.size())
+            jsonPath = args[++i];
+        else
+            return usage("unknown bench argument '" + args[i] + "'");
+    }
+    const nlohmann::json result = bench::runBench(options, std::cout);
+    if (!jsonPath.empty()) {
+        if (Status s = writeText(jsonPath, result.dump(2) + "\n"); !s)
+            return fail(s.message());
+        std::printf("\nwrote %s\n", jsonPath.c_str());
+    }
+    return 0;
+}
+
+int runStudy(const std::vector<std::string>& args) {
+    std::string scenePath, outDir;
+    std::optional<double> target;
+    bench::StudyOptions options;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--help" || a == "-h") {
+            std::puts("Usage: softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]\n\n"
+                      "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3 Bezier; 6^3, 8^3 B-spline):\n"
+                      "cost per simulated second, mesh error against a converged reference (RMS and max, relative to\n"
+                      "the box diagonal), energy drift, amplitude lost per period and frequency error in free vibration.\n"
+                      "  --out DIR       write DIR/study.csv, DIR/study.md and DIR/study.png (error against cost, Pareto front)\n"
+                      "  --quick         fewer settings and a shorter run\n"
+                      "  --target ERROR  also print the cheapest setting whose RMS error is at most ERROR (e.g. 0.01)");
+            return 0;
+        }
+        if (a == "--quick") {
+            options.quick = true;
+        } else if ((a == "--out" || a == "--target") && i + 1 < args.size()) {
+            const std::string v = args[++i];
+            if (a == "--out") {
+                outDir = v;
+            } else {
+                target = parseNumber(v);
+                if (!target || *target <= 0)
+                    return usage("--target expects a positive number, got '" + v + "'");
+            }
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown study argument '" + a + "'");
+        } else if (scenePath.empty()) {
+            scenePath = a;
+        } else {
+            return usage("unexpected argument '" + a + "'");
+        }
+    }
+    if (scenePath.empty())
+        return usage("study needs a SCENE file");
+    auto project = io::loadProject(scenePath);
+    if (!project)
+        return fail(project.message());
+    const bench::StudyResult result = bench::runStudy(project->scene, options, std::cout);
+    if (!outDir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(outDir, ec);
+        const std::filesystem::path dir(outDir);
+        std::string command = "softtouch-cli study " + scenePath + " --out " + outDir + (options.quick ? " --quick" : "");
+        if (Status s = writeText(dir / "study.csv", bench::studyCsv(result)); !s)
+            return fail(s.message());
+        if (Status s = writeText(dir / "study.md", bench::studyMarkdown(result, command)); !s)
+            return fail(s.message());
+        if (const std::string error = writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
+            return fail(error);
+        std::printf("wrote %s, %s and %s\n", (dir / "study.csv").c_str(), (dir / "study.md").c_str(),
+                    (dir / "study.png").c_str());
+    }
+    if (target) {
+        const bench::StudyRow* pick = bench::cheapestWithin(result, *target);
+        if (!pick)
+            return fail("no setting reaches an RMS error of " + std::to_string(*target) + " of the diagonal");
+        std::printf("cheapest setting within %g of the diagonal: %s, dt = 1/%d s, %s lattice (RMS error %.2e, %.2e s per "
+                    "simulated s)\n",
+                    *target, std::string(integratorName(pick->integrator)).c_str(), int(std::lround(1.0 / pick->dt)),
+                    pick->resolution.c_str(), pick->rmsError, pick->costPerSecond);
+    }
+    return 0;
 }
 
 }  // namespace softtouch::cli

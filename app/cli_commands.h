@@ -9,5 +9,8 @@ namespace softtouch::cli {
 
 int runBake(const std::vector<std::string>& args);
 int runValidate(const std::vector<std::string>& args);
+int runBench(const std::vector<std::string>& args);
+int runStudy(const std::vector<std::string>& args);
+int runStability(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

@@ -13,12 +13,18 @@ constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate
 Usage:
   softtouch-cli bake SCENE --out FILE [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
   softtouch-cli validate FILE...
+  softtouch-cli bench [--json FILE] [--quick]
+  softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
+  softtouch-cli stability [--out FILE.md] [--quick]
   softtouch-cli --help | --version
 
 Commands:
   bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
              it matches beside it. 'softtouch-cli bake --help' for details.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
+  bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
+  study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
+  stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
 
 Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage.
 )";
@@ -45,6 +51,12 @@ int main(int argc, char** argv) {
         return softtouch::cli::runBake(args);
     if (command == "validate")
         return softtouch::cli::runValidate(args);
+    if (command == "bench")
+        return softtouch::cli::runBench(args);
+    if (command == "study")
+        return softtouch::cli::runStudy(args);
+    if (command == "stability")
+        return softtouch::cli::runStability(args);
     std::fprintf(stderr, "softtouch-cli: error: unknown command '%s'; see 'softtouch-cli --help'\n", command.c_str());
     return 2;
 }

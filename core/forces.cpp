@@ -82,7 +82,7 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
             const double length = r.norm();
             if (length <= 0.0)
                 continue;  // coincident nodes: no direction, no force (the implicit solve still couples them)
-            const Vec3 dir = r / length;
+            const Vec3 dir = r * (1.0 / length);  // one division, not three
             double magnitude = 0.0;
             if (terms.springs)
                 magnitude += s.stiffness * (length - s.restLength);

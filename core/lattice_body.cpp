@@ -170,6 +170,45 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     return buildBodyModel(d);
 }
 
+LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& material, const Lattice& to,
+                                 bool keepContinuum) {
+    LatticeMaterial out = material;
+    const std::size_t n = std::size_t(to.nodeCount());
+    out.mass.assign(n, 0.0);
+    out.stiffness.assign(n, 0.0);
+    out.damping.assign(n, 0.0);
+    out.anchor.assign(n, AnchorMode::Free);
+    out.isVoid.assign(n, 0);
+    auto nearestIndex = [&](int axis, double t) {
+        int best = 0;
+        for (int i = 1; i < from.count(axis); ++i) {
+            if (std::abs(from.axis(axis).greville(i) - t) < std::abs(from.axis(axis).greville(best) - t))
+                best = i;
+        }
+        return best;
+    };
+    // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
+    double spacing = 1.0, volume = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        spacing *= double(from.count(a) - 1) / double(to.count(a) - 1);
+        volume *= double(from.count(a)) / double(to.count(a));
+    }
+    spacing = std::cbrt(spacing);
+    for (int node = 0; node < to.nodeCount(); ++node) {
+        const Vec3 p = to.restNodeParameters(node);
+        const auto source = std::size_t(from.index(nearestIndex(0, p.x()), nearestIndex(1, p.y()), nearestIndex(2, p.z())));
+        const auto k = std::size_t(node);
+        out.mass[k] = material.mass[source] * (keepContinuum ? volume : 1.0);
+        out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
+        out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
+        out.anchor[k] = material.anchor[source];
+        out.isVoid[k] = material.isVoid[source];
+    }
+    if (keepContinuum)
+        out.airDamping = material.airDamping * volume;
+    return out;
+}
+
 std::vector<std::uint8_t> findEmptyNodes(const Lattice& lattice, const Mesh& mesh) {
     // Grid cells lie between neighbouring nodes' rest parameters (Greville points), nx-1 per axis.
     std::array<std::vector<double>, 3> grid;

@@ -54,6 +54,15 @@ SpringCounts countSprings(const std::vector<Spring>& springs);
 /// void nodes with their springs, and lets void nodes follow their non-void neighbours.
 Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material);
 
+/// The material of `from` carried onto lattice `to` (another resolution or kind over the same object):
+/// every node of `to` takes the painted values, anchor and void state of the node of `from` nearest in
+/// lattice parameters. With `keepContinuum`, values are rescaled so the body stays the same material
+/// rather than the same springs: node mass and air damping scale with the node's share of the volume,
+/// spring stiffness and damping with the lattice spacing (a cubic spring lattice of spacing h and
+/// spring constant k behaves like a solid of modulus ~ k/h).
+LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& material, const Lattice& to,
+                                 bool keepContinuum);
+
 /// Nodes none of whose adjacent grid cells hold any of the mesh (vertices or triangle centroids):
 /// candidates for void (thin shapes such as fins leave whole cells empty).
 std::vector<std::uint8_t> findEmptyNodes(const Lattice& lattice, const Mesh& mesh);

@@ -17,7 +17,8 @@ struct SimulationSettings {
     IntegratorKind integrator = IntegratorKind::ImplicitEuler; ///< Scheme.
     double dt = 1.0 / 240.0;      ///< Fixed step, seconds. Range (0, 0.1].
     int xpbdSubsteps = 8;         ///< Substeps per step for XPBD. Range [1, 10000].
-    double stabilitySafety = 0.9; ///< Fraction of the explicit stability bound used. Range (0, 1].
+    double stabilitySafety = 0.8; ///< Fraction of the explicit stability bound used. Range (0, 1]. Above
+                                  ///< ~0.85 undamped bodies can grow slowly without a report (docs/stability.md).
     int maxSubsteps = 200000;     ///< Cap on explicit substeps per step; beyond it the step is refused.
     bool sleep = true;            ///< Let a body at rest sleep.
     double sleepSpeed = 1e-4;     ///< Below this node speed (m/s) for sleepSteps steps, the body sleeps.

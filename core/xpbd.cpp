@@ -9,8 +9,10 @@ namespace {
 /// h (λ starts at 0 since there is one iteration):
 ///   α̃ = α / h²,  γ = α̃ β h = c / (k h)          (β = c, the spring damping)
 ///   Δλ = (−C − γ ∇C·(x − x_prev)) / ((1 + γ) (w_a + w_b) + α̃)
-/// Gravity, drags and air damping enter as forces in the prediction. Constraint projections move
-/// the pair along ∇C with weights 1/m, so linear momentum is conserved.
+/// Gravity and air damping enter as forces in the prediction. A drag spring is a compliant
+/// constraint too, C = p − target with p = Σ w_n x_n (three components, compliance 1/Ks, damping Kd),
+/// so even a very stiff drag cannot make the substep unstable — as a force it would (h·ω > 2).
+/// Spring projections move each pair along ∇C with weights 1/m, so they conserve linear momentum.
 class Xpbd final : public Integrator {
 public:
     IntegratorKind kind() const override { return IntegratorKind::Xpbd; }
@@ -22,7 +24,9 @@ public:
         ForceTerms terms;
         terms.springs = false;
         terms.springDamping = false;
-        accumulateForces(model, external, state.position, state.velocity, m_force, terms);
+        ExternalForces withoutDrags;  // drags are constraints below
+        withoutDrags.gravity = external.gravity;
+        accumulateForces(model, withoutDrags, state.position, state.velocity, m_force, terms);
         for (std::size_t i = 0; i < n; ++i) {
             m_previous[i] = state.position[i];
             if (model.inverseMass[i] == 0.0)
@@ -44,7 +48,7 @@ public:
             const double length = r.norm();
             if (length <= 0.0)
                 continue;
-            const Vec3 gradient = r / length;
+            const Vec3 gradient = r * (1.0 / length);
             const double C = length - s.restLength;
             const double compliance = 1.0 / (s.stiffness * h * h);
             const double gamma = s.damping / (s.stiffness * h);
@@ -53,6 +57,8 @@ public:
             xa += wa * dlambda * gradient;
             xb -= wb * dlambda * gradient;
         }
+        for (const DragSpring& drag : external.drags)
+            projectDrag(model, drag, state, h);
         for (std::size_t i = 0; i < n; ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
@@ -61,6 +67,30 @@ public:
     }
 
 private:
+    /// One compliant projection of C = p − target, p = Σ w_n x_n over the drag's support (gradient w_n I;
+    /// pinned and void nodes have no inverse mass, so they do not move).
+    void projectDrag(const BodyModel& model, const DragSpring& drag, BodyState& state, double h) const {
+        if (drag.stiffness <= 0.0)
+            return;
+        const std::vector<NodeWeight>& weights = drag.support;
+        double generalisedInverseMass = 0.0;
+        Vec3 point = Vec3::Zero(), moved = Vec3::Zero();
+        for (const NodeWeight& w : weights) {
+            generalisedInverseMass += w.weight * w.weight * model.inverseMass[w.node];
+            point += w.weight * state.position[w.node];
+            moved += w.weight * (state.position[w.node] - m_previous[w.node]);
+        }
+        if (generalisedInverseMass == 0.0)
+            return;
+        const double compliance = 1.0 / (drag.stiffness * h * h);
+        const double gamma = drag.damping / (drag.stiffness * h);
+        const Vec3 C = point - drag.target;
+        const Vec3 rate = moved - h * drag.targetVelocity;
+        const Vec3 dlambda = (-C - gamma * rate) / ((1.0 + gamma) * generalisedInverseMass + compliance);
+        for (const NodeWeight& w : weights)
+            state.position[w.node] += (w.weight * model.inverseMass[w.node]) * dlambda;
+    }
+
     std::vector<Vec3> m_force;
     std::vector<Vec3> m_previous;
 };

@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev           # core maths
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
+  fonts-dejavu-core       # text in plots rendered headless (study)
+  libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
 )
 
 missing=()

@@ -1,0 +1,111 @@
+// `softtouch-cli stability`: runs the stability grid (bench/stability_grid.h), prints the counts and
+// writes the docs page.
+#include "app/cli_commands.h"
+
+#include "bench/stability_grid.h"
+#include "bench/timer.h"
+#include "io/atomic_file.h"
+
+#include <cstdio>
+#include <optional>
+
+namespace softtouch::cli {
+namespace {
+
+constexpr const char* kStabilityUsage = R"(Usage: softtouch-cli stability [--out FILE.md] [--quick]
+
+Run every integrator on a small dragged lattice over a grid of stiffness (1e-2 .. 1e7 N/m), anchor mass
+ratio (1 .. 1e6), node mass (1e-6 .. 1e3 kg), damping (0 .. 1e3 N·s/m) and time step (0.1x, 1x, 10x the
+explicit bound, 1/24 s), and classify each run: stable, bounded, caught (the guard substepped, refused or rolled
+back, and said so) or failed. Prints the counts per integrator; the full grid takes under a minute.
+
+Options:
+  --out FILE.md   Also write the report (method, classes, tables, every failed run), atomically.
+                  docs/stability.md is this report for the full grid.
+  --quick         The small grid the tests use (seconds).
+
+Exit status: 0 when the grid ran (failed runs are reported, not an error), 1 when FILE.md cannot be
+written, 2 on bad usage.
+)";
+
+}  // namespace
+
+int runStability(const std::vector<std::string>& args) {
+    bench::StabilityGridOptions options;
+    std::string outPath;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        if (args[i] == "--help" || args[i] == "-h") {
+            std::fputs(kStabilityUsage, stdout);
+            return 0;
+        }
+        if (args[i] == "--quick") {
+            options.quick = true;
+        } else if (args[i] == "--out") {
+            if (i + 1 == args.size()) {
+                std::fputs("softtouch-cli: --out needs a FILE.md; see 'softtouch-cli stability --help'\n", stderr);
+                return 2;
+            }
+            outPath = args[++i];
+        } else {
+            std::fprintf(stderr,
+                         "softtouch-cli: unknown stability argument '%s'; see 'softtouch-cli stability --help'\n",
+                         args[i].c_str());
+            return 2;
+        }
+    }
+
+    // Open the output first so that a bad path fails in a second, not after the whole grid.
+    std::optional<io::AtomicFile> file;
+    if (!outPath.empty()) {
+        file.emplace(outPath);
+        if (Status s = file->open(); !s) {
+            std::fprintf(stderr, "softtouch-cli: error: %s\n", s.message().c_str());
+            return 1;
+        }
+    }
+
+    std::printf("stability grid (%s): running...\n", options.quick ? "quick" : "full");
+    std::fflush(stdout);
+    const bench::Stopwatch watch;
+    const std::vector<bench::StabilityCell> cells = bench::runStabilityGrid(options);
+    const double seconds = watch.seconds();
+
+    std::printf("%zu runs in %.1f s\n\n  %-18s %7s %7s %7s %7s %7s\n", cells.size(), seconds, "integrator", "stable",
+                "bounded", "caught", "failed", "runs");
+    int failed = 0;
+    bool implicitAllStable = true;
+    for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
+                                IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd}) {
+        const bench::OutcomeCounts c = bench::countOutcomes(cells, kind);
+        std::printf("  %-18s %7d %7d %7d %7d %7d\n", std::string(integratorName(kind)).c_str(), c.stable, c.bounded,
+                    c.caught, c.failed, c.total());
+        failed += c.failed;
+        if (kind == IntegratorKind::ImplicitEuler && c.stable != c.total())
+            implicitAllStable = false;
+    }
+    if (failed > 0)
+        std::fprintf(stderr,
+                     "softtouch-cli: warning: %d runs failed (non-finite output or unreported energy growth)%s\n",
+                     failed, outPath.empty() ? "; --out FILE.md lists them" : "");
+    if (!implicitAllStable)
+        std::fprintf(stderr, "softtouch-cli: warning: implicit-euler is not stable in every run\n");
+
+    if (!outPath.empty()) {
+        std::string command = "softtouch-cli stability";
+        if (options.quick)
+            command += " --quick";
+        command += " --out " + outPath;
+        const std::string text = bench::stabilityMarkdown(cells, command);
+        Status s = file->write(text.data(), text.size());
+        if (s)
+            s = file->commit();
+        if (!s) {
+            std::fprintf(stderr, "softtouch-cli: error: %s\n", s.message().c_str());
+            return 1;
+        }
+        std::printf("\nwrote %s\n", outPath.c_str());
+    }
+    return 0;
+}
+
+}  // namespace softtouch::cli

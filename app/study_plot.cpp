@@ -1,0 +1,125 @@
+#include "app/study_plot.h"
+
+#include <QGuiApplication>
+#include <QImage>
+#include <QPainter>
+#include <QPainterPath>
+#include <QSaveFile>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace softtouch::cli {
+
+std::string writeStudyPlot(const bench::StudyResult& result, const std::string& path) {
+    // Text needs a QGuiApplication; the offscreen platform gives one without any display.
+    std::unique_ptr<QGuiApplication> app;
+    if (!QGuiApplication::instance()) {
+        qputenv("QT_QPA_PLATFORM", "offscreen");
+        static int argc = 1;
+        static char name[] = "softtouch-cli";
+        static char* argv[] = {name, nullptr};
+        app = std::make_unique<QGuiApplication>(argc, argv);
+    }
+    const int W = 1000, H = 700, left = 90, right = 200, top = 50, bottom = 70;
+    QImage image(W, H, QImage::Format_RGB32);
+    image.fill(Qt::white);
+    QPainter p(&image);
+    p.setRenderHint(QPainter::Antialiasing);
+
+    double xmin = 1e300, xmax = 0, ymin = 1e300, ymax = 0;
+    for (const auto& r : result.rows) {
+        if (!r.finite || r.costPerSecond <= 0 || r.rmsError <= 0)
+            continue;
+        xmin = std::min(xmin, r.costPerSecond);
+        xmax = std::max(xmax, r.costPerSecond);
+        ymin = std::min(ymin, r.rmsError);
+        ymax = std::max(ymax, r.rmsError);
+    }
+    if (xmax <= 0)
+        return "nothing finite to plot";
+    const double lx0 = std::floor(std::log10(xmin)), lx1 = std::ceil(std::log10(xmax));
+    const double ly0 = std::floor(std::log10(ymin)), ly1 = std::ceil(std::log10(ymax));
+    auto X = [&](double v) { return left + (std::log10(v) - lx0) / std::max(1e-9, lx1 - lx0) * (W - left - right); };
+    auto Y = [&](double v) { return H - bottom - (std::log10(v) - ly0) / std::max(1e-9, ly1 - ly0) * (H - top - bottom); };
+
+    p.setPen(QColor(220, 220, 220));
+    QFont font = p.font();
+    font.setPixelSize(13);
+    p.setFont(font);
+    for (double e = lx0; e <= lx1; ++e) {
+        p.setPen(QColor(225, 225, 225));
+        p.drawLine(QPointF(X(std::pow(10, e)), top), QPointF(X(std::pow(10, e)), H - bottom));
+        p.setPen(Qt::black);
+        p.drawText(QRectF(X(std::pow(10, e)) - 40, H - bottom + 6, 80, 20), Qt::AlignCenter, QString("1e%1").arg(int(e)));
+    }
+    for (double e = ly0; e <= ly1; ++e) {
+        p.setPen(QColor(225, 225, 225));
+        p.drawLine(QPointF(left, Y(std::pow(10, e))), QPointF(W - right, Y(std::pow(10, e))));
+        p.setPen(Qt::black);
+        p.drawText(QRectF(0, Y(std::pow(10, e)) - 10, left - 8, 20), Qt::AlignRight | Qt::AlignVCenter, QString("1e%1").arg(int(e)));
+    }
+    p.setPen(QPen(Qt::black, 1.5));
+    p.drawRect(QRectF(left, top, W - left - right, H - top - bottom));
+    p.drawText(QRectF(left, H - 35, W - left - right, 25), Qt::AlignCenter, "cost: wall seconds per simulated second (log)");
+    p.save();
+    p.translate(22, (H - bottom + top) / 2.0);
+    p.rotate(-90);
+    p.drawText(QRectF(-200, -12, 400, 24), Qt::AlignCenter, "RMS vertex error / box diagonal (log)");
+    p.restore();
+    font.setPixelSize(16);
+    font.setBold(true);
+    p.setFont(font);
+    p.drawText(QRectF(left, 10, W - left - right, 30), Qt::AlignCenter, "Speed against accuracy (every integrator x dt x lattice)");
+    font.setPixelSize(13);
+    font.setBold(false);
+    p.setFont(font);
+
+    const QColor colours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
+    const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                    IntegratorKind::Xpbd};
+    std::vector<const bench::StudyRow*> front;
+    for (const auto& r : result.rows) {
+        if (!r.finite || r.costPerSecond <= 0 || r.rmsError <= 0)
+            continue;
+        const int k = int(std::find(std::begin(kinds), std::end(kinds), r.integrator) - std::begin(kinds));
+        p.setPen(Qt::NoPen);
+        p.setBrush(colours[k % 4]);
+        p.drawEllipse(QPointF(X(r.costPerSecond), Y(r.rmsError)), 4.5, 4.5);
+        if (r.pareto)
+            front.push_back(&r);
+    }
+    std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->costPerSecond < b->costPerSecond; });
+    if (front.size() > 1) {
+        QPainterPath line(QPointF(X(front[0]->costPerSecond), Y(front[0]->rmsError)));
+        for (auto* r : front)
+            line.lineTo(X(r->costPerSecond), Y(r->rmsError));
+        p.setBrush(Qt::NoBrush);
+        p.setPen(QPen(Qt::black, 2, Qt::DashLine));
+        p.drawPath(line);
+    }
+    for (auto* r : front) {
+        p.setPen(QPen(Qt::black, 1.5));
+        p.setBrush(Qt::NoBrush);
+        p.drawEllipse(QPointF(X(r->costPerSecond), Y(r->rmsError)), 7.5, 7.5);
+    }
+    for (int k = 0; k < 4; ++k) {
+        p.setPen(Qt::NoPen);
+        p.setBrush(colours[k]);
+        p.drawEllipse(QPointF(W - right + 25, top + 20 + 24 * k), 5, 5);
+        p.setPen(Qt::black);
+        p.drawText(QPointF(W - right + 38, top + 25 + 24 * k), QString::fromLatin1(integratorName(kinds[k]).data()));
+    }
+    p.setPen(QPen(Qt::black, 2, Qt::DashLine));
+    p.drawLine(QPointF(W - right + 15, top + 125), QPointF(W - right + 35, top + 125));
+    p.setPen(Qt::black);
+    p.drawText(QPointF(W - right + 38, top + 130), "Pareto front");
+    p.end();
+    QSaveFile file(QString::fromStdString(path));  // atomic: a failed write keeps the previous plot
+    if (!file.open(QIODevice::WriteOnly) || !image.save(&file, "PNG") || !file.commit())
+        return "cannot write '" + path + "': " + file.errorString().toStdString();
+    return {};
+}
+
+}  // namespace softtouch::cli

@@ -1,0 +1,188 @@
+#include "bench/bench.h"
+
+#include "bench/bullet_peer.h"
+#include "bench/contenders.h"
+#include "bench/reference_deform.h"
+#include "bench/timer.h"
+#include "core/binding.h"
+#include "core/lattice_body.h"
+#include "core/parallel.h"
+#include "core/simulator.h"
+
+#include <cstdio>
+#include <iomanip>
+#include <thread>
+
+namespace softtouch::bench {
+namespace {
+
+using nlohmann::json;
+
+constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
+                                           IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd};
+
+/// A lattice body with the fish material, pinned at its u = 0 face.
+std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice) {
+    LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    for (int k = 0; k < lattice.count(2); ++k)
+        for (int j = 0; j < lattice.count(1); ++j)
+            m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
+    return buildLatticeBody(lattice, m).value();
+}
+
+/// Microseconds per step of a dragged lattice (a moving target keeps it awake).
+double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool sleeping,
+                        double minSeconds) {
+    const Lattice lattice = Lattice::create(shape, OrientedBox{}).value();
+    SimulationSettings settings;
+    settings.integrator = integrator;
+    settings.dt = 1.0 / 240.0;
+    settings.sleep = sleeping;
+    Simulator sim(benchBody(lattice), settings);
+    ExternalForces forces = base;
+    DragSpring drag;
+    drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
+    drag.stiffness = 50.0;
+    drag.damping = 0.5;
+    const int batch = 200;
+    long long step = 0;
+    auto run = [&] {
+        for (int i = 0; i < batch; ++i, ++step) {
+            if (!sleeping) {
+                drag.target = Vec3(1.0, 0.5 + 0.2 * std::sin(0.05 * double(step)), 0.5);
+                forces.drags.assign(1, drag);
+            }
+            (void)sim.step(forces);
+        }
+    };
+    if (sleeping) {
+        for (int i = 0; i < 2000 && !sim.isSleeping(); ++i)
+            (void)sim.step(forces);
+    }
+    return 1e6 * bestSecondsPerUnit(run, batch, minSeconds);
+}
+
+json latticeSteps(const LatticeShape& shape, const char* label, double minSeconds, std::ostream& out) {
+    json result = json::object();
+    out << "\nLattice step, " << label << " (dt 1/240 s, one drag, anchored face), us per step\n";
+    double baseline = 0.0;
+    for (IntegratorKind k : kIntegrators) {
+        const double us = stepMicroseconds(shape, k, {}, false, minSeconds);
+        if (k == IntegratorKind::SymplecticEuler)
+            baseline = us;
+        result[std::string(integratorName(k))] = us;
+        out << "  " << std::left << std::setw(18) << integratorName(k) << std::right << std::fixed << std::setprecision(2)
+            << std::setw(9) << us << " us   " << std::setprecision(1) << us / baseline << "x symplectic-euler\n";
+    }
+    return result;
+}
+
+json deformation(const BenchOptions& options, std::ostream& out) {
+    json rows = json::array();
+    const int all = resolveThreadCount(0);
+    out << "\nDeformation (4x4x4 Bezier), ms per evaluation; reference = plain scalar kernel, one thread\n";
+    out << "  vertices  threads  normals        ms  reference ms   speed-up\n";
+    std::vector<int> sizes = {10000, 100000, 1000000};
+    if (options.quick)
+        sizes = {10000, 100000};
+    for (int vertices : sizes) {
+        OrientedBox box;
+        box.size = Vec3(1.0, 0.6, 0.3);
+        const Lattice lattice = Lattice::create({}, box).value();
+        std::vector<Vec3f> points, normals(std::size_t(vertices), Vec3f::UnitY());
+        unsigned seed = 7;
+        auto next = [&] { seed = seed * 1664525u + 1013904223u; return double(seed >> 8) / double(1u << 24); };
+        for (int i = 0; i < vertices; ++i)
+            points.push_back(box.toWorld(Vec3(next(), next(), next())).cast<float>());
+        const Binding binding = Binding::create(lattice, points, normals);
+        const ReferenceDeformer reference(lattice, points, normals);
+        std::vector<Vec3> nodes = lattice.restNodes();
+        for (Vec3& n : nodes)
+            n += Vec3(0.05 * n.y(), 0.02 * n.z(), -0.03 * n.x());
+        std::vector<Vec3f> outPositions(points.size()), outNormals(points.size());
+        const double minSeconds = options.quick ? 0.05 : 0.3;
+        for (bool withNormals : {false, true}) {
+            const std::span<Vec3f> n = withNormals ? std::span<Vec3f>(outNormals) : std::span<Vec3f>();
+            const double refMs = 1e3 * bestSecondsPerUnit([&] { reference.evaluate(nodes, outPositions, n); }, 1, minSeconds);
+            for (int threads : {1, all}) {
+                if (threads == 1 && all == 1 && rows.size() % 2 == 1)
+                    continue;
+                const double ms = 1e3 * bestSecondsPerUnit([&] { binding.evaluate(nodes, outPositions, n, threads); }, 1, minSeconds);
+                rows.push_back({{"vertices", vertices}, {"threads", threads}, {"normals", withNormals}, {"ms", ms},
+                                {"reference_ms", refMs}});
+                char line[160];
+                std::snprintf(line, sizeof line, "  %8d  %7d  %7s  %8.3f  %12.3f  %8.1fx\n", vertices, threads,
+                              withNormals ? "yes" : "no", ms, refMs, refMs / ms);
+                out << line;
+            }
+        }
+    }
+    return rows;
+}
+
+json table1(const BenchOptions& options, std::ostream& out) {
+    json rows = json::array();
+    std::vector<int> sizes = {208, 832, 2160, 8640, 11660, 24928};
+    if (options.quick)
+        sizes = {208, 832, 2160};
+    out << "\nTable 1 redone: one second of dragging (dt 1/240 s, mesh needed at 60 Hz, one thread), seconds\n"
+        << "  lattice = ours (4x4x4, implicit Euler); global = mass-spring on every vertex (implicit Euler);\n"
+        << "  local = mass-spring within 25% of the diagonal of the drag (implicit Euler); bullet = btSoftBody\n";
+    out << "  triangles   lattice_s   global_s    local_s   bullet_s   global/lattice  bullet/lattice\n";
+    for (int triangles : sizes) {
+        const InteractionScenario scenario = makeScenario(makeEllipsoid(triangles));
+        const double radius = 0.25 * scenario.mesh.bounds().diagonal();
+        const TimingResult lattice = timeLattice(scenario, IntegratorKind::ImplicitEuler);
+        const TimingResult global = timeMeshSpring(scenario, IntegratorKind::ImplicitEuler);
+        const TimingResult local = timeMeshSpring(scenario, IntegratorKind::ImplicitEuler, radius);
+        const std::optional<TimingResult> bullet = timeBulletSoftBody(scenario);
+        json row = {{"triangles", triangles}, {"lattice_s", lattice.seconds}, {"global_s", global.seconds},
+                    {"local_s", local.seconds}, {"bullet_s", bullet ? json(bullet->seconds) : json(nullptr)},
+                    {"finite", lattice.finite && global.finite && local.finite && (!bullet || bullet->finite)}};
+        rows.push_back(row);
+        char line[200];
+        std::snprintf(line, sizeof line, "  %9d  %10.4f  %9.4f  %9.4f  %9s  %14.0fx  %13s\n", triangles, lattice.seconds,
+                      global.seconds, local.seconds, bullet ? std::to_string(bullet->seconds).substr(0, 7).c_str() : "n/a",
+                      global.seconds / lattice.seconds,
+                      bullet ? (std::to_string(int(std::lround(bullet->seconds / lattice.seconds))) + "x").c_str() : "n/a");
+        out << line << std::flush;
+    }
+    return rows;
+}
+
+json features(double minSeconds, std::ostream& out) {
+    // Only what a scene uses costs anything: gravity and planes add passes, a sleeping body costs nothing.
+    const LatticeShape shape;
+    ExternalForces none, gravity, plane;
+    gravity.gravity = Vec3(0, -9.81, 0);
+    plane.planes.push_back(CollisionPlane{Vec3(0, -10, 0), Vec3::UnitY(), 0.0, 0.5});
+    const double base = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds);
+    const double withGravity = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, gravity, false, minSeconds);
+    const double withPlane = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, plane, false, minSeconds);
+    const double asleep = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, true, minSeconds);
+    out << "\nWhat a scene does not use costs nothing (4x4x4, symplectic Euler), us per step\n";
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "  drag only %.2f   + gravity %.2f   + plane %.2f   sleeping body %.3f (%.0fx cheaper)\n", base,
+                  withGravity, withPlane, asleep, base / asleep);
+    out << line;
+    return {{"awake_us", base}, {"gravity_us", withGravity}, {"plane_us", withPlane}, {"sleeping_us", asleep}};
+}
+
+}  // namespace
+
+json runBench(const BenchOptions& options, std::ostream& out) {
+    const double minSeconds = options.quick ? 0.05 : 0.3;
+    json doc;
+    doc["machine"] = {{"hardware_threads", resolveThreadCount(0)}, {"bullet", bulletAvailable()}};
+    doc["quick"] = options.quick;
+    doc["lattice_step_us"] = latticeSteps({LatticeKind::Bezier, {4, 4, 4}}, "4x4x4 Bezier", minSeconds, out);
+    doc["lattice_step_us_8x4x4"] = latticeSteps({LatticeKind::BSpline, {8, 4, 4}}, "8x4x4 B-spline", minSeconds, out);
+    doc["features"] = features(minSeconds, out);
+    doc["deform"] = deformation(options, out);
+    doc["table1"] = table1(options, out);
+    doc["haptic"] = json::array();  // filled once the haptic loop exists
+    return doc;
+}
+
+}  // namespace softtouch::bench

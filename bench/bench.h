@@ -1,0 +1,20 @@
+#pragma once
+/// `softtouch-cli bench`: the speed figures of SoftTouch, each beside its baseline from the same run
+/// (these machines are shared and noisy, so only same-run ratios are comparable across runs).
+/// JSON keys: docs/benchmarks.md.
+
+#include <nlohmann/json.hpp>
+
+#include <ostream>
+
+namespace softtouch::bench {
+
+/// What to run.
+struct BenchOptions {
+    bool quick = false;  ///< Small sizes only (seconds instead of minutes); for CI smoke runs.
+};
+
+/// Runs every benchmark, prints a readable report to `out` as it goes, returns the JSON document.
+nlohmann::json runBench(const BenchOptions& options, std::ostream& out);
+
+}  // namespace softtouch::bench

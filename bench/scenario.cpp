@@ -1,0 +1,70 @@
+#include "bench/scenario.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+
+namespace softtouch::bench {
+
+Mesh makeEllipsoid(int triangles, const Vec3& radii) {
+    // 2·s·(r−1) triangles for s segments and r rings; pick the factorisation closest to r = s/2 + 1.
+    int bestSegments = 0, bestRings = 0;
+    double bestScore = 1e300;
+    for (int s = 3; 2 * s * 2 <= triangles; ++s) {
+        if ((triangles / 2) % s != 0 || triangles % 2 != 0)
+            continue;
+        const int r = triangles / (2 * s) + 1;
+        if (r < 3)
+            continue;
+        const double score = std::abs(std::log(double(r - 1) / (0.5 * s)));
+        if (score < bestScore) {
+            bestScore = score;
+            bestSegments = s;
+            bestRings = r;
+        }
+    }
+    assert(bestSegments > 0);
+    Mesh m;
+    const int rings = bestRings, segments = bestSegments;
+    for (int i = 0; i <= rings; ++i) {
+        const double theta = std::numbers::pi * i / rings;
+        for (int j = 0; j < segments; ++j) {
+            if ((i == 0 || i == rings) && j > 0)
+                break;
+            const double phi = 2.0 * std::numbers::pi * j / segments;
+            const Vec3 unit(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            m.positions.push_back(unit.cwiseProduct(radii).cast<float>());
+        }
+    }
+    auto idx = [&](int i, int j) -> std::uint32_t {
+        if (i == 0) return 0;
+        if (i == rings) return std::uint32_t(1 + (rings - 1) * segments);
+        return std::uint32_t(1 + (i - 1) * segments + (j % segments));
+    };
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            if (i > 0) m.triangles.push_back({idx(i, j), idx(i, j + 1), idx(i + 1, j)});
+            if (i < rings - 1) m.triangles.push_back({idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)});
+        }
+    m.computeNormals();
+    return m;
+}
+
+InteractionScenario makeScenario(Mesh mesh) {
+    InteractionScenario s;
+    const Bounds b = mesh.bounds();
+    std::vector<std::uint32_t> order(mesh.positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t x, std::uint32_t y) { return mesh.positions[x].x() < mesh.positions[y].x(); });
+    s.dragVertex = order.back();
+    const std::size_t anchors = std::max<std::size_t>(1, order.size() / 20);
+    s.anchors.assign(order.begin(), order.begin() + std::ptrdiff_t(anchors));
+    s.dragOffset = Vec3(0.6, 0.8, 0.0).normalized() * (0.2 * b.diagonal());
+    s.mesh = std::move(mesh);
+    return s;
+}
+
+}  // namespace softtouch::bench
