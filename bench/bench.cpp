@@ -140,11 +140,14 @@ json table1(const BenchOptions& options, std::ostream& out) {
                     {"local_s", local.seconds}, {"bullet_s", bullet ? json(bullet->seconds) : json(nullptr)},
                     {"finite", lattice.finite && global.finite && local.finite && (!bullet || bullet->finite)}};
         rows.push_back(row);
+        char bulletSeconds[32] = "n/a", bulletRatio[32] = "n/a";
+        if (bullet) {
+            std::snprintf(bulletSeconds, sizeof bulletSeconds, "%.4f", bullet->seconds);
+            std::snprintf(bulletRatio, sizeof bulletRatio, "%.2fx", bullet->seconds / lattice.seconds);
+        }
         char line[200];
         std::snprintf(line, sizeof line, "  %9d  %10.4f  %9.4f  %9.4f  %9s  %14.0fx  %13s\n", triangles, lattice.seconds,
-                      global.seconds, local.seconds, bullet ? std::to_string(bullet->seconds).substr(0, 7).c_str() : "n/a",
-                      global.seconds / lattice.seconds,
-                      bullet ? (std::to_string(int(std::lround(bullet->seconds / lattice.seconds))) + "x").c_str() : "n/a");
+                      global.seconds, local.seconds, bulletSeconds, global.seconds / lattice.seconds, bulletRatio);
         out << line << std::flush;
     }
     return rows;

@@ -30,6 +30,28 @@ bool allFinite(const std::vector<Vec3f>& v) {
     return true;
 }
 
+/// The timed part every contender shares: step with the drag target moving along the scenario, and
+/// hand the mesh positions to `frame` at the frame rate. Returns the wall time and finiteness.
+template <typename FrameFn>
+TimingResult runInteraction(const InteractionScenario& s, Simulator& sim, DragSpring drag, const Vec3& restPoint,
+                            std::vector<Vec3f>& positions, FrameFn&& frame) {
+    TimingResult result;
+    ExternalForces forces;
+    const int steps = stepsOf(s), perFrame = stepsPerFrame(s);
+    Stopwatch watch;
+    for (int i = 0; i < steps; ++i) {
+        drag.target = restPoint + s.dragOffsetAt(i * s.dt);
+        forces.drags.assign(1, drag);
+        (void)sim.step(forces);
+        if ((i + 1) % perFrame == 0) {
+            frame(positions);
+            result.finite = result.finite && allFinite(positions);
+        }
+    }
+    result.seconds = watch.seconds();
+    return result;
+}
+
 }  // namespace
 
 TimingResult timeLattice(const InteractionScenario& s, IntegratorKind integrator, const LatticeShape& shape) {
@@ -47,26 +69,14 @@ TimingResult timeLattice(const InteractionScenario& s, IntegratorKind integrator
     const Binding binding = Binding::create(lattice, s.mesh.positions, s.mesh.normals);
     Simulator sim(model, settingsFor(s, integrator));
     const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
-    ExternalForces forces;
     DragSpring drag;
     drag.support = lattice.weights(lattice.box().toParameters(restPoint));
     drag.stiffness = s.dragStiffness;
     drag.damping = s.dragDamping;
     std::vector<Vec3f> positions(s.mesh.positions.size());
-
-    TimingResult result;
-    const int steps = stepsOf(s), perFrame = stepsPerFrame(s);
-    Stopwatch watch;
-    for (int i = 0; i < steps; ++i) {
-        drag.target = restPoint + s.dragOffsetAt(i * s.dt);
-        forces.drags.assign(1, drag);
-        (void)sim.step(forces);
-        if ((i + 1) % perFrame == 0) {
-            binding.evaluate(sim.state().position, positions, {}, 1);
-            result.finite = result.finite && allFinite(positions);
-        }
-    }
-    result.seconds = watch.seconds();
+    TimingResult result = runInteraction(s, sim, drag, restPoint, positions, [&](std::vector<Vec3f>& out) {
+        binding.evaluate(sim.state().position, out, {}, 1);
+    });
     binding.evaluate(sim.state().position, positions, {}, 1);
     result.dragVertexEnd = positions[s.dragVertex].cast<double>();
     return result;
@@ -87,28 +97,16 @@ TimingResult timeMeshSpring(const InteractionScenario& s, IntegratorKind integra
     const auto model = buildBodyModel(describeMeshBody(s.mesh, settings)).value();
     Simulator sim(model, settingsFor(s, integrator));
     const Vec3 restPoint = centre.cast<double>();
-    ExternalForces forces;
     DragSpring drag;
     drag.support = {{s.dragVertex, 1.0}};
     drag.stiffness = s.dragStiffness;
     drag.damping = s.dragDamping;
     std::vector<Vec3f> positions(s.mesh.positions.size());
-
-    TimingResult result;
-    const int steps = stepsOf(s), perFrame = stepsPerFrame(s);
-    Stopwatch watch;
-    for (int i = 0; i < steps; ++i) {
-        drag.target = restPoint + s.dragOffsetAt(i * s.dt);
-        forces.drags.assign(1, drag);
-        (void)sim.step(forces);
-        if ((i + 1) % perFrame == 0) {
-            const auto& x = sim.state().position;
-            for (std::size_t v = 0; v < positions.size(); ++v)
-                positions[v] = x[v].cast<float>();
-            result.finite = result.finite && allFinite(positions);
-        }
-    }
-    result.seconds = watch.seconds();
+    TimingResult result = runInteraction(s, sim, drag, restPoint, positions, [&](std::vector<Vec3f>& out) {
+        const auto& x = sim.state().position;
+        for (std::size_t v = 0; v < out.size(); ++v)
+            out[v] = x[v].cast<float>();
+    });
     result.dragVertexEnd = sim.state().position[s.dragVertex];
     return result;
 }

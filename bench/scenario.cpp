@@ -1,9 +1,10 @@
 #include "bench/scenario.h"
 
+#include "core/primitives.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <numbers>
 
 namespace softtouch::bench {
 
@@ -25,30 +26,7 @@ Mesh makeEllipsoid(int triangles, const Vec3& radii) {
         }
     }
     assert(bestSegments > 0);
-    Mesh m;
-    const int rings = bestRings, segments = bestSegments;
-    for (int i = 0; i <= rings; ++i) {
-        const double theta = std::numbers::pi * i / rings;
-        for (int j = 0; j < segments; ++j) {
-            if ((i == 0 || i == rings) && j > 0)
-                break;
-            const double phi = 2.0 * std::numbers::pi * j / segments;
-            const Vec3 unit(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-            m.positions.push_back(unit.cwiseProduct(radii).cast<float>());
-        }
-    }
-    auto idx = [&](int i, int j) -> std::uint32_t {
-        if (i == 0) return 0;
-        if (i == rings) return std::uint32_t(1 + (rings - 1) * segments);
-        return std::uint32_t(1 + (i - 1) * segments + (j % segments));
-    };
-    for (int i = 0; i < rings; ++i)
-        for (int j = 0; j < segments; ++j) {
-            if (i > 0) m.triangles.push_back({idx(i, j), idx(i, j + 1), idx(i + 1, j)});
-            if (i < rings - 1) m.triangles.push_back({idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)});
-        }
-    m.computeNormals();
-    return m;
+    return makeUvEllipsoid(bestRings, bestSegments, radii);
 }
 
 InteractionScenario makeScenario(Mesh mesh) {
