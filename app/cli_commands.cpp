@@ -50,16 +50,6 @@ std::optional<double> parseNumber(const std::string& text) {
     return value;
 }
 
-Status writeText(const std::filesystem::path& path, const std::string& text) {
-    io::AtomicFile file(path);
-    Status s = file.open();
-    if (s)
-        s = file.write(text.data(), text.size());
-    if (s)
-        s = file.commit();
-    return s;
-}
-
 }  // namespace
 
 int runBake(const std::vector<std::string>& args) {
@@ -198,7 +188,7 @@ int runBench(const std::vector<std::string>& args) {
     }
     const nlohmann::json result = bench::runBench(options, std::cout);
     if (!jsonPath.empty()) {
-        if (Status s = writeText(jsonPath, result.dump(2) + "\n"); !s)
+        if (Status s = io::writeFileAtomically(jsonPath, result.dump(2) + "\n"); !s)
             return fail(s.message());
         std::printf("\nwrote %s\n", jsonPath.c_str());
     }
@@ -251,9 +241,9 @@ int runStudy(const std::vector<std::string>& args) {
         std::filesystem::create_directories(outDir, ec);
         const std::filesystem::path dir(outDir);
         std::string command = "softtouch-cli study " + scenePath + " --out " + outDir + (options.quick ? " --quick" : "");
-        if (Status s = writeText(dir / "study.csv", bench::studyCsv(result)); !s)
+        if (Status s = io::writeFileAtomically(dir / "study.csv", bench::studyCsv(result)); !s)
             return fail(s.message());
-        if (Status s = writeText(dir / "study.md", bench::studyMarkdown(result, command)); !s)
+        if (Status s = io::writeFileAtomically(dir / "study.md", bench::studyMarkdown(result, command)); !s)
             return fail(s.message());
         if (const std::string error = writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
             return fail(error);

@@ -37,32 +37,30 @@ struct DrivenRun {
     bool finite = true;
 };
 
-DrivenRun runDriven(const SceneObject& object, IntegratorKind integrator, double dt, double seconds, double fps) {
-    SimulationSettings settings;
-    settings.integrator = integrator;
-    settings.dt = dt;
-    settings.sleep = false;
-    settings.xpbdSubsteps = 8;
-    const auto model = buildLatticeBody(object.lattice, object.material).value();
-    const Binding binding = Binding::create(object.lattice, object.mesh.positions, object.mesh.normals);
-    Simulator sim(model, settings);
+/// Runs the object through the same SceneSimulation a bake uses (its drivers, the scene's world), with
+/// the study's integrator and step.
+DrivenRun runDriven(const SceneObject& object, const WorldSettings& world, IntegratorKind integrator, double dt,
+                    double seconds, double fps) {
+    Scene scene;
+    scene.objects = {object};
+    scene.world = world;
+    scene.world.simulation.integrator = integrator;
+    scene.world.simulation.dt = dt;
+    scene.world.simulation.sleep = false;
+    scene.world.simulation.xpbdSubsteps = 8;
+    auto sim = SceneSimulation::create(scene);
     DrivenRun run;
+    if (!sim) {
+        run.finite = false;
+        return run;
+    }
     const int frames = int(std::lround(seconds * fps));
     for (int f = 1; f <= frames; ++f) {
-        const double until = double(f) / fps;
         Stopwatch watch;
-        while (double(sim.stepCount() + 1) * dt <= until * (1.0 + 1e-12) + 1e-12) {
-            ExternalForces forces;
-            for (const Driver& d : object.drivers) {
-                if (auto drag = driverDrag(d, object.lattice, sim.time()))
-                    forces.drags.push_back(*drag);
-            }
-            if (!sim.step(forces).problem.empty())
-                run.finite = run.finite && sim.state().isFinite();
-        }
+        sim->advanceTo(double(f) / fps);
         run.physicsSeconds += watch.seconds();
         std::vector<Vec3f> positions(object.mesh.positions.size());
-        binding.evaluate(sim.state().position, positions, {}, 0);
+        sim->evaluate(0, positions, {}, 0);
         for (const Vec3f& p : positions)
             run.finite = run.finite && p.allFinite();
         run.frames.push_back(std::move(positions));
@@ -177,8 +175,8 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     const LatticeShape referenceShape{LatticeKind::BSpline, options.quick ? std::array<int, 3>{8, 8, 8} : std::array<int, 3>{10, 10, 10}};
     const double referenceDt = options.quick ? 1.0 / 4000 : 1.0 / 8000;
     const SceneObject referenceObject = onLattice(source, referenceShape);
-    const DrivenRun reference = runDriven(referenceObject, IntegratorKind::Verlet, referenceDt, seconds, fps);
-    const DrivenRun finer = runDriven(referenceObject, IntegratorKind::Verlet, referenceDt / 2, seconds, fps);
+    const DrivenRun reference = runDriven(referenceObject, scene.world, IntegratorKind::Verlet, referenceDt, seconds, fps);
+    const DrivenRun finer = runDriven(referenceObject, scene.world, IntegratorKind::Verlet, referenceDt / 2, seconds, fps);
     const double diagonal = source.lattice.box().diagonal();
     StudyResult result;
     result.referenceUncertainty = frameError(reference.frames, finer.frames).first / diagonal;
@@ -192,7 +190,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     for (const Resolution& res : resolutions) {
         const SceneObject object = onLattice(source, res.shape);
         // This lattice converged in time: the reference for the time error and the frequency.
-        const DrivenRun converged = runDriven(object, IntegratorKind::Verlet, referenceDt, seconds, fps);
+        const DrivenRun converged = runDriven(object, scene.world, IntegratorKind::Verlet, referenceDt, seconds, fps);
         // Even exact integration trades amplitude between modes, so amplitude loss is measured against it.
         const FreeRun referenceFree = runFree(object, IntegratorKind::Verlet, referenceDt, freeSeconds);
         const double referenceFrequency = referenceFree.frequency;
@@ -203,7 +201,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
                 row.dt = dt;
                 row.resolution = res.name;
                 row.nodes = object.lattice.nodeCount();
-                const DrivenRun run = runDriven(object, kind, dt, seconds, fps);
+                const DrivenRun run = runDriven(object, scene.world, kind, dt, seconds, fps);
                 row.costPerSecond = run.physicsSeconds / seconds;
                 row.finite = run.finite;
                 const auto [rms, worst] = frameError(run.frames, reference.frames);

@@ -45,7 +45,8 @@ struct StudyResult {
 };
 
 /// Runs the study on the first object of `scene` (its drivers, anchors and painted material, carried
-/// to every resolution with resampleMaterial(..., keepContinuum = true)).
+/// to every resolution with resampleMaterial(..., keepContinuum = true)) in the scene's world, through the
+/// same SceneSimulation a bake uses.
 StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostream& log);
 
 /// The cheapest row whose RMS error is at most `target` (relative to the diagonal); nullptr if none.

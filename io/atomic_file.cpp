@@ -128,4 +128,13 @@ void AtomicFile::discard() {
     }
 }
 
+Status writeFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
+    AtomicFile file(path);
+    if (Status s = file.open(); !s)
+        return s;
+    if (Status s = file.write(bytes.data(), bytes.size()); !s)
+        return s;
+    return file.commit();
+}
+
 }  // namespace softtouch::io

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <string_view>
 
 namespace softtouch::io {
 
@@ -34,5 +35,8 @@ private:
     std::filesystem::path m_temporary;
     std::FILE* m_file = nullptr;
 };
+
+/// Writes `bytes` to `path` in one atomic step (open, write, commit).
+Status writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);
 
 }  // namespace softtouch::io

@@ -584,13 +584,7 @@ Status saveProject(const Project& project, const fs::path& path) {
                         {"xpbdSubsteps", w.simulation.xpbdSubsteps},
                         {"sleep", w.simulation.sleep}}},
                       {"clip", {{"frames", w.frames}, {"fps", w.fps}}}};
-    const std::string text = doc.dump(2) + "\n";
-    AtomicFile file(path);
-    if (Status s = file.open(); !s)
-        return s;
-    if (Status s = file.write(text.data(), text.size()); !s)
-        return s;
-    return file.commit();
+    return writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
 }  // namespace softtouch::io
