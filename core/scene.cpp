@@ -1,5 +1,6 @@
 #include "core/scene.h"
 
+#include <cassert>
 #include <cmath>
 
 namespace softtouch {
@@ -50,7 +51,7 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             return Status::error(where + model.message());
         sim.m_objects.push_back(Runtime{&object,
                                         Binding::create(object.lattice, object.mesh.positions, object.mesh.normals),
-                                        Simulator(model.value(), scene->world.simulation)});
+                                        Simulator(model.value(), scene->world.simulation), {}});
     }
     return sim;
 }
@@ -64,6 +65,7 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
         if (auto drag = driverDrag(driver, object.lattice, seconds))
             f.drags.push_back(std::move(*drag));
     }
+    f.drags.insert(f.drags.end(), m_objects[i].interactive.begin(), m_objects[i].interactive.end());
     return f;
 }
 
@@ -85,6 +87,37 @@ void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* proble
 
 double SceneSimulation::time() const {
     return m_objects.empty() ? 0.0 : m_objects.front().simulator.time();
+}
+
+long long SceneSimulation::stepCount() const {
+    return m_objects.empty() ? 0 : m_objects.front().simulator.stepCount();
+}
+
+void SceneSimulation::setInteractiveDrags(std::size_t i, std::vector<DragSpring> drags) {
+    m_objects[i].interactive = std::move(drags);
+}
+
+SceneSimulation::Snapshot SceneSimulation::saveSnapshot() const {
+    Snapshot s;
+    s.step = stepCount();
+    for (const Runtime& r : m_objects)
+        s.bodies.push_back(r.simulator.saveState());
+    return s;
+}
+
+void SceneSimulation::restoreSnapshot(const Snapshot& snapshot) {
+    assert(snapshot.bodies.size() == m_objects.size());
+    for (std::size_t i = 0; i < m_objects.size(); ++i) {
+        assert(snapshot.bodies[i].position.size() == m_objects[i].simulator.state().position.size());
+        m_objects[i].simulator.restoreState(snapshot.bodies[i], snapshot.step);
+    }
+}
+
+void SceneSimulation::reset() {
+    for (Runtime& r : m_objects) {
+        r.simulator.restoreState(restState(r.simulator.model()), 0);
+        r.interactive.clear();
+    }
 }
 
 void SceneSimulation::evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {

@@ -45,11 +45,35 @@ public:
     /// Validates the scene and builds everything; errors name the object.
     static Result<SceneSimulation> create(const Scene& scene);
 
+    /// Everything that changes while a scene runs: every body's state and the time. Restoring one
+    /// and stepping with the same inputs reproduces the same states bit for bit.
+    struct Snapshot {
+        long long step = 0;              ///< Steps taken (time = step × dt).
+        std::vector<BodyState> bodies;   ///< Per object.
+    };
+
     /// Steps every object until the simulated time reaches `seconds` (fixed dt; a step is taken when
     /// its end time is <= seconds). Problems reported by any step are appended to `problems`.
     void advanceTo(double seconds, std::vector<std::string>* problems = nullptr);
     /// Simulated time, seconds.
     double time() const;
+    /// Steps taken so far (every object takes the same steps).
+    long long stepCount() const;
+
+    /// Drag springs applied to object i on top of its drivers from the next step on (the editor's
+    /// mouse, a device); an empty list releases them.
+    void setInteractiveDrags(std::size_t i, std::vector<DragSpring> drags);
+    /// The interactive drags of object i.
+    const std::vector<DragSpring>& interactiveDrags(std::size_t i) const { return m_objects[i].interactive; }
+    /// Every force acting on object i during a step that starts at `seconds`: world, drivers, interactive.
+    ExternalForces forcesAt(std::size_t i, double seconds) const;
+
+    /// The current runtime state.
+    Snapshot saveSnapshot() const;
+    /// Restores a snapshot taken from this scene (same objects and node counts); wakes every body.
+    void restoreSnapshot(const Snapshot& snapshot);
+    /// Back to the rest state at time 0, interactive drags released.
+    void reset();
     /// Number of objects.
     std::size_t objectCount() const { return m_objects.size(); }
     /// Object i's name, mesh, lattice and simulator.
@@ -65,8 +89,8 @@ private:
         const SceneObject* source = nullptr;
         Binding binding;
         Simulator simulator;
+        std::vector<DragSpring> interactive;
     };
-    ExternalForces forcesAt(std::size_t object, double seconds) const;
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Runtime> m_objects;

@@ -1,5 +1,7 @@
 #include "core/simulator.h"
 
+#include <cassert>
+
 #include <cmath>
 #include <sstream>
 
@@ -30,6 +32,12 @@ void Simulator::restoreState(const BodyState& state) {
     m_lastGood = state;
     m_sleeping = false;
     m_quietSteps = 0;
+}
+
+void Simulator::restoreState(const BodyState& state, long long stepCount) {
+    assert(stepCount >= 0);
+    restoreState(state);
+    m_stepCount = stepCount;
 }
 
 double Simulator::stableStep(const ExternalForces& external) const {

@@ -51,8 +51,10 @@ public:
 
     /// A copy of the full state (for scrubbing, caching and round trips).
     BodyState saveState() const { return m_state; }
-    /// Replaces the state (same node count) and wakes the body.
+    /// Replaces the state (same node count) and wakes the body; the step count (time) is kept.
     void restoreState(const BodyState& state);
+    /// Replaces the state and the step count (simulated time = stepCount × dt): scrubbing and replays.
+    void restoreState(const BodyState& state, long long stepCount);
 
     /// Advances one step of dt under the given forces.
     StepReport step(const ExternalForces& external);
