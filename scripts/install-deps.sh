@@ -11,6 +11,8 @@ packages=(
   nlohmann-json3-dev      # project and preset files
   fonts-dejavu-core       # text in plots rendered headless (study)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
+  libegl-dev libgl-dev    # render/: OpenGL 3.3 core through glvnd, headless EGL context
+  libegl-mesa0 libgl1-mesa-dri  # runtime: Mesa's EGL (surfaceless platform) and llvmpipe when there is no GPU
 )
 
 missing=()
