@@ -587,4 +587,63 @@ Status saveProject(const Project& project, const fs::path& path) {
     return writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
+Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice, LatticeMaterial& material,
+                           const std::vector<int>& nodes) {
+    JsonIssues issues("preset '" + preset.name + "'");
+    LatticeMaterial m = material;
+    std::optional<double> total;
+    readMaterial(JsonValue(&preset.material, "/material", &issues), m, total, false, fs::path());
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    if (total) {
+        int count = 0;
+        for (int n = 0; n < lattice.nodeCount(); ++n)
+            count += m.isVoid[std::size_t(n)] ? 0 : 1;
+        m.mass.assign(m.mass.size(), *total / std::max(count, 1));
+    }
+    if (nodes.empty()) {
+        material = m;
+        return Status::success();
+    }
+    for (int n : nodes) {
+        if (n < 0 || n >= lattice.nodeCount())
+            return Status::error("node " + std::to_string(n) + " is not in the lattice");
+        material.mass[std::size_t(n)] = m.mass[std::size_t(n)];
+        material.stiffness[std::size_t(n)] = m.stiffness[std::size_t(n)];
+        material.damping[std::size_t(n)] = m.damping[std::size_t(n)];
+    }
+    return Status::success();
+}
+
+Status saveMaterialPreset(const std::string& name, const std::string& description, const LatticeMaterial& material,
+                          const fs::path& path) {
+    double total = 0.0, stiffness = 0.0, damping = 0.0;
+    int count = 0;
+    for (std::size_t n = 0; n < material.mass.size(); ++n) {
+        if (material.isVoid[n])
+            continue;
+        total += material.mass[n];
+        stiffness += material.stiffness[n];
+        damping += material.damping[n];
+        ++count;
+    }
+    if (count == 0)
+        return Status::error(path.string() + ": the material has no simulated node to take values from");
+    const json doc = {{"format", kPresetFormat},
+                      {"version", kPresetVersion},
+                      {"kind", "material"},
+                      {"name", name},
+                      {"description", description},
+                      {"material",
+                       {{"totalMass", total},
+                        {"stiffness", stiffness / count},
+                        {"damping", damping / count},
+                        {"springKindScale",
+                         {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
+                        {"anisotropy", vec(material.anisotropy)},
+                        {"heavyAnchorRatio", material.heavyAnchorRatio},
+                        {"airDamping", material.airDamping}}}};
+    return writeFileAtomically(path, doc.dump(2) + "\n");
+}
+
 }  // namespace softtouch::io

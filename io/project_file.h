@@ -39,5 +39,15 @@ std::vector<std::string> validateFile(const std::filesystem::path& path);
 Status saveProject(const Project& project, const std::filesystem::path& path);
 /// Loads a material preset.
 Result<MaterialPreset> loadMaterialPreset(const std::filesystem::path& path);
+/// Applies a preset onto `material` (of `lattice`): to the listed nodes' mass, stiffness and damping,
+/// or, when `nodes` is empty, to every node and to the global fields (kind scales, anisotropy, heavy
+/// anchor ratio, air damping) too. A preset's totalMass becomes the same per-node mass it would give
+/// spread over the whole lattice's non-void nodes. Anchors and voids are kept.
+Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice, LatticeMaterial& material,
+                           const std::vector<int>& nodes = {});
+/// Writes `material` as a shareable preset (single values: means over non-void nodes, total mass),
+/// atomically.
+Status saveMaterialPreset(const std::string& name, const std::string& description, const LatticeMaterial& material,
+                          const std::filesystem::path& path);
 
 }  // namespace softtouch::io

@@ -5,7 +5,11 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  qt6-base-dev            # Qt Test (and, for the editor, Qt Widgets/OpenGL)
+  qt6-base-dev            # Qt Core/Gui/Widgets/Test
+  libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
+  libgl-dev libegl-dev    # OpenGL 3.3 core through glvnd (render/), EGL for headless rendering
+  libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe: OpenGL without a GPU
+  xvfb xauth              # the editor's GUI tests run under a virtual X server
   libeigen3-dev           # core maths
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files

@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
-# Fresh machine to result in one command: installs what is missing, builds, and bakes the bundled
-# default scene (the angelfish swim) headless into out/, saying where the files went.
+# Fresh machine to editor in one command: installs what is missing, builds, and opens the SoftTouch
+# editor on the bundled default scene (the angelfish swim). Extra arguments go to the editor
+# (e.g. a project path). Without a display it says so and writes a screenshot instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh release
+if [ -n "${DISPLAY:-}" ] || [ -n "${WAYLAND_DISPLAY:-}" ]; then
+  exec ./build/bin/softtouch "$@"
+fi
 mkdir -p out
-./build/bin/softtouch-cli bake presets/scenes/angelfish-swim.softtouch --out out/angelfish-swim.pc2
-echo "Import out/angelfish-swim.obj into your DCC tool and attach out/angelfish-swim.pc2 as a point cache."
+echo "No display found (DISPLAY is unset): rendering the editor under Xvfb to out/editor.png instead."
+xvfb-run -a -s "-screen 0 1600x1000x24" ./build/bin/softtouch --screenshot out/editor.png --seconds 1 "$@"
+echo "Wrote out/editor.png. On a desktop, run: ./build/bin/softtouch [PROJECT]"

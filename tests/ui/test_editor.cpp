@@ -1,0 +1,464 @@
+// The editor driven through its real widgets (under Xvfb): the default scene opens, a brush stroke is
+// one undo step, anchors are set by clicking nodes, a mouse drag pulls the fish and it swings back,
+// projects survive save and reopen, an autosave survives a killed session, a corrupt project gives
+// an error dialog, and the viewport draws the fish in shaded and wireframe modes.
+#include "ui/edit_commands.h"
+#include "ui/main_window.h"
+#include "ui/presets_panel.h"
+#include "ui/properties_panel.h"
+#include "ui/timeline_panel.h"
+
+#include <QAbstractButton>
+#include <QAction>
+#include <QListWidget>
+#include <QApplication>
+#include <QDir>
+#include <QFile>
+#include <QMessageBox>
+#include <QProcess>
+#include <QSettings>
+#include <QStandardPaths>
+#include <QSurfaceFormat>
+#include <QTemporaryDir>
+#include <QtTest/QtTest>
+
+#include <memory>
+
+using namespace softtouch;
+using namespace softtouch::ui;
+
+namespace {
+
+const QString kDefaultScene = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-swim.softtouch");
+
+/// Clicks `button` of the next modal message box and returns its text (the dialog is modal, so
+/// the click has to come from a timer while exec() runs).
+class DialogAnswerer : public QObject {
+public:
+    explicit DialogAnswerer(QMessageBox::StandardButton button) : m_button(button) {
+        QTimer::singleShot(50, this, &DialogAnswerer::poll);
+    }
+    QString text;
+    bool seen = false;
+
+private:
+    void poll() {
+        if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+            seen = true;
+            text = box->text();
+            box->button(m_button)->click();
+            return;
+        }
+        QTimer::singleShot(50, this, &DialogAnswerer::poll);
+    }
+    QMessageBox::StandardButton m_button;
+};
+
+/// Largest distance between two vertex sets.
+double maxDistance(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        d = std::max(d, double((a[i] - b[i]).norm()));
+    return d;
+}
+
+bool sameMaterial(const LatticeMaterial& a, const LatticeMaterial& b) {
+    return a.mass == b.mass && a.stiffness == b.stiffness && a.damping == b.damping && a.anchor == b.anchor &&
+           a.isVoid == b.isVoid && a.anisotropy == b.anisotropy && a.kindScale == b.kindScale;
+}
+
+/// Fraction of pixels inside `region` that differ from the background of their row (the background
+/// is a vertical gradient, sampled at the left edge).
+double coverage(const QImage& image, const QRect& region) {
+    int differ = 0, total = 0;
+    for (int y = std::max(region.top(), 0); y <= std::min(region.bottom(), image.height() - 1); ++y) {
+        const QColor background = image.pixelColor(1, y);
+        for (int x = std::max(region.left(), 0); x <= std::min(region.right(), image.width() - 1); ++x) {
+            const QColor c = image.pixelColor(x, y);
+            const int d = std::abs(c.red() - background.red()) + std::abs(c.green() - background.green()) +
+                          std::abs(c.blue() - background.blue());
+            differ += d > 24 ? 1 : 0;
+            ++total;
+        }
+    }
+    return total > 0 ? double(differ) / total : 0.0;
+}
+
+}  // namespace
+
+class TestEditor : public QObject {
+    Q_OBJECT
+private slots:
+    void initTestCase();
+    void init();
+    void cleanup();
+    void opensDefaultScene();
+    void paintStrokeIsOneUndoStep();
+    void anchorToolPinsAClickedNode();
+    void mouseDragPullsAndReleaseSwingsBack();
+    void saveAndReopenGivesTheSameScene();
+    void recoversAutosaveAfterKill();
+    void corruptProjectShowsErrorAndEditorStaysUsable();
+    void presetAppliesAsOneUndoStep();
+    void recordedTakeScrubsToReplayedState();
+    void viewportDrawsTheFish_data();
+    void viewportDrawsTheFish();
+    void screenshotCommandWritesPng();
+
+private:
+    std::unique_ptr<MainWindow> makeWindow();
+    QPoint screenOfNode(MainWindow& w, int node) const;
+    int isolatedNode(MainWindow& w, int object) const;
+
+    std::unique_ptr<QTemporaryDir> m_dir;
+    std::unique_ptr<MainWindow> m_window;
+};
+
+void TestEditor::initTestCase() {
+    QStandardPaths::setTestModeEnabled(true);
+    QApplication::setOrganizationName("SoftTouchTests");
+    QApplication::setApplicationName("test_editor");
+}
+
+void TestEditor::init() {
+    m_dir = std::make_unique<QTemporaryDir>();
+    QVERIFY(m_dir->isValid());
+    QSettings().clear();
+    m_window = makeWindow();
+    QVERIFY(m_window->openFile(kDefaultScene));
+    m_window->simulation()->pause();  // tests advance time themselves
+}
+
+void TestEditor::cleanup() {
+    if (m_window)
+        m_window->document()->undoStack()->setClean();  // no unsaved-changes prompt on close
+    m_window.reset();
+    m_dir.reset();
+}
+
+std::unique_ptr<MainWindow> TestEditor::makeWindow() {
+    MainWindowOptions options;
+    options.autosaveFolder = m_dir->filePath("autosave");
+    options.autosaveMilliseconds = 100;
+    options.presetFolder = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/materials");
+    auto w = std::make_unique<MainWindow>(options);
+    w->resize(1280, 800);
+    w->show();
+    if (!QTest::qWaitForWindowExposed(w.get()))
+        qWarning("window not exposed");
+    return w;
+}
+
+QPoint TestEditor::screenOfNode(MainWindow& w, int node) const {
+    const auto& x = w.simulation()->simulation()->simulator(0).state().position;
+    return w.viewport()->toWidget(x[std::size_t(node)]).toPoint();
+}
+
+int TestEditor::isolatedNode(MainWindow& w, int object) const {
+    // A node whose screen position is far from every other node's, so a click picks it unambiguously.
+    const auto& x = w.simulation()->simulation()->simulator(std::size_t(object)).state().position;
+    int best = -1;
+    double bestGap = 0.0;
+    for (std::size_t n = 0; n < x.size(); ++n) {
+        const QPointF p = w.viewport()->toWidget(x[n]);
+        if (!w.viewport()->rect().adjusted(20, 20, -20, -20).contains(p.toPoint()))
+            continue;
+        double gap = 1e9;
+        for (std::size_t m = 0; m < x.size(); ++m)
+            if (m != n)
+                gap = std::min(gap, QLineF(p, w.viewport()->toWidget(x[m])).length());
+        if (gap > bestGap && w.document()->scene().objects[0].material.anchor[n] == AnchorMode::Free) {
+            bestGap = gap;
+            best = int(n);
+        }
+    }
+    return bestGap > 4.0 ? best : -1;
+}
+
+void TestEditor::opensDefaultScene() {
+    MainWindow& w = *m_window;
+    QCOMPARE(w.document()->scene().objects.size(), std::size_t(1));
+    QCOMPARE(QString::fromStdString(w.document()->scene().objects[0].name), QString("angelfish"));
+    QVERIFY(w.simulation()->simulation() != nullptr);
+    QVERIFY2(w.viewport()->renderProblem().isEmpty(), qPrintable(w.viewport()->renderProblem()));
+    QVERIFY(w.windowTitle().contains("angelfish-swim.softtouch"));
+    QVERIFY(!w.document()->isModified());
+}
+
+void TestEditor::paintStrokeIsOneUndoStep() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    QCOMPARE(view->tool(), Tool::Paint);
+    view->brush().field = PaintField::Stiffness;
+    view->brush().value = 400.0;
+    view->brush().strength = 0.8;
+    view->brush().radiusPixels = 80.0;
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    const int undoBefore = w.document()->undoStack()->index();
+
+    const QPoint start = view->rect().center() - QPoint(60, 0);
+    QTest::mousePress(view, Qt::LeftButton, {}, start);
+    for (int i = 1; i <= 6; ++i)
+        QTest::mouseMove(view, start + QPoint(20 * i, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
+
+    const LatticeMaterial after = w.document()->scene().objects[0].material;
+    int raised = 0;
+    for (std::size_t n = 0; n < after.stiffness.size(); ++n) {
+        QVERIFY(after.stiffness[n] >= before.stiffness[n]);
+        raised += after.stiffness[n] > before.stiffness[n] ? 1 : 0;
+    }
+    QVERIFY2(raised > 0, "the stroke changed no node");
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);  // the whole stroke is one step
+    QVERIFY(w.document()->isModified());
+
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));  // restored exactly
+    QVERIFY(!w.document()->isModified());
+    w.document()->undoStack()->redo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, after));
+}
+
+void TestEditor::anchorToolPinsAClickedNode() {
+    MainWindow& w = *m_window;
+    w.findChild<QAction*>("toolAnchor")->trigger();
+    const int node = isolatedNode(w, 0);
+    QVERIFY2(node >= 0, "no node stands apart on screen");
+    QTest::mouseClick(w.viewport(), Qt::LeftButton, {}, screenOfNode(w, node));
+    QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Pinned);
+    // The rebuilt body pins it: pulling the whole lattice leaves that node in place.
+    const Vec3 rest = w.simulation()->simulation()->simulator(0).state().position[std::size_t(node)];
+    w.simulation()->advance(0.5);
+    QVERIFY(w.simulation()->simulation()->simulator(0).state().position[std::size_t(node)] == rest);
+    // Clicking again frees it; undo brings the anchor back.
+    QTest::mouseClick(w.viewport(), Qt::LeftButton, {}, screenOfNode(w, node));
+    QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Free);
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Pinned);
+}
+
+void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
+    MainWindow& w = *m_window;
+    w.simulation()->setDriversEnabled(false);  // only the mouse moves the fish
+    Viewport* view = w.viewport();
+    QCOMPARE(view->tool(), Tool::Drag);
+    const std::vector<Vec3f> rest = view->deformedPositions(0);
+    // Grab the tail half (the head is pinned): the centroid of the vertices at low u, on screen.
+    const SceneObject& fish = w.document()->scene().objects[0];
+    Vec3 tail = Vec3::Zero();
+    int count = 0;
+    for (const Vec3f& p : fish.mesh.positions) {
+        if (fish.lattice.box().toParameters(p.cast<double>()).x() < 0.3) {
+            tail += p.cast<double>();
+            ++count;
+        }
+    }
+    QVERIFY(count > 0);
+    const QPoint grabAt = view->toWidget(tail / count).toPoint();
+    QTest::mousePress(view, Qt::LeftButton, {}, grabAt);
+    w.simulation()->pause();
+    QVERIFY2(w.simulation()->grab(0).has_value(), "the press did not hit the fish");
+    for (int i = 1; i <= 5; ++i)
+        QTest::mouseMove(view, grabAt + QPoint(0, -24 * i));
+    w.simulation()->advance(1.0);
+    const double diagonal = fish.mesh.bounds().diagonal();
+    const double pulled = maxDistance(view->deformedPositions(0), rest);
+    QVERIFY2(pulled > 0.05 * diagonal, qPrintable(QString("moved %1 of the diagonal").arg(pulled / diagonal)));
+
+    QTest::mouseRelease(view, Qt::LeftButton, {}, grabAt + QPoint(0, -120));
+    w.simulation()->pause();
+    QVERIFY(!w.simulation()->grab(0).has_value());
+    w.simulation()->advance(0.15);
+    const double swinging = maxDistance(view->deformedPositions(0), rest);
+    w.simulation()->advance(6.0);
+    const double settled = maxDistance(view->deformedPositions(0), rest);
+    QVERIFY2(settled < 0.2 * pulled, qPrintable(QString("still %1 of the pull away after 6 s").arg(settled / pulled)));
+    QVERIFY(swinging > settled);
+}
+
+void TestEditor::saveAndReopenGivesTheSameScene() {
+    MainWindow& w = *m_window;
+    // Edit something of each kind: painted values, an anchor, a world setting.
+    Document* doc = w.document();
+    LatticeMaterial m = doc->scene().objects[0].material;
+    m.stiffness[5] = 123.456789;
+    m.anchor[0] = AnchorMode::Heavy;
+    doc->undoStack()->push(new MaterialEditCommand(doc, 0, doc->scene().objects[0].material, m, "edit"));
+    WorldSettings world = doc->scene().world;
+    world.gravity = Vec3(0, -9.81, 0);
+    doc->undoStack()->push(new WorldEditCommand(doc, doc->scene().world, world, "gravity"));
+    const QString path = m_dir->filePath("saved/fish.softtouch");
+    QDir().mkpath(m_dir->filePath("saved"));
+    QVERIFY(doc->saveAs(path).ok());
+    QVERIFY(!doc->isModified());
+    QVERIFY(w.windowTitle().startsWith("fish.softtouch"));
+
+    auto other = makeWindow();
+    QVERIFY(other->openFile(path));
+    const Scene& a = doc->scene();
+    const Scene& b = other->document()->scene();
+    QVERIFY(sameMaterial(a.objects[0].material, b.objects[0].material));
+    QVERIFY(a.objects[0].mesh.positions == b.objects[0].mesh.positions);
+    QVERIFY(a.objects[0].lattice.restNodes() == b.objects[0].lattice.restNodes());
+    QVERIFY(a.world.gravity == b.world.gravity);
+    QCOMPARE(a.world.simulation.dt, b.world.simulation.dt);
+    QCOMPARE(a.objects[0].drivers.size(), b.objects[0].drivers.size());
+    other->document()->undoStack()->setClean();
+}
+
+void TestEditor::recoversAutosaveAfterKill() {
+    auto w = makeWindow();
+    QVERIFY(w->openFile(kDefaultScene));
+    w->simulation()->pause();
+    Document* doc = w->document();
+    LatticeMaterial m = doc->scene().objects[0].material;
+    m.damping[7] = 3.25;
+    doc->undoStack()->push(new MaterialEditCommand(doc, 0, doc->scene().objects[0].material, m, "edit"));
+    QString autosaveProblem;
+    connect(w->autosave(), &Autosave::failed, this, [&](const QString& message) { autosaveProblem = message; });
+    QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(m_dir->filePath("autosave/autosave.softtouch")) || !autosaveProblem.isEmpty(), 3000);
+    QVERIFY2(autosaveProblem.isEmpty(), qPrintable(autosaveProblem));
+    // Killed: no close event, no prompt, nothing discarded — the autosave stays on disk.
+    w.reset();
+    QVERIFY(QFile::exists(m_dir->filePath("autosave/autosave.softtouch")));
+
+    auto next = makeWindow();
+    DialogAnswerer yes(QMessageBox::Yes);
+    QVERIFY(next->offerRecovery());
+    QVERIFY(yes.seen);
+    QVERIFY2(yes.text.contains("angelfish-swim.softtouch"), qPrintable(yes.text));
+    QCOMPARE(next->document()->scene().objects[0].material.damping[7], 3.25);
+    QVERIFY(next->document()->isModified());
+    QCOMPARE(QFileInfo(next->document()->filePath()).canonicalFilePath(), QFileInfo(kDefaultScene).canonicalFilePath());
+    // The recovered scene still finds its mesh through the original file's location.
+    QVERIFY(next->simulation()->simulation() != nullptr);
+    next->document()->undoStack()->setClean();
+}
+
+void TestEditor::corruptProjectShowsErrorAndEditorStaysUsable() {
+    MainWindow& w = *m_window;
+    const QString path = m_dir->filePath("corrupt.softtouch");
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write(R"({"format": "softtouch-project", "version": 1, "objects": [{"name": "x", "mesh": "../nowhere.obj",)"
+               R"( "material": {"mass": -1}}]})");
+    file.close();
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    DialogAnswerer ok(QMessageBox::Ok);
+    QVERIFY(!w.openFile(path));
+    QVERIFY(ok.seen);
+    QVERIFY2(ok.text.contains("corrupt.softtouch"), qPrintable(ok.text));
+    // The open scene is untouched and still editable.
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+    QVERIFY(w.simulation()->simulation() != nullptr);
+    w.findChild<QAction*>("toolAnchor")->trigger();
+    const int node = isolatedNode(w, 0);
+    QVERIFY(node >= 0);
+    QTest::mouseClick(w.viewport(), Qt::LeftButton, {}, screenOfNode(w, node));
+    QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Pinned);
+}
+
+void TestEditor::presetAppliesAsOneUndoStep() {
+    MainWindow& w = *m_window;
+    PresetsPanel* presets = w.presets();
+    QVERIFY(presets->count() >= 5);
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    // "Jelly" is much softer than the fish body.
+    int jelly = -1;
+    for (int row = 0; row < presets->count(); ++row)
+        if (presets->findChild<QListWidget*>("presetList")->item(row)->text() == "Jelly")
+            jelly = row;
+    QVERIFY(jelly >= 0);
+    QVERIFY(presets->applyRow(jelly));
+    const LatticeMaterial after = w.document()->scene().objects[0].material;
+    QVERIFY(after.stiffness[0] != before.stiffness[0]);
+    QVERIFY(after.anchor == before.anchor);  // anchors are the scene's, not the material's
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+    // Saving the current material as a preset lists it.
+    QFile::remove(PresetsPanel::userFolder() + "/my-fish.stpreset");
+    presets->reload();
+    const int count = presets->count();
+    QVERIFY(presets->saveCurrent("My fish").ok());
+    QCOMPARE(presets->count(), count + 1);
+}
+
+void TestEditor::recordedTakeScrubsToReplayedState() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    sim->startRecording();
+    sim->pause();
+    sim->advance(0.5);
+    const BodyState atHalf = sim->simulation()->simulator(0).state();
+    sim->advance(0.5);
+    QVERIFY(sim->stopRecording().has_value());
+    QCOMPARE(w.timeline()->sessions().size(), std::size_t(1));
+    // Scrubbing to 0.5 s replays the take and shows exactly the state recorded there.
+    w.timeline()->scrubTo(0, int(0.5 * w.timeline()->fps()));
+    const BodyState& shown = sim->simulation()->simulator(0).state();
+    QVERIFY(shown.position == atHalf.position);
+}
+
+void TestEditor::viewportDrawsTheFish_data() {
+    QTest::addColumn<int>("mode");
+    QTest::addColumn<double>("minCoverage");
+    QTest::newRow("shaded") << int(render::ShadeMode::Shaded) << 0.35;
+    QTest::newRow("wireframe") << int(render::ShadeMode::Wireframe) << 0.05;
+}
+
+void TestEditor::viewportDrawsTheFish() {
+    QFETCH(int, mode);
+    QFETCH(double, minCoverage);
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    view->setOverlayVisible(false);
+    view->setShadeMode(render::ShadeMode(mode));
+    const QImage image = view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+    QVERIFY(!image.isNull());
+    const qreal scale = double(image.width()) / view->width();
+    // Where the fish is: the screen box of its vertices, shrunk to its middle half.
+    QRectF box;
+    for (const Vec3f& p : w.document()->scene().objects[0].mesh.positions)
+        box |= QRectF(view->toWidget(p.cast<double>()) * scale, QSizeF(1, 1));
+    const QRect middle = QRectF(box.center() - QPointF(box.width(), box.height()) / 4.0,
+                                QSizeF(box.width(), box.height()) / 2.0).toRect();
+    const double inside = coverage(image, middle);
+    QVERIFY2(inside > minCoverage, qPrintable(QString("only %1 of the fish's middle differs from the background").arg(inside)));
+    // Far from the fish (the corners) the background shows.
+    const QRect corner(image.width() - 40, 5, 30, 30);
+    QVERIFY(!box.intersects(corner));
+    QVERIFY2(coverage(image, corner) < 0.01, "the corner is not background");
+}
+
+void TestEditor::screenshotCommandWritesPng() {
+    const QString png = m_dir->filePath("shot.png");
+    QProcess editor;
+    editor.setProcessChannelMode(QProcess::MergedChannels);
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--screenshot", png, "--mode", "wireframe", kDefaultScene});
+    QVERIFY(editor.waitForFinished(60000));
+    QVERIFY2(editor.exitCode() == 0, editor.readAll().constData());
+    QImage image(png);
+    QVERIFY(!image.isNull());
+    QVERIFY(image.width() >= 640 && image.height() >= 400);
+    // A missing project is an error with a non-zero exit and no picture.
+    const QString none = m_dir->filePath("none.png");
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--screenshot", none, m_dir->filePath("missing.softtouch")});
+    QVERIFY(editor.waitForFinished(60000));
+    QCOMPARE(editor.exitCode(), 1);
+    QVERIFY(editor.readAll().contains("missing.softtouch"));
+    QVERIFY(!QFile::exists(none));
+}
+
+int main(int argc, char** argv) {
+    QSurfaceFormat format;
+    format.setVersion(3, 3);
+    format.setProfile(QSurfaceFormat::CoreProfile);
+    format.setDepthBufferSize(24);
+    QSurfaceFormat::setDefaultFormat(format);
+    QApplication app(argc, argv);
+    TestEditor test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_editor.moc"

@@ -1,0 +1,125 @@
+#include "ui/document.h"
+
+#include "core/oriented_box.h"
+#include "io/mesh_import.h"
+
+#include <QFileInfo>
+
+namespace softtouch::ui {
+
+Document::Document(QObject* parent) : QObject(parent) {}
+
+Document::~Document() { m_undo.blockSignals(true); }
+
+Status Document::open(const QString& path) {
+    auto loaded = io::loadProject(path.toStdString());
+    if (!loaded)
+        return Status::error(loaded.message());
+    replaceProject(std::move(loaded.value()));
+    return Status::success();
+}
+
+Status Document::saveAs(const QString& path) {
+    if (Status s = io::saveProject(m_project, path.toStdString()); !s)
+        return s;
+    namespace fs = std::filesystem;
+    const fs::path target = fs::absolute(path.toStdString());
+    const bool moved = m_project.path != target;
+    // Mesh references are relative to the project file: rebase them the way saveProject wrote them.
+    if (!m_project.path.empty()) {
+        const fs::path from = fs::absolute(m_project.path).parent_path();
+        for (std::string& ref : m_project.meshReferences) {
+            if (!ref.empty() && !fs::path(ref).is_absolute())
+                ref = (from / ref).lexically_normal().lexically_relative(target.parent_path()).generic_string();
+        }
+    }
+    m_project.path = target;
+    m_undo.setClean();
+    if (moved)
+        emit filePathChanged(path);
+    return Status::success();
+}
+
+void Document::adoptPath(const QString& path) {
+    namespace fs = std::filesystem;
+    const fs::path from = fs::absolute(m_project.path).parent_path();
+    const fs::path target = path.isEmpty() ? fs::path() : fs::absolute(path.toStdString());
+    for (std::string& ref : m_project.meshReferences) {
+        if (ref.empty() || fs::path(ref).is_absolute())
+            continue;
+        const fs::path resolved = (from / ref).lexically_normal();
+        ref = target.empty() ? resolved.string() : resolved.lexically_relative(target.parent_path()).generic_string();
+    }
+    m_project.path = target;
+    m_undo.resetClean();
+    emit filePathChanged(path);
+}
+
+Status Document::saveCopy(const QString& path) const {
+    return io::saveProject(m_project, path.toStdString());
+}
+
+Status Document::importMesh(const QString& path) {
+    auto mesh = io::importMesh(path.toStdString());
+    if (!mesh)
+        return Status::error(mesh.message());
+    SceneObject object;
+    object.name = QFileInfo(path).completeBaseName().toStdString();
+    object.mesh = std::move(mesh.value());
+    if (object.mesh.normals.empty())
+        object.mesh.computeNormals();
+    auto box = fitBox(object.mesh.positions);
+    if (!box)
+        return Status::error(path.toStdString() + ": " + box.message());
+    auto lattice = Lattice::create(LatticeShape{}, box.value());
+    if (!lattice)
+        return Status::error(path.toStdString() + ": " + lattice.message());
+    object.lattice = lattice.value();
+    object.material = uniformMaterial(object.lattice, 0.02, 80.0, 0.9);
+    io::Project project;
+    project.scene.objects.push_back(std::move(object));
+    project.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());
+    replaceProject(std::move(project));
+    return Status::success();
+}
+
+QString Document::filePath() const {
+    return QString::fromStdString(m_project.path.string());
+}
+
+QString Document::displayName() const {
+    if (!m_project.path.empty())
+        return QFileInfo(filePath()).fileName();
+    if (!m_project.scene.objects.empty())
+        return QString::fromStdString(m_project.scene.objects.front().name) + " (unsaved)";
+    return tr("untitled");
+}
+
+void Document::setMaterial(int object, const LatticeMaterial& material) {
+    m_project.scene.objects[std::size_t(object)].material = material;
+    emit materialChanged(object);
+}
+
+void Document::setWorld(const WorldSettings& world) {
+    m_project.scene.world = world;
+    emit worldChanged();
+}
+
+void Document::setLattice(int object, const Lattice& lattice, const LatticeMaterial& material) {
+    SceneObject& o = m_project.scene.objects[std::size_t(object)];
+    o.lattice = lattice;
+    o.material = material;
+    emit latticeChanged(object);
+}
+
+void Document::replaceProject(io::Project project) {
+    const QString oldPath = filePath();
+    m_project = std::move(project);
+    m_undo.clear();
+    m_undo.setClean();
+    emit sceneReplaced();
+    if (filePath() != oldPath)
+        emit filePathChanged(filePath());
+}
+
+}  // namespace softtouch::ui

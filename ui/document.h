@@ -1,0 +1,76 @@
+#pragma once
+/// The editor's document: one project (scene + where it came from), its undo stack and the typed
+/// change signals the views listen to. Every change to the scene goes through an undo command
+/// (edit_commands.h) that calls the set*() functions here; views never change the scene directly.
+
+#include "core/scene.h"
+#include "io/project_file.h"
+
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+namespace softtouch::ui {
+
+/// One open project.
+class Document : public QObject {
+    Q_OBJECT
+public:
+    explicit Document(QObject* parent = nullptr);
+    /// Silences the undo stack first: its teardown is not the user going back to a clean state
+    /// (listeners such as the autosave would take it for one).
+    ~Document() override;
+
+    /// Loads a project; on failure the document is left as it was and the message names the file,
+    /// the JSON pointer and what was expected.
+    Status open(const QString& path);
+    /// Writes the project atomically to `path` (the previous file survives any failure) and makes
+    /// it the document's path; marks the document clean.
+    Status saveAs(const QString& path);
+    /// Writes the project to a copy without changing the document's path or clean state (autosave).
+    Status saveCopy(const QString& path) const;
+    /// Makes `path` the document's file without writing it (recovering an autosave of that file): mesh
+    /// references are rebased onto it and the document counts as modified. Empty: not yet saved.
+    void adoptPath(const QString& path);
+    /// Replaces the scene by a single object made from a mesh file: a 4x4x4 Bezier lattice fitted to
+    /// it and the paper's default material (0.02 kg, 80 N/m, 0.9 N·s/m per node).
+    Status importMesh(const QString& path);
+
+    const io::Project& project() const { return m_project; }
+    const Scene& scene() const { return m_project.scene; }
+    /// Path of the project file; empty for an imported mesh not yet saved.
+    QString filePath() const;
+    /// Name shown in the title bar.
+    QString displayName() const;
+    QUndoStack* undoStack() { return &m_undo; }
+    /// True when the scene differs from what was last opened or saved.
+    bool isModified() const { return !m_undo.isClean(); }
+
+    // Edit primitives: only undo commands call these.
+    /// Replaces object i's material (same node count); emits materialChanged.
+    void setMaterial(int object, const LatticeMaterial& material);
+    /// Replaces the world settings; emits worldChanged.
+    void setWorld(const WorldSettings& world);
+    /// Replaces object i's lattice and material together (resolution or box change); emits latticeChanged.
+    void setLattice(int object, const Lattice& lattice, const LatticeMaterial& material);
+
+signals:
+    /// Object i's painted values, anchors or voids changed.
+    void materialChanged(int object);
+    /// Object i's lattice (and so its node count) changed.
+    void latticeChanged(int object);
+    /// Gravity, planes or simulation settings changed.
+    void worldChanged();
+    /// A different scene was opened or imported: rebuild everything.
+    void sceneReplaced();
+    /// The file path changed (open, save as).
+    void filePathChanged(const QString& path);
+
+private:
+    void replaceProject(io::Project project);
+
+    io::Project m_project;
+    QUndoStack m_undo;
+};
+
+}  // namespace softtouch::ui

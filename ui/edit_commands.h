@@ -1,0 +1,78 @@
+#pragma once
+/// Undo commands: every change to a document is one of these. Each stores the value before and
+/// after (a lattice's material is a few kilobytes, so whole copies keep the commands trivially
+/// correct), and edits that share a merge key collapse into one undo step: one brush stroke, or a
+/// run of edits of the same property.
+
+#include "ui/document.h"
+
+#include <QUndoCommand>
+
+namespace softtouch::ui {
+
+/// Merge keys for property edits (brush strokes use their own increasing stroke numbers above these).
+enum MergeKey : int {
+    kNoMerge = -1,
+    kMergeStiffness = 1,
+    kMergeDamping,
+    kMergeMass,
+    kMergeAnisotropy,
+    kMergeFrequency,
+    kMergeGravity,
+    kMergeTimeStep,
+    kFirstStrokeKey = 1000,  ///< Brush strokes: one key per stroke.
+};
+
+/// Replaces an object's material (painted values, anchors, voids, global material settings).
+class MaterialEditCommand : public QUndoCommand {
+public:
+    MaterialEditCommand(Document* document, int object, LatticeMaterial before, LatticeMaterial after,
+                        const QString& text, int mergeKey = kNoMerge);
+    void undo() override;
+    void redo() override;
+    int id() const override { return m_mergeKey == kNoMerge ? -1 : 1; }
+    bool mergeWith(const QUndoCommand* other) override;
+
+private:
+    Document* m_document;
+    int m_object;
+    LatticeMaterial m_before;
+    LatticeMaterial m_after;
+    int m_mergeKey;
+};
+
+/// Replaces the world settings (gravity, planes, integrator, time step).
+class WorldEditCommand : public QUndoCommand {
+public:
+    WorldEditCommand(Document* document, WorldSettings before, WorldSettings after, const QString& text,
+                     int mergeKey = kNoMerge);
+    void undo() override;
+    void redo() override;
+    int id() const override { return m_mergeKey == kNoMerge ? -1 : 2; }
+    bool mergeWith(const QUndoCommand* other) override;
+
+private:
+    Document* m_document;
+    WorldSettings m_before;
+    WorldSettings m_after;
+    int m_mergeKey;
+};
+
+/// Replaces an object's lattice together with its material (resolution, kind or box changes).
+class LatticeEditCommand : public QUndoCommand {
+public:
+    LatticeEditCommand(Document* document, int object, Lattice before, LatticeMaterial beforeMaterial,
+                       Lattice after, LatticeMaterial afterMaterial, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    Document* m_document;
+    int m_object;
+    Lattice m_before;
+    LatticeMaterial m_beforeMaterial;
+    Lattice m_after;
+    LatticeMaterial m_afterMaterial;
+};
+
+}  // namespace softtouch::ui

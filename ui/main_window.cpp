@@ -1,0 +1,391 @@
+#include "ui/main_window.h"
+
+#include "ui/presets_panel.h"
+#include "ui/properties_panel.h"
+#include "ui/timeline_panel.h"
+
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QScrollArea>
+#include <QSettings>
+#include <QStatusBar>
+#include <QTimer>
+#include <QToolBar>
+#include <QTreeWidget>
+
+namespace softtouch::ui {
+
+MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
+    : QMainWindow(parent), m_options(options) {
+    setObjectName("SoftTouchMainWindow");
+    m_document = new Document(this);
+    m_simulation = new SimulationController(m_document, this);
+    m_viewport = new Viewport(m_document, m_simulation, this);
+    m_viewport->setObjectName("viewport");
+    setCentralWidget(m_viewport);
+    m_autosave = new Autosave(m_document, options.autosaveFolder, this);
+    m_autosave->setInterval(options.autosaveMilliseconds);
+    connect(m_autosave, &Autosave::failed, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+
+    buildDocks();
+    buildActions();
+
+    m_statusSim = new QLabel;
+    m_statusFrame = new QLabel;
+    m_statusMesh = new QLabel;
+    m_statusHaptic = new QLabel(tr("haptic: no device"));
+    for (QLabel* l : {m_statusSim, m_statusFrame, m_statusMesh, m_statusHaptic})
+        statusBar()->addPermanentWidget(l);
+    auto* statusTimer = new QTimer(this);
+    connect(statusTimer, &QTimer::timeout, this, &MainWindow::refreshStatus);
+    statusTimer->start(250);
+    refreshStatus();
+
+    connect(m_document, &Document::sceneReplaced, this, &MainWindow::refreshOutliner);
+    connect(m_document, &Document::latticeChanged, this, &MainWindow::refreshOutliner);
+    connect(m_document, &Document::worldChanged, this, &MainWindow::refreshOutliner);
+    connect(m_document, &Document::filePathChanged, this, &MainWindow::updateTitle);
+    connect(m_document->undoStack(), &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
+    connect(m_viewport, &Viewport::hint, this, [this](const QString& t) { statusBar()->showMessage(t, 5000); });
+    connect(m_simulation, &SimulationController::problemReported, this,
+            [this](const QString& t) { statusBar()->showMessage(t, 8000); });
+
+    QSettings settings;
+    resize(1400, 860);
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    restoreState(settings.value("window/state").toByteArray());
+    m_viewport->setNavigationStyle(NavigationStyle(settings.value("view/navigation", int(NavigationStyle::Maya)).toInt()));
+    updateTitle();
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::buildDocks() {
+    auto dock = [this](const QString& title, const QString& name, QWidget* widget, Qt::DockWidgetArea area) {
+        auto* d = new QDockWidget(title, this);
+        d->setObjectName(name);
+        d->setWidget(widget);
+        addDockWidget(area, d);
+        return d;
+    };
+    m_outliner = new QTreeWidget;
+    m_outliner->setObjectName("outliner");
+    m_outliner->setHeaderLabels({tr("Scene"), tr("")});
+    dock(tr("Outliner"), "outlinerDock", m_outliner, Qt::LeftDockWidgetArea);
+    connect(m_outliner, &QTreeWidget::currentItemChanged, this, [this](QTreeWidgetItem* item) {
+        if (item && item->data(0, Qt::UserRole).isValid())
+            m_viewport->setCurrentObject(item->data(0, Qt::UserRole).toInt());
+    });
+
+    m_properties = new PropertiesPanel(m_document, m_simulation, m_viewport);
+    auto* scroll = new QScrollArea;
+    scroll->setWidget(m_properties);
+    scroll->setWidgetResizable(true);
+    scroll->setMinimumWidth(300);
+    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    auto* propertiesDock = dock(tr("Properties"), "propertiesDock", scroll, Qt::RightDockWidgetArea);
+
+    m_presets = new PresetsPanel(m_document, m_viewport, m_options.presetFolder);
+    auto* presetsDock = dock(tr("Presets"), "presetsDock", m_presets, Qt::RightDockWidgetArea);
+    tabifyDockWidget(propertiesDock, presetsDock);
+    propertiesDock->raise();
+
+    m_timeline = new TimelinePanel(m_document, m_simulation);
+    dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea)->setMaximumHeight(200);
+}
+
+void MainWindow::buildActions() {
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::open);
+    m_recentMenu = file->addMenu(tr("Open &Recent"));
+    file->addAction(tr("&Import Mesh…"), QKeySequence(tr("Ctrl+I")), this, &MainWindow::importMesh);
+    file->addSeparator();
+    file->addAction(tr("&Save"), QKeySequence::Save, this, &MainWindow::save);
+    file->addAction(tr("Save &As…"), QKeySequence::SaveAs, this, &MainWindow::saveAs);
+    file->addSeparator();
+    file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+    refreshRecentMenu();
+
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    QAction* undo = m_document->undoStack()->createUndoAction(this, tr("&Undo"));
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
+    redo->setShortcut(QKeySequence::Redo);
+    edit->addAction(undo);
+    edit->addAction(redo);
+
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    auto* shading = new QActionGroup(this);
+    const std::pair<QString, render::ShadeMode> modes[] = {{tr("&Shaded"), render::ShadeMode::Shaded},
+                                                           {tr("&Wireframe"), render::ShadeMode::Wireframe},
+                                                           {tr("&X-ray"), render::ShadeMode::XRay}};
+    for (const auto& [name, mode] : modes) {
+        QAction* a = view->addAction(name, this, [this, m = mode] { m_viewport->setShadeMode(m); });
+        a->setCheckable(true);
+        a->setChecked(mode == render::ShadeMode::Shaded);
+        shading->addAction(a);
+    }
+    QAction* overlay = view->addAction(tr("Lattice &Overlay"), m_viewport, &Viewport::setOverlayVisible);
+    overlay->setCheckable(true);
+    overlay->setChecked(true);
+    view->addSeparator();
+    view->addAction(tr("&Frame All (F)"), m_viewport, &Viewport::frameAll);
+    view->addAction(tr("Front (1)"), m_viewport, &Viewport::viewFront);
+    view->addAction(tr("Side (3)"), m_viewport, &Viewport::viewSide);
+    view->addAction(tr("Top (7)"), m_viewport, &Viewport::viewTop);
+    view->addSeparator();
+    QMenu* navigation = view->addMenu(tr("&Navigation"));
+    auto* navGroup = new QActionGroup(this);
+    const std::pair<QString, NavigationStyle> styles[] = {{tr("Maya (Alt + mouse)"), NavigationStyle::Maya},
+                                                          {tr("Blender (middle mouse)"), NavigationStyle::Blender}};
+    const int currentStyle = QSettings().value("view/navigation", int(NavigationStyle::Maya)).toInt();
+    for (const auto& [name, style] : styles) {
+        QAction* a = navigation->addAction(name, this, [this, s = style] {
+            m_viewport->setNavigationStyle(s);
+            QSettings().setValue("view/navigation", int(s));
+        });
+        a->setCheckable(true);
+        a->setChecked(int(style) == currentStyle);
+        navGroup->addAction(a);
+    }
+
+    QToolBar* tools = addToolBar(tr("Tools"));
+    tools->setObjectName("toolsToolBar");
+    QMenu* toolMenu = menuBar()->addMenu(tr("&Tools"));
+    auto* toolGroup = new QActionGroup(this);
+    const std::tuple<QString, Tool, QString, QString> toolList[] = {
+        {tr("Drag"), Tool::Drag, "D", tr("Pull the surface with a spring; Ctrl+drag adds a second hand that holds.")},
+        {tr("Paint"), Tool::Paint, "P", tr("Paint mass, stiffness or damping on lattice nodes; one stroke is one undo step.")},
+        {tr("Anchor"), Tool::Anchor, "A", tr("Click a node to pin it (or make it heavy); drag a box for many, Ctrl+box clears.")},
+        {tr("Void"), Tool::Void, "V", tr("Click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")},
+        {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")}};
+    for (const auto& [name, tool, key, tip] : toolList) {
+        QAction* a = new QAction(name, this);
+        a->setObjectName("tool" + name);
+        a->setShortcut(QKeySequence(key));
+        a->setToolTip(tip + " (" + key + ")");
+        a->setCheckable(true);
+        a->setChecked(tool == Tool::Drag);
+        connect(a, &QAction::triggered, m_viewport, [this, t = tool] { m_viewport->setTool(t); });
+        toolGroup->addAction(a);
+        tools->addAction(a);
+        toolMenu->addAction(a);
+    }
+
+    QToolBar* simBar = addToolBar(tr("Simulation"));
+    simBar->setObjectName("simulationToolBar");
+    QMenu* simMenu = menuBar()->addMenu(tr("&Simulation"));
+    QAction* play = new QAction(tr("Play"), this);
+    play->setObjectName("actionPlay");
+    play->setShortcut(QKeySequence(Qt::Key_Space));
+    play->setCheckable(true);
+    connect(play, &QAction::triggered, m_simulation, &SimulationController::togglePlay);
+    connect(m_simulation, &SimulationController::playingChanged, play, [play](bool on) {
+        play->setChecked(on);
+        play->setText(on ? tr("Pause") : tr("Play"));
+    });
+    QAction* step = new QAction(tr("Step"), this);
+    step->setShortcut(QKeySequence(Qt::Key_Period));
+    connect(step, &QAction::triggered, m_simulation, &SimulationController::stepOnce);
+    QAction* reset = new QAction(tr("Reset"), this);
+    reset->setShortcut(QKeySequence(Qt::Key_Home));
+    connect(reset, &QAction::triggered, m_simulation, &SimulationController::reset);
+    QAction* record = new QAction(tr("Record"), this);
+    record->setShortcut(QKeySequence(tr("Ctrl+R")));
+    connect(record, &QAction::triggered, m_timeline, &TimelinePanel::toggleRecording);
+    for (QAction* a : {play, step, reset, record}) {
+        simBar->addAction(a);
+        simMenu->addAction(a);
+    }
+}
+
+void MainWindow::refreshOutliner() {
+    m_outliner->clear();
+    const Scene& scene = m_document->scene();
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& o = scene.objects[i];
+        auto* item = new QTreeWidgetItem(m_outliner, {QString::fromStdString(o.name),
+                                                      tr("%n triangles", nullptr, int(o.mesh.triangles.size()))});
+        item->setData(0, Qt::UserRole, int(i));
+        const LatticeShape& shape = o.lattice.shape();
+        auto* lattice = new QTreeWidgetItem(item, {tr("Lattice"), tr("%1×%2×%3 %4")
+                                                                      .arg(shape.nodes[0])
+                                                                      .arg(shape.nodes[1])
+                                                                      .arg(shape.nodes[2])
+                                                                      .arg(shape.kind == LatticeKind::Bezier ? tr("Bezier") : tr("B-spline"))});
+        lattice->setData(0, Qt::UserRole, int(i));
+        auto* drivers = new QTreeWidgetItem(item, {tr("Drivers"), QString::number(o.drivers.size())});
+        drivers->setData(0, Qt::UserRole, int(i));
+        item->setExpanded(true);
+    }
+    auto* planes = new QTreeWidgetItem(m_outliner, {tr("Collision planes"), QString::number(scene.world.planes.size())});
+    for (std::size_t p = 0; p < scene.world.planes.size(); ++p) {
+        const CollisionPlane& plane = scene.world.planes[p];
+        new QTreeWidgetItem(planes, {tr("Plane %1").arg(p + 1), tr("n = (%1, %2, %3), Kr %4")
+                                                                  .arg(plane.normal.x())
+                                                                  .arg(plane.normal.y())
+                                                                  .arg(plane.normal.z())
+                                                                  .arg(plane.restitution)});
+    }
+    m_outliner->resizeColumnToContents(0);
+}
+
+void MainWindow::refreshStatus() {
+    const SimulationStats& s = m_simulation->stats();
+    const SceneSimulation* sim = m_simulation->simulation();
+    m_statusSim->setText(tr("sim %1 steps/s · %2 µs/step · %3× real time")
+                             .arg(s.stepsPerSecond, 0, 'f', 0)
+                             .arg(s.stepMicros, 0, 'f', 1)
+                             .arg(s.realtimeFactor, 0, 'f', 2));
+    m_statusFrame->setText(tr("frame %1 ms").arg(m_viewport->frameMilliseconds(), 0, 'f', 2));
+    std::size_t triangles = 0;
+    if (sim)
+        for (std::size_t i = 0; i < sim->objectCount(); ++i)
+            triangles += sim->object(i).mesh.triangles.size();
+    m_statusMesh->setText(tr("%L1 triangles").arg(triangles));
+    m_properties->refreshLive();
+}
+
+void MainWindow::updateTitle() {
+    setWindowTitle(tr("%1%2 — SoftTouch").arg(m_document->displayName(), m_document->isModified() ? "*" : ""));
+}
+
+bool MainWindow::openFile(const QString& path) {
+    if (Status s = m_document->open(path); !s) {
+        showError(tr("Cannot open project"), QString::fromStdString(s.message()));
+        return false;
+    }
+    addRecentFile(path);
+    m_simulation->play();
+    return true;
+}
+
+void MainWindow::open() {
+    if (!maybeSave())
+        return;
+    const QString path = QFileDialog::getOpenFileName(this, tr("Open Project"), QFileInfo(m_document->filePath()).path(),
+                                                      tr("SoftTouch projects (*.softtouch);;All files (*)"));
+    if (!path.isEmpty())
+        openFile(path);
+}
+
+void MainWindow::importMesh() {
+    if (!maybeSave())
+        return;
+    const QString path = QFileDialog::getOpenFileName(
+        this, tr("Import Mesh"), QString(),
+        tr("Meshes (*.obj *.fbx *.gltf *.glb *.ply *.stl *.dae *.3ds *.blend);;All files (*)"));
+    if (path.isEmpty())
+        return;
+    if (Status s = m_document->importMesh(path); !s)
+        showError(tr("Cannot import mesh"), QString::fromStdString(s.message()));
+}
+
+bool MainWindow::save() {
+    if (m_document->filePath().isEmpty())
+        return saveAs();
+    if (Status s = m_document->saveAs(m_document->filePath()); !s) {
+        showError(tr("Save failed"), tr("%1\n\nThe previous file was left untouched.").arg(QString::fromStdString(s.message())));
+        return false;
+    }
+    statusBar()->showMessage(tr("Saved %1").arg(m_document->filePath()), 4000);
+    return true;
+}
+
+bool MainWindow::saveAs() {
+    QString path = QFileDialog::getSaveFileName(this, tr("Save Project As"), m_document->filePath(),
+                                                tr("SoftTouch projects (*.softtouch)"));
+    if (path.isEmpty())
+        return false;
+    if (!path.endsWith(".softtouch"))
+        path += ".softtouch";
+    if (Status s = m_document->saveAs(path); !s) {
+        showError(tr("Save failed"), tr("%1\n\nThe previous file was left untouched.").arg(QString::fromStdString(s.message())));
+        return false;
+    }
+    addRecentFile(path);
+    return true;
+}
+
+bool MainWindow::maybeSave() {
+    if (!m_document->isModified())
+        return true;
+    const auto answer = QMessageBox::warning(this, tr("Unsaved changes"),
+                                             tr("%1 has unsaved changes. Save them?").arg(m_document->displayName()),
+                                             QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
+    if (answer == QMessageBox::Save)
+        return save();
+    return answer == QMessageBox::Discard;
+}
+
+bool MainWindow::offerRecovery() {
+    const auto candidate = m_autosave->pending();
+    if (!candidate)
+        return false;
+    const QString from = candidate->originalPath.isEmpty() ? tr("an unsaved scene") : candidate->originalPath;
+    const auto answer = QMessageBox::question(
+        this, tr("Recover unsaved work?"),
+        tr("SoftTouch was not closed properly. An autosave of %1 from %2 is available.\n\nRecover it?")
+            .arg(from, QLocale().toString(candidate->savedAt.toLocalTime(), QLocale::ShortFormat)),
+        QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes);
+    if (answer != QMessageBox::Yes) {
+        m_autosave->discard();
+        return false;
+    }
+    if (Status s = m_autosave->recover(*candidate); !s) {
+        showError(tr("Recovery failed"), QString::fromStdString(s.message()));
+        return false;
+    }
+    statusBar()->showMessage(tr("Recovered the autosave; save to keep it."), 8000);
+    return true;
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    m_autosave->discard();
+    QSettings settings;
+    settings.setValue("window/geometry", saveGeometry());
+    settings.setValue("window/state", saveState());
+    event->accept();
+}
+
+void MainWindow::addRecentFile(const QString& path) {
+    QSettings settings;
+    QStringList recent = settings.value("files/recent").toStringList();
+    const QString absolute = QFileInfo(path).absoluteFilePath();
+    recent.removeAll(absolute);
+    recent.prepend(absolute);
+    while (recent.size() > 10)
+        recent.removeLast();
+    settings.setValue("files/recent", recent);
+    refreshRecentMenu();
+}
+
+void MainWindow::refreshRecentMenu() {
+    m_recentMenu->clear();
+    const QStringList recent = QSettings().value("files/recent").toStringList();
+    for (const QString& path : recent)
+        m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] {
+            if (maybeSave())
+                openFile(path);
+        })->setToolTip(path);
+    m_recentMenu->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::showError(const QString& title, const QString& message) {
+    QMessageBox box(QMessageBox::Critical, title, message, QMessageBox::Ok, this);
+    box.setObjectName("errorDialog");
+    box.exec();
+}
+
+}  // namespace softtouch::ui

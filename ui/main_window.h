@@ -1,0 +1,86 @@
+#pragma once
+/// The editor's main window: the viewport in the middle; outliner, properties, presets and timeline
+/// docks around it (rearrangeable; layout kept in QSettings); menus and a tool bar for files, edits,
+/// views, tools and the simulation; a status bar with the live figures. Owns the document, its
+/// simulation and its autosave.
+
+#include "ui/autosave.h"
+#include "ui/viewport.h"
+
+#include <QMainWindow>
+
+class QLabel;
+class QMenu;
+class QTreeWidget;
+
+namespace softtouch::ui {
+
+class PropertiesPanel;
+class PresetsPanel;
+class TimelinePanel;
+
+/// Options the application passes in (tests point them at temporary folders).
+struct MainWindowOptions {
+    QString autosaveFolder;          ///< Empty: <AppDataLocation>/autosave.
+    int autosaveMilliseconds = 60000;///< Autosave interval.
+    QString presetFolder;            ///< Shipped presets (presets/materials); empty: found next to the binary.
+};
+
+/// The editor window.
+class MainWindow : public QMainWindow {
+    Q_OBJECT
+public:
+    explicit MainWindow(const MainWindowOptions& options = {}, QWidget* parent = nullptr);
+    ~MainWindow() override;
+
+    Document* document() { return m_document; }
+    SimulationController* simulation() { return m_simulation; }
+    Viewport* viewport() { return m_viewport; }
+    Autosave* autosave() { return m_autosave; }
+    PropertiesPanel* properties() { return m_properties; }
+    TimelinePanel* timeline() { return m_timeline; }
+    PresetsPanel* presets() { return m_presets; }
+
+    /// Opens a project; on failure shows the error in a dialog and keeps the current document.
+    bool openFile(const QString& path);
+    /// Offers an autosave left by a crashed or killed run; returns true when it was recovered.
+    bool offerRecovery();
+
+public slots:
+    /// Updates the status bar and live readouts (every 250 ms while running).
+    void refreshStatus();
+    bool save();
+    bool saveAs();
+    void open();
+    void importMesh();
+
+protected:
+    void closeEvent(QCloseEvent* event) override;
+
+private:
+    void buildActions();
+    void buildDocks();
+    void refreshOutliner();
+    void updateTitle();
+    void addRecentFile(const QString& path);
+    void refreshRecentMenu();
+    bool maybeSave();
+    void showError(const QString& title, const QString& message);
+
+    Document* m_document;
+    SimulationController* m_simulation;
+    Viewport* m_viewport;
+    Autosave* m_autosave;
+    PropertiesPanel* m_properties = nullptr;
+    PresetsPanel* m_presets = nullptr;
+    TimelinePanel* m_timeline = nullptr;
+    QTreeWidget* m_outliner = nullptr;
+    QMenu* m_recentMenu = nullptr;
+    QLabel* m_statusSim = nullptr;
+    QLabel* m_statusFrame = nullptr;
+    QLabel* m_statusMesh = nullptr;
+    QLabel* m_statusHaptic = nullptr;
+    MainWindowOptions m_options;
+};
+
+}  // namespace softtouch::ui

@@ -1,0 +1,50 @@
+#pragma once
+/// Painting per-node values (mass, stiffness, damping) with a screen-space brush, plus the bulk edits
+/// of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
+/// properties panel and the tests share one implementation.
+
+#include "core/lattice_body.h"
+
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+namespace softtouch::ui {
+
+/// Which painted value a brush changes.
+enum class PaintField { Mass, Stiffness, Damping };
+
+/// How a dab's effect fades from its centre to its rim.
+enum class BrushFalloff { Constant, Linear, Smooth };
+
+/// The painting brush.
+struct BrushSettings {
+    PaintField field = PaintField::Stiffness; ///< Value painted.
+    double value = 160.0;                    ///< Target value in the field's unit (kg, N/m, N·s/m). > 0 for mass.
+    double radiusPixels = 60.0;              ///< Screen radius, pixels. [1, 2000].
+    double strength = 0.5;                   ///< Fraction of the way to the target per dab at the centre. [0, 1].
+    BrushFalloff falloff = BrushFalloff::Smooth; ///< Fade towards the rim.
+};
+
+/// The per-node array of a field.
+std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
+const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
+/// Human name and unit of a field ("stiffness", "N/m").
+const char* fieldName(PaintField field);
+const char* fieldUnit(PaintField field);
+
+/// Weight of a dab at `distance` pixels from its centre: 1 at the centre, 0 from the radius on.
+double brushWeight(double distancePixels, const BrushSettings& brush);
+
+/// One dab: each node within the radius (by its screen position) moves its value towards the target
+/// by strength × falloff. Void nodes are skipped. Returns true when any value changed.
+bool applyDab(LatticeMaterial& material, std::span<const Eigen::Vector2d> nodeScreen, const Eigen::Vector2d& centre,
+              const BrushSettings& brush);
+
+/// Sets the field of the given nodes to `value`.
+void fillNodes(LatticeMaterial& material, PaintField field, std::span<const int> nodes, double value);
+
+/// Moves the field of the given nodes halfway to the mean of their grid neighbours (6-connected).
+void smoothNodes(LatticeMaterial& material, const Lattice& lattice, PaintField field, std::span<const int> nodes);
+
+}  // namespace softtouch::ui

@@ -1,0 +1,43 @@
+#pragma once
+/// The presets dock: the shipped material presets and the user's own (in the user's data folder),
+/// applied to the selected nodes or the whole lattice as one undo step; the current material saved
+/// as a new preset to share.
+
+#include "io/project_file.h"
+#include "ui/viewport.h"
+
+#include <QWidget>
+
+class QListWidget;
+class QLabel;
+
+namespace softtouch::ui {
+
+/// Material presets.
+class PresetsPanel : public QWidget {
+    Q_OBJECT
+public:
+    /// `shippedFolder`: the bundled presets/materials folder.
+    PresetsPanel(Document* document, Viewport* viewport, QString shippedFolder, QWidget* parent = nullptr);
+
+    /// Where "Save as preset" writes: <AppDataLocation>/presets.
+    static QString userFolder();
+    /// Reloads both folders.
+    void reload();
+    /// Number of presets listed.
+    int count() const;
+    /// Applies preset `row` to the selection (or, with none selected, the whole lattice).
+    bool applyRow(int row);
+    /// Saves the current object's material as a preset named `name` in the user folder.
+    Status saveCurrent(const QString& name);
+
+private:
+    Document* m_document;
+    Viewport* m_viewport;
+    QString m_shipped;
+    QListWidget* m_list = nullptr;
+    QLabel* m_message = nullptr;
+    std::vector<std::pair<QString, io::MaterialPreset>> m_presets;  // path, preset
+};
+
+}  // namespace softtouch::ui

@@ -1,0 +1,352 @@
+#include "ui/properties_panel.h"
+
+#include "ui/edit_commands.h"
+#include "ui/material_tuning.h"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QVBoxLayout>
+
+#include <cmath>
+
+namespace softtouch::ui {
+
+namespace {
+
+QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step = 1.0) {
+    auto* s = new QDoubleSpinBox;
+    s->setRange(lo, hi);
+    s->setDecimals(decimals);
+    s->setSuffix(suffix);
+    s->setSingleStep(step);
+    s->setKeyboardTracking(false);  // one edit per committed value, not per keystroke
+    return s;
+}
+
+void setQuietly(QDoubleSpinBox* box, double value) {
+    const QSignalBlocker block(box);
+    box->setValue(value);
+}
+
+}  // namespace
+
+PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
+    : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
+    auto* layout = new QVBoxLayout(this);
+    layout->addWidget(buildSimulation());
+    layout->addWidget(buildMaterial());
+    layout->addWidget(buildLattice());
+    layout->addWidget(buildTools());
+    layout->addWidget(buildSelection());
+    layout->addStretch();
+    connect(document, &Document::sceneReplaced, this, &PropertiesPanel::refresh);
+    connect(document, &Document::materialChanged, this, &PropertiesPanel::refresh);
+    connect(document, &Document::latticeChanged, this, &PropertiesPanel::refresh);
+    connect(document, &Document::worldChanged, this, &PropertiesPanel::refresh);
+    connect(viewport, &Viewport::selectionChanged, this, &PropertiesPanel::refresh);
+    refresh();
+}
+
+QWidget* PropertiesPanel::buildSimulation() {
+    auto* box = new QGroupBox(tr("Simulation"));
+    auto* form = new QFormLayout(box);
+    m_integrator = new QComboBox;
+    m_integrator->setObjectName("integrator");
+    m_integrator->addItem(tr("Implicit Euler (stable, damps)"), int(IntegratorKind::ImplicitEuler));
+    m_integrator->addItem(tr("Verlet (the paper's)"), int(IntegratorKind::Verlet));
+    m_integrator->addItem(tr("Symplectic Euler"), int(IntegratorKind::SymplecticEuler));
+    m_integrator->addItem(tr("XPBD (fast, softer)"), int(IntegratorKind::Xpbd));
+    m_integrator->setToolTip(tr("Speed against accuracy: docs/study.md measures each scheme."));
+    form->addRow(tr("Integrator"), m_integrator);
+    m_stepsPerSecond = spin(10, 100000, 0, tr(" steps/s"), 10);
+    m_stepsPerSecond->setToolTip(tr("Fixed time step as steps per simulated second. Explicit schemes substep "
+                                    "automatically below their stability bound."));
+    form->addRow(tr("Time step"), m_stepsPerSecond);
+    m_gravity = new QCheckBox(tr("Gravity (9.81 m/s² down)"));
+    form->addRow(m_gravity);
+    m_drivers = new QCheckBox(tr("Drivers act (swim, scripted drags)"));
+    m_drivers->setChecked(true);
+    form->addRow(m_drivers);
+    m_live = new QLabel;
+    m_live->setObjectName("liveReadout");
+    m_live->setWordWrap(true);
+    form->addRow(m_live);
+
+    connect(m_integrator, &QComboBox::currentIndexChanged, this, [this] {
+        if (m_refreshing)
+            return;
+        const auto kind = IntegratorKind(m_integrator->currentData().toInt());
+        editWorld(tr("Set integrator"), kNoMerge, [kind](WorldSettings& w) { w.simulation.integrator = kind; });
+    });
+    connect(m_stepsPerSecond, &QDoubleSpinBox::valueChanged, this, [this](double hz) {
+        if (!m_refreshing)
+            editWorld(tr("Set time step"), kMergeTimeStep, [hz](WorldSettings& w) { w.simulation.dt = 1.0 / hz; });
+    });
+    connect(m_gravity, &QCheckBox::toggled, this, [this](bool on) {
+        if (!m_refreshing)
+            editWorld(on ? tr("Gravity on") : tr("Gravity off"), kNoMerge,
+                      [on](WorldSettings& w) { w.gravity = on ? Vec3(0, -9.81, 0) : Vec3::Zero(); });
+    });
+    connect(m_drivers, &QCheckBox::toggled, m_simulation, &SimulationController::setDriversEnabled);
+    return box;
+}
+
+QWidget* PropertiesPanel::buildMaterial() {
+    auto* box = new QGroupBox(tr("Material"));
+    auto* form = new QFormLayout(box);
+    m_frequency = spin(0.01, 1000, 2, tr(" Hz"), 0.1);
+    m_frequency->setObjectName("frequency");
+    m_frequency->setToolTip(tr("How fast a node wobbles: (1/2π)·√(k/m) of a mean node. Scales all stiffness, "
+                               "keeping what was painted."));
+    form->addRow(tr("Wobble frequency"), m_frequency);
+    m_dampingRatio = spin(0, 100, 3, QString(), 0.01);
+    m_dampingRatio->setToolTip(tr("How quickly it settles: 0 rings forever, 1 settles without overshoot."));
+    form->addRow(tr("Damping ratio"), m_dampingRatio);
+    m_totalMass = spin(1e-6, 1e6, 4, tr(" kg"), 0.1);
+    form->addRow(tr("Total mass"), m_totalMass);
+    m_stiffness = spin(1e-3, 1e9, 2, tr(" N/m"), 5);
+    m_stiffness->setObjectName("stiffness");
+    form->addRow(tr("Stiffness (mean)"), m_stiffness);
+    m_damping = spin(0, 1e6, 3, tr(" N·s/m"), 0.05);
+    form->addRow(tr("Damping (mean)"), m_damping);
+    auto* aniso = new QHBoxLayout;
+    const char* axes[] = {"u", "v", "w"};
+    for (int a = 0; a < 3; ++a) {
+        m_anisotropy[std::size_t(a)] = spin(1e-6, 1e6, 3, QString(), 0.1);
+        m_anisotropy[std::size_t(a)]->setPrefix(QString(axes[a]) + " ");
+        aniso->addWidget(m_anisotropy[std::size_t(a)]);
+        connect(m_anisotropy[std::size_t(a)], &QDoubleSpinBox::valueChanged, this, [this, a](double s) {
+            if (!m_refreshing)
+                editMaterial(tr("Set anisotropy"), kMergeAnisotropy, [a, s](LatticeMaterial& m) { m.anisotropy[a] = s; });
+        });
+    }
+    form->addRow(tr("Anisotropy"), aniso);
+
+    connect(m_frequency, &QDoubleSpinBox::valueChanged, this, [this](double hz) {
+        if (!m_refreshing)
+            editMaterial(tr("Set wobble frequency"), kMergeFrequency, [hz](LatticeMaterial& m) { setFrequency(m, hz); });
+    });
+    connect(m_dampingRatio, &QDoubleSpinBox::valueChanged, this, [this](double z) {
+        if (!m_refreshing)
+            editMaterial(tr("Set damping ratio"), kMergeDamping, [z](LatticeMaterial& m) { setDampingRatio(m, z); });
+    });
+    connect(m_totalMass, &QDoubleSpinBox::valueChanged, this, [this](double kg) {
+        if (m_refreshing)
+            return;
+        editMaterial(tr("Set mass"), kMergeMass, [kg](LatticeMaterial& m) {
+            const double total = summarise(m).totalMass;
+            if (total > 0.0)
+                for (double& x : m.mass)
+                    x *= kg / total;
+        });
+    });
+    connect(m_stiffness, &QDoubleSpinBox::valueChanged, this, [this](double k) {
+        if (!m_refreshing)
+            editMaterial(tr("Set stiffness"), kMergeStiffness, [k](LatticeMaterial& m) { setMean(m.stiffness, m, k); });
+    });
+    connect(m_damping, &QDoubleSpinBox::valueChanged, this, [this](double c) {
+        if (!m_refreshing)
+            editMaterial(tr("Set damping"), kMergeDamping, [c](LatticeMaterial& m) { setMean(m.damping, m, c); });
+    });
+    return box;
+}
+
+QWidget* PropertiesPanel::buildLattice() {
+    auto* box = new QGroupBox(tr("Lattice"));
+    auto* form = new QFormLayout(box);
+    m_latticeKind = new QComboBox;
+    m_latticeKind->addItem(tr("Bezier (the paper's)"), int(LatticeKind::Bezier));
+    m_latticeKind->addItem(tr("Cubic B-spline (local)"), int(LatticeKind::BSpline));
+    form->addRow(tr("Kind"), m_latticeKind);
+    auto* nodes = new QHBoxLayout;
+    for (int a = 0; a < 3; ++a) {
+        m_latticeNodes[std::size_t(a)] = new QSpinBox;
+        m_latticeNodes[std::size_t(a)]->setRange(2, 64);
+        nodes->addWidget(m_latticeNodes[std::size_t(a)]);
+    }
+    form->addRow(tr("Nodes u, v, w"), nodes);
+    auto* apply = new QPushButton(tr("Apply resolution"));
+    apply->setToolTip(tr("Rebuilds the lattice; painted values, anchors and voids are carried over."));
+    form->addRow(apply);
+    connect(apply, &QPushButton::clicked, this, &PropertiesPanel::applyLatticeShape);
+    return box;
+}
+
+QWidget* PropertiesPanel::buildTools() {
+    auto* box = new QGroupBox(tr("Tools"));
+    auto* form = new QFormLayout(box);
+    m_brushField = new QComboBox;
+    m_brushField->addItem(tr("Stiffness"), int(PaintField::Stiffness));
+    m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
+    m_brushField->addItem(tr("Damping"), int(PaintField::Damping));
+    form->addRow(tr("Paint"), m_brushField);
+    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
+    m_brushValue->setValue(m_viewport->brush().value);
+    form->addRow(tr("Brush value"), m_brushValue);
+    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5);
+    m_brushRadius->setValue(m_viewport->brush().radiusPixels);
+    form->addRow(tr("Brush radius"), m_brushRadius);
+    m_brushStrength = spin(0, 1, 2, QString(), 0.05);
+    m_brushStrength->setValue(m_viewport->brush().strength);
+    form->addRow(tr("Brush strength"), m_brushStrength);
+    m_brushFalloff = new QComboBox;
+    m_brushFalloff->addItem(tr("Smooth"), int(BrushFalloff::Smooth));
+    m_brushFalloff->addItem(tr("Linear"), int(BrushFalloff::Linear));
+    m_brushFalloff->addItem(tr("Constant"), int(BrushFalloff::Constant));
+    form->addRow(tr("Falloff"), m_brushFalloff);
+    m_anchorMode = new QComboBox;
+    m_anchorMode->addItem(tr("Pinned (never moves)"), int(AnchorMode::Pinned));
+    m_anchorMode->addItem(tr("Heavy (mass × ratio)"), int(AnchorMode::Heavy));
+    form->addRow(tr("Anchor"), m_anchorMode);
+    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5);
+    m_dragStiffness->setValue(m_viewport->dragSettings().stiffness);
+    form->addRow(tr("Drag Ks"), m_dragStiffness);
+    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1);
+    m_dragDamping->setValue(m_viewport->dragSettings().damping);
+    form->addRow(tr("Drag Kd"), m_dragDamping);
+
+    connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
+        m_viewport->brush().field = PaintField(m_brushField->currentData().toInt());
+        refresh();
+        m_viewport->update();
+    });
+    connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().value = v; });
+    connect(m_brushRadius, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().radiusPixels = v; });
+    connect(m_brushStrength, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().strength = v; });
+    connect(m_brushFalloff, &QComboBox::currentIndexChanged, this,
+            [this] { m_viewport->brush().falloff = BrushFalloff(m_brushFalloff->currentData().toInt()); });
+    connect(m_anchorMode, &QComboBox::currentIndexChanged, this,
+            [this] { m_viewport->setAnchorMode(AnchorMode(m_anchorMode->currentData().toInt())); });
+    connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
+    connect(m_dragDamping, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().damping = v; });
+    return box;
+}
+
+QWidget* PropertiesPanel::buildSelection() {
+    auto* box = new QGroupBox(tr("Selected nodes"));
+    auto* form = new QFormLayout(box);
+    m_selectionLabel = new QLabel;
+    form->addRow(m_selectionLabel);
+    m_selectionValue = spin(1e-9, 1e9, 4, QString(), 1);
+    form->addRow(tr("Value"), m_selectionValue);
+    auto* buttons = new QHBoxLayout;
+    auto* set = new QPushButton(tr("Set"));
+    auto* smooth = new QPushButton(tr("Smooth"));
+    buttons->addWidget(set);
+    buttons->addWidget(smooth);
+    form->addRow(buttons);
+    auto nodes = [this] { return std::vector<int>(m_viewport->selection().begin(), m_viewport->selection().end()); };
+    connect(set, &QPushButton::clicked, this, [this, nodes] {
+        const PaintField field = m_viewport->brush().field;
+        const double value = m_selectionValue->value();
+        const std::vector<int> n = nodes();
+        if (!n.empty())
+            editMaterial(tr("Set %1 of %n node(s)", nullptr, int(n.size())).arg(fieldName(field)), kNoMerge,
+                         [&](LatticeMaterial& m) { fillNodes(m, field, n, value); });
+    });
+    connect(smooth, &QPushButton::clicked, this, [this, nodes] {
+        const PaintField field = m_viewport->brush().field;
+        const std::vector<int> n = nodes();
+        const Lattice& lattice = m_document->scene().objects[std::size_t(object())].lattice;
+        if (!n.empty())
+            editMaterial(tr("Smooth %1").arg(fieldName(field)), kNoMerge,
+                         [&](LatticeMaterial& m) { smoothNodes(m, lattice, field, n); });
+    });
+    return box;
+}
+
+void PropertiesPanel::editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change) {
+    const Scene& scene = m_document->scene();
+    if (std::size_t(object()) >= scene.objects.size())
+        return;
+    LatticeMaterial before = scene.objects[std::size_t(object())].material;
+    LatticeMaterial after = before;
+    change(after);
+    if (auto model = buildLatticeBody(scene.objects[std::size_t(object())].lattice, after); !model) {
+        m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(model.message())));
+        refresh();
+        return;
+    }
+    m_document->undoStack()->push(new MaterialEditCommand(m_document, object(), std::move(before), std::move(after), text, mergeKey));
+}
+
+void PropertiesPanel::editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change) {
+    WorldSettings before = m_document->scene().world;
+    WorldSettings after = before;
+    change(after);
+    if (Status s = after.validate(); !s) {
+        m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(s.message())));
+        refresh();
+        return;
+    }
+    m_document->undoStack()->push(new WorldEditCommand(m_document, std::move(before), std::move(after), text, mergeKey));
+}
+
+void PropertiesPanel::applyLatticeShape() {
+    const Scene& scene = m_document->scene();
+    if (std::size_t(object()) >= scene.objects.size())
+        return;
+    const SceneObject& o = scene.objects[std::size_t(object())];
+    LatticeShape shape;
+    shape.kind = LatticeKind(m_latticeKind->currentData().toInt());
+    for (int a = 0; a < 3; ++a)
+        shape.nodes[std::size_t(a)] = m_latticeNodes[std::size_t(a)]->value();
+    auto lattice = Lattice::create(shape, o.lattice.box());
+    if (!lattice) {
+        m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(lattice.message())));
+        return;
+    }
+    LatticeMaterial material = resampleMaterial(o.lattice, o.material, lattice.value(), true);
+    m_document->undoStack()->push(new LatticeEditCommand(m_document, object(), o.lattice, o.material, lattice.value(),
+                                                         std::move(material), tr("Change lattice resolution")));
+}
+
+void PropertiesPanel::refresh() {
+    const Scene& scene = m_document->scene();
+    m_refreshing = true;
+    const WorldSettings& w = scene.world;
+    m_integrator->setCurrentIndex(m_integrator->findData(int(w.simulation.integrator)));
+    setQuietly(m_stepsPerSecond, std::round(1.0 / w.simulation.dt));
+    m_gravity->setChecked(w.gravity.squaredNorm() > 0.0);
+    if (std::size_t(object()) < scene.objects.size()) {
+        const SceneObject& o = scene.objects[std::size_t(object())];
+        const MaterialSummary s = summarise(o.material);
+        setQuietly(m_frequency, s.frequencyHz);
+        setQuietly(m_dampingRatio, s.dampingRatio);
+        setQuietly(m_totalMass, s.totalMass);
+        setQuietly(m_stiffness, s.meanStiffness);
+        setQuietly(m_damping, s.meanDamping);
+        for (int a = 0; a < 3; ++a)
+            setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
+        m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
+        for (int a = 0; a < 3; ++a)
+            m_latticeNodes[std::size_t(a)]->setValue(o.lattice.count(a));
+        const auto& sel = m_viewport->selection();
+        const PaintField field = m_viewport->brush().field;
+        m_selectionLabel->setText(sel.empty() ? tr("None: use the Select tool (click or drag a box).")
+                                              : tr("%n node(s)", nullptr, int(sel.size())));
+        if (!sel.empty())
+            setQuietly(m_selectionValue, fieldValues(o.material, field)[std::size_t(*sel.begin())]);
+        m_selectionValue->setSuffix(QString(" ") + fieldUnit(field));
+    }
+    m_refreshing = false;
+}
+
+void PropertiesPanel::refreshLive() {
+    const SimulationStats& s = m_simulation->stats();
+    QString text = tr("%1 µs per step · stable explicit step %2 ms").arg(s.stepMicros, 0, 'f', 1).arg(s.stableStepSeconds * 1e3, 0, 'f', 3);
+    if (s.substeps > 1)
+        text += tr(" · %1 substeps").arg(s.substeps);
+    if (!m_simulation->problem().isEmpty())
+        text = m_simulation->problem();
+    m_live->setText(text);
+}
+
+}  // namespace softtouch::ui

@@ -1,0 +1,74 @@
+#pragma once
+/// The properties dock: simulation (integrator, time step, gravity, drivers, live cost and stability
+/// bound), material (animator view: frequency and damping ratio; raw view: mass, stiffness, damping,
+/// anisotropy), lattice (kind and resolution), the tools' settings (brush, anchor mode, drag spring)
+/// and numeric entry, fill and smooth for the selected nodes. Every edit is an undo command.
+
+#include "ui/viewport.h"
+
+#include <QWidget>
+
+class QComboBox;
+class QDoubleSpinBox;
+class QSpinBox;
+class QCheckBox;
+class QLabel;
+
+namespace softtouch::ui {
+
+/// Properties of the current object, the world and the tools.
+class PropertiesPanel : public QWidget {
+    Q_OBJECT
+public:
+    PropertiesPanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent = nullptr);
+
+    /// Refreshes the live figures (called by the main window's status timer).
+    void refreshLive();
+
+private:
+    QWidget* buildSimulation();
+    QWidget* buildMaterial();
+    QWidget* buildLattice();
+    QWidget* buildTools();
+    QWidget* buildSelection();
+    void refresh();
+    void editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change);
+    void editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change);
+    void applyLatticeShape();
+    int object() const { return m_viewport->currentObject(); }
+
+    Document* m_document;
+    SimulationController* m_simulation;
+    Viewport* m_viewport;
+    bool m_refreshing = false;
+
+    QComboBox* m_integrator = nullptr;
+    QDoubleSpinBox* m_stepsPerSecond = nullptr;
+    QCheckBox* m_gravity = nullptr;
+    QCheckBox* m_drivers = nullptr;
+    QLabel* m_live = nullptr;
+
+    QDoubleSpinBox* m_frequency = nullptr;
+    QDoubleSpinBox* m_dampingRatio = nullptr;
+    QDoubleSpinBox* m_totalMass = nullptr;
+    QDoubleSpinBox* m_stiffness = nullptr;
+    QDoubleSpinBox* m_damping = nullptr;
+    std::array<QDoubleSpinBox*, 3> m_anisotropy{};
+
+    QComboBox* m_latticeKind = nullptr;
+    std::array<QSpinBox*, 3> m_latticeNodes{};
+
+    QComboBox* m_brushField = nullptr;
+    QDoubleSpinBox* m_brushValue = nullptr;
+    QDoubleSpinBox* m_brushRadius = nullptr;
+    QDoubleSpinBox* m_brushStrength = nullptr;
+    QComboBox* m_brushFalloff = nullptr;
+    QComboBox* m_anchorMode = nullptr;
+    QDoubleSpinBox* m_dragStiffness = nullptr;
+    QDoubleSpinBox* m_dragDamping = nullptr;
+
+    QLabel* m_selectionLabel = nullptr;
+    QDoubleSpinBox* m_selectionValue = nullptr;
+};
+
+}  // namespace softtouch::ui

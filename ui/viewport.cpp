@@ -1,0 +1,456 @@
+#include "ui/viewport.h"
+
+#include "ui/edit_commands.h"
+#include "ui/surface_pick.h"
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QTabletEvent>
+#include <QWheelEvent>
+
+#include <algorithm>
+#include <limits>
+
+namespace softtouch::ui {
+
+Viewport::Viewport(Document* document, SimulationController* simulation, QWidget* parent)
+    : QOpenGLWidget(parent), m_document(document), m_simulation(simulation) {
+    setFocusPolicy(Qt::StrongFocus);
+    setMouseTracking(true);
+    setMinimumSize(320, 240);
+    connect(simulation, &SimulationController::stepped, this, qOverload<>(&QWidget::update));
+    connect(simulation, &SimulationController::rebuilt, this, [this] {
+        m_sceneDirty = true;
+        update();
+    });
+    connect(document, &Document::sceneReplaced, this, [this] {
+        m_object = 0;
+        m_selection.clear();
+        emit selectionChanged();
+        frameAll();
+    });
+    connect(document, &Document::latticeChanged, this, [this] {
+        m_selection.clear();
+        emit selectionChanged();
+    });
+    frameAll();
+}
+
+Viewport::~Viewport() {
+    if (m_glReady) {
+        makeCurrent();
+        m_renderer.release();
+        doneCurrent();
+    }
+}
+
+void Viewport::initializeGL() {
+    if (Status s = m_renderer.initialize(); !s) {
+        m_renderProblem = tr("The viewport cannot draw: %1").arg(QString::fromStdString(s.message()));
+        emit hint(m_renderProblem);
+        return;
+    }
+    m_glReady = true;
+    m_sceneDirty = true;
+}
+
+void Viewport::resizeGL(int, int) {}
+
+void Viewport::uploadScene() {
+    m_renderer.clearObjects();
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim)
+        return;
+    for (std::size_t i = 0; i < sim->objectCount(); ++i) {
+        auto id = m_renderer.addObject(sim->object(i).mesh, sim->object(i).lattice);
+        if (!id) {
+            m_renderProblem = QString::fromStdString(id.message());
+            emit hint(m_renderProblem);
+        }
+    }
+    m_renderer.setPlanes(m_document->scene().world.planes,
+                         float(std::max(1.0, 1.5 * sim->object(0).mesh.bounds().diagonal())));
+    m_sceneDirty = false;
+}
+
+void Viewport::updateOverlay(int object) {
+    const SceneSimulation* sim = m_simulation->simulation();
+    const Simulator& simulator = sim->simulator(std::size_t(object));
+    const BodyModel& model = simulator.model();
+    const LatticeMaterial& material = m_document->scene().objects[std::size_t(object)].material;
+    const std::vector<Vec3>& x = simulator.state().position;
+    render::LatticeOverlay overlay;
+    const std::vector<double>& values = fieldValues(material, m_brush.field);
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    for (std::size_t n = 0; n < values.size(); ++n) {
+        overlay.nodeValue.push_back(*hi > *lo ? float((values[n] - *lo) / (*hi - *lo)) : 0.5f);
+        overlay.anchor.push_back(std::uint8_t(material.anchor[n]));
+        overlay.isVoid.push_back(material.isVoid[n]);
+        overlay.selected.push_back(object == m_object && m_selection.count(int(n)) ? 1 : 0);
+    }
+    // Edge springs only: with the face and body diagonals (3x as many) the overlay hides the mesh.
+    for (const Spring& s : model.springs) {
+        if (s.kind != SpringKind::Edge)
+            continue;
+        overlay.springs.emplace_back(s.a, s.b);
+        overlay.springStrain.push_back(float(((x[s.b] - x[s.a]).norm() - s.restLength) / s.restLength));
+    }
+    m_renderer.setOverlay(object, overlay);
+    m_renderer.setOverlayVisible(object, m_overlayVisible);
+}
+
+void Viewport::paintGL() {
+    QElapsedTimer timer;
+    timer.start();
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (m_glReady && sim) {
+        if (m_sceneDirty)
+            uploadScene();
+        for (std::size_t i = 0; i < sim->objectCount() && int(i) < m_renderer.objectCount(); ++i) {
+            m_renderer.setNodes(int(i), sim->simulator(i).state().position);
+            render::MeshStyle style;
+            style.mode = m_shadeMode;
+            m_renderer.setStyle(int(i), style);
+            updateOverlay(int(i));
+        }
+        const qreal dpr = devicePixelRatioF();
+        const int w = int(width() * dpr), h = int(height() * dpr);
+        m_renderer.draw(m_camera.camera(w, h), w, h);
+    }
+    if (!m_renderProblem.isEmpty() || !sim) {
+        QPainter painter(this);
+        painter.fillRect(rect(), QColor(60, 60, 66));
+        painter.setPen(Qt::white);
+        painter.drawText(rect().adjusted(20, 20, -20, -20), Qt::AlignCenter | Qt::TextWordWrap,
+                         !m_renderProblem.isEmpty() ? m_renderProblem : m_simulation->problem());
+    }
+    if (m_gesture == Gesture::Box) {
+        QPainter painter(this);
+        painter.setPen(QPen(QColor(255, 220, 80), 1, Qt::DashLine));
+        painter.drawRect(QRectF(m_pressPos, m_lastPos).normalized());
+    }
+    const double ms = double(timer.nsecsElapsed()) * 1e-6;
+    m_frameMs = m_frameMs == 0.0 ? ms : 0.9 * m_frameMs + 0.1 * ms;
+}
+
+QPointF Viewport::toWidget(const Vec3& world) const {
+    const Eigen::Vector3d p = m_camera.project(world, width(), height());
+    return {p.x(), p.y()};
+}
+
+std::vector<Vec3f> Viewport::deformedPositions(int object) const {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim || object < 0 || std::size_t(object) >= sim->objectCount())
+        return {};
+    std::vector<Vec3f> positions(sim->object(std::size_t(object)).mesh.positions.size());
+    sim->evaluate(std::size_t(object), positions, {});
+    return positions;
+}
+
+std::vector<Eigen::Vector2d> Viewport::nodeScreenPositions(int object) const {
+    std::vector<Eigen::Vector2d> out;
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim || std::size_t(object) >= sim->objectCount())
+        return out;
+    for (const Vec3& x : sim->simulator(std::size_t(object)).state().position) {
+        const Eigen::Vector3d p = m_camera.project(x, width(), height());
+        out.emplace_back(p.z() <= 1.0 ? Eigen::Vector2d(p.x(), p.y()) : Eigen::Vector2d::Constant(1e9));
+    }
+    return out;
+}
+
+int Viewport::nodeAt(const QPointF& pos, double radiusPixels) const {
+    const auto screen = nodeScreenPositions(m_object);
+    int best = -1;
+    double bestDistance = radiusPixels;
+    for (std::size_t n = 0; n < screen.size(); ++n) {
+        const double d = (screen[n] - Eigen::Vector2d(pos.x(), pos.y())).norm();
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = int(n);
+        }
+    }
+    return best;
+}
+
+std::vector<int> Viewport::nodesInRect(const QRectF& rect) const {
+    std::vector<int> nodes;
+    const auto screen = nodeScreenPositions(m_object);
+    for (std::size_t n = 0; n < screen.size(); ++n) {
+        if (rect.contains(QPointF(screen[n].x(), screen[n].y())))
+            nodes.push_back(int(n));
+    }
+    return nodes;
+}
+
+Viewport::Gesture Viewport::navigationFor(const QMouseEvent* event) const {
+    const Qt::MouseButton b = event->button();
+    const Qt::KeyboardModifiers m = event->modifiers();
+    if (m_navigation == NavigationStyle::Maya) {
+        if (m & Qt::AltModifier) {
+            if (b == Qt::LeftButton) return Gesture::Orbit;
+            if (b == Qt::MiddleButton) return Gesture::Pan;
+            if (b == Qt::RightButton) return Gesture::Dolly;
+        }
+        if (b == Qt::MiddleButton) return Gesture::Pan;
+    } else if (b == Qt::MiddleButton) {
+        if (m & Qt::ShiftModifier) return Gesture::Pan;
+        if (m & Qt::ControlModifier) return Gesture::Dolly;
+        return Gesture::Orbit;
+    }
+    return Gesture::None;
+}
+
+void Viewport::mousePressEvent(QMouseEvent* event) {
+    m_pressPos = m_lastPos = event->position();
+    m_pressModifiers = event->modifiers();
+    m_gesture = navigationFor(event);
+    if (m_gesture != Gesture::None || event->button() != Qt::LeftButton)
+        return;
+    switch (m_tool) {
+    case Tool::Drag: beginDrag(event->position(), event->modifiers()); break;
+    case Tool::Paint:
+        m_gesture = Gesture::Paint;
+        m_strokeKey = m_nextStrokeKey++;
+        paintDab(event->position());
+        break;
+    case Tool::Anchor:
+    case Tool::Void:
+    case Tool::Select: m_gesture = Gesture::Box; break;
+    }
+}
+
+void Viewport::mouseMoveEvent(QMouseEvent* event) {
+    const QPointF pos = event->position();
+    const QPointF delta = pos - m_lastPos;
+    m_lastPos = pos;
+    switch (m_gesture) {
+    case Gesture::Orbit: m_camera.orbit(delta.x(), delta.y()); break;
+    case Gesture::Pan: m_camera.pan(delta.x(), delta.y(), height()); break;
+    case Gesture::Dolly: m_camera.dolly(std::exp(0.005 * (delta.y() - delta.x()))); break;
+    case Gesture::Drag: moveDrag(pos); break;
+    case Gesture::Paint: paintDab(pos); break;
+    case Gesture::Box: break;
+    case Gesture::None: return;
+    }
+    update();
+}
+
+void Viewport::mouseReleaseEvent(QMouseEvent* event) {
+    if (event->button() != Qt::LeftButton && m_gesture != Gesture::Orbit && m_gesture != Gesture::Pan &&
+        m_gesture != Gesture::Dolly)
+        return;
+    if (m_gesture == Gesture::Drag && m_dragSlot == 0)
+        m_simulation->setGrab(0, std::nullopt);  // release: the body swings free
+    if (m_gesture == Gesture::Box) {
+        const bool click = (event->position() - m_pressPos).manhattanLength() < 4.0;
+        std::vector<int> nodes;
+        if (click) {
+            if (int n = nodeAt(event->position()); n >= 0)
+                nodes.push_back(n);
+        } else {
+            nodes = nodesInRect(QRectF(m_pressPos, event->position()).normalized());
+        }
+        applyNodeTool(nodes, click ? false : bool(m_pressModifiers & Qt::ControlModifier));
+        if (click && nodes.empty() && m_tool == Tool::Select)
+            setSelection({});
+    }
+    m_gesture = Gesture::None;
+    m_dragSlot = -1;
+    m_strokeKey = -1;
+    m_pressure = 1.0;
+    update();
+}
+
+void Viewport::wheelEvent(QWheelEvent* event) {
+    m_camera.dolly(std::exp(-0.0015 * event->angleDelta().y()));
+    update();
+}
+
+void Viewport::tabletEvent(QTabletEvent* event) {
+    // Pen pressure scales the drag stiffness (a firmer press pulls harder). The event is ignored so
+    // Qt delivers the matching mouse event, which drives the tools as for a mouse.
+    m_pressure = std::clamp(double(event->pressure()), 0.05, 1.0);
+    if (auto g = m_simulation->grab(0); g && m_dragSlot == 0) {
+        g->drag.stiffness = m_drag.stiffness * m_pressure;
+        m_simulation->setGrab(0, g);
+    }
+    event->ignore();
+}
+
+void Viewport::keyPressEvent(QKeyEvent* event) {
+    switch (event->key()) {
+    case Qt::Key_F: frameAll(); break;
+    case Qt::Key_1: viewFront(); break;
+    case Qt::Key_3: viewSide(); break;
+    case Qt::Key_7: viewTop(); break;
+    default: QOpenGLWidget::keyPressEvent(event); return;
+    }
+}
+
+void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim)
+        return;
+    const int slot = (modifiers & Qt::ControlModifier) ? 1 : 0;
+    const Ray ray = m_camera.rayThrough(pos.x(), pos.y(), width(), height());
+    std::optional<SurfaceHit> best;
+    int bestObject = -1;
+    for (std::size_t i = 0; i < sim->objectCount(); ++i) {
+        const std::vector<Vec3f> positions = deformedPositions(int(i));
+        if (auto hit = pickSurface(ray, positions, sim->object(i).mesh.triangles);
+            hit && (!best || hit->distance < best->distance)) {
+            best = hit;
+            bestObject = int(i);
+        }
+    }
+    if (!best) {
+        if (slot == 1)
+            m_simulation->setGrab(1, std::nullopt);  // Ctrl+click on empty space lets the held hand go
+        emit hint(tr("Nothing under the cursor to drag."));
+        return;
+    }
+    // The material point under the cursor: barycentric mix of the triangle's rest parameters.
+    const SceneObject& object = sim->object(std::size_t(bestObject));
+    const auto& tri = object.mesh.triangles[best->triangle];
+    Vec3 uvw = Vec3::Zero();
+    for (int k = 0; k < 3; ++k)
+        uvw += best->barycentric[k] * object.lattice.box().toParameters(object.mesh.positions[tri[std::size_t(k)]].cast<double>());
+    Grab grab;
+    grab.object = bestObject;
+    grab.drag.support = object.lattice.weights(uvw.cwiseMax(0.0).cwiseMin(1.0));
+    grab.drag.target = best->point;
+    grab.drag.stiffness = m_drag.stiffness * m_pressure;
+    grab.drag.damping = m_drag.damping;
+    // Pull from where the lattice point is now, so grabbing does not jolt the body.
+    Vec3 point, velocity;
+    dragPointState(grab.drag, sim->simulator(std::size_t(bestObject)).state().position,
+                   sim->simulator(std::size_t(bestObject)).state().velocity, point, velocity);
+    m_grabOffset = best->point - point;
+    grab.drag.target = point;
+    m_dragDepthPoint = best->point;
+    m_simulation->setGrab(slot, grab);
+    m_dragSlot = slot;
+    m_gesture = Gesture::Drag;
+    if (!m_simulation->isPlaying())
+        m_simulation->play();
+    emit hint(slot == 1 ? tr("Second hand: holds after release; Ctrl+click empty space to let go.")
+                        : tr("Dragging: release to let the body swing free."));
+}
+
+void Viewport::moveDrag(const QPointF& pos) {
+    auto grab = m_simulation->grab(m_dragSlot);
+    if (!grab)
+        return;
+    const Vec3 cursor = m_camera.pointOnViewPlane(pos.x(), pos.y(), width(), height(), m_dragDepthPoint);
+    grab->drag.target = cursor - m_grabOffset;
+    grab->drag.stiffness = m_drag.stiffness * m_pressure;
+    m_simulation->setGrab(m_dragSlot, grab);
+}
+
+void Viewport::paintDab(const QPointF& pos) {
+    const Scene& scene = m_document->scene();
+    if (std::size_t(m_object) >= scene.objects.size())
+        return;
+    LatticeMaterial before = scene.objects[std::size_t(m_object)].material;
+    LatticeMaterial after = before;
+    BrushSettings brush = m_brush;
+    brush.strength = std::clamp(brush.strength * m_pressure, 0.0, 1.0);
+    if (!applyDab(after, nodeScreenPositions(m_object), Eigen::Vector2d(pos.x(), pos.y()), brush))
+        return;
+    m_document->undoStack()->push(new MaterialEditCommand(
+        m_document, m_object, std::move(before), std::move(after),
+        tr("Paint %1").arg(QString::fromUtf8(fieldName(m_brush.field))), m_strokeKey));
+}
+
+void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {
+    if (m_tool == Tool::Select) {
+        std::set<int> selection = (m_pressModifiers & Qt::ShiftModifier) ? m_selection : std::set<int>{};
+        selection.insert(nodes.begin(), nodes.end());
+        setSelection(selection);
+        return;
+    }
+    if (nodes.empty() || std::size_t(m_object) >= m_document->scene().objects.size())
+        return;
+    LatticeMaterial before = m_document->scene().objects[std::size_t(m_object)].material;
+    LatticeMaterial after = before;
+    const bool toggle = nodes.size() == 1 && !clear;
+    QString text;
+    for (int n : nodes) {
+        const auto i = std::size_t(n);
+        if (m_tool == Tool::Anchor) {
+            const bool set = toggle ? after.anchor[i] != m_anchorMode : !clear;
+            after.anchor[i] = set ? m_anchorMode : AnchorMode::Free;
+            text = set ? (m_anchorMode == AnchorMode::Heavy ? tr("Set heavy anchor") : tr("Set pinned anchor"))
+                       : tr("Clear anchor");
+        } else {
+            const bool set = toggle ? !after.isVoid[i] : !clear;
+            after.isVoid[i] = set ? 1 : 0;
+            text = set ? tr("Set void") : tr("Clear void");
+        }
+    }
+    if (nodes.size() > 1)
+        text += tr(" (%n nodes)", nullptr, int(nodes.size()));
+    // A lattice with every node void or every node pinned cannot be built; refuse rather than break it.
+    if (auto model = buildLatticeBody(m_document->scene().objects[std::size_t(m_object)].lattice, after); !model) {
+        emit hint(tr("Not applied: %1").arg(QString::fromStdString(model.message())));
+        return;
+    }
+    m_document->undoStack()->push(new MaterialEditCommand(m_document, m_object, std::move(before), std::move(after), text));
+}
+
+void Viewport::setTool(Tool tool) {
+    if (tool == m_tool)
+        return;
+    m_tool = tool;
+    emit toolChanged(tool);
+    update();
+}
+
+void Viewport::setShadeMode(render::ShadeMode mode) {
+    m_shadeMode = mode;
+    update();
+}
+
+void Viewport::setNavigationStyle(NavigationStyle style) { m_navigation = style; }
+
+void Viewport::setOverlayVisible(bool visible) {
+    m_overlayVisible = visible;
+    update();
+}
+
+void Viewport::setAnchorMode(AnchorMode mode) { m_anchorMode = mode; }
+
+void Viewport::setCurrentObject(int object) {
+    m_object = object;
+    m_selection.clear();
+    emit selectionChanged();
+    update();
+}
+
+void Viewport::setSelection(const std::set<int>& nodes) {
+    m_selection = nodes;
+    emit selectionChanged();
+    update();
+}
+
+void Viewport::frameAll() {
+    const Scene& scene = m_document->scene();
+    if (scene.objects.empty())
+        return;
+    Bounds all = scene.objects.front().mesh.bounds();
+    for (const SceneObject& o : scene.objects) {
+        const Bounds b = o.mesh.bounds();
+        all.min = all.min.cwiseMin(b.min);
+        all.max = all.max.cwiseMax(b.max);
+    }
+    m_camera.frame(all);
+    update();
+}
+
+void Viewport::viewFront() { m_camera.viewFront(); update(); }
+void Viewport::viewSide() { m_camera.viewSide(); update(); }
+void Viewport::viewTop() { m_camera.viewTop(); update(); }
+
+}  // namespace softtouch::ui

@@ -1,0 +1,138 @@
+#pragma once
+/// The 3D viewport: draws every object deformed on the GPU (render::MeshRenderer uploads only the
+/// lattice nodes each frame), the lattice overlay and the collision planes, and turns the mouse and
+/// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
+/// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
+/// (click or box), select (for numeric entry, fill and smooth).
+
+#include "render/mesh_renderer.h"
+#include "ui/node_brush.h"
+#include "ui/orbit_camera.h"
+#include "ui/simulation_controller.h"
+
+#include <QElapsedTimer>
+#include <QOpenGLWidget>
+
+#include <set>
+
+namespace softtouch::ui {
+
+/// What the left mouse button does.
+enum class Tool { Drag, Paint, Anchor, Void, Select };
+
+/// Which camera conventions the mouse follows.
+enum class NavigationStyle {
+    Maya,    ///< Alt+left orbit, Alt+middle pan, Alt+right dolly.
+    Blender, ///< Middle orbit, Shift+middle pan, Ctrl+middle dolly.
+};
+
+/// Settings of the drag tool.
+struct DragToolSettings {
+    double stiffness = 60.0;  ///< Ks of the mouse's drag spring, N/m, (0, 1e9]. Pen pressure scales it.
+    double damping = 0.5;     ///< Kd, N·s/m, [0, 1e6].
+};
+
+/// OpenGL viewport of one document.
+class Viewport : public QOpenGLWidget {
+    Q_OBJECT
+public:
+    Viewport(Document* document, SimulationController* simulation, QWidget* parent = nullptr);
+    ~Viewport() override;
+
+    Tool tool() const { return m_tool; }
+    render::ShadeMode shadeMode() const { return m_shadeMode; }
+    OrbitCamera& camera() { return m_camera; }
+    BrushSettings& brush() { return m_brush; }
+    DragToolSettings& dragSettings() { return m_drag; }
+    /// Anchor mode the anchor tool sets (Pinned or Heavy).
+    AnchorMode anchorMode() const { return m_anchorMode; }
+    /// Selected nodes of the current object.
+    const std::set<int>& selection() const { return m_selection; }
+    /// The object the tools act on.
+    int currentObject() const { return m_object; }
+    /// Mean time to draw a frame, milliseconds (CPU side, including the node upload).
+    double frameMilliseconds() const { return m_frameMs; }
+    /// Why the viewport cannot draw (no OpenGL 3.3, shader error); empty when it can.
+    const QString& renderProblem() const { return m_renderProblem; }
+
+    /// Pixel position of a world point in this widget (for tools and tests).
+    QPointF toWidget(const Vec3& world) const;
+    /// Deformed positions of object i's mesh right now (CPU evaluation: picking, tests).
+    std::vector<Vec3f> deformedPositions(int object) const;
+
+public slots:
+    void setTool(softtouch::ui::Tool tool);
+    void setShadeMode(softtouch::render::ShadeMode mode);
+    void setNavigationStyle(softtouch::ui::NavigationStyle style);
+    void setOverlayVisible(bool visible);
+    void setAnchorMode(softtouch::AnchorMode mode);
+    void setCurrentObject(int object);
+    void setSelection(const std::set<int>& nodes);
+    /// Frames every object.
+    void frameAll();
+    void viewFront();
+    void viewSide();
+    void viewTop();
+
+signals:
+    void toolChanged(softtouch::ui::Tool tool);
+    void selectionChanged();
+    /// A one-line hint for the status bar (what the tool would do, what was picked).
+    void hint(const QString& text);
+
+protected:
+    void initializeGL() override;
+    void resizeGL(int w, int h) override;
+    void paintGL() override;
+    void mousePressEvent(QMouseEvent* event) override;
+    void mouseMoveEvent(QMouseEvent* event) override;
+    void mouseReleaseEvent(QMouseEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
+    void tabletEvent(QTabletEvent* event) override;
+    void keyPressEvent(QKeyEvent* event) override;
+
+private:
+    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box };
+    void uploadScene();
+    void updateOverlay(int object);
+    Gesture navigationFor(const QMouseEvent* event) const;
+    std::vector<Eigen::Vector2d> nodeScreenPositions(int object) const;
+    int nodeAt(const QPointF& pos, double radiusPixels = 14.0) const;
+    void beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers);
+    void moveDrag(const QPointF& pos);
+    void paintDab(const QPointF& pos);
+    void applyNodeTool(const std::vector<int>& nodes, bool clear);
+    std::vector<int> nodesInRect(const QRectF& rect) const;
+    int grabSlotDragged() const { return m_dragSlot; }
+
+    Document* m_document;
+    SimulationController* m_simulation;
+    render::MeshRenderer m_renderer;
+    bool m_glReady = false;
+    bool m_sceneDirty = true;
+    QString m_renderProblem;
+    OrbitCamera m_camera;
+    Tool m_tool = Tool::Drag;
+    render::ShadeMode m_shadeMode = render::ShadeMode::Shaded;
+    NavigationStyle m_navigation = NavigationStyle::Maya;
+    bool m_overlayVisible = true;
+    AnchorMode m_anchorMode = AnchorMode::Pinned;
+    BrushSettings m_brush;
+    DragToolSettings m_drag;
+    std::set<int> m_selection;
+    int m_object = 0;
+
+    Gesture m_gesture = Gesture::None;
+    QPointF m_pressPos;
+    QPointF m_lastPos;
+    Qt::KeyboardModifiers m_pressModifiers;
+    int m_dragSlot = -1;
+    Vec3 m_dragDepthPoint = Vec3::Zero();
+    Vec3 m_grabOffset = Vec3::Zero();
+    double m_pressure = 1.0;
+    int m_nextStrokeKey = 1000;  // kFirstStrokeKey
+    int m_strokeKey = -1;
+    double m_frameMs = 0.0;
+};
+
+}  // namespace softtouch::ui
