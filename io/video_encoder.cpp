@@ -273,8 +273,13 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::open(const VideoSettings& se
         if (settings.width % 2 != 0 || settings.height % 2 != 0)
             return impl->error("MP4 (yuv420p) needs an even width and height, got " + std::to_string(settings.width) +
                                "x" + std::to_string(settings.height));
-        const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
-        if (encoder == nullptr) {
+        const AVCodec* encoder = nullptr;
+        if (!settings.mp4Encoder.empty()) {
+            impl->codecName = settings.mp4Encoder;
+            encoder = avcodec_find_encoder_by_name(settings.mp4Encoder.c_str());
+            if (encoder == nullptr || encoder->type != AVMEDIA_TYPE_VIDEO)
+                return impl->error("libavcodec has no video encoder of that name");
+        } else if (encoder = avcodec_find_encoder_by_name("libx264"); encoder == nullptr) {
             encoder = avcodec_find_encoder(AV_CODEC_ID_MPEG4);
             if (encoder == nullptr)
                 return impl->error("libavcodec has neither libx264 nor an MPEG-4 encoder");

@@ -38,6 +38,7 @@ struct VideoSettings {
     int height = 540;                      ///< Pixels, [16, 8192]; even for MP4 (yuv420p).
     double fps = 24.0;                     ///< Frames per second, (0, 240].
     int crf = 20;                          ///< H.264 constant rate factor, [0, 51]: lower is better and larger.
+    std::string mp4Encoder;                ///< MP4 encoder by libavcodec name; empty: libx264, else mpeg4 with a warning.
 };
 
 /// Streams RGBA frames into a video. Not copyable; destroying it before finish() discards everything.
