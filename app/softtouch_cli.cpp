@@ -1,4 +1,4 @@
-// softtouch-cli: the headless front end of SoftTouch (bake, validate). Parses the subcommand only.
+// softtouch-cli: the headless front end of SoftTouch (bake, render, validate). Parses the subcommand only.
 #include "app/cli_commands.h"
 
 #include <cstdio>
@@ -12,6 +12,7 @@ constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate
 
 Usage:
   softtouch-cli bake SCENE --out FILE [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
+  softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
   softtouch-cli bench [--json FILE] [--quick]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
@@ -21,6 +22,8 @@ Usage:
 Commands:
   bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
              it matches beside it. 'softtouch-cli bake --help' for details.
+  render     Simulate SCENE and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU
+             (EGL; no X server needed). 'softtouch-cli render --help' for details.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
   study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
@@ -49,6 +52,8 @@ int main(int argc, char** argv) {
     }
     if (command == "bake")
         return softtouch::cli::runBake(args);
+    if (command == "render")
+        return softtouch::cli::runRender(args);
     if (command == "validate")
         return softtouch::cli::runValidate(args);
     if (command == "bench")

@@ -11,15 +11,37 @@ std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheForm
     return rest.replace_extension(".obj");
 }
 
+Result<FrameTiming> resolveFrameTiming(const Scene& scene, int frames, double fps) {
+    FrameTiming timing;
+    timing.frames = frames > 0 ? frames : scene.world.frames;
+    timing.fps = fps > 0.0 ? fps : scene.world.fps;
+    if (!(std::isfinite(timing.fps) && timing.fps > 0.0 && timing.fps <= 1000.0))
+        return Status::error("fps must be in (0, 1000], got " + std::to_string(timing.fps));
+    if (timing.frames < 1)
+        return Status::error("the frame count must be at least 1, got " + std::to_string(timing.frames));
+    return timing;
+}
+
+Status simulateFrames(SceneSimulation& simulation, const FrameTiming& timing, std::vector<std::string>* warnings,
+                      const std::function<Status(int frame)>& onFrame) {
+    for (int f = 0; f < timing.frames; ++f) {
+        simulation.advanceTo(double(f) / timing.fps, warnings);
+        if (Status s = onFrame(f); !s)
+            return s;
+    }
+    return Status::success();
+}
+
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     auto simulation = SceneSimulation::create(scene);
     if (!simulation)
         return Status::error(simulation.message());
     SceneSimulation& sim = simulation.value();
-    const int frames = options.frames > 0 ? options.frames : scene.world.frames;
-    const double fps = options.fps > 0.0 ? options.fps : scene.world.fps;
-    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
-        return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
+    auto timing = resolveFrameTiming(scene, options.frames, options.fps);
+    if (!timing)
+        return Status::error(timing.message());
+    const int frames = timing->frames;
+    const double fps = timing->fps;
 
     // The rest mesh of all objects, concatenated in scene order: the cache's vertex order.
     Mesh rest;
@@ -49,22 +71,22 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         return s;
 
     std::vector<Vec3f> frame(rest.positions.size());
-    for (int f = 0; f < frames; ++f) {
-        sim.advanceTo(double(f) / fps, &result.warnings);
+    const Status simulated = simulateFrames(sim, timing.value(), &result.warnings, [&](int f) -> Status {
         std::size_t offset = 0;
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
             const std::size_t n = sim.object(i).mesh.positions.size();
             sim.evaluate(i, std::span<Vec3f>(frame).subspan(offset, n), {}, options.threads);
             offset += n;
         }
-        if (Status s = writer->writeFrame(frame); !s) {
-            writer->abort();
+        if (Status s = writer->writeFrame(frame); !s)
             return s;
-        }
-        if (options.progress && !options.progress(f + 1, frames)) {
-            writer->abort();
+        if (options.progress && !options.progress(f + 1, frames))
             return Status::error("the bake was cancelled; nothing was written");
-        }
+        return Status::success();
+    });
+    if (!simulated) {
+        writer->abort();
+        return simulated;
     }
     // The rest mesh first: a cache is never published without the mesh it matches.
     if (Status s = writeObj(result.restMesh, rest); !s) {

@@ -37,6 +37,21 @@ struct BakeResult {
 /// --out path itself).
 std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format);
 
+/// Frame count and rate of a run: the requested values, or the scene's where 0 was asked for.
+struct FrameTiming {
+    int frames = 0;    ///< Frames, >= 1.
+    double fps = 0.0;  ///< Frames per second, (0, 1000].
+};
+
+/// Resolves and checks a requested frame count and rate against the scene's defaults.
+Result<FrameTiming> resolveFrameTiming(const Scene& scene, int frames, double fps);
+
+/// The frame loop every frame-by-frame output shares (bake, video render): for f = 0..frames-1,
+/// advances `simulation` to f / fps and calls `onFrame(f)`; stops at the first failure and returns it.
+/// Simulation problems are appended to `warnings`.
+Status simulateFrames(SceneSimulation& simulation, const FrameTiming& timing, std::vector<std::string>* warnings,
+                      const std::function<Status(int frame)>& onFrame);
+
 /// Simulates `scene` from its rest state and writes the cache and the rest mesh.
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);
 

@@ -16,6 +16,7 @@ packages=(
   fonts-dejavu-core       # text in plots rendered headless (study)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
   libegl-dev libgl-dev    # render/: OpenGL 3.3 core through glvnd, headless EGL context
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
   libegl-mesa0 libgl1-mesa-dri  # runtime: Mesa's EGL (surfaceless platform) and llvmpipe when there is no GPU
 )
 

@@ -1,0 +1,201 @@
+// softtouch-cli render: simulate a scene and write a video, headless (EGL, no X server).
+#include "app/cli_commands.h"
+
+#include "io/bake.h"
+#include "io/project_file.h"
+#include "io/video_encoder.h"
+#include "render/egl_context.h"
+#include "render/mesh_renderer.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+namespace softtouch::cli {
+namespace {
+
+constexpr const char* kRenderUsage = R"(Usage: softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [options]
+
+Simulate SCENE from its rest state (frame i at i/fps s, as bake does) and draw every frame with the
+GPU renderer in a headless EGL context (no X server needed; Mesa's llvmpipe when there is no GPU),
+from a 3/4 view framing the scene's rest bounds. Output by --out: .mp4 (H.264, yuv420p; MPEG-4
+Part 2 with a warning when libx264 is missing), .gif (256 colours, looping), or a directory
+(ending in '/' or existing) of frame_0000.png, ... . Nothing is replaced unless the render succeeds.
+
+Options:
+  --out PATH        Output (required).
+  --size WxH        Frame size in pixels (default 960x540; 16..8192; even for MP4).
+  --fps F           Frames per second (default: the scene's clip rate; at most 240).
+  --frames N        Frames to render (default: the scene's clip length).
+  --crf N           H.264 quality, 0..51, lower is better (default 20).
+  --quiet           No progress output.
+)";
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
+    return 1;
+}
+
+int usage(const std::string& message) {
+    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli render --help'\n", message.c_str());
+    return 2;
+}
+
+std::optional<double> parseNumber(const std::string& text) {
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+        return std::nullopt;
+    return value;
+}
+
+/// "WxH" with whole numbers in [16, 8192].
+std::optional<std::pair<int, int>> parseSize(const std::string& text) {
+    const std::size_t x = text.find('x');
+    if (x == std::string::npos)
+        return std::nullopt;
+    int w = 0, h = 0;
+    const char* begin = text.data();
+    const auto a = std::from_chars(begin, begin + x, w);
+    const auto b = std::from_chars(begin + x + 1, begin + text.size(), h);
+    if (a.ec != std::errc() || a.ptr != begin + x || b.ec != std::errc() || b.ptr != begin + text.size())
+        return std::nullopt;
+    if (w < 16 || h < 16 || w > 8192 || h > 8192)
+        return std::nullopt;
+    return std::pair{w, h};
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& args) {
+    std::string scenePath, outPath, sizeText = "960x540";
+    std::optional<double> frames, fps, crf;
+    bool quiet = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--help" || a == "-h") {
+            std::fputs(kRenderUsage, stdout);
+            return 0;
+        }
+        if (a == "--quiet") {
+            quiet = true;
+        } else if (a == "--out" || a == "--size" || a == "--fps" || a == "--frames" || a == "--crf") {
+            if (i + 1 >= args.size())
+                return usage(a + " needs a value");
+            const std::string& v = args[++i];
+            if (a == "--out") {
+                outPath = v;
+            } else if (a == "--size") {
+                sizeText = v;
+            } else {
+                const auto n = parseNumber(v);
+                if (!n)
+                    return fail(a + " expects a number, got '" + v + "'");
+                (a == "--frames" ? frames : a == "--fps" ? fps : crf) = *n;
+            }
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown option '" + a + "'");
+        } else if (scenePath.empty()) {
+            scenePath = a;
+        } else {
+            return usage("unexpected argument '" + a + "'");
+        }
+    }
+    if (scenePath.empty())
+        return usage("render needs a SCENE file");
+    if (outPath.empty())
+        return usage("render needs --out FILE.mp4, FILE.gif or DIR/");
+    const auto format = io::videoFormatFromPath(outPath);
+    if (!format)
+        return usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
+    const auto size = parseSize(sizeText);
+    if (!size)
+        return fail("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+    if (frames && (*frames < 1 || *frames > 1e6 || std::floor(*frames) != *frames))
+        return fail("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+    if (fps && (*fps <= 0 || *fps > 240))
+        return fail("--fps must be in (0, 240], got " + std::to_string(*fps));
+    if (crf && (*crf < 0 || *crf > 51 || std::floor(*crf) != *crf))
+        return fail("--crf must be a whole number in [0, 51], got " + std::to_string(*crf));
+
+    auto project = io::loadProject(scenePath);
+    if (!project)
+        return fail(project.message());
+    const Scene& scene = project->scene;
+    auto timing = io::resolveFrameTiming(scene, frames ? int(*frames) : 0, fps.value_or(0.0));
+    if (!timing)
+        return fail(timing.message());
+    auto simulation = SceneSimulation::create(scene);
+    if (!simulation)
+        return fail(simulation.message());
+
+    io::VideoSettings settings;
+    settings.output = outPath;
+    settings.format = *format;
+    settings.width = size->first;
+    settings.height = size->second;
+    settings.fps = timing->fps;
+    settings.crf = crf ? int(*crf) : 20;
+    auto encoder = io::VideoEncoder::open(settings);
+    if (!encoder)
+        return fail(encoder.message());
+
+    auto context = render::EglContext::create(settings.width, settings.height, 4);
+    if (!context)
+        return fail("cannot create a headless OpenGL context: " + context.message());
+    render::MeshRenderer renderer;
+    if (Status s = renderer.initialize(); !s)
+        return fail(s.message());
+    Bounds bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+    for (const SceneObject& object : scene.objects) {
+        auto id = renderer.addObject(object.mesh, object.lattice);
+        if (!id)
+            return fail("object '" + object.name + "': " + id.message());
+        const Bounds b = object.mesh.bounds();
+        bounds.min = bounds.min.cwiseMin(b.min);
+        bounds.max = bounds.max.cwiseMax(b.max);
+    }
+    // Room for the motion: the camera frames the rest bounds grown by a tenth on each side.
+    const Vec3 margin = 0.1 * (bounds.max - bounds.min);
+    bounds.min -= margin;
+    bounds.max += margin;
+    renderer.setPlanes(scene.world.planes, float(bounds.diagonal()));
+    const render::Camera camera = render::frameBounds(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f),
+                                                      float(settings.width) / float(settings.height));
+
+    std::vector<std::string> warnings;
+    std::vector<std::uint8_t> pixels;
+    SceneSimulation& sim = simulation.value();
+    const Status rendered = io::simulateFrames(sim, timing.value(), &warnings, [&](int f) -> Status {
+        for (std::size_t i = 0; i < sim.objectCount(); ++i)
+            renderer.setNodes(int(i), sim.simulator(i).state().position);
+        context.value()->bindFramebuffer();
+        renderer.draw(camera, settings.width, settings.height);
+        if (Status s = context.value()->readPixels(pixels); !s)
+            return s;
+        if (Status s = encoder.value()->writeFrame(pixels); !s)
+            return s;
+        if (!quiet && (f + 1 == timing->frames || (f + 1) % 24 == 0))
+            std::fprintf(stderr, "\rrendering frame %d/%d%s", f + 1, timing->frames, f + 1 == timing->frames ? "\n" : "");
+        return Status::success();
+    });
+    renderer.release();
+    if (!rendered) {
+        encoder.value()->abort();
+        return fail(rendered.message());
+    }
+    if (Status s = encoder.value()->finish(); !s)
+        return fail(s.message());
+    for (const std::string& w : encoder.value()->warnings())
+        std::fprintf(stderr, "softtouch-cli: warning: %s\n", w.c_str());
+    const std::size_t shown = std::min<std::size_t>(warnings.size(), 5);
+    for (std::size_t i = 0; i < shown; ++i)
+        std::fprintf(stderr, "softtouch-cli: warning: %s\n", warnings[i].c_str());
+    std::printf("wrote %s (%s, %dx%d, %d frames at %g fps; %s)\n", outPath.c_str(), encoder.value()->codecName().c_str(),
+                settings.width, settings.height, encoder.value()->frameCount(), settings.fps,
+                context.value()->description().c_str());
+    return 0;
+}
+
+}  // namespace softtouch::cli
