@@ -11,7 +11,7 @@ namespace {
 constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches
 
 Usage:
-  softtouch-cli bake SCENE --out FILE [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
+  softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
   softtouch-cli validate FILE...
   softtouch-cli bench [--json FILE] [--quick]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]

@@ -3,6 +3,7 @@
 /// JsonValue (errors name the file, the JSON pointer and what was expected) and written atomically.
 /// Schema: docs/project-format.md.
 
+#include "core/clip.h"
 #include "core/scene.h"
 #include "io/json_reader.h"
 
@@ -12,8 +13,9 @@
 
 namespace softtouch::io {
 
-/// Version written by this build; older versions are read, newer ones refused.
-constexpr int kProjectVersion = 1;
+/// Version written by this build; older versions are read, newer ones refused. Version 2 adds the
+/// clip library (clips, sessions, keyframes); version 1 files read as projects without clips.
+constexpr int kProjectVersion = 2;
 constexpr int kPresetVersion = 1;
 
 /// A loaded project: the scene plus what is needed to write it back.
@@ -21,6 +23,7 @@ struct Project {
     std::filesystem::path path;              ///< The file it was loaded from.
     Scene scene;                             ///< Everything the engine needs.
     std::vector<std::string> meshReferences; ///< Per object, the mesh path as written (relative to the project).
+    ClipLibrary clips;                       ///< Clips, sessions and keyframe sets (version 2); validated on load.
 };
 
 /// A shareable material: scalar values that apply to any lattice.
