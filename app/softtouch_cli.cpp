@@ -13,6 +13,7 @@ constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate
 Usage:
   softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
   softtouch-cli validate FILE...
+  softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
   softtouch-cli stability [--out FILE.md] [--quick]
@@ -22,6 +23,8 @@ Commands:
   bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
              it matches beside it. 'softtouch-cli bake --help' for details.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
+  preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
+             one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
   study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
@@ -51,6 +54,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runBake(args);
     if (command == "validate")
         return softtouch::cli::runValidate(args);
+    if (command == "preset")
+        return softtouch::cli::runPreset(args);
     if (command == "bench")
         return softtouch::cli::runBench(args);
     if (command == "study")

@@ -3,6 +3,7 @@
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace softtouch::io {
@@ -710,7 +711,7 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
             root.checkKeys({"format", "version", "kind", "name", "description", "material"});
             const auto kind = root["kind"].string(true);
             if (kind && *kind != "material")
-                root["kind"].problem("expected \"material\", got \"" + *kind + "\"");
+                root["kind"].problem("expected \"material\", got \"" + *kind + "\" (a setup preset is loaded as a setup)");
             MaterialPreset preset;
             preset.name = root["name"].string(true).value_or("");
             preset.description = root["description"].string().value_or("");
@@ -750,6 +751,14 @@ std::vector<std::string> validateFile(const fs::path& path) {
     const std::string format = doc->is_object() && doc->contains("format") && (*doc)["format"].is_string()
                                    ? (*doc)["format"].get<std::string>()
                                    : std::string();
+    if (format == kPresetFormat && (*doc).contains("kind") && (*doc)["kind"] == "setup") {
+        auto setup = loadSetupPreset(path);
+        if (setup)
+            return {};
+        JsonIssues all(path.string());
+        all.addGeneral(setup.message());
+        return all.messages();
+    }
     if (format == kPresetFormat) {
         auto preset = loadMaterialPreset(path);
         if (preset)
@@ -800,6 +809,16 @@ json driverJson(const Driver& driver) {
     return {{"type", "swim"},           {"point", vec(s.point)},   {"direction", vec(s.direction)},
             {"frequency", s.frequencyHz}, {"amplitude", s.amplitude}, {"phase", s.phase},
             {"ramp", s.rampSeconds},     {"stiffness", s.stiffness}, {"damping", s.damping}};
+}
+
+json clipJson(const Clip& c) {
+    json out = {{"name", c.name}, {"source", clipSourceName(c.source)}, {"start", c.startSeconds},
+                {"frames", c.frames}, {"fps", c.fps}, {"loop", c.loop}, {"blend", c.blendFrames}};
+    if (!c.sourceName.empty())
+        out["of"] = c.sourceName;
+    if (c.goals)
+        out["goals"] = {{"stiffness", c.goals->stiffness}, {"damping", c.goals->damping}, {"weight", c.goals->weight}};
+    return out;
 }
 
 json dragJson(const DragSpring& d) {
@@ -871,22 +890,38 @@ void writeClipLibrary(const ClipLibrary& lib, json& doc) {
     }
     if (!lib.clips.empty() || !lib.defaultClip.empty()) {
         json list = json::array();
-        for (const Clip& c : lib.clips) {
-            json out = {{"name", c.name}, {"source", clipSourceName(c.source)}, {"start", c.startSeconds},
-                        {"frames", c.frames}, {"fps", c.fps}, {"loop", c.loop}, {"blend", c.blendFrames}};
-            if (!c.sourceName.empty())
-                out["of"] = c.sourceName;
-            if (c.goals)
-                out["goals"] = {{"stiffness", c.goals->stiffness}, {"damping", c.goals->damping},
-                                {"weight", c.goals->weight}};
-            list.push_back(out);
-        }
+        for (const Clip& c : lib.clips)
+            list.push_back(clipJson(c));
         json clips = {{"library", list}};
         if (!lib.defaultClip.empty())
             clips["default"] = lib.defaultClip;
         doc["clips"] = clips;
     }
 }
+
+/// The material, anchors and voids of a lattice as a project object writes them.
+void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& object) {
+    object["material"] = {{"mass", perNode(m.mass)},
+                          {"stiffness", perNode(m.stiffness)},
+                          {"damping", perNode(m.damping)},
+                          {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
+                          {"anisotropy", vec(m.anisotropy)},
+                          {"heavyAnchorRatio", m.heavyAnchorRatio},
+                          {"airDamping", m.airDamping}};
+    std::vector<int> pinned, heavy, voids;
+    for (int n = 0; n < lattice.nodeCount(); ++n) {
+        if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
+        if (m.anchor[std::size_t(n)] == AnchorMode::Heavy) heavy.push_back(n);
+        if (m.isVoid[std::size_t(n)]) voids.push_back(n);
+    }
+    json anchors = json::array();
+    if (!pinned.empty()) anchors.push_back({{"mode", "pinned"}, {"nodes", nodeList(lattice, pinned)}});
+    if (!heavy.empty()) anchors.push_back({{"mode", "heavy"}, {"nodes", nodeList(lattice, heavy)}});
+    object["anchors"] = anchors;
+    if (!voids.empty())
+        object["voids"] = {{"nodes", nodeList(lattice, voids)}};
+}
+
 
 }  // namespace
 
@@ -902,7 +937,6 @@ Status saveProject(const Project& project, const fs::path& path) {
     json objects = json::array();
     for (std::size_t i = 0; i < project.scene.objects.size(); ++i) {
         const SceneObject& o = project.scene.objects[i];
-        const LatticeMaterial& m = o.material;
         const OrientedBox& box = o.lattice.box();
         json lattice = {
             {"kind", o.lattice.shape().kind == LatticeKind::Bezier ? "bezier" : "bspline"},
@@ -911,33 +945,14 @@ Status saveProject(const Project& project, const fs::path& path) {
              {{"origin", vec(box.origin)},
               {"size", vec(box.size)},
               {"axes", json::array({vec(box.axes.col(0)), vec(box.axes.col(1)), vec(box.axes.col(2))})}}}};
-        json material = {{"mass", perNode(m.mass)},
-                         {"stiffness", perNode(m.stiffness)},
-                         {"damping", perNode(m.damping)},
-                         {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
-                         {"anisotropy", vec(m.anisotropy)},
-                         {"heavyAnchorRatio", m.heavyAnchorRatio},
-                         {"airDamping", m.airDamping}};
-        std::vector<int> pinned, heavy, voids;
-        for (int n = 0; n < o.lattice.nodeCount(); ++n) {
-            if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
-            if (m.anchor[std::size_t(n)] == AnchorMode::Heavy) heavy.push_back(n);
-            if (m.isVoid[std::size_t(n)]) voids.push_back(n);
-        }
-        json anchors = json::array();
-        if (!pinned.empty()) anchors.push_back({{"mode", "pinned"}, {"nodes", nodeList(o.lattice, pinned)}});
-        if (!heavy.empty()) anchors.push_back({{"mode", "heavy"}, {"nodes", nodeList(o.lattice, heavy)}});
         json drivers = json::array();
         for (const Driver& d : o.drivers)
             drivers.push_back(driverJson(d));
         json object = {{"name", o.name},
                        {"mesh", rebased(i < project.meshReferences.size() ? project.meshReferences[i] : std::string())},
                        {"lattice", lattice},
-                       {"material", material},
-                       {"anchors", anchors},
                        {"drivers", drivers}};
-        if (!voids.empty())
-            object["voids"] = {{"nodes", nodeList(o.lattice, voids)}};
+        writeMaterial(o.lattice, o.material, object);
         objects.push_back(object);
     }
     const WorldSettings& w = project.scene.world;
@@ -957,6 +972,190 @@ Status saveProject(const Project& project, const fs::path& path) {
                       {"clip", {{"frames", w.frames}, {"fps", w.fps}}}};
     writeClipLibrary(project.clips, doc);
     return writeFileAtomically(path, doc.dump(2) + "\n");
+}
+
+// --- Setup presets. ---------------------------------------------------------------------------
+
+Result<SetupPreset> setupFromProject(const Project& project, std::size_t object) {
+    if (object >= project.scene.objects.size())
+        return Status::error("the project has no object " + std::to_string(object));
+    const SceneObject& o = project.scene.objects[object];
+    SetupPreset preset;
+    preset.name = o.name;
+    preset.shape = o.lattice.shape();
+    preset.material = o.material;
+    preset.drivers = o.drivers;
+    for (const Clip& c : project.clips.clips) {
+        if (c.source == ClipSource::Drivers)
+            preset.clips.push_back(c);
+    }
+    return preset;
+}
+
+Status saveSetupPreset(const SetupPreset& preset, const fs::path& path) {
+    auto lattice = Lattice::create(preset.shape, OrientedBox{});
+    if (!lattice)
+        return Status::error(path.string() + ": " + lattice.message());
+    if (preset.material.mass.size() != std::size_t(lattice->nodeCount()))
+        return Status::error(path.string() + ": the material has " + std::to_string(preset.material.mass.size()) +
+                             " nodes, the lattice " + std::to_string(lattice->nodeCount()));
+    json body = {{"format", kPresetFormat},
+                 {"version", kPresetVersion},
+                 {"kind", "setup"},
+                 {"name", preset.name},
+                 {"description", preset.description},
+                 {"lattice",
+                  {{"kind", preset.shape.kind == LatticeKind::Bezier ? "bezier" : "bspline"},
+                   {"nodes", {preset.shape.nodes[0], preset.shape.nodes[1], preset.shape.nodes[2]}}}}};
+    writeMaterial(lattice.value(), preset.material, body);
+    json drivers = json::array();
+    for (const Driver& d : preset.drivers)
+        drivers.push_back(driverJson(d));
+    body["drivers"] = drivers;
+    json clips = json::array();
+    for (const Clip& c : preset.clips)
+        clips.push_back(clipJson(c));
+    body["clips"] = clips;
+    return writeFileAtomically(path, body.dump(2) + "\n");
+}
+
+Result<SetupPreset> loadSetupPreset(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return Status::error(issues.summary());
+    const JsonValue root(&*doc, "", &issues);
+    if (!readHeader(root, kPresetFormat, kPresetVersion))
+        return Status::error(issues.summary());
+    root.checkKeys({"format", "version", "kind", "name", "description", "lattice", "material", "anchors", "voids",
+                    "drivers", "clips"});
+    const auto kind = root["kind"].string(true);
+    if (kind && *kind != "setup") {
+        root["kind"].problem("expected \"setup\", got \"" + *kind + "\" (a material preset is applied through a project's material.preset)");
+        return Status::error(issues.summary());
+    }
+    SetupPreset preset;
+    preset.name = root["name"].string(true).value_or("");
+    preset.description = root["description"].string().value_or("");
+    const JsonValue lat = root["lattice"];
+    if (lat.expectObject(true)) {
+        lat.checkKeys({"kind", "nodes"});
+        if (auto k = lat["kind"].string()) {
+            if (*k == "bspline")
+                preset.shape.kind = LatticeKind::BSpline;
+            else if (*k != "bezier")
+                lat["kind"].problem("expected \"bezier\" or \"bspline\", got \"" + *k + "\"");
+        }
+        if (auto n = lat["nodes"].int3(2, 64, true))
+            preset.shape.nodes = *n;
+        if (Status st = preset.shape.validate(); !st)
+            lat["nodes"].problem(st.message());
+    }
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    // Painted maps are per node of the preset's own lattice; the box does not matter (parameters).
+    const Lattice lattice = Lattice::create(preset.shape, OrientedBox{}).value();
+    preset.material = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    std::optional<double> totalMass;
+    readMaterial(root["material"], preset.material, totalMass, false, path.parent_path());
+    if (const JsonValue anchors = root["anchors"]; anchors.exists()) {
+        if (!anchors.isArray())
+            anchors.problem("expected an array of anchor groups");
+        for (std::size_t i = 0; i < anchors.size(); ++i) {
+            const JsonValue a = anchors.at(i);
+            if (!a.expectObject(true))
+                continue;
+            a.checkKeys({"mode", "nodes", "region"});
+            AnchorMode mode = AnchorMode::Pinned;
+            if (auto m = a["mode"].string()) {
+                if (*m == "heavy")
+                    mode = AnchorMode::Heavy;
+                else if (*m != "pinned")
+                    a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
+            }
+            for (int node : readNodeSelection(a, lattice))
+                preset.material.anchor[std::size_t(node)] = mode;
+        }
+    }
+    if (const JsonValue voids = root["voids"]; voids.expectObject()) {
+        voids.checkKeys({"nodes", "region"});
+        for (int node : readNodeSelection(voids, lattice))
+            preset.material.isVoid[std::size_t(node)] = 1;
+    }
+    if (totalMass) {
+        std::size_t solid = 0;
+        for (auto isVoid : preset.material.isVoid)
+            solid += isVoid == 0;
+        if (solid > 0)
+            preset.material.mass.assign(preset.material.mass.size(), *totalMass / double(solid));
+    }
+    if (const JsonValue drivers = root["drivers"]; drivers.exists()) {
+        if (!drivers.isArray())
+            drivers.problem("expected an array of drivers");
+        for (std::size_t i = 0; i < drivers.size(); ++i) {
+            if (auto d = readDriver(drivers.at(i))) {
+                if (Status st = validateDriver(*d); !st)
+                    drivers.at(i).problem(st.message());
+                else
+                    preset.drivers.push_back(*d);
+            }
+        }
+    }
+    if (const JsonValue clips = root["clips"]; clips.exists()) {
+        if (!clips.isArray())
+            clips.problem("expected an array of clips");
+        for (std::size_t i = 0; i < clips.size(); ++i) {
+            auto c = readClip(clips.at(i));
+            if (!c)
+                continue;
+            if (c->source != ClipSource::Drivers)
+                clips.at(i)["source"].problem("a setup preset carries drivers clips only (sessions and keys belong to one scene)");
+            else
+                preset.clips.push_back(*c);
+        }
+    }
+    if (issues.empty()) {
+        if (auto body = buildLatticeBody(lattice, preset.material); !body)
+            root["material"].problem(body.message());
+    }
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    return preset;
+}
+
+Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std::size_t object) {
+    if (object >= project.scene.objects.size())
+        return Status::error("the project has no object " + std::to_string(object));
+    SceneObject& o = project.scene.objects[object];
+    const LatticeShape& target = o.lattice.shape();
+    const bool sameShape = target.kind == preset.shape.kind && target.nodes == preset.shape.nodes;
+    if (sameShape) {
+        o.material = preset.material;
+    } else {
+        // The painted maps live on the preset's lattice; place it over this object's box and carry
+        // every value to the nearest node in lattice parameters, rescaled so the body stays the same
+        // material at the new spacing.
+        auto from = Lattice::create(preset.shape, o.lattice.box());
+        if (!from)
+            return Status::error("preset '" + preset.name + "': " + from.message());
+        o.material = resampleMaterial(from.value(), preset.material, o.lattice, true);
+    }
+    o.drivers = preset.drivers;
+    for (const Clip& c : preset.clips) {
+        auto& clips = project.clips.clips;
+        auto it = std::find_if(clips.begin(), clips.end(), [&](const Clip& x) { return x.name == c.name; });
+        if (it != clips.end())
+            *it = c;
+        else
+            clips.push_back(c);
+    }
+    if (auto body = buildLatticeBody(o.lattice, o.material); !body)
+        return Status::error("preset '" + preset.name + "' on object '" + o.name + "': " + body.message());
+    if (auto sim = SceneSimulation::create(project.scene); !sim)
+        return Status::error("preset '" + preset.name + "': " + sim.message());
+    if (Status st = project.clips.validate(project.scene); !st)
+        return Status::error("preset '" + preset.name + "': " + st.message());
+    return project;
 }
 
 }  // namespace softtouch::io

@@ -33,6 +33,18 @@ struct MaterialPreset {
     nlohmann::json material;         ///< The "material" object, validated (same keys as a project's).
 };
 
+/// A shareable object setup (preset kind "setup"): lattice resolution, painted per-node material
+/// with anchors and voids, drivers and the clips that play them. Material points of drivers are
+/// lattice parameters, so a setup applies to any mesh.
+struct SetupPreset {
+    std::string name;                ///< Shown in preset lists.
+    std::string description;         ///< One line for the user.
+    LatticeShape shape;              ///< Lattice kind and resolution the maps were painted on.
+    LatticeMaterial material;        ///< Per node of `shape` (i fastest), with anchors and voids.
+    std::vector<Driver> drivers;     ///< Headless motion.
+    std::vector<Clip> clips;         ///< Drivers clips only (sessions and keys belong to one scene).
+};
+
 /// Loads a project and its meshes and builds the scene. On failure the message is the first
 /// problem (and how many more there are).
 Result<Project> loadProject(const std::filesystem::path& path);
@@ -42,5 +54,19 @@ std::vector<std::string> validateFile(const std::filesystem::path& path);
 Status saveProject(const Project& project, const std::filesystem::path& path);
 /// Loads a material preset.
 Result<MaterialPreset> loadMaterialPreset(const std::filesystem::path& path);
+
+/// The setup of object `object` of a project (its lattice shape, material, drivers and the
+/// project's drivers clips).
+Result<SetupPreset> setupFromProject(const Project& project, std::size_t object);
+/// Writes a setup preset atomically.
+Status saveSetupPreset(const SetupPreset& preset, const std::filesystem::path& path);
+/// Loads and validates a setup preset; errors name the file, the JSON pointer and the problem.
+Result<SetupPreset> loadSetupPreset(const std::filesystem::path& path);
+/// Applies a setup to object `object` of `project`: the object keeps its mesh and lattice box; the
+/// material (with anchors and voids) is carried over node for node when the lattice shapes match and
+/// remapped with resampleMaterial (continuum scaling) when they differ; the drivers are replaced; the
+/// preset's clips are added (replacing clips of the same name). The result is validated (it builds
+/// and its clip library fits).
+Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std::size_t object);
 
 }  // namespace softtouch::io
