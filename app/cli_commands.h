@@ -13,5 +13,6 @@ int runBench(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);
 int runStability(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
+int runPreset(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

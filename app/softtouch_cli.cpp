@@ -11,9 +11,10 @@ namespace {
 constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches
 
 Usage:
-  softtouch-cli bake SCENE --out FILE [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
+  softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
   softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
+  softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
   softtouch-cli stability [--out FILE.md] [--quick]
@@ -25,6 +26,8 @@ Commands:
   render     Simulate SCENE and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU
              (EGL; no X server needed). 'softtouch-cli render --help' for details.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
+  preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
+             one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
   study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
@@ -56,6 +59,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runRender(args);
     if (command == "validate")
         return softtouch::cli::runValidate(args);
+    if (command == "preset")
+        return softtouch::cli::runPreset(args);
     if (command == "bench")
         return softtouch::cli::runBench(args);
     if (command == "study")

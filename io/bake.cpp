@@ -37,11 +37,49 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     if (!simulation)
         return Status::error(simulation.message());
     SceneSimulation& sim = simulation.value();
-    auto timing = resolveFrameTiming(scene, options.frames, options.fps);
-    if (!timing)
-        return Status::error(timing.message());
-    const int frames = timing->frames;
-    const double fps = timing->fps;
+
+    // A clip: its node frames are evaluated first (frames x nodes, small), the mesh streamed after.
+    const Clip* clip = nullptr;
+    if (options.clips) {
+        const std::string name = options.clip.empty() ? options.clips->defaultClip : options.clip;
+        if (!name.empty()) {
+            clip = options.clips->findClip(name);
+            if (!clip) {
+                std::string known;
+                for (const Clip& c : options.clips->clips)
+                    known += (known.empty() ? "" : ", ") + c.name;
+                return Status::error("no clip named '" + name + "' (the scene has: " + (known.empty() ? "none" : known) + ")");
+            }
+        }
+    } else if (!options.clip.empty()) {
+        return Status::error("no clip named '" + options.clip + "' (the scene has no clip library)");
+    }
+    BakeResult result;
+    NodeFrames clipFrames;
+    std::vector<Binding> bindings;
+    if (clip) {
+        if (options.fps > 0.0 && std::abs(options.fps - clip->fps) > 1e-9)
+            return Status::error("clip '" + clip->name + "' plays at " + std::to_string(clip->fps) +
+                                 " fps; bake it without --fps or change the clip");
+        auto evaluated = evaluateClip(scene, *options.clips, *clip, &result.warnings);
+        if (!evaluated)
+            return Status::error(evaluated.message());
+        clipFrames = std::move(evaluated.value());
+        if (clip->loop && clipFrames.nodes.size() >= 3)
+            result.seam = measureSeam(clipFrames);
+        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            Mesh m = sim.object(i).mesh;
+            if (m.normals.size() != m.positions.size())
+                m.computeNormals();
+            bindings.push_back(Binding::create(sim.object(i).lattice, m.positions, m.normals));
+        }
+        result.clip = clip->name;
+    }
+    const int clipLength = clip ? int(clipFrames.nodes.size()) : 0;
+    const int frames = options.frames > 0 ? options.frames : clip ? clipLength : scene.world.frames;
+    const double fps = clip ? clip->fps : options.fps > 0.0 ? options.fps : scene.world.fps;
+    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
+        return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
 
     // The rest mesh of all objects, concatenated in scene order: the cache's vertex order.
     Mesh rest;
@@ -57,7 +95,6 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     if (rest.normals.size() != rest.positions.size())
         rest.computeNormals();
 
-    BakeResult result;
     result.cache = options.format == CacheFormat::ObjSequence ? objSequenceFramePath(options.output, 0) : options.output;
     result.restMesh = restMeshPath(options.output, options.format);
     result.points = rest.positions.size();
@@ -71,22 +108,29 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         return s;
 
     std::vector<Vec3f> frame(rest.positions.size());
-    const Status simulated = simulateFrames(sim, timing.value(), &result.warnings, [&](int f) -> Status {
+    for (int f = 0; f < frames; ++f) {
+        if (!clip)
+            sim.advanceTo(double(f) / fps, &result.warnings);
+        // Past a clip's end: a loop cycles, anything else holds its last frame.
+        const int c = !clip ? 0 : clip->loop ? f % clipLength : std::min(f, clipLength - 1);
         std::size_t offset = 0;
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
             const std::size_t n = sim.object(i).mesh.positions.size();
-            sim.evaluate(i, std::span<Vec3f>(frame).subspan(offset, n), {}, options.threads);
+            const std::span<Vec3f> out = std::span<Vec3f>(frame).subspan(offset, n);
+            if (clip)
+                bindings[i].evaluate(clipFrames.nodes[std::size_t(c)][i], out, {}, options.threads);
+            else
+                sim.evaluate(i, out, {}, options.threads);
             offset += n;
         }
-        if (Status s = writer->writeFrame(frame); !s)
+        if (Status s = writer->writeFrame(frame); !s) {
+            writer->abort();
             return s;
-        if (options.progress && !options.progress(f + 1, frames))
+        }
+        if (options.progress && !options.progress(f + 1, frames)) {
+            writer->abort();
             return Status::error("the bake was cancelled; nothing was written");
-        return Status::success();
-    });
-    if (!simulated) {
-        writer->abort();
-        return simulated;
+        }
     }
     // The rest mesh first: a cache is never published without the mesh it matches.
     if (Status s = writeObj(result.restMesh, rest); !s) {

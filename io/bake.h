@@ -3,6 +3,7 @@
 /// rest mesh the cache matches written beside it. One frame in memory at a time; nothing is written
 /// unless everything succeeded; no non-finite frame ever reaches a file.
 
+#include "core/clip.h"
 #include "core/scene.h"
 #include "io/vertex_cache.h"
 
@@ -17,8 +18,13 @@ namespace softtouch::io {
 struct BakeOptions {
     std::filesystem::path output;           ///< Cache file (for an OBJ sequence: dir/name.obj).
     CacheFormat format = CacheFormat::Pc2;  ///< Cache format.
-    int frames = 0;                         ///< Frames to write; 0 takes the scene's clip length.
-    double fps = 0.0;                       ///< Frame rate; 0 takes the scene's.
+    int frames = 0;                         ///< Frames to write; 0 takes the clip's (or the scene's) length.
+                                            ///< More frames than a clip has: a loop clip cycles, others hold
+                                            ///< their last frame.
+    double fps = 0.0;                       ///< Frame rate; 0 takes the scene's. Must be 0 or the clip's for a clip.
+    const ClipLibrary* clips = nullptr;     ///< The project's clip library; nullptr: the drivers from frame 0.
+    std::string clip;                       ///< Clip of `clips` to bake; empty: the library's default clip, or
+                                            ///< the drivers from frame 0 when it has none.
     int threads = 0;                        ///< Deformation threads; 0 uses every hardware thread.
     /// Called after each frame with (frames done, total); returning false cancels the bake.
     std::function<bool(int, int)> progress;
@@ -31,6 +37,8 @@ struct BakeResult {
     int frames = 0;                  ///< Frames written.
     std::size_t points = 0;          ///< Vertices per frame.
     std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …).
+    std::string clip;                ///< The clip baked; empty for the drivers from frame 0.
+    std::optional<SeamMeasure> seam; ///< For a loop clip: its seam, measured on the lattice nodes.
 };
 
 /// Where the rest mesh of a cache goes: the cache path with extension .obj (an OBJ sequence's
@@ -52,7 +60,8 @@ Result<FrameTiming> resolveFrameTiming(const Scene& scene, int frames, double fp
 Status simulateFrames(SceneSimulation& simulation, const FrameTiming& timing, std::vector<std::string>* warnings,
                       const std::function<Status(int frame)>& onFrame);
 
-/// Simulates `scene` from its rest state and writes the cache and the rest mesh.
+/// Simulates `scene` from its rest state (or evaluates a clip of `options.clips`) and writes the cache
+/// and the rest mesh.
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);
 
 }  // namespace softtouch::io

@@ -3,6 +3,7 @@
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace softtouch::io {
@@ -391,6 +392,287 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
     }
 }
 
+// --- Version 2: the clip library. -------------------------------------------------------------
+
+std::optional<DragSpring> readDrag(const JsonValue& v, std::size_t nodes) {
+    if (!v.expectObject(true))
+        return std::nullopt;
+    v.checkKeys({"support", "target", "targetVelocity", "stiffness", "damping"});
+    DragSpring d;
+    const JsonValue support = v["support"];
+    if (!support.isArray() || support.size() == 0) {
+        support.problem("expected a non-empty array of [node, weight] pairs");
+        return std::nullopt;
+    }
+    for (std::size_t i = 0; i < support.size(); ++i) {
+        const JsonValue pair = support.at(i);
+        if (pair.size() != 2) {
+            pair.problem("expected [node, weight]");
+            return std::nullopt;
+        }
+        const auto node = pair.at(0).integer(0, int(nodes) - 1, true);
+        const auto weight = pair.at(1).number(-1e3, 1e3, "", true);
+        if (!node || !weight)
+            return std::nullopt;
+        d.support.push_back(NodeWeight{std::uint32_t(*node), *weight});
+    }
+    const auto target = v["target"].vec3(true);
+    if (!target)
+        return std::nullopt;
+    d.target = *target;
+    if (auto x = v["targetVelocity"].vec3()) d.targetVelocity = *x;
+    if (auto x = v["stiffness"].number(0.0, 1e9, "N/m")) d.stiffness = *x;
+    if (auto x = v["damping"].number(0.0, 1e6, "N·s/m")) d.damping = *x;
+    return d;
+}
+
+std::optional<std::vector<DragSpring>> readDrags(const JsonValue& v, std::size_t nodes) {
+    if (!v.isArray()) {
+        v.problem("expected an array of drag springs");
+        return std::nullopt;
+    }
+    std::vector<DragSpring> drags;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        auto d = readDrag(v.at(i), nodes);
+        if (!d)
+            return std::nullopt;
+        drags.push_back(std::move(*d));
+    }
+    return drags;
+}
+
+/// Flat [x,y,z, x,y,z, …] of `count` points.
+bool readPoints(const JsonValue& v, std::size_t count, std::vector<Vec3>& out) {
+    if (!v.isArray() || v.size() != 3 * count) {
+        v.problem("expected " + std::to_string(3 * count) + " numbers (x, y, z of each of " + std::to_string(count) +
+                  " lattice nodes)");
+        return false;
+    }
+    out.assign(count, Vec3::Zero());
+    for (std::size_t i = 0; i < 3 * count; ++i) {
+        const auto x = v.at(i).number(-1e12, 1e12, "", true);
+        if (!x)
+            return false;
+        out[i / 3][Eigen::Index(i % 3)] = *x;
+    }
+    return true;
+}
+
+std::optional<NamedSession> readSession(const JsonValue& v, const Scene& scene) {
+    if (!v.expectObject(true))
+        return std::nullopt;
+    v.checkKeys({"name", "dt", "start", "end", "startDrags", "events"});
+    NamedSession named;
+    named.name = v["name"].string(true).value_or("");
+    Session& s = named.session;
+    const auto dt = v["dt"].number(1e-7, 0.1, "s", true);
+    if (!dt)
+        return std::nullopt;
+    s.dt = *dt;
+    const JsonValue start = v["start"];
+    if (!start.expectObject(true))
+        return std::nullopt;
+    start.checkKeys({"step", "bodies"});
+    const auto step = start["step"].integer(0, 2000000000, true);
+    const JsonValue bodies = start["bodies"];
+    if (!step)
+        return std::nullopt;
+    s.start.step = *step;
+    if (bodies.size() != scene.objects.size()) {
+        bodies.problem("expected one body state per object (" + std::to_string(scene.objects.size()) + ")");
+        return std::nullopt;
+    }
+    std::vector<std::size_t> nodes;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        const JsonValue b = bodies.at(i);
+        if (!b.expectObject(true))
+            return std::nullopt;
+        b.checkKeys({"position", "velocity"});
+        nodes.push_back(std::size_t(scene.objects[i].lattice.nodeCount()));
+        BodyState state;
+        if (!readPoints(b["position"], nodes.back(), state.position) ||
+            !readPoints(b["velocity"], nodes.back(), state.velocity))
+            return std::nullopt;
+        s.start.bodies.push_back(std::move(state));
+    }
+    const auto end = v["end"].integer(0, 2000000000, true);
+    if (!end)
+        return std::nullopt;
+    s.endStep = *end;
+    if (const JsonValue drags = v["startDrags"]; drags.exists()) {
+        if (drags.size() != nodes.size()) {
+            drags.problem("expected one list of drags per object (" + std::to_string(nodes.size()) + ")");
+            return std::nullopt;
+        }
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+            auto d = readDrags(drags.at(i), nodes[i]);
+            if (!d)
+                return std::nullopt;
+            s.startDrags.push_back(std::move(*d));
+        }
+    }
+    const JsonValue events = v["events"];
+    if (events.exists() && !events.isArray())
+        events.problem("expected an array of events");
+    for (std::size_t e = 0; e < events.size(); ++e) {
+        const JsonValue ev = events.at(e);
+        if (!ev.expectObject(true))
+            return std::nullopt;
+        ev.checkKeys({"step", "object", "drags"});
+        const auto at = ev["step"].integer(0, 2000000000, true);
+        const auto object = ev["object"].integer(0, int(nodes.size()) - 1, true);
+        if (!at || !object)
+            return std::nullopt;
+        auto d = readDrags(ev["drags"], nodes[std::size_t(*object)]);
+        if (!d)
+            return std::nullopt;
+        s.events.push_back(DragEvent{*at, std::uint32_t(*object), std::move(*d)});
+    }
+    // Order and ranges: the same checks a replay makes.
+    long long last = s.start.step;
+    for (std::size_t e = 0; e < s.events.size(); ++e) {
+        if (s.events[e].step < last || s.events[e].step > s.endStep) {
+            events.at(e)["step"].problem("event steps must not decrease and must lie in [start.step, end]");
+            return std::nullopt;
+        }
+        last = s.events[e].step;
+    }
+    if (s.endStep < s.start.step)
+        v["end"].problem("the session ends before it starts (start.step " + std::to_string(s.start.step) + ")");
+    return named;
+}
+
+std::optional<NamedKeyframes> readKeyframes(const JsonValue& v, const Scene& scene) {
+    if (!v.expectObject(true))
+        return std::nullopt;
+    v.checkKeys({"name", "objects"});
+    NamedKeyframes named;
+    named.name = v["name"].string(true).value_or("");
+    const JsonValue objects = v["objects"];
+    if (objects.size() != scene.objects.size()) {
+        objects.problem("expected one entry per object (" + std::to_string(scene.objects.size()) + ")");
+        return std::nullopt;
+    }
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+        const JsonValue o = objects.at(i);
+        if (!o.expectObject(true))
+            return std::nullopt;
+        o.checkKeys({"keys"});
+        const int nodes = scene.objects[i].lattice.nodeCount();
+        KeyframeAnimation anim{std::size_t(nodes)};
+        const JsonValue keys = o["keys"];
+        if (keys.exists() && !keys.isArray())
+            keys.problem("expected an array of keys");
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            const JsonValue key = keys.at(k);
+            if (!key.expectObject(true))
+                return std::nullopt;
+            key.checkKeys({"time", "nodes", "displacement"});
+            LatticeKey lk;
+            const auto t = key["time"].number(-1e6, 1e6, "s", true);
+            if (!t)
+                return std::nullopt;
+            lk.seconds = *t;
+            const JsonValue ns = key["nodes"], ds = key["displacement"];
+            if (!ns.isArray() || !ds.isArray() || ns.size() != ds.size()) {
+                key.problem("expected \"nodes\" (node indices, i fastest) and \"displacement\" ([x,y,z] per node) of equal length");
+                return std::nullopt;
+            }
+            for (std::size_t n = 0; n < ns.size(); ++n) {
+                const auto node = ns.at(n).integer(0, nodes - 1, true);
+                const auto d = ds.at(n).vec3(true);
+                if (!node || !d)
+                    return std::nullopt;
+                lk.nodes.push_back(std::uint32_t(*node));
+                lk.displacement.push_back(*d);
+            }
+            if (anim.keyAt(lk.seconds) >= 0) {
+                key["time"].problem("two keys at the same time");
+                return std::nullopt;
+            }
+            if (auto r = anim.insertKey(std::move(lk)); !r) {
+                key.problem(r.message());
+                return std::nullopt;
+            }
+        }
+        named.objects.push_back(std::move(anim));
+    }
+    return named;
+}
+
+std::optional<Clip> readClip(const JsonValue& v) {
+    if (!v.expectObject(true))
+        return std::nullopt;
+    v.checkKeys({"name", "source", "of", "start", "frames", "fps", "loop", "blend", "goals"});
+    Clip c;
+    c.name = v["name"].string(true).value_or("");
+    if (auto src = v["source"].string()) {
+        if (auto parsed = parseClipSource(*src))
+            c.source = *parsed;
+        else
+            v["source"].problem("expected \"drivers\", \"session\" or \"keyframes\", got \"" + *src + "\"");
+    }
+    if (auto x = v["of"].string()) c.sourceName = *x;
+    if (auto x = v["start"].number(0.0, 1e6, "s")) c.startSeconds = *x;
+    if (auto x = v["frames"].integer(1, 1000000)) c.frames = *x;
+    if (auto x = v["fps"].number(1e-3, 1000.0, "frames per second")) c.fps = *x;
+    if (auto x = v["loop"].boolean()) c.loop = *x;
+    if (auto x = v["blend"].integer(0, 1000000)) c.blendFrames = *x;
+    if (const JsonValue g = v["goals"]; g.expectObject()) {
+        g.checkKeys({"stiffness", "damping", "weight"});
+        GoalSettings goals;
+        if (auto x = g["stiffness"].number(0.0, 1e9, "N/m")) goals.stiffness = *x;
+        if (auto x = g["damping"].number(0.0, 1e6, "N·s/m")) goals.damping = *x;
+        if (auto x = g["weight"].number(0.0, 1e3)) goals.weight = *x;
+        c.goals = goals;
+    }
+    if (Status s = c.validate(); !s) {
+        v.problem(s.message());
+        return std::nullopt;
+    }
+    return c;
+}
+
+void readClipLibrary(const JsonValue& root, int version, Project& project) {
+    if (version < 2) {
+        for (const char* key : {"clips", "sessions", "keyframes"}) {
+            if (root[key].exists())
+                root[key].problem("clips, sessions and keyframes need project version 2");
+        }
+        return;
+    }
+    ClipLibrary& lib = project.clips;
+    if (const JsonValue sessions = root["sessions"]; sessions.exists()) {
+        if (!sessions.isArray())
+            sessions.problem("expected an array of sessions");
+        for (std::size_t i = 0; i < sessions.size(); ++i) {
+            if (auto s = readSession(sessions.at(i), project.scene))
+                lib.sessions.push_back(std::move(*s));
+        }
+    }
+    if (const JsonValue keyframes = root["keyframes"]; keyframes.exists()) {
+        if (!keyframes.isArray())
+            keyframes.problem("expected an array of keyframe sets");
+        for (std::size_t i = 0; i < keyframes.size(); ++i) {
+            if (auto k = readKeyframes(keyframes.at(i), project.scene))
+                lib.keyframes.push_back(std::move(*k));
+        }
+    }
+    if (const JsonValue clips = root["clips"]; clips.expectObject()) {
+        clips.checkKeys({"default", "library"});
+        const JsonValue list = clips["library"];
+        if (list.exists() && !list.isArray())
+            list.problem("expected an array of clips");
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            if (auto c = readClip(list.at(i)))
+                lib.clips.push_back(std::move(*c));
+        }
+        if (auto d = clips["default"].string()) lib.defaultClip = *d;
+    }
+    if (Status s = lib.validate(project.scene); !s)
+        root["clips"].problem(s.message());
+}
+
 /// Reads a whole project, collecting every problem.
 std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     const auto doc = parseJsonFile(path.string(), issues);
@@ -399,7 +681,7 @@ std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     const JsonValue root(&*doc, "", &issues);
     if (!readHeader(root, kProjectFormat, kProjectVersion))
         return std::nullopt;
-    root.checkKeys({"format", "version", "objects", "world", "simulation", "clip"});
+    root.checkKeys({"format", "version", "objects", "world", "simulation", "clip", "clips", "sessions", "keyframes"});
     Project project;
     project.path = path;
     const fs::path baseDir = path.parent_path();
@@ -409,6 +691,10 @@ std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     for (std::size_t i = 0; i < objects.size(); ++i)
         readObject(objects.at(i), baseDir, project, issues);
     readWorld(root, project.scene.world);
+    // The library refers to the objects' lattices: read it only onto a valid scene.
+    if (!issues.empty())
+        return std::nullopt;
+    readClipLibrary(root, root["version"].integer(1, 1000000).value_or(1), project);
     if (!issues.empty())
         return std::nullopt;
     return project;
@@ -425,7 +711,7 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
             root.checkKeys({"format", "version", "kind", "name", "description", "material"});
             const auto kind = root["kind"].string(true);
             if (kind && *kind != "material")
-                root["kind"].problem("expected \"material\", got \"" + *kind + "\"");
+                root["kind"].problem("expected \"material\", got \"" + *kind + "\" (a setup preset is loaded as a setup)");
             MaterialPreset preset;
             preset.name = root["name"].string(true).value_or("");
             preset.description = root["description"].string().value_or("");
@@ -465,6 +751,14 @@ std::vector<std::string> validateFile(const fs::path& path) {
     const std::string format = doc->is_object() && doc->contains("format") && (*doc)["format"].is_string()
                                    ? (*doc)["format"].get<std::string>()
                                    : std::string();
+    if (format == kPresetFormat && (*doc).contains("kind") && (*doc)["kind"] == "setup") {
+        auto setup = loadSetupPreset(path);
+        if (setup)
+            return {};
+        JsonIssues all(path.string());
+        all.addGeneral(setup.message());
+        return all.messages();
+    }
     if (format == kPresetFormat) {
         auto preset = loadMaterialPreset(path);
         if (preset)
@@ -517,6 +811,118 @@ json driverJson(const Driver& driver) {
             {"ramp", s.rampSeconds},     {"stiffness", s.stiffness}, {"damping", s.damping}};
 }
 
+json clipJson(const Clip& c) {
+    json out = {{"name", c.name}, {"source", clipSourceName(c.source)}, {"start", c.startSeconds},
+                {"frames", c.frames}, {"fps", c.fps}, {"loop", c.loop}, {"blend", c.blendFrames}};
+    if (!c.sourceName.empty())
+        out["of"] = c.sourceName;
+    if (c.goals)
+        out["goals"] = {{"stiffness", c.goals->stiffness}, {"damping", c.goals->damping}, {"weight", c.goals->weight}};
+    return out;
+}
+
+json dragJson(const DragSpring& d) {
+    json support = json::array();
+    for (const NodeWeight& w : d.support)
+        support.push_back(json::array({w.node, w.weight}));
+    return {{"support", support}, {"target", vec(d.target)}, {"targetVelocity", vec(d.targetVelocity)},
+            {"stiffness", d.stiffness}, {"damping", d.damping}};
+}
+
+json dragsJson(const std::vector<DragSpring>& drags) {
+    json out = json::array();
+    for (const DragSpring& d : drags)
+        out.push_back(dragJson(d));
+    return out;
+}
+
+json pointsJson(const std::vector<Vec3>& points) {
+    json out = json::array();
+    for (const Vec3& p : points) {
+        out.push_back(p.x());
+        out.push_back(p.y());
+        out.push_back(p.z());
+    }
+    return out;
+}
+
+/// The clip library as its three top-level members (nlohmann writes doubles with 17 significant
+/// digits, so session states read back bit for bit and replays stay exact).
+void writeClipLibrary(const ClipLibrary& lib, json& doc) {
+    if (!lib.sessions.empty()) {
+        json sessions = json::array();
+        for (const NamedSession& named : lib.sessions) {
+            const Session& s = named.session;
+            json bodies = json::array();
+            for (const BodyState& b : s.start.bodies)
+                bodies.push_back({{"position", pointsJson(b.position)}, {"velocity", pointsJson(b.velocity)}});
+            json startDrags = json::array();
+            for (const auto& drags : s.startDrags)
+                startDrags.push_back(dragsJson(drags));
+            json events = json::array();
+            for (const DragEvent& e : s.events)
+                events.push_back({{"step", e.step}, {"object", e.object}, {"drags", dragsJson(e.drags)}});
+            json out = {{"name", named.name}, {"dt", s.dt}, {"start", {{"step", s.start.step}, {"bodies", bodies}}},
+                        {"end", s.endStep}, {"events", events}};
+            if (!s.startDrags.empty())
+                out["startDrags"] = startDrags;
+            sessions.push_back(out);
+        }
+        doc["sessions"] = sessions;
+    }
+    if (!lib.keyframes.empty()) {
+        json sets = json::array();
+        for (const NamedKeyframes& named : lib.keyframes) {
+            json objects = json::array();
+            for (const KeyframeAnimation& anim : named.objects) {
+                json keys = json::array();
+                for (const LatticeKey& k : anim.keys()) {
+                    json displacement = json::array();
+                    for (const Vec3& d : k.displacement)
+                        displacement.push_back(vec(d));
+                    keys.push_back({{"time", k.seconds}, {"nodes", k.nodes}, {"displacement", displacement}});
+                }
+                objects.push_back({{"keys", keys}});
+            }
+            sets.push_back({{"name", named.name}, {"objects", objects}});
+        }
+        doc["keyframes"] = sets;
+    }
+    if (!lib.clips.empty() || !lib.defaultClip.empty()) {
+        json list = json::array();
+        for (const Clip& c : lib.clips)
+            list.push_back(clipJson(c));
+        json clips = {{"library", list}};
+        if (!lib.defaultClip.empty())
+            clips["default"] = lib.defaultClip;
+        doc["clips"] = clips;
+    }
+}
+
+/// The material, anchors and voids of a lattice as a project object writes them.
+void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& object) {
+    object["material"] = {{"mass", perNode(m.mass)},
+                          {"stiffness", perNode(m.stiffness)},
+                          {"damping", perNode(m.damping)},
+                          {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
+                          {"anisotropy", vec(m.anisotropy)},
+                          {"heavyAnchorRatio", m.heavyAnchorRatio},
+                          {"airDamping", m.airDamping}};
+    std::vector<int> pinned, heavy, voids;
+    for (int n = 0; n < lattice.nodeCount(); ++n) {
+        if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
+        if (m.anchor[std::size_t(n)] == AnchorMode::Heavy) heavy.push_back(n);
+        if (m.isVoid[std::size_t(n)]) voids.push_back(n);
+    }
+    json anchors = json::array();
+    if (!pinned.empty()) anchors.push_back({{"mode", "pinned"}, {"nodes", nodeList(lattice, pinned)}});
+    if (!heavy.empty()) anchors.push_back({{"mode", "heavy"}, {"nodes", nodeList(lattice, heavy)}});
+    object["anchors"] = anchors;
+    if (!voids.empty())
+        object["voids"] = {{"nodes", nodeList(lattice, voids)}};
+}
+
+
 }  // namespace
 
 Status saveProject(const Project& project, const fs::path& path) {
@@ -531,7 +937,6 @@ Status saveProject(const Project& project, const fs::path& path) {
     json objects = json::array();
     for (std::size_t i = 0; i < project.scene.objects.size(); ++i) {
         const SceneObject& o = project.scene.objects[i];
-        const LatticeMaterial& m = o.material;
         const OrientedBox& box = o.lattice.box();
         json lattice = {
             {"kind", o.lattice.shape().kind == LatticeKind::Bezier ? "bezier" : "bspline"},
@@ -540,33 +945,14 @@ Status saveProject(const Project& project, const fs::path& path) {
              {{"origin", vec(box.origin)},
               {"size", vec(box.size)},
               {"axes", json::array({vec(box.axes.col(0)), vec(box.axes.col(1)), vec(box.axes.col(2))})}}}};
-        json material = {{"mass", perNode(m.mass)},
-                         {"stiffness", perNode(m.stiffness)},
-                         {"damping", perNode(m.damping)},
-                         {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
-                         {"anisotropy", vec(m.anisotropy)},
-                         {"heavyAnchorRatio", m.heavyAnchorRatio},
-                         {"airDamping", m.airDamping}};
-        std::vector<int> pinned, heavy, voids;
-        for (int n = 0; n < o.lattice.nodeCount(); ++n) {
-            if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
-            if (m.anchor[std::size_t(n)] == AnchorMode::Heavy) heavy.push_back(n);
-            if (m.isVoid[std::size_t(n)]) voids.push_back(n);
-        }
-        json anchors = json::array();
-        if (!pinned.empty()) anchors.push_back({{"mode", "pinned"}, {"nodes", nodeList(o.lattice, pinned)}});
-        if (!heavy.empty()) anchors.push_back({{"mode", "heavy"}, {"nodes", nodeList(o.lattice, heavy)}});
         json drivers = json::array();
         for (const Driver& d : o.drivers)
             drivers.push_back(driverJson(d));
         json object = {{"name", o.name},
                        {"mesh", rebased(i < project.meshReferences.size() ? project.meshReferences[i] : std::string())},
                        {"lattice", lattice},
-                       {"material", material},
-                       {"anchors", anchors},
                        {"drivers", drivers}};
-        if (!voids.empty())
-            object["voids"] = {{"nodes", nodeList(o.lattice, voids)}};
+        writeMaterial(o.lattice, o.material, object);
         objects.push_back(object);
     }
     const WorldSettings& w = project.scene.world;
@@ -574,7 +960,7 @@ Status saveProject(const Project& project, const fs::path& path) {
     for (const CollisionPlane& p : w.planes)
         planes.push_back({{"point", vec(p.point)}, {"normal", vec(p.normal)}, {"restitution", p.restitution},
                           {"friction", p.friction}});
-    const json doc = {{"format", kProjectFormat},
+    json doc = {{"format", kProjectFormat},
                       {"version", kProjectVersion},
                       {"objects", objects},
                       {"world", {{"gravity", vec(w.gravity)}, {"planes", planes}}},
@@ -584,6 +970,7 @@ Status saveProject(const Project& project, const fs::path& path) {
                         {"xpbdSubsteps", w.simulation.xpbdSubsteps},
                         {"sleep", w.simulation.sleep}}},
                       {"clip", {{"frames", w.frames}, {"fps", w.fps}}}};
+    writeClipLibrary(project.clips, doc);
     return writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
@@ -644,6 +1031,190 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
                         {"heavyAnchorRatio", material.heavyAnchorRatio},
                         {"airDamping", material.airDamping}}}};
     return writeFileAtomically(path, doc.dump(2) + "\n");
+}
+
+// --- Setup presets. ---------------------------------------------------------------------------
+
+Result<SetupPreset> setupFromProject(const Project& project, std::size_t object) {
+    if (object >= project.scene.objects.size())
+        return Status::error("the project has no object " + std::to_string(object));
+    const SceneObject& o = project.scene.objects[object];
+    SetupPreset preset;
+    preset.name = o.name;
+    preset.shape = o.lattice.shape();
+    preset.material = o.material;
+    preset.drivers = o.drivers;
+    for (const Clip& c : project.clips.clips) {
+        if (c.source == ClipSource::Drivers)
+            preset.clips.push_back(c);
+    }
+    return preset;
+}
+
+Status saveSetupPreset(const SetupPreset& preset, const fs::path& path) {
+    auto lattice = Lattice::create(preset.shape, OrientedBox{});
+    if (!lattice)
+        return Status::error(path.string() + ": " + lattice.message());
+    if (preset.material.mass.size() != std::size_t(lattice->nodeCount()))
+        return Status::error(path.string() + ": the material has " + std::to_string(preset.material.mass.size()) +
+                             " nodes, the lattice " + std::to_string(lattice->nodeCount()));
+    json body = {{"format", kPresetFormat},
+                 {"version", kPresetVersion},
+                 {"kind", "setup"},
+                 {"name", preset.name},
+                 {"description", preset.description},
+                 {"lattice",
+                  {{"kind", preset.shape.kind == LatticeKind::Bezier ? "bezier" : "bspline"},
+                   {"nodes", {preset.shape.nodes[0], preset.shape.nodes[1], preset.shape.nodes[2]}}}}};
+    writeMaterial(lattice.value(), preset.material, body);
+    json drivers = json::array();
+    for (const Driver& d : preset.drivers)
+        drivers.push_back(driverJson(d));
+    body["drivers"] = drivers;
+    json clips = json::array();
+    for (const Clip& c : preset.clips)
+        clips.push_back(clipJson(c));
+    body["clips"] = clips;
+    return writeFileAtomically(path, body.dump(2) + "\n");
+}
+
+Result<SetupPreset> loadSetupPreset(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return Status::error(issues.summary());
+    const JsonValue root(&*doc, "", &issues);
+    if (!readHeader(root, kPresetFormat, kPresetVersion))
+        return Status::error(issues.summary());
+    root.checkKeys({"format", "version", "kind", "name", "description", "lattice", "material", "anchors", "voids",
+                    "drivers", "clips"});
+    const auto kind = root["kind"].string(true);
+    if (kind && *kind != "setup") {
+        root["kind"].problem("expected \"setup\", got \"" + *kind + "\" (a material preset is applied through a project's material.preset)");
+        return Status::error(issues.summary());
+    }
+    SetupPreset preset;
+    preset.name = root["name"].string(true).value_or("");
+    preset.description = root["description"].string().value_or("");
+    const JsonValue lat = root["lattice"];
+    if (lat.expectObject(true)) {
+        lat.checkKeys({"kind", "nodes"});
+        if (auto k = lat["kind"].string()) {
+            if (*k == "bspline")
+                preset.shape.kind = LatticeKind::BSpline;
+            else if (*k != "bezier")
+                lat["kind"].problem("expected \"bezier\" or \"bspline\", got \"" + *k + "\"");
+        }
+        if (auto n = lat["nodes"].int3(2, 64, true))
+            preset.shape.nodes = *n;
+        if (Status st = preset.shape.validate(); !st)
+            lat["nodes"].problem(st.message());
+    }
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    // Painted maps are per node of the preset's own lattice; the box does not matter (parameters).
+    const Lattice lattice = Lattice::create(preset.shape, OrientedBox{}).value();
+    preset.material = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    std::optional<double> totalMass;
+    readMaterial(root["material"], preset.material, totalMass, false, path.parent_path());
+    if (const JsonValue anchors = root["anchors"]; anchors.exists()) {
+        if (!anchors.isArray())
+            anchors.problem("expected an array of anchor groups");
+        for (std::size_t i = 0; i < anchors.size(); ++i) {
+            const JsonValue a = anchors.at(i);
+            if (!a.expectObject(true))
+                continue;
+            a.checkKeys({"mode", "nodes", "region"});
+            AnchorMode mode = AnchorMode::Pinned;
+            if (auto m = a["mode"].string()) {
+                if (*m == "heavy")
+                    mode = AnchorMode::Heavy;
+                else if (*m != "pinned")
+                    a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
+            }
+            for (int node : readNodeSelection(a, lattice))
+                preset.material.anchor[std::size_t(node)] = mode;
+        }
+    }
+    if (const JsonValue voids = root["voids"]; voids.expectObject()) {
+        voids.checkKeys({"nodes", "region"});
+        for (int node : readNodeSelection(voids, lattice))
+            preset.material.isVoid[std::size_t(node)] = 1;
+    }
+    if (totalMass) {
+        std::size_t solid = 0;
+        for (auto isVoid : preset.material.isVoid)
+            solid += isVoid == 0;
+        if (solid > 0)
+            preset.material.mass.assign(preset.material.mass.size(), *totalMass / double(solid));
+    }
+    if (const JsonValue drivers = root["drivers"]; drivers.exists()) {
+        if (!drivers.isArray())
+            drivers.problem("expected an array of drivers");
+        for (std::size_t i = 0; i < drivers.size(); ++i) {
+            if (auto d = readDriver(drivers.at(i))) {
+                if (Status st = validateDriver(*d); !st)
+                    drivers.at(i).problem(st.message());
+                else
+                    preset.drivers.push_back(*d);
+            }
+        }
+    }
+    if (const JsonValue clips = root["clips"]; clips.exists()) {
+        if (!clips.isArray())
+            clips.problem("expected an array of clips");
+        for (std::size_t i = 0; i < clips.size(); ++i) {
+            auto c = readClip(clips.at(i));
+            if (!c)
+                continue;
+            if (c->source != ClipSource::Drivers)
+                clips.at(i)["source"].problem("a setup preset carries drivers clips only (sessions and keys belong to one scene)");
+            else
+                preset.clips.push_back(*c);
+        }
+    }
+    if (issues.empty()) {
+        if (auto body = buildLatticeBody(lattice, preset.material); !body)
+            root["material"].problem(body.message());
+    }
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    return preset;
+}
+
+Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std::size_t object) {
+    if (object >= project.scene.objects.size())
+        return Status::error("the project has no object " + std::to_string(object));
+    SceneObject& o = project.scene.objects[object];
+    const LatticeShape& target = o.lattice.shape();
+    const bool sameShape = target.kind == preset.shape.kind && target.nodes == preset.shape.nodes;
+    if (sameShape) {
+        o.material = preset.material;
+    } else {
+        // The painted maps live on the preset's lattice; place it over this object's box and carry
+        // every value to the nearest node in lattice parameters, rescaled so the body stays the same
+        // material at the new spacing.
+        auto from = Lattice::create(preset.shape, o.lattice.box());
+        if (!from)
+            return Status::error("preset '" + preset.name + "': " + from.message());
+        o.material = resampleMaterial(from.value(), preset.material, o.lattice, true);
+    }
+    o.drivers = preset.drivers;
+    for (const Clip& c : preset.clips) {
+        auto& clips = project.clips.clips;
+        auto it = std::find_if(clips.begin(), clips.end(), [&](const Clip& x) { return x.name == c.name; });
+        if (it != clips.end())
+            *it = c;
+        else
+            clips.push_back(c);
+    }
+    if (auto body = buildLatticeBody(o.lattice, o.material); !body)
+        return Status::error("preset '" + preset.name + "' on object '" + o.name + "': " + body.message());
+    if (auto sim = SceneSimulation::create(project.scene); !sim)
+        return Status::error("preset '" + preset.name + "': " + sim.message());
+    if (Status st = project.clips.validate(project.scene); !st)
+        return Status::error("preset '" + preset.name + "': " + st.message());
+    return project;
 }
 
 }  // namespace softtouch::io

@@ -3,6 +3,7 @@
 /// JsonValue (errors name the file, the JSON pointer and what was expected) and written atomically.
 /// Schema: docs/project-format.md.
 
+#include "core/clip.h"
 #include "core/scene.h"
 #include "io/json_reader.h"
 
@@ -12,8 +13,9 @@
 
 namespace softtouch::io {
 
-/// Version written by this build; older versions are read, newer ones refused.
-constexpr int kProjectVersion = 1;
+/// Version written by this build; older versions are read, newer ones refused. Version 2 adds the
+/// clip library (clips, sessions, keyframes); version 1 files read as projects without clips.
+constexpr int kProjectVersion = 2;
 constexpr int kPresetVersion = 1;
 
 /// A loaded project: the scene plus what is needed to write it back.
@@ -21,6 +23,7 @@ struct Project {
     std::filesystem::path path;              ///< The file it was loaded from.
     Scene scene;                             ///< Everything the engine needs.
     std::vector<std::string> meshReferences; ///< Per object, the mesh path as written (relative to the project).
+    ClipLibrary clips;                       ///< Clips, sessions and keyframe sets (version 2); validated on load.
 };
 
 /// A shareable material: scalar values that apply to any lattice.
@@ -28,6 +31,18 @@ struct MaterialPreset {
     std::string name;                ///< Shown in preset lists.
     std::string description;         ///< One line for the user.
     nlohmann::json material;         ///< The "material" object, validated (same keys as a project's).
+};
+
+/// A shareable object setup (preset kind "setup"): lattice resolution, painted per-node material
+/// with anchors and voids, drivers and the clips that play them. Material points of drivers are
+/// lattice parameters, so a setup applies to any mesh.
+struct SetupPreset {
+    std::string name;                ///< Shown in preset lists.
+    std::string description;         ///< One line for the user.
+    LatticeShape shape;              ///< Lattice kind and resolution the maps were painted on.
+    LatticeMaterial material;        ///< Per node of `shape` (i fastest), with anchors and voids.
+    std::vector<Driver> drivers;     ///< Headless motion.
+    std::vector<Clip> clips;         ///< Drivers clips only (sessions and keys belong to one scene).
 };
 
 /// Loads a project and its meshes and builds the scene. On failure the message is the first
@@ -49,5 +64,19 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
 /// atomically.
 Status saveMaterialPreset(const std::string& name, const std::string& description, const LatticeMaterial& material,
                           const std::filesystem::path& path);
+
+/// The setup of object `object` of a project (its lattice shape, material, drivers and the
+/// project's drivers clips).
+Result<SetupPreset> setupFromProject(const Project& project, std::size_t object);
+/// Writes a setup preset atomically.
+Status saveSetupPreset(const SetupPreset& preset, const std::filesystem::path& path);
+/// Loads and validates a setup preset; errors name the file, the JSON pointer and the problem.
+Result<SetupPreset> loadSetupPreset(const std::filesystem::path& path);
+/// Applies a setup to object `object` of `project`: the object keeps its mesh and lattice box; the
+/// material (with anchors and voids) is carried over node for node when the lattice shapes match and
+/// remapped with resampleMaterial (continuum scaling) when they differ; the drivers are replaced; the
+/// preset's clips are added (replacing clips of the same name). The result is validated (it builds
+/// and its clip library fits).
+Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std::size_t object);
 
 }  // namespace softtouch::io

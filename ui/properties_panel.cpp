@@ -14,6 +14,7 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 namespace softtouch::ui {
@@ -71,6 +72,26 @@ QWidget* PropertiesPanel::buildSimulation() {
     form->addRow(tr("Time step"), m_stepsPerSecond);
     m_gravity = new QCheckBox(tr("Gravity (9.81 m/s² down)"));
     form->addRow(m_gravity);
+    m_groundPlane = new QCheckBox(tr("Ground plane under the object"));
+    m_groundPlane->setObjectName("groundPlane");
+    form->addRow(m_groundPlane);
+    connect(m_groundPlane, &QCheckBox::toggled, this, [this](bool on) {
+        if (m_refreshing)
+            return;
+        const Scene& scene = m_document->scene();
+        double lowest = 0.0;
+        for (std::size_t i = 0; i < scene.objects.size(); ++i)
+            lowest = i == 0 ? scene.objects[i].mesh.bounds().min.y() : std::min(lowest, scene.objects[i].mesh.bounds().min.y());
+        editWorld(on ? tr("Add ground plane") : tr("Remove planes"), kNoMerge, [on, lowest](WorldSettings& w) {
+            w.planes.clear();
+            if (on) {
+                CollisionPlane ground;
+                ground.point = Vec3(0, lowest, 0);
+                ground.restitution = 0.3;
+                w.planes.push_back(ground);
+            }
+        });
+    });
     m_drivers = new QCheckBox(tr("Drivers act (swim, scripted drags)"));
     m_drivers->setChecked(true);
     form->addRow(m_drivers);
@@ -176,6 +197,35 @@ QWidget* PropertiesPanel::buildLattice() {
     apply->setToolTip(tr("Rebuilds the lattice; painted values, anchors and voids are carried over."));
     form->addRow(apply);
     connect(apply, &QPushButton::clicked, this, &PropertiesPanel::applyLatticeShape);
+
+    auto* move = new QHBoxLayout;
+    const char* axes[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        m_latticeMove[std::size_t(a)] = spin(-1e4, 1e4, 3, QString(), 0.01);
+        m_latticeMove[std::size_t(a)]->setPrefix(QString(axes[a]) + " ");
+        move->addWidget(m_latticeMove[std::size_t(a)]);
+    }
+    form->addRow(tr("Move by (m)"), move);
+    m_latticeScale = spin(0.01, 100, 3, tr(" ×"), 0.05);
+    m_latticeScale->setValue(1.0);
+    form->addRow(tr("Scale by"), m_latticeScale);
+    m_latticeTurn = spin(-360, 360, 1, tr("°"), 5);
+    form->addRow(tr("Turn about y"), m_latticeTurn);
+    auto* placement = new QHBoxLayout;
+    auto* transform = new QPushButton(tr("Transform"));
+    transform->setToolTip(tr("Moves, scales and turns the lattice box about its centre; the mesh is rebound to it."));
+    auto* fit = new QPushButton(tr("Fit to object"));
+    fit->setToolTip(tr("Resets the box to the object's padded bounds."));
+    auto* voids = new QPushButton(tr("Auto void"));
+    voids->setObjectName("autoVoid");
+    voids->setToolTip(tr("Marks nodes whose cells hold none of the mesh as void (removed with their springs)."));
+    placement->addWidget(transform);
+    placement->addWidget(fit);
+    placement->addWidget(voids);
+    form->addRow(placement);
+    connect(transform, &QPushButton::clicked, this, &PropertiesPanel::transformLattice);
+    connect(fit, &QPushButton::clicked, this, &PropertiesPanel::fitLattice);
+    connect(voids, &QPushButton::clicked, this, &PropertiesPanel::autoVoid);
     return box;
 }
 
@@ -308,6 +358,60 @@ void PropertiesPanel::applyLatticeShape() {
                                                          std::move(material), tr("Change lattice resolution")));
 }
 
+void PropertiesPanel::applyLatticeBox(const OrientedBox& box, const QString& text) {
+    const SceneObject& o = m_document->scene().objects[std::size_t(object())];
+    auto lattice = Lattice::create(o.lattice.shape(), box);
+    if (!lattice) {
+        m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(lattice.message())));
+        return;
+    }
+    // Same shape, so node i keeps its painted values: the box moved, not the material.
+    m_document->undoStack()->push(new LatticeEditCommand(m_document, object(), o.lattice, o.material, lattice.value(),
+                                                         o.material, text));
+}
+
+void PropertiesPanel::transformLattice() {
+    if (std::size_t(object()) >= m_document->scene().objects.size())
+        return;
+    const OrientedBox& box = m_document->scene().objects[std::size_t(object())].lattice.box();
+    const Vec3 centre = box.toWorld(Vec3::Constant(0.5));
+    const Vec3 move(m_latticeMove[0]->value(), m_latticeMove[1]->value(), m_latticeMove[2]->value());
+    const double scale = m_latticeScale->value();
+    const Mat3 turn = Eigen::AngleAxisd(m_latticeTurn->value() * 3.14159265358979323846 / 180.0, Vec3::UnitY()).toRotationMatrix();
+    OrientedBox next = box;
+    next.axes = turn * box.axes;
+    next.size = box.size * scale;
+    next.origin = centre + move - next.axes * (0.5 * next.size);
+    applyLatticeBox(next, tr("Transform lattice"));
+    for (QDoubleSpinBox* b : m_latticeMove)
+        setQuietly(b, 0.0);
+    setQuietly(m_latticeScale, 1.0);
+    setQuietly(m_latticeTurn, 0.0);
+}
+
+void PropertiesPanel::fitLattice() {
+    if (std::size_t(object()) >= m_document->scene().objects.size())
+        return;
+    auto box = fitBox(m_document->scene().objects[std::size_t(object())].mesh.positions);
+    if (!box) {
+        m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(box.message())));
+        return;
+    }
+    applyLatticeBox(box.value(), tr("Fit lattice to object"));
+}
+
+void PropertiesPanel::autoVoid() {
+    if (std::size_t(object()) >= m_document->scene().objects.size())
+        return;
+    const SceneObject& o = m_document->scene().objects[std::size_t(object())];
+    const std::vector<std::uint8_t> empty = findEmptyNodes(o.lattice, o.mesh);
+    const auto count = std::count(empty.begin(), empty.end(), std::uint8_t(1));
+    editMaterial(tr("Auto void (%n node(s))", nullptr, int(count)), kNoMerge, [&](LatticeMaterial& m) {
+        for (std::size_t n = 0; n < empty.size(); ++n)
+            m.isVoid[n] = m.isVoid[n] || empty[n];
+    });
+}
+
 void PropertiesPanel::refresh() {
     const Scene& scene = m_document->scene();
     m_refreshing = true;
@@ -315,6 +419,7 @@ void PropertiesPanel::refresh() {
     m_integrator->setCurrentIndex(m_integrator->findData(int(w.simulation.integrator)));
     setQuietly(m_stepsPerSecond, std::round(1.0 / w.simulation.dt));
     m_gravity->setChecked(w.gravity.squaredNorm() > 0.0);
+    m_groundPlane->setChecked(!w.planes.empty());
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.material);

@@ -35,6 +35,11 @@ private:
     void editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change);
     void editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change);
     void applyLatticeShape();
+    /// Rebuilds the current object's lattice over `box` (same shape), carrying the material over.
+    void applyLatticeBox(const OrientedBox& box, const QString& text);
+    void transformLattice();
+    void fitLattice();
+    void autoVoid();
     int object() const { return m_viewport->currentObject(); }
 
     Document* m_document;
@@ -57,6 +62,10 @@ private:
 
     QComboBox* m_latticeKind = nullptr;
     std::array<QSpinBox*, 3> m_latticeNodes{};
+    std::array<QDoubleSpinBox*, 3> m_latticeMove{};
+    QDoubleSpinBox* m_latticeScale = nullptr;
+    QDoubleSpinBox* m_latticeTurn = nullptr;
+    QCheckBox* m_groundPlane = nullptr;
 
     QComboBox* m_brushField = nullptr;
     QDoubleSpinBox* m_brushValue = nullptr;

@@ -1,0 +1,316 @@
+#include "core/clip.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace softtouch {
+namespace {
+
+bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+
+double smoothstep(double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+/// RMS over points of the motion between two frames.
+double rmsMotion(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        sum += (b[i] - a[i]).squaredNorm();
+    return a.empty() ? 0.0 : std::sqrt(sum / double(a.size()));
+}
+
+/// All objects' node positions of a simulation, flat.
+std::vector<Vec3> simNodes(const SceneSimulation& sim) {
+    std::vector<Vec3> out;
+    for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+        const auto& p = sim.simulator(i).state().position;
+        out.insert(out.end(), p.begin(), p.end());
+    }
+    return out;
+}
+
+/// Steps one step at a time until `seconds`, refreshing every keyed object's goal springs at the start
+/// of each step (as GoalPlayer does for one object).
+void advanceWithGoals(SceneSimulation& sim, const NamedKeyframes& keys, const GoalSettings& goals,
+                      const std::vector<std::vector<Vec3>>& rest, double seconds, std::vector<std::string>* problems) {
+    const double dt = sim.simulator(0).settings().dt;
+    for (;;) {
+        const long long step = sim.stepCount();
+        if (!(double(step + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12))
+            return;
+        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            if (!keys.objects[i].keys().empty())
+                sim.setInteractiveDrags(i, goalDrags(keys.objects[i], rest[i], double(step) * dt, goals));
+        }
+        sim.advanceTo(double(step + 1) * dt, problems);
+    }
+}
+
+}  // namespace
+
+const char* clipSourceName(ClipSource source) {
+    switch (source) {
+    case ClipSource::Drivers: return "drivers";
+    case ClipSource::Session: return "session";
+    case ClipSource::Keyframes: return "keyframes";
+    }
+    return "drivers";
+}
+
+std::optional<ClipSource> parseClipSource(const std::string& name) {
+    for (ClipSource s : {ClipSource::Drivers, ClipSource::Session, ClipSource::Keyframes}) {
+        if (name == clipSourceName(s))
+            return s;
+    }
+    return std::nullopt;
+}
+
+Status Clip::validate() const {
+    const std::string where = "clip '" + name + "': ";
+    if (name.empty())
+        return Status::error("a clip needs a name");
+    if (!finiteIn(startSeconds, 0.0, 1e6))
+        return Status::error(where + "start must be in [0, 1e6] s");
+    if (frames < 1 || frames > 1000000)
+        return Status::error(where + "frames must be in [1, 1000000], got " + std::to_string(frames));
+    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
+        return Status::error(where + "fps must be in (0, 1000], got " + std::to_string(fps));
+    if (blendFrames < 0 || blendFrames > frames)
+        return Status::error(where + "blend window must be in [0, frames] (" + std::to_string(frames) + "), got " +
+                             std::to_string(blendFrames));
+    if (blendFrames > 0 && !loop)
+        return Status::error(where + "a blend window closes a loop: set loop or remove the window");
+    if (source == ClipSource::Drivers && !sourceName.empty())
+        return Status::error(where + "a drivers clip names no source");
+    if (source != ClipSource::Drivers && sourceName.empty())
+        return Status::error(where + "a " + clipSourceName(source) + " clip needs the name of its " +
+                             clipSourceName(source));
+    if (goals && source != ClipSource::Keyframes)
+        return Status::error(where + "goal springs apply to keyframe clips only");
+    if (goals && !(finiteIn(goals->stiffness, 0.0, 1e9) && finiteIn(goals->damping, 0.0, 1e6) &&
+                   finiteIn(goals->weight, 0.0, 1e3)))
+        return Status::error(where + "goal stiffness, damping and weight must be in [0, 1e9], [0, 1e6], [0, 1e3]");
+    return Status::success();
+}
+
+const Clip* ClipLibrary::findClip(const std::string& name) const {
+    for (const Clip& c : clips)
+        if (c.name == name) return &c;
+    return nullptr;
+}
+
+const NamedSession* ClipLibrary::findSession(const std::string& name) const {
+    for (const NamedSession& s : sessions)
+        if (s.name == name) return &s;
+    return nullptr;
+}
+
+const NamedKeyframes* ClipLibrary::findKeyframes(const std::string& name) const {
+    for (const NamedKeyframes& k : keyframes)
+        if (k.name == name) return &k;
+    return nullptr;
+}
+
+Status ClipLibrary::validate(const Scene& scene) const {
+    auto unique = [](const auto& items, const char* what) -> Status {
+        std::set<std::string> seen;
+        for (const auto& item : items) {
+            if (item.name.empty())
+                return Status::error(std::string("a ") + what + " needs a name");
+            if (!seen.insert(item.name).second)
+                return Status::error(std::string("two ") + what + "s are named '" + item.name + "'");
+        }
+        return Status::success();
+    };
+    if (Status s = unique(clips, "clip"); !s) return s;
+    if (Status s = unique(sessions, "session"); !s) return s;
+    if (Status s = unique(keyframes, "keyframe set"); !s) return s;
+    if (!defaultClip.empty() && !findClip(defaultClip))
+        return Status::error("the default clip '" + defaultClip + "' is not in the library");
+    for (const NamedKeyframes& k : keyframes) {
+        if (k.objects.size() != scene.objects.size())
+            return Status::error("keyframe set '" + k.name + "' animates " + std::to_string(k.objects.size()) +
+                                 " objects, the scene has " + std::to_string(scene.objects.size()));
+        for (std::size_t i = 0; i < k.objects.size(); ++i) {
+            const auto nodes = std::size_t(scene.objects[i].lattice.nodeCount());
+            if (k.objects[i].nodeCount() != nodes)
+                return Status::error("keyframe set '" + k.name + "', object '" + scene.objects[i].name + "': keys for " +
+                                     std::to_string(k.objects[i].nodeCount()) + " nodes, the lattice has " +
+                                     std::to_string(nodes));
+        }
+    }
+    for (const Clip& c : clips) {
+        if (Status s = c.validate(); !s)
+            return s;
+        if (c.source == ClipSource::Session && !findSession(c.sourceName))
+            return Status::error("clip '" + c.name + "': no session named '" + c.sourceName + "'");
+        if (c.source == ClipSource::Keyframes && !findKeyframes(c.sourceName))
+            return Status::error("clip '" + c.name + "': no keyframe set named '" + c.sourceName + "'");
+    }
+    return Status::success();
+}
+
+void closeLoop(std::vector<std::vector<Vec3>>& frames, const std::vector<std::vector<Vec3>>& preroll, int window) {
+    if (frames.size() < 2)
+        return;
+    const int n = int(frames.size()) - 1;
+    window = std::clamp(window, 0, n);
+    const std::vector<Vec3> drift = [&] {
+        std::vector<Vec3> d(frames[0].size());
+        for (std::size_t p = 0; p < d.size(); ++p)
+            d[p] = frames[std::size_t(n)][p] - frames[0][p];
+        return d;
+    }();
+    const bool crossfade = window > 0 && int(preroll.size()) == window + 1;
+    for (int i = n - window; i < n && window > 0; ++i) {
+        const double s = smoothstep(double(i - (n - window)) / double(window));
+        std::vector<Vec3>& f = frames[std::size_t(i)];
+        if (crossfade) {
+            const std::vector<Vec3>& g = preroll[std::size_t(i - (n - window))];
+            for (std::size_t p = 0; p < f.size(); ++p)
+                f[p] = (1.0 - s) * f[p] + s * g[p];
+        } else {
+            for (std::size_t p = 0; p < f.size(); ++p)
+                f[p] -= s * drift[p];
+        }
+    }
+    frames.pop_back();
+}
+
+SeamMeasure measureSeam(const std::vector<std::vector<Vec3>>& frames) {
+    SeamMeasure m;
+    if (frames.size() < 3)
+        return m;
+    std::vector<double> steps;
+    for (std::size_t f = 0; f + 1 < frames.size(); ++f)
+        steps.push_back(rmsMotion(frames[f], frames[f + 1]));
+    std::nth_element(steps.begin(), steps.begin() + std::ptrdiff_t(steps.size() / 2), steps.end());
+    m.medianStep = steps[steps.size() / 2];
+    m.jump = rmsMotion(frames.back(), frames.front());
+    m.ratio = m.medianStep > 0.0 ? m.jump / m.medianStep : 0.0;
+    const double beside = 0.5 * (rmsMotion(frames[frames.size() - 2], frames.back()) + rmsMotion(frames[0], frames[1]));
+    m.localRatio = beside > 0.0 ? m.jump / beside : 0.0;
+    return m;
+}
+
+SeamMeasure measureSeam(const NodeFrames& frames) {
+    std::vector<std::vector<Vec3>> flat;
+    for (const auto& frame : frames.nodes) {
+        std::vector<Vec3> f;
+        for (const auto& object : frame)
+            f.insert(f.end(), object.begin(), object.end());
+        flat.push_back(std::move(f));
+    }
+    return measureSeam(flat);
+}
+
+Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
+                                std::vector<std::string>* problems) {
+    if (Status s = clip.validate(); !s)
+        return s;
+    auto created = SceneSimulation::create(scene);
+    if (!created)
+        return Status::error(created.message());
+    SceneSimulation& sim = created.value();
+    const std::string where = "clip '" + clip.name + "': ";
+
+    // Frames j = -pre .. last, at source time start + j/fps: pre-roll (j < 0), the clip (0..N-1), and
+    // frame N, one period on, when a loop is closed.
+    const int n = clip.frames;
+    const bool close = clip.loop && clip.blendFrames > 0;
+    const int last = close ? n : n - 1;
+    int pre = close && clip.startSeconds - double(clip.blendFrames) / clip.fps >= -1e-9 ? clip.blendFrames : 0;
+    auto timeOf = [&](int j) { return std::max(0.0, clip.startSeconds + double(j) / clip.fps); };
+
+    std::vector<std::vector<Vec3>> rest;
+    for (std::size_t i = 0; i < sim.objectCount(); ++i)
+        rest.push_back(sim.simulator(i).model().restPositions);
+
+    std::vector<std::vector<Vec3>> samples;  // flat, j = -pre .. last
+    switch (clip.source) {
+    case ClipSource::Drivers:
+        for (int j = -pre; j <= last; ++j) {
+            sim.advanceTo(timeOf(j), problems);
+            samples.push_back(simNodes(sim));
+        }
+        break;
+    case ClipSource::Session: {
+        const NamedSession* named = library.findSession(clip.sourceName);
+        if (!named)
+            return Status::error(where + "no session named '" + clip.sourceName + "'");
+        const Session& session = named->session;
+        const double length = session.endSeconds() - session.startSeconds();
+        if (timeOf(last) > length + 1e-9)
+            return Status::error(where + "runs to " + std::to_string(timeOf(last)) + " s but session '" + named->name +
+                                 "' is " + std::to_string(length) + " s long");
+        SessionPlayer player;
+        if (Status s = player.start(sim, session); !s)
+            return Status::error(where + "session '" + named->name + "': " + s.message());
+        for (int j = -pre; j <= last; ++j) {
+            player.advanceTo(sim, session.startSeconds() + timeOf(j), problems);
+            samples.push_back(simNodes(sim));
+        }
+        break;
+    }
+    case ClipSource::Keyframes: {
+        const NamedKeyframes* keys = library.findKeyframes(clip.sourceName);
+        if (!keys)
+            return Status::error(where + "no keyframe set named '" + clip.sourceName + "'");
+        if (keys->objects.size() != sim.objectCount())
+            return Status::error(where + "keyframe set '" + keys->name + "' does not match the scene's objects");
+        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            if (keys->objects[i].nodeCount() != rest[i].size())
+                return Status::error(where + "keyframe set '" + keys->name + "' does not fit object '" +
+                                     sim.object(i).name + "' (" + std::to_string(keys->objects[i].nodeCount()) +
+                                     " nodes, lattice " + std::to_string(rest[i].size()) + ")");
+        }
+        for (int j = -pre; j <= last; ++j) {
+            if (clip.goals) {
+                advanceWithGoals(sim, *keys, *clip.goals, rest, timeOf(j), problems);
+                samples.push_back(simNodes(sim));
+                continue;
+            }
+            std::vector<Vec3> flat;
+            for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+                const std::vector<Vec3> p = keys->objects[i].pose(timeOf(j), rest[i]);
+                flat.insert(flat.end(), p.begin(), p.end());
+            }
+            samples.push_back(std::move(flat));
+        }
+        break;
+    }
+    }
+    for (const auto& s : samples) {
+        for (const Vec3& p : s) {
+            if (!isFinite(p))
+                return Status::error(where + "the simulation produced non-finite node positions");
+        }
+    }
+
+    std::vector<std::vector<Vec3>> preroll(samples.begin(), samples.begin() + pre);
+    std::vector<std::vector<Vec3>> frames(samples.begin() + pre, samples.end());
+    if (close) {
+        if (pre > 0)
+            preroll.push_back(frames.front());  // G_N = F_0
+        closeLoop(frames, preroll, clip.blendFrames);
+    }
+
+    NodeFrames out;
+    out.fps = clip.fps;
+    out.loop = clip.loop;
+    for (const auto& flat : frames) {
+        std::vector<std::vector<Vec3>> perObject;
+        std::size_t offset = 0;
+        for (const auto& r : rest) {
+            perObject.emplace_back(flat.begin() + std::ptrdiff_t(offset), flat.begin() + std::ptrdiff_t(offset + r.size()));
+            offset += r.size();
+        }
+        out.nodes.push_back(std::move(perObject));
+    }
+    return out;
+}
+
+}  // namespace softtouch

@@ -1,0 +1,142 @@
+// End to end: `bake --clip` and `preset export|apply` on the bundled fish.
+#include "core/clip.h"
+#include "io/project_file.h"
+#include "io/vertex_cache.h"
+
+#include <QProcess>
+#include <QTemporaryDir>
+#include <QtTest>
+
+using namespace softtouch;
+
+namespace {
+
+const QString kCli = QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli");
+const QString kPresets = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/");
+
+struct Run {
+    int exitCode = -1;
+    QString out;
+    QString err;
+};
+
+Run runCli(const QStringList& args) {
+    QProcess p;
+    p.start(kCli, args);
+    if (!p.waitForFinished(300000))
+        qFatal("softtouch-cli did not finish");
+    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
+            QString::fromUtf8(p.readAllStandardError())};
+}
+
+}  // namespace
+
+class TestCliClips : public QObject {
+    Q_OBJECT
+private slots:
+    void bakeSwimClipOfEveryFish_data();
+    void bakeSwimClipOfEveryFish();
+    void unknownClipFails();
+    void presetExportApplyBake();
+    void badPresetWritesNothing();
+};
+
+void TestCliClips::bakeSwimClipOfEveryFish_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::newRow("angelfish") << "angelfish-swim";
+    QTest::newRow("demekin") << "demekin-swim";
+    QTest::newRow("guppy") << "guppy-swim";
+}
+
+void TestCliClips::bakeSwimClipOfEveryFish() {
+    QFETCH(QString, scene);
+    QTemporaryDir dir;
+    const QString out = dir.filePath("swim.pc2");
+    const Run r = runCli({"bake", kPresets + "scenes/" + scene + ".softtouch", "--clip", "swim", "--out", out, "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    QVERIFY(r.out.contains("clip swim"));
+    QVERIFY(r.out.contains("loop seam"));
+    auto cache = io::readPc2(out.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(cache->frames.size(), std::size_t(24));
+    // The seam on the mesh the file holds.
+    std::vector<std::vector<Vec3>> frames;
+    for (const auto& f : cache->frames) {
+        std::vector<Vec3> points;
+        for (const Vec3f& p : f)
+            points.push_back(p.cast<double>());
+        frames.push_back(std::move(points));
+    }
+    const SeamMeasure seam = measureSeam(frames);
+    QVERIFY2(seam.ratio <= 1.5, qPrintable(QString("seam %1 x median").arg(seam.ratio)));
+    // --frames 48 on a loop clip plays the cycle twice.
+    const QString twice = dir.filePath("twice.pc2");
+    QCOMPARE(runCli({"bake", kPresets + "scenes/" + scene + ".softtouch", "--clip", "swim", "--out", twice, "--frames", "48",
+                     "--quiet"}).exitCode, 0);
+    auto cycled = io::readPc2(twice.toStdString());
+    QVERIFY(cycled.ok());
+    QCOMPARE(cycled->frames.size(), std::size_t(48));
+    QVERIFY(cycled->frames[30] == cache->frames[6]);
+}
+
+void TestCliClips::unknownClipFails() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("x.pc2");
+    const Run r = runCli({"bake", kPresets + "scenes/guppy-swim.softtouch", "--clip", "walk", "--out", out, "--quiet"});
+    QCOMPARE(r.exitCode, 1);
+    QVERIFY2(r.err.contains("no clip named 'walk' (the scene has: swim)"), qPrintable(r.err));
+    QVERIFY(!QFile::exists(out));
+    const Run fps = runCli({"bake", kPresets + "scenes/guppy-swim.softtouch", "--clip", "swim", "--fps", "30", "--out", out});
+    QCOMPARE(fps.exitCode, 1);
+    QVERIFY2(fps.err.contains("plays at 24"), qPrintable(fps.err));
+}
+
+void TestCliClips::presetExportApplyBake() {
+    QTemporaryDir dir;
+    const QString preset = dir.filePath("angelfish.stpreset");
+    const Run exported = runCli({"preset", "export", kPresets + "scenes/angelfish-swim.softtouch", "--out", preset,
+                                 "--name", "Angelfish swim"});
+    QVERIFY2(exported.exitCode == 0, qPrintable(exported.err));
+    QVERIFY(runCli({"validate", preset}).exitCode == 0);
+    // Onto the same scene: the same project as saving it directly would give.
+    const QString same = dir.filePath("same.softtouch");
+    QCOMPARE(runCli({"preset", "apply", preset, kPresets + "scenes/angelfish-swim.softtouch", "--out", same}).exitCode, 0);
+    auto original = io::loadProject((kPresets + "scenes/angelfish-swim.softtouch").toStdString());
+    QVERIFY(original.ok());
+    const QString direct = dir.filePath("direct.softtouch");
+    QVERIFY(io::saveProject(original.value(), direct.toStdString()).ok());
+    QFile a(same), b(direct);
+    QVERIFY(a.open(QIODevice::ReadOnly) && b.open(QIODevice::ReadOnly));
+    QCOMPARE(a.readAll(), b.readAll());
+    // Onto the demekin: a valid project that bakes.
+    const QString demekin = dir.filePath("demekin.softtouch");
+    const Run applied = runCli({"preset", "apply", preset, kPresets + "scenes/demekin-swim.softtouch", "--out", demekin});
+    QVERIFY2(applied.exitCode == 0, qPrintable(applied.err));
+    QVERIFY(runCli({"validate", demekin}).exitCode == 0);
+    const Run baked = runCli({"bake", demekin, "--clip", "swim", "--out", dir.filePath("d.pc2"), "--quiet"});
+    QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+}
+
+void TestCliClips::badPresetWritesNothing() {
+    QTemporaryDir dir;
+    const QString bad = dir.filePath("bad.stpreset");
+    QFile f(bad);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write(R"({"format": "softtouch-preset", "version": 1, "kind": "setup", "name": "x", "lattice": {"nodes": [4, 4, 4]},
+               "material": {"stiffness": -5}})");
+    f.close();
+    const QString out = dir.filePath("new.softtouch");
+    const Run r = runCli({"preset", "apply", bad, kPresets + "scenes/guppy-swim.softtouch", "--out", out});
+    QCOMPARE(r.exitCode, 1);
+    QVERIFY2(r.err.contains("bad.stpreset") && r.err.contains("/material/stiffness"), qPrintable(r.err));
+    QVERIFY(!QFile::exists(out));
+    QCOMPARE(runCli({"preset", "explode"}).exitCode, 2);
+    QCOMPARE(runCli({"preset", "export", kPresets + "scenes/guppy-swim.softtouch"}).exitCode, 2);
+    const Run noObject = runCli({"preset", "export", kPresets + "scenes/guppy-swim.softtouch", "--object", "shark", "--out",
+                                 dir.filePath("p.stpreset")});
+    QCOMPARE(noObject.exitCode, 1);
+    QVERIFY2(noObject.err.contains("no object named 'shark'"), qPrintable(noObject.err));
+}
+
+QTEST_GUILESS_MAIN(TestCliClips)
+#include "test_cli_clips.moc"
