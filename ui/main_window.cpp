@@ -41,8 +41,13 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     m_statusFrame = new QLabel;
     m_statusMesh = new QLabel;
     m_statusHaptic = new QLabel(tr("haptic: no device"));
-    for (QLabel* l : {m_statusSim, m_statusFrame, m_statusMesh, m_statusHaptic})
+    for (QLabel* l : {m_statusSim, m_statusFrame, m_statusMesh, m_statusHaptic}) {
+        l->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::Preferred);
         statusBar()->addPermanentWidget(l);
+    }
+    m_statusSim->setMinimumWidth(300);
+    m_statusFrame->setMinimumWidth(110);
+    m_statusMesh->setMinimumWidth(110);
     auto* statusTimer = new QTimer(this);
     connect(statusTimer, &QTimer::timeout, this, &MainWindow::refreshStatus);
     statusTimer->start(250);
@@ -240,7 +245,7 @@ void MainWindow::refreshOutliner() {
 void MainWindow::refreshStatus() {
     const SimulationStats& s = m_simulation->stats();
     const SceneSimulation* sim = m_simulation->simulation();
-    m_statusSim->setText(tr("sim %1 steps/s · %2 µs/step · %3× real time")
+    m_statusSim->setText(tr("%1 steps/s · %2 µs/step · %3× real time")
                              .arg(s.stepsPerSecond, 0, 'f', 0)
                              .arg(s.stepMicros, 0, 'f', 1)
                              .arg(s.realtimeFactor, 0, 'f', 2));
@@ -249,7 +254,7 @@ void MainWindow::refreshStatus() {
     if (sim)
         for (std::size_t i = 0; i < sim->objectCount(); ++i)
             triangles += sim->object(i).mesh.triangles.size();
-    m_statusMesh->setText(tr("%L1 triangles").arg(triangles));
+    m_statusMesh->setText(tr("%L1 tris").arg(triangles));
     m_properties->refreshLive();
 }
 

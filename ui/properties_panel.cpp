@@ -264,6 +264,7 @@ QWidget* PropertiesPanel::buildTools() {
 
     connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
         m_viewport->brush().field = PaintField(m_brushField->currentData().toInt());
+        m_viewport->updateLegend();
         refresh();
         m_viewport->update();
     });

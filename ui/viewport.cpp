@@ -5,6 +5,7 @@
 
 #include <QKeyEvent>
 #include <QMouseEvent>
+#include <QLinearGradient>
 #include <QPainter>
 #include <QTabletEvent>
 #include <QWheelEvent>
@@ -14,11 +15,45 @@
 
 namespace softtouch::ui {
 
+/// The colour scale of the node overlay: the painted field from its lowest to its highest value, in
+/// the node discs' blue-grey-red map. A child widget, so Qt composites it over the GL picture.
+class ValueLegend : public QWidget {
+public:
+    explicit ValueLegend(QWidget* parent) : QWidget(parent) {
+        setAttribute(Qt::WA_TransparentForMouseEvents);
+        resize(260, 44);
+    }
+    void setRange(const QString& name, double lo, double hi, const QString& unit) {
+        m_text = QStringLiteral("%1: %2 – %3 %4").arg(name).arg(lo, 0, 'g', 4).arg(hi, 0, 'g', 4).arg(unit);
+        update();
+    }
+
+protected:
+    void paintEvent(QPaintEvent*) override {
+        QPainter painter(this);
+        painter.fillRect(rect(), QColor(0, 0, 0, 90));
+        const QRectF bar(8, 26, width() - 16, 10);
+        QLinearGradient gradient(bar.topLeft(), bar.topRight());
+        gradient.setColorAt(0.0, QColor::fromRgbF(0.23f, 0.30f, 0.75f));  // render::coolWarm's stops
+        gradient.setColorAt(0.5, QColor::fromRgbF(0.87f, 0.87f, 0.87f));
+        gradient.setColorAt(1.0, QColor::fromRgbF(0.71f, 0.02f, 0.15f));
+        painter.fillRect(bar, gradient);
+        painter.setPen(Qt::white);
+        painter.drawText(QRectF(8, 4, width() - 16, 18), Qt::AlignLeft | Qt::AlignVCenter, m_text);
+    }
+
+private:
+    QString m_text;
+};
+
 Viewport::Viewport(Document* document, SimulationController* simulation, QWidget* parent)
     : QOpenGLWidget(parent), m_document(document), m_simulation(simulation) {
     setFocusPolicy(Qt::StrongFocus);
     setMouseTracking(true);
     setMinimumSize(320, 240);
+    m_legend = new ValueLegend(this);
+    connect(document, &Document::materialChanged, this, &Viewport::updateLegend);
+    connect(document, &Document::sceneReplaced, this, &Viewport::updateLegend);
     connect(simulation, &SimulationController::stepped, this, qOverload<>(&QWidget::update));
     connect(simulation, &SimulationController::rebuilt, this, [this] {
         m_sceneDirty = true;
@@ -55,7 +90,7 @@ void Viewport::initializeGL() {
     m_sceneDirty = true;
 }
 
-void Viewport::resizeGL(int, int) {}
+void Viewport::resizeGL(int, int) { updateLegend(); }
 
 void Viewport::uploadScene() {
     m_renderer.clearObjects();
@@ -132,6 +167,18 @@ void Viewport::paintGL() {
     }
     const double ms = double(timer.nsecsElapsed()) * 1e-6;
     m_frameMs = m_frameMs == 0.0 ? ms : 0.9 * m_frameMs + 0.1 * ms;
+}
+
+void Viewport::updateLegend() {
+    const Scene& scene = m_document->scene();
+    const bool show = m_overlayVisible && std::size_t(m_object) < scene.objects.size();
+    m_legend->setVisible(show);
+    if (!show)
+        return;
+    const std::vector<double>& values = fieldValues(scene.objects[std::size_t(m_object)].material, m_brush.field);
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    m_legend->setRange(QString::fromUtf8(fieldName(m_brush.field)), *lo, *hi, QString::fromUtf8(fieldUnit(m_brush.field)));
+    m_legend->move(12, height() - m_legend->height() - 12);
 }
 
 QPointF Viewport::toWidget(const Vec3& world) const {
@@ -417,6 +464,7 @@ void Viewport::setNavigationStyle(NavigationStyle style) { m_navigation = style;
 
 void Viewport::setOverlayVisible(bool visible) {
     m_overlayVisible = visible;
+    updateLegend();
     update();
 }
 
@@ -424,6 +472,7 @@ void Viewport::setAnchorMode(AnchorMode mode) { m_anchorMode = mode; }
 
 void Viewport::setCurrentObject(int object) {
     m_object = object;
+    updateLegend();
     m_selection.clear();
     emit selectionChanged();
     update();

@@ -33,6 +33,8 @@ struct DragToolSettings {
 };
 
 /// OpenGL viewport of one document.
+class ValueLegend;
+
 class Viewport : public QOpenGLWidget {
     Q_OBJECT
 public:
@@ -94,6 +96,11 @@ protected:
 private:
     enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box };
     void uploadScene();
+public slots:
+    /// Shows the painted field's range (call after changing brush().field).
+    void updateLegend();
+
+private:
     void updateOverlay(int object);
     Gesture navigationFor(const QMouseEvent* event) const;
     std::vector<Eigen::Vector2d> nodeScreenPositions(int object) const;
@@ -133,6 +140,7 @@ private:
     int m_nextStrokeKey = 1000;  // kFirstStrokeKey
     int m_strokeKey = -1;
     double m_frameMs = 0.0;
+    ValueLegend* m_legend = nullptr;
 };
 
 }  // namespace softtouch::ui
