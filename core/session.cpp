@@ -92,9 +92,10 @@ Status Session::validateFor(const SceneSimulation& sim) const {
     return Status::success();
 }
 
-void SessionRecorder::begin(const SceneSimulation& sim) {
+void SessionRecorder::begin(SceneSimulation& sim) {
     m_session = Session{};
     m_session.start = sim.saveSnapshot();
+    sim.restoreSnapshot(m_session.start);
     m_session.dt = sceneDt(sim);
     m_session.endStep = m_session.start.step;
     m_current.clear();

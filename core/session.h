@@ -53,7 +53,11 @@ struct Session {
 class SessionRecorder {
 public:
     /// Starts a session from the current state of `sim` (snapshot and current interactive drags).
-    void begin(const SceneSimulation& sim);
+    /// A snapshot does not hold how long a body has been quiet or whether it sleeps, and a replay
+    /// starts from a restored (awake, not yet quiet) body; so begin() restores `sim` from its own
+    /// snapshot first, and the live run and every replay go on from the same full state. (A sleeping
+    /// body wakes, and falls asleep again after the same quiet steps in both.)
+    void begin(SceneSimulation& sim);
     /// Call before advancing `sim`: records each object's interactive drags that differ from the last
     /// recorded ones, as acting from the current step on. Cheap when nothing changed.
     void recordStep(const SceneSimulation& sim);
