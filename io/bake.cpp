@@ -8,6 +8,8 @@ std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheForm
     if (format == CacheFormat::ObjSequence)
         return cache;
     std::filesystem::path rest = cache;
+    if (format == CacheFormat::Vat || format == CacheFormat::Lattice)
+        return rest += ".obj";  // a base path: "out/fish.v2" must not lose ".v2"
     return rest.replace_extension(".obj");
 }
 
@@ -22,10 +24,15 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
 
     // The rest mesh of all objects, concatenated in scene order: the cache's vertex order.
-    Mesh rest;
+    ClipSetup setup;
+    Mesh& rest = setup.restMesh;
     for (std::size_t i = 0; i < sim.objectCount(); ++i) {
-        const Mesh& m = sim.object(i).mesh;
+        const SceneObject& object = sim.object(i);
+        const Mesh& m = object.mesh;
         const auto base = std::uint32_t(rest.positions.size());
+        ClipObject clipObject{object.name, base, std::uint32_t(m.positions.size()),
+                              std::uint32_t(rest.triangles.size()), std::uint32_t(m.triangles.size()), object.lattice};
+        setup.objects.push_back(std::move(clipObject));
         rest.positions.insert(rest.positions.end(), m.positions.begin(), m.positions.end());
         if (!m.normals.empty())
             rest.normals.insert(rest.normals.end(), m.normals.begin(), m.normals.end());
@@ -36,26 +43,39 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         rest.computeNormals();
 
     BakeResult result;
-    result.cache = options.format == CacheFormat::ObjSequence ? objSequenceFramePath(options.output, 0) : options.output;
+    result.files = exportOutputs(options.format, options.output);
+    result.cache = result.files.front();
     result.restMesh = restMeshPath(options.output, options.format);
     result.points = rest.positions.size();
 
-    auto writer = makeCacheWriter(options.format, rest);
-    CacheInfo info;
-    info.pointCount = rest.positions.size();
-    info.frameCount = std::size_t(frames);
-    info.fps = fps;
-    if (Status s = writer->begin(options.output, info); !s)
+    auto writer = makeClipWriter(options.format, options.exportOptions);
+    setup.info.pointCount = rest.positions.size();
+    setup.info.frameCount = std::size_t(frames);
+    setup.info.fps = fps;
+    if (Status s = writer->begin(options.output, setup); !s)
         return s;
 
-    std::vector<Vec3f> frame(rest.positions.size());
+    // One frame in memory: positions, normals when the writer wants them, node positions borrowed
+    // from the simulators' states.
+    std::vector<Vec3f> positions(rest.positions.size());
+    std::vector<Vec3f> normals(writer->needsNormals() ? rest.positions.size() : 0);
+    FrameData frame;
+    frame.positions = positions;
+    frame.normals = normals;
     for (int f = 0; f < frames; ++f) {
         sim.advanceTo(double(f) / fps, &result.warnings);
         std::size_t offset = 0;
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
             const std::size_t n = sim.object(i).mesh.positions.size();
-            sim.evaluate(i, std::span<Vec3f>(frame).subspan(offset, n), {}, options.threads);
+            const std::span<Vec3f> objectNormals =
+                normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
+            sim.evaluate(i, std::span<Vec3f>(positions).subspan(offset, n), objectNormals, options.threads);
             offset += n;
+        }
+        frame.nodes.clear();
+        if (writer->needsNodes()) {
+            for (std::size_t i = 0; i < sim.objectCount(); ++i)
+                frame.nodes.emplace_back(sim.simulator(i).state().position);
         }
         if (Status s = writer->writeFrame(frame); !s) {
             writer->abort();
@@ -73,6 +93,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     }
     if (Status s = writer->finish(); !s)
         return s;
+    result.warnings.insert(result.warnings.end(), writer->warnings().begin(), writer->warnings().end());
     result.frames = frames;
     return result;
 }

@@ -4,6 +4,7 @@
 /// unless everything succeeded; no non-finite frame ever reaches a file.
 
 #include "core/scene.h"
+#include "io/clip_writer.h"
 #include "io/vertex_cache.h"
 
 #include <filesystem>
@@ -15,8 +16,9 @@ namespace softtouch::io {
 
 /// What to bake.
 struct BakeOptions {
-    std::filesystem::path output;           ///< Cache file (for an OBJ sequence: dir/name.obj).
-    CacheFormat format = CacheFormat::Pc2;  ///< Cache format.
+    std::filesystem::path output;           ///< Cache file (OBJ sequence: dir/name.obj; vat, lattice: a base path).
+    CacheFormat format = CacheFormat::Pc2;  ///< Cache or export format.
+    ClipExportOptions exportOptions;        ///< Settings of the glTF, VAT and lattice exports.
     int frames = 0;                         ///< Frames to write; 0 takes the scene's clip length.
     double fps = 0.0;                       ///< Frame rate; 0 takes the scene's.
     int threads = 0;                        ///< Deformation threads; 0 uses every hardware thread.
@@ -26,15 +28,16 @@ struct BakeOptions {
 
 /// What a bake wrote.
 struct BakeResult {
-    std::filesystem::path cache;     ///< The cache (for an OBJ sequence: the first frame).
+    std::filesystem::path cache;     ///< The cache (for an OBJ sequence: the first frame; vat, lattice: the first file).
+    std::vector<std::filesystem::path> files; ///< Every file the export wrote (exportOutputs()), rest mesh excluded.
     std::filesystem::path restMesh;  ///< The OBJ whose vertex order the cache follows.
     int frames = 0;                  ///< Frames written.
     std::size_t points = 0;          ///< Vertices per frame.
-    std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …).
+    std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …) and the exporter's (engine limits).
 };
 
 /// Where the rest mesh of a cache goes: the cache path with extension .obj (an OBJ sequence's
-/// --out path itself).
+/// --out path itself; for the base path of vat and lattice, the base with .obj).
 std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format);
 
 /// Simulates `scene` from its rest state and writes the cache and the rest mesh.

@@ -10,6 +10,8 @@ packages=(
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
   fonts-dejavu-core       # text in plots rendered headless (study)
+  libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
+  libopenexr-dev          # vertex animation textures (bake --format vat)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
 )
 
