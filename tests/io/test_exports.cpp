@@ -11,10 +11,15 @@
 #include <assimp/mesh.h>
 #include <assimp/scene.h>
 
+#include <ImfRgbaFile.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
 #include <QTemporaryDir>
 #include <QtTest>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -34,7 +39,7 @@ const fs::path kSource = SOFTTOUCH_SOURCE_DIR;
 constexpr int kFrames = 6;
 
 /// The formats written through ClipWriter only.
-const char* const kClipFormats[] = {"gltf", "glb"};
+const char* const kClipFormats[] = {"gltf", "glb", "vat"};
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -89,6 +94,30 @@ BakeResult bakeTo(const Scene& scene, CacheFormat format, const fs::path& out, C
     return result.value();
 }
 
+/// Loads a GLB with tinygltf; fails the test on error.
+tinygltf::Model loadGlb(const fs::path& path) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error;
+    std::string warning;
+    if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string()))
+        qFatal("cannot load %s: %s", path.string().c_str(), error.c_str());
+    return model;
+}
+
+/// The floats of a tightly packed FLOAT accessor.
+std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
+    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
+    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
+    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || view.byteStride != 0)
+        qFatal("accessor %d is not tightly packed floats", index);
+    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
+    std::vector<float> out(accessor.count * components);
+    std::memcpy(out.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset,
+                out.size() * sizeof(float));
+    return out;
+}
+
 /// A small mesh on a small lattice: what the bad-input tests hand writers directly.
 ClipSetup smallSetup() {
     ClipSetup setup;
@@ -115,6 +144,8 @@ private slots:
     void formatNamesAndOutputs();
     void gltfRoundTrip_data();
     void gltfRoundTrip();
+    void vatRoundTrip_data();
+    void vatRoundTrip();
     void nonFiniteFrameLeavesOldFiles_data();
     void nonFiniteFrameLeavesOldFiles();
     void unwritablePathFailsEarly_data();
@@ -214,6 +245,103 @@ void TestExports::gltfRoundTrip() {
         QVERIFY(found);
         QCOMPARE(sum, 1.0);
     }
+}
+
+void TestExports::vatRoundTrip_data() {
+    QTest::addColumn<int>("maxWidth");
+    QTest::newRow("one row per frame") << 8192;
+    QTest::newRow("wrapped rows") << 1000;  // 3,656 vertices: 4 rows per frame, the last one partial
+}
+
+void TestExports::vatRoundTrip() {
+    QFETCH(int, maxWidth);
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / "swim";
+    ClipExportOptions options;
+    options.vatMaxWidth = maxWidth;
+    const BakeResult baked = bakeTo(m_fish, CacheFormat::Vat, base, options);
+    QCOMPARE(baked.files, exportOutputs(CacheFormat::Vat, base));
+    for (const fs::path& file : baked.files)
+        QVERIFY2(fs::is_regular_file(file), file.c_str());
+    bakeTo(m_fish, CacheFormat::Pc2, base.parent_path() / "swim.pc2");
+    const Result<VertexCache> pc2 = readPc2(base.parent_path() / "swim.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const VertexCache& reference = pc2.value();
+    const std::size_t vertices = reference.info.pointCount;
+
+    // Everything below comes from the exported files alone: sidecar, mesh, textures.
+    const nlohmann::json sidecar = nlohmann::json::parse(readText(base.string() + ".vat.json"));
+    QCOMPARE(sidecar.at("frameCount").get<int>(), kFrames);
+    QCOMPARE(sidecar.at("fps").get<double>(), m_fish.world.fps);
+    QCOMPARE(sidecar.at("vertexCount").get<std::size_t>(), vertices);
+    const auto width = sidecar.at("textureWidth").get<std::size_t>();
+    const auto height = sidecar.at("textureHeight").get<std::size_t>();
+    const auto rows = sidecar.at("rowsPerFrame").get<std::size_t>();
+    QCOMPARE(width, std::min<std::size_t>(vertices, std::size_t(maxWidth)));
+    QCOMPARE(rows, (vertices + width - 1) / width);
+    QCOMPARE(height, rows * std::size_t(kFrames));
+    const double rowStep = sidecar.at("frameRowStep").get<double>();
+
+    const tinygltf::Model mesh = loadGlb(base.string() + ".vat-mesh.glb");
+    const tinygltf::Primitive& primitive = mesh.meshes.at(0).primitives.at(0);
+    const std::vector<float> rest = accessorFloats(mesh, primitive.attributes.at("POSITION"));
+    const std::vector<float> index = accessorFloats(mesh, primitive.attributes.at("TEXCOORD_0"));
+    const std::vector<float> lookup = accessorFloats(mesh, primitive.attributes.at("TEXCOORD_1"));
+    QCOMPARE(rest.size(), 3 * vertices);
+
+    auto decode = [&](const std::string& name) {
+        Imf::RgbaInputFile file(name.c_str());
+        const Imath::Box2i window = file.dataWindow();
+        if (std::size_t(window.max.x - window.min.x + 1) != width || std::size_t(window.max.y - window.min.y + 1) != height)
+            qFatal("%s has the wrong size", name.c_str());
+        std::vector<Imf::Rgba> pixels(width * height);
+        file.setFrameBuffer(pixels.data(), 1, width);
+        file.readPixels(window.min.y, window.max.y);
+        return pixels;
+    };
+    const std::vector<Imf::Rgba> offsets = decode(base.string() + ".vat-position.exr");
+    const std::vector<Imf::Rgba> normals = decode(base.string() + ".vat-normal.exr");
+
+    const Vec3f lo(sidecar["bounds"]["min"][0], sidecar["bounds"]["min"][1], sidecar["bounds"]["min"][2]);
+    const Vec3f hi(sidecar["bounds"]["max"][0], sidecar["bounds"]["max"][1], sidecar["bounds"]["max"][2]);
+    double worstExcess = -1.0;  // largest (error - tolerance); must stay <= 0
+    double worstRelative = 0.0;
+    const double diagonal = diagonalOf(reference);
+    for (int f = 0; f < kFrames; ++f) {
+        for (std::size_t v = 0; v < vertices; ++v) {
+            QCOMPARE(std::size_t(index[2 * v]), v);
+            // What a VAT shader does: the lookup UV of frame 0 plus f rows of frames, texel centres.
+            const double u = lookup[2 * v];
+            const double vv = lookup[2 * v + 1] + f * rowStep;
+            const auto x = std::size_t(std::floor(u * double(width)));
+            const auto y = std::size_t(std::floor(vv * double(height)));
+            QVERIFY(x < width && y < height);
+            const Imf::Rgba& o = offsets[y * width + x];
+            const Imf::Rgba& n = normals[y * width + x];
+            const Vec3f offset(o.r, o.g, o.b);
+            QVERIFY((offset.array() >= lo.array() - 1e-3f * std::abs(lo.maxCoeff()) - 1e-6f).all());
+            QVERIFY((offset.array() <= hi.array() + 1e-3f * std::abs(hi.maxCoeff()) + 1e-6f).all());
+            const Vec3f decoded = Vec3f(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]) + offset;
+            const Vec3f& expected = reference.frames[std::size_t(f)][v];
+            const Vec3f restPosition(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+            for (int c = 0; c < 3; ++c) {
+                // Half keeps 11 significant bits of the offset: relative 2^-11, absolute 2^-25 for
+                // subnormals; the float sum adds one rounding of the position.
+                const double trueOffset = double(expected[c]) - double(restPosition[c]);
+                const double tolerance = std::abs(trueOffset) * std::ldexp(1.0, -11) + std::ldexp(1.0, -25) +
+                                         2.0 * std::numeric_limits<float>::epsilon() * std::abs(expected[c]);
+                const double error = std::abs(double(decoded[c]) - double(expected[c]));
+                worstExcess = std::max(worstExcess, error - tolerance);
+                worstRelative = std::max(worstRelative, error / diagonal);
+            }
+            const float length = Vec3f(n.r, n.g, n.b).norm();
+            QVERIFY2(std::abs(length - 1.0f) < 2e-3f, qPrintable(QString("normal length %1").arg(length)));
+        }
+    }
+    qInfo("VAT: worst position error %.3g of the diagonal; worst excess over half precision %.3g m", worstRelative,
+          worstExcess);
+    QVERIFY(worstExcess <= 0.0);
+    QVERIFY((hi - lo).maxCoeff() > 0.0f);  // the clip moves
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles_data() {
