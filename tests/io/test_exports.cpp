@@ -3,6 +3,7 @@
 
 #include "io/bake.h"
 #include "io/clip_writer.h"
+#include "io/lattice_cache.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 
@@ -39,7 +40,7 @@ const fs::path kSource = SOFTTOUCH_SOURCE_DIR;
 constexpr int kFrames = 6;
 
 /// The formats written through ClipWriter only.
-const char* const kClipFormats[] = {"gltf", "glb", "vat"};
+const char* const kClipFormats[] = {"gltf", "glb", "vat", "lattice"};
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -118,6 +119,46 @@ std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
     return out;
 }
 
+/// The non-zero basis functions of a clamped B-spline at t, from the knot vector alone (Cox-de
+/// Boor in the form of The NURBS Book A2.2); independent of core/axis_basis. Returns the first
+/// node index; values[0..degree] are filled.
+int bsplineBasis(const std::vector<double>& knots, int degree, int count, double t, double* values) {
+    int span = degree;  // the last knot span whose start is <= t; end spans extrapolate
+    while (span < count - 1 && knots[std::size_t(span + 1)] <= t)
+        ++span;
+    double left[8];
+    double right[8];
+    values[0] = 1.0;
+    for (int j = 1; j <= degree; ++j) {
+        left[j] = t - knots[std::size_t(span + 1 - j)];
+        right[j] = knots[std::size_t(span + j)] - t;
+        double saved = 0.0;
+        for (int r = 0; r < j; ++r) {
+            const double temp = values[r] / (right[r + 1] + left[j - r]);
+            values[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        values[j] = saved;
+    }
+    return span - degree;
+}
+
+/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache.
+Vec3 evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw) {
+    double basis[3][8];
+    int first[3];
+    for (std::size_t a = 0; a < 3; ++a)
+        first[a] = bsplineBasis(object.knots[a], object.degrees[a], object.nodes[a], uvw[int(a)], basis[a]);
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k <= object.degrees[2]; ++k)
+        for (int j = 0; j <= object.degrees[1]; ++j)
+            for (int i = 0; i <= object.degrees[0]; ++i) {
+                const int index = (first[0] + i) + object.nodes[0] * ((first[1] + j) + object.nodes[1] * (first[2] + k));
+                x += basis[0][i] * basis[1][j] * basis[2][k] * nodes[index].cast<double>();
+            }
+    return x;
+}
+
 /// A small mesh on a small lattice: what the bad-input tests hand writers directly.
 ClipSetup smallSetup() {
     ClipSetup setup;
@@ -146,6 +187,9 @@ private slots:
     void gltfRoundTrip();
     void vatRoundTrip_data();
     void vatRoundTrip();
+    void latticeRoundTrip_data();
+    void latticeRoundTrip();
+    void latticeCacheRejectsBadFiles();
     void nonFiniteFrameLeavesOldFiles_data();
     void nonFiniteFrameLeavesOldFiles();
     void unwritablePathFailsEarly_data();
@@ -342,6 +386,109 @@ void TestExports::vatRoundTrip() {
           worstExcess);
     QVERIFY(worstExcess <= 0.0);
     QVERIFY((hi - lo).maxCoeff() > 0.0f);  // the clip moves
+}
+
+void TestExports::latticeRoundTrip_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::addColumn<QString>("lattice");
+    QTest::newRow("angelfish, Bezier 4x4x4") << "angelfish-swim" << "";
+    QTest::newRow("star, cubic B-spline 6x4x4") << "star-drag" << R"("lattice": {"kind": "bspline", "nodes": [6, 4, 4], "padding": 0.02})";
+    QTest::newRow("star, Bezier 8x3x4 (degree 7)") << "star-drag" << R"("lattice": {"kind": "bezier", "nodes": [8, 3, 4], "padding": 0.02})";
+}
+
+void TestExports::latticeRoundTrip() {
+    QFETCH(QString, scene);
+    QFETCH(QString, lattice);
+    QTemporaryDir dir;
+    const fs::path folder = dir.path().toStdString();
+    fs::path project = kSource / "presets/scenes" / (scene.toStdString() + ".softtouch");
+    if (!lattice.isEmpty()) {  // the same scene on another lattice
+        std::string text = readText(project);
+        const auto begin = text.find("\"lattice\"");
+        const auto end = text.find('}', begin);
+        text.replace(begin, end + 1 - begin, lattice.toStdString());
+        const auto mesh = text.find("../meshes/");
+        text.replace(mesh, 3, (kSource / "presets").string() + "/");
+        project = folder / "scene.softtouch";
+        writeText(project, text);
+    }
+    const Scene source = loadScene(project);
+    const fs::path base = folder / "clip";
+    const BakeResult baked = bakeTo(source, CacheFormat::Lattice, base);
+    QCOMPARE(baked.files, exportOutputs(CacheFormat::Lattice, base));
+    bakeTo(source, CacheFormat::Pc2, folder / "clip.pc2");
+    const Result<VertexCache> pc2 = readPc2(folder / "clip.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const VertexCache& reference = pc2.value();
+
+    // From the exported files alone: the header and nodes of the .bin, the parameters of the GLB.
+    const Result<LatticeCache> read = readLatticeCache(base.string() + ".lattice.bin");
+    QVERIFY2(read, read.message().c_str());
+    const LatticeCache& cache = read.value();
+    QCOMPARE(int(cache.frameCount), kFrames);
+    QCOMPARE(cache.fps, source.world.fps);
+    QCOMPARE(cache.objects.size(), source.objects.size());
+    const tinygltf::Model mesh = loadGlb(folder / cache.mesh);
+    QCOMPARE(mesh.meshes.at(0).primitives.size(), cache.objects.size());
+
+    const double diagonal = diagonalOf(reference);
+    double worst = 0.0;
+    for (std::size_t o = 0; o < cache.objects.size(); ++o) {
+        const LatticeCacheObject& object = cache.objects[o];
+        QCOMPARE(object.kind, source.objects[o].lattice.shape().kind);
+        const std::vector<float> uvw = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("_LATTICE_UVW"));
+        QCOMPARE(uvw.size(), 3 * std::size_t(object.vertexCount));
+        std::size_t firstNode = 0;
+        for (std::size_t before = 0; before < o; ++before)
+            firstNode += std::size_t(cache.objects[before].nodeCount());
+        for (std::size_t f = 0; f < cache.frameCount; ++f) {
+            for (std::size_t v = 0; v < object.vertexCount; ++v) {
+                const Vec3 p(uvw[3 * v], uvw[3 * v + 1], uvw[3 * v + 2]);
+                const Vec3 x = evaluateLattice(object, cache.frames[f].data() + firstNode, p);
+                const Vec3f& expected = reference.frames[f][object.firstVertex + v];
+                worst = std::max(worst, (x - expected.cast<double>()).norm());
+            }
+        }
+    }
+    const auto size = [](const fs::path& p) { return double(fs::file_size(p)); };
+    qInfo("lattice cache: worst error %.3g of the diagonal; %.0f + %.0f bytes vs PC2 %.0f bytes", worst / diagonal,
+          size(base.string() + ".lattice.bin"), size(base.string() + ".lattice.glb"), size(folder / "clip.pc2"));
+    QVERIFY2(worst <= 1e-6 * diagonal, qPrintable(QString("error %1 of the diagonal").arg(worst / diagonal)));
+    // The clip moves, so the comparison is not between rest poses.
+    double motion = 0.0;
+    for (std::size_t v = 0; v < reference.info.pointCount; ++v)
+        motion = std::max(motion, double((reference.frames.back()[v] - reference.frames.front()[v]).norm()));
+    QVERIFY(motion > 1e-3 * diagonal);
+}
+
+void TestExports::latticeCacheRejectsBadFiles() {
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / "clip";
+    bakeTo(m_fish, CacheFormat::Lattice, base);
+    const fs::path bin = base.string() + ".lattice.bin";
+    const std::string good = readText(bin);
+    struct Case {
+        std::string bytes;
+        const char* expected;
+    };
+    std::string wrongKind = good;
+    wrongKind.replace(wrongKind.find("\"bezier\""), 8, "\"bezjer\"");
+    std::string wrongNodes = good;
+    wrongNodes.replace(wrongNodes.find("\"nodes\":[4,4,4]"), 15, "\"nodes\":[4,4,1]");
+    const Case cases[] = {
+        {"POINTCACHE2", "is not a lattice cache"},
+        {good.substr(0, good.size() - 5), "is truncated"},
+        {good + "xyz", "extra bytes"},
+        {wrongKind, "/objects/0/kind"},
+        {wrongNodes, "/objects/0/nodes"},
+    };
+    for (const Case& c : cases) {
+        writeText(bin, c.bytes);
+        const Result<LatticeCache> read = readLatticeCache(bin);
+        QVERIFY(!read);
+        QVERIFY2(QString::fromStdString(read.message()).contains(c.expected), read.message().c_str());
+        QVERIFY2(QString::fromStdString(read.message()).contains("clip.lattice.bin"), read.message().c_str());
+    }
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles_data() {
