@@ -93,7 +93,8 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     }
     if (Status s = writer->finish(); !s)
         return s;
-    result.warnings.insert(result.warnings.end(), writer->warnings().begin(), writer->warnings().end());
+    // The exporter's first: the CLI shows only the first few.
+    result.warnings.insert(result.warnings.begin(), writer->warnings().begin(), writer->warnings().end());
     result.frames = frames;
     return result;
 }
