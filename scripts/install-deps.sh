@@ -12,6 +12,7 @@ packages=(
   fonts-dejavu-core       # text in plots rendered headless (study)
   libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
   libopenexr-dev          # vertex animation textures (bake --format vat)
+  glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
 )
 

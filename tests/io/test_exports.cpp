@@ -16,6 +16,8 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <QProcess>
+#include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -119,44 +121,64 @@ std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
     return out;
 }
 
-/// The non-zero basis functions of a clamped B-spline at t, from the knot vector alone (Cox-de
-/// Boor in the form of The NURBS Book A2.2); independent of core/axis_basis. Returns the first
-/// node index; values[0..degree] are filled.
-int bsplineBasis(const std::vector<double>& knots, int degree, int count, double t, double* values) {
-    int span = degree;  // the last knot span whose start is <= t; end spans extrapolate
+/// Every B-spline basis function of one axis and its derivative at t, by the textbook Cox-de Boor
+/// recursion over the header's knot vector (dense, 0/0 = 0): independent of core/axis_basis and of
+/// the shaders' triangular form. Outside [0,1] the end spans extrapolate, as the engine does.
+struct AxisValues {
+    std::vector<double> value;  ///< N_i(t), i < count.
+    std::vector<double> slope;  ///< dN_i/dt.
+};
+
+AxisValues bsplineBasis(const std::vector<double>& knots, int degree, int count, double t) {
+    int span = degree;  // the last knot span whose start is <= t
     while (span < count - 1 && knots[std::size_t(span + 1)] <= t)
         ++span;
-    double left[8];
-    double right[8];
-    values[0] = 1.0;
-    for (int j = 1; j <= degree; ++j) {
-        left[j] = t - knots[std::size_t(span + 1 - j)];
-        right[j] = knots[std::size_t(span + j)] - t;
-        double saved = 0.0;
-        for (int r = 0; r < j; ++r) {
-            const double temp = values[r] / (right[r + 1] + left[j - r]);
-            values[r] = saved + right[r + 1] * temp;
-            saved = left[j - r] * temp;
-        }
-        values[j] = saved;
+    const auto ratio = [](double a, double b) { return b == 0.0 ? 0.0 : a / b; };
+    const auto U = [&](int i) { return knots[std::size_t(i)]; };
+    std::vector<double> n(knots.size(), 0.0);  // degree q functions, N_{i,q} for i < knots - q - 1
+    n[std::size_t(span)] = 1.0;
+    std::vector<double> lower;
+    for (int q = 1; q <= degree; ++q) {
+        lower = n;
+        for (int i = 0; i + q + 1 < int(knots.size()); ++i)
+            n[std::size_t(i)] = ratio(t - U(i), U(i + q) - U(i)) * lower[std::size_t(i)] +
+                                ratio(U(i + q + 1) - t, U(i + q + 1) - U(i + 1)) * lower[std::size_t(i + 1)];
     }
-    return span - degree;
+    AxisValues out;
+    out.value.assign(n.begin(), n.begin() + count);
+    out.slope.assign(std::size_t(count), 0.0);
+    for (int i = 0; i < count; ++i)  // N'_{i,p} = p N_{i,p-1} / (U_{i+p} - U_i) - p N_{i+1,p-1} / (U_{i+p+1} - U_{i+1})
+        out.slope[std::size_t(i)] = degree * (ratio(lower[std::size_t(i)], U(i + degree) - U(i)) -
+                                              ratio(lower[std::size_t(i + 1)], U(i + degree + 1) - U(i + 1)));
+    return out;
 }
 
-/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache.
-Vec3 evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw) {
-    double basis[3][8];
-    int first[3];
+/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache, and the unit
+/// normal from the Jacobian's cofactor (core/binding.h) applied to the rest normal.
+std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw,
+                                      const Vec3& restNormal) {
+    AxisValues axis[3];
     for (std::size_t a = 0; a < 3; ++a)
-        first[a] = bsplineBasis(object.knots[a], object.degrees[a], object.nodes[a], uvw[int(a)], basis[a]);
+        axis[a] = bsplineBasis(object.knots[a], object.degrees[a], object.nodes[a], uvw[int(a)]);
     Vec3 x = Vec3::Zero();
-    for (int k = 0; k <= object.degrees[2]; ++k)
-        for (int j = 0; j <= object.degrees[1]; ++j)
-            for (int i = 0; i <= object.degrees[0]; ++i) {
-                const int index = (first[0] + i) + object.nodes[0] * ((first[1] + j) + object.nodes[1] * (first[2] + k));
-                x += basis[0][i] * basis[1][j] * basis[2][k] * nodes[index].cast<double>();
+    Vec3 xu = Vec3::Zero();
+    Vec3 xv = Vec3::Zero();
+    Vec3 xw = Vec3::Zero();
+    for (int k = 0; k < object.nodes[2]; ++k)
+        for (int j = 0; j < object.nodes[1]; ++j)
+            for (int i = 0; i < object.nodes[0]; ++i) {
+                const Vec3 p = nodes[i + object.nodes[0] * (j + object.nodes[1] * k)].cast<double>();
+                const double nu = axis[0].value[std::size_t(i)], nv = axis[1].value[std::size_t(j)],
+                             nw = axis[2].value[std::size_t(k)];
+                x += nu * nv * nw * p;
+                xu += axis[0].slope[std::size_t(i)] * nv * nw * p;
+                xv += nu * axis[1].slope[std::size_t(j)] * nw * p;
+                xw += nu * nv * axis[2].slope[std::size_t(k)] * p;
             }
-    return x;
+    // cof(A) n_rest with A = d(u,v,w)/dx = diag(1/size) axes^T, up to a positive factor.
+    const Vec3 m = (object.box.axes.transpose() * restNormal).cwiseProduct(object.box.size);
+    const Vec3 normal = (xv.cross(xw) * m.x() + xw.cross(xu) * m.y() + xu.cross(xv) * m.z()).normalized();
+    return {x, normal};
 }
 
 /// A small mesh on a small lattice: what the bad-input tests hand writers directly.
@@ -190,6 +212,8 @@ private slots:
     void latticeRoundTrip_data();
     void latticeRoundTrip();
     void latticeCacheRejectsBadFiles();
+    void latticeShadersCompile_data();
+    void latticeShadersCompile();
     void nonFiniteFrameLeavesOldFiles_data();
     void nonFiniteFrameLeavesOldFiles();
     void unwritablePathFailsEarly_data();
@@ -417,6 +441,10 @@ void TestExports::latticeRoundTrip() {
     const BakeResult baked = bakeTo(source, CacheFormat::Lattice, base);
     QCOMPARE(baked.files, exportOutputs(CacheFormat::Lattice, base));
     bakeTo(source, CacheFormat::Pc2, folder / "clip.pc2");
+    bakeTo(source, CacheFormat::Glb, folder / "normals.glb");  // the bake's normals, as morph targets
+    const tinygltf::Model morphs = loadGlb(folder / "normals.glb");
+    const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
+    const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
     const Result<VertexCache> pc2 = readPc2(folder / "clip.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const VertexCache& reference = pc2.value();
@@ -433,27 +461,38 @@ void TestExports::latticeRoundTrip() {
 
     const double diagonal = diagonalOf(reference);
     double worst = 0.0;
+    double worstNormal = 0.0;
     for (std::size_t o = 0; o < cache.objects.size(); ++o) {
         const LatticeCacheObject& object = cache.objects[o];
         QCOMPARE(object.kind, source.objects[o].lattice.shape().kind);
         const std::vector<float> uvw = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("_LATTICE_UVW"));
+        const std::vector<float> restNormals = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("NORMAL"));
         QCOMPARE(uvw.size(), 3 * std::size_t(object.vertexCount));
         std::size_t firstNode = 0;
         for (std::size_t before = 0; before < o; ++before)
             firstNode += std::size_t(cache.objects[before].nodeCount());
         for (std::size_t f = 0; f < cache.frameCount; ++f) {
+            const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(f).at("NORMAL"));
             for (std::size_t v = 0; v < object.vertexCount; ++v) {
                 const Vec3 p(uvw[3 * v], uvw[3 * v + 1], uvw[3 * v + 2]);
-                const Vec3 x = evaluateLattice(object, cache.frames[f].data() + firstNode, p);
+                const Vec3 n(restNormals[3 * v], restNormals[3 * v + 1], restNormals[3 * v + 2]);
+                const auto [x, normal] = evaluateLattice(object, cache.frames[f].data() + firstNode, p, n);
                 const Vec3f& expected = reference.frames[f][object.firstVertex + v];
                 worst = std::max(worst, (x - expected.cast<double>()).norm());
+                const std::size_t g = 3 * (object.firstVertex + v);
+                const Vec3 bakedNormal(morphRestNormals[g] + normalDeltas[g], morphRestNormals[g + 1] + normalDeltas[g + 1],
+                                       morphRestNormals[g + 2] + normalDeltas[g + 2]);
+                worstNormal = std::max(worstNormal, (normal - bakedNormal).norm());
             }
         }
     }
     const auto size = [](const fs::path& p) { return double(fs::file_size(p)); };
-    qInfo("lattice cache: worst error %.3g of the diagonal; %.0f + %.0f bytes vs PC2 %.0f bytes", worst / diagonal,
+    qInfo("lattice cache: worst error %.3g of the diagonal, normals %.3g; %.0f + %.0f bytes vs PC2 %.0f bytes",
+          worst / diagonal, worstNormal,
           size(base.string() + ".lattice.bin"), size(base.string() + ".lattice.glb"), size(folder / "clip.pc2"));
     QVERIFY2(worst <= 1e-6 * diagonal, qPrintable(QString("error %1 of the diagonal").arg(worst / diagonal)));
+    // Normals: the bake's are float32 (basis values too); the shaders' formula must agree with them.
+    QVERIFY2(worstNormal <= 1e-5, qPrintable(QString("normal error %1").arg(worstNormal)));
     // The clip moves, so the comparison is not between rest poses.
     double motion = 0.0;
     for (std::size_t v = 0; v < reference.info.pointCount; ++v)
@@ -489,6 +528,31 @@ void TestExports::latticeCacheRejectsBadFiles() {
         QVERIFY2(QString::fromStdString(read.message()).contains(c.expected), read.message().c_str());
         QVERIFY2(QString::fromStdString(read.message()).contains("clip.lattice.bin"), read.message().c_str());
     }
+}
+
+void TestExports::latticeShadersCompile_data() {
+    QTest::addColumn<QString>("file");
+    QTest::addColumn<QStringList>("arguments");
+    QTest::newRow("GLSL 4.30 vertex") << "lattice_deform.glsl" << QStringList{"-S", "vert"};
+    QTest::newRow("HLSL vertex to SPIR-V") << "lattice_deform.hlsl" << QStringList{"-D", "-S", "vert", "-e", "main", "-V"};
+}
+
+void TestExports::latticeShadersCompile() {
+    // The shaders mirror evaluateLattice() above; this proves they build (glslang-tools, installed by
+    // scripts/install-deps.sh, compiles both the GLSL and the HLSL).
+    QFETCH(QString, file);
+    QFETCH(QStringList, arguments);
+    const QString validator = QStandardPaths::findExecutable("glslangValidator");
+    QVERIFY2(!validator.isEmpty(), "glslangValidator not found: run scripts/install-deps.sh (glslang-tools)");
+    QTemporaryDir dir;
+    QProcess process;
+    if (arguments.contains("-V"))  // SPIR-V output for the HLSL; the GLSL is checked as OpenGL GLSL
+        arguments << "-o" << dir.filePath("out.spv");
+    arguments << QString::fromStdString((kSource / "io/shaders").string()) + "/" + file;
+    process.start(validator, arguments);
+    QVERIFY(process.waitForFinished(60000));
+    const QByteArray output = process.readAllStandardOutput() + process.readAllStandardError();
+    QVERIFY2(process.exitStatus() == QProcess::NormalExit && process.exitCode() == 0, output.constData());
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles_data() {
