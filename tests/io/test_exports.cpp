@@ -181,6 +181,23 @@ std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Ve
     return {x, normal};
 }
 
+/// A project with two objects on different lattices (the star on a cubic B-spline 6x4x4 with its
+/// drag, then the swimming angelfish on its Bezier 4x4x4), so that vertex, triangle and node offsets
+/// of the second object matter.
+void writeTwoObjectProject(const fs::path& path) {
+    const fs::path scenes = kSource / "presets/scenes";
+    nlohmann::json star = nlohmann::json::parse(readText(scenes / "star-drag.softtouch"));
+    nlohmann::json fish = nlohmann::json::parse(readText(scenes / "angelfish-swim.softtouch"));
+    nlohmann::json first = star["objects"][0];
+    first["lattice"] = {{"kind", "bspline"}, {"nodes", {6, 4, 4}}, {"padding", 0.02}};
+    first["mesh"] = (kSource / "presets/meshes/star.obj").string();
+    nlohmann::json second = fish["objects"][0];
+    second["mesh"] = (kSource / "presets/meshes/angelfish.obj").string();
+    second["material"]["preset"] = (kSource / "presets/materials/fish-body.stpreset").string();
+    fish["objects"] = nlohmann::json::array({first, second});
+    writeText(path, fish.dump(2));
+}
+
 /// A small mesh on a small lattice: what the bad-input tests hand writers directly.
 ClipSetup smallSetup() {
     ClipSetup setup;
@@ -214,6 +231,8 @@ private slots:
     void latticeCacheRejectsBadFiles();
     void latticeShadersCompile_data();
     void latticeShadersCompile();
+    void cancelledBakeLeavesOldFiles_data();
+    void cancelledBakeLeavesOldFiles();
     void nonFiniteFrameLeavesOldFiles_data();
     void nonFiniteFrameLeavesOldFiles();
     void unwritablePathFailsEarly_data();
@@ -418,6 +437,7 @@ void TestExports::latticeRoundTrip_data() {
     QTest::newRow("angelfish, Bezier 4x4x4") << "angelfish-swim" << "";
     QTest::newRow("star, cubic B-spline 6x4x4") << "star-drag" << R"("lattice": {"kind": "bspline", "nodes": [6, 4, 4], "padding": 0.02})";
     QTest::newRow("star, Bezier 8x3x4 (degree 7)") << "star-drag" << R"("lattice": {"kind": "bezier", "nodes": [8, 3, 4], "padding": 0.02})";
+    QTest::newRow("two objects: B-spline star + Bezier angelfish") << "two-objects" << "";
 }
 
 void TestExports::latticeRoundTrip() {
@@ -426,7 +446,10 @@ void TestExports::latticeRoundTrip() {
     QTemporaryDir dir;
     const fs::path folder = dir.path().toStdString();
     fs::path project = kSource / "presets/scenes" / (scene.toStdString() + ".softtouch");
-    if (!lattice.isEmpty()) {  // the same scene on another lattice
+    if (scene == "two-objects") {
+        project = folder / "scene.softtouch";
+        writeTwoObjectProject(project);
+    } else if (!lattice.isEmpty()) {  // the same scene on another lattice
         std::string text = readText(project);
         const auto begin = text.find("\"lattice\"");
         const auto end = text.find('}', begin);
@@ -553,6 +576,36 @@ void TestExports::latticeShadersCompile() {
     QVERIFY(process.waitForFinished(60000));
     const QByteArray output = process.readAllStandardOutput() + process.readAllStandardError();
     QVERIFY2(process.exitStatus() == QProcess::NormalExit && process.exitCode() == 0, output.constData());
+}
+
+void TestExports::cancelledBakeLeavesOldFiles_data() {
+    QTest::addColumn<QString>("format");
+    for (const char* name : kClipFormats)
+        QTest::newRow(name) << name;
+}
+
+void TestExports::cancelledBakeLeavesOldFiles() {
+    QFETCH(QString, format);
+    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
+    std::vector<fs::path> outputs = exportOutputs(kind, base);
+    outputs.push_back(restMeshPath(base, kind));
+    for (const fs::path& path : outputs)
+        writeText(path, "previous " + path.filename().string());
+    const QStringList before = folderEntries(base.parent_path());
+    BakeOptions options;
+    options.output = base;
+    options.format = kind;
+    options.frames = kFrames;
+    options.threads = 1;
+    options.progress = [](int done, int) { return done < 3; };
+    const Result<BakeResult> result = bake(m_fish, options);
+    QVERIFY(!result);
+    QVERIFY2(QString::fromStdString(result.message()).contains("cancelled"), result.message().c_str());
+    for (const fs::path& path : outputs)
+        QCOMPARE(readText(path), "previous " + path.filename().string());
+    QCOMPARE(folderEntries(base.parent_path()), before);
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles_data() {
