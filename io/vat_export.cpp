@@ -62,9 +62,13 @@ public:
         const std::size_t width = std::min<std::size_t>(setup.info.pointCount, std::size_t(m_options.vatMaxWidth));
         const std::size_t rows = (setup.info.pointCount + width - 1) / width;
         const std::size_t height = rows * setup.info.frameCount;
-        if (height > std::size_t(std::numeric_limits<int>::max()) || width * rows > (std::size_t(1) << 24))
+        if (setup.info.pointCount > (std::size_t(1) << 24))
+            return Status::error("cannot write " + detail::quoted(outputs[0]) + ": " +
+                                 std::to_string(setup.info.pointCount) +
+                                 " vertices; the mesh stores vertex indices as float, exact up to 2^24");
+        if (height > std::size_t(std::numeric_limits<int>::max()))
             return Status::error("cannot write " + detail::quoted(outputs[0]) + ": " + std::to_string(height) +
-                                 " rows of " + std::to_string(width) + " texels do not fit an EXR image");
+                                 " rows do not fit an EXR image");
         for (const auto& output : outputs) {
             if (Status s = detail::checkWritable(output); !s)
                 return s;
