@@ -224,6 +224,7 @@ private slots:
     void formatNamesAndOutputs();
     void gltfRoundTrip_data();
     void gltfRoundTrip();
+    void gltfWarnsAboutTargetCount();
     void vatRoundTrip_data();
     void vatRoundTrip();
     void latticeRoundTrip_data();
@@ -331,6 +332,36 @@ void TestExports::gltfRoundTrip() {
         }
         QVERIFY(found);
         QCOMPARE(sum, 1.0);
+    }
+}
+
+void TestExports::gltfWarnsAboutTargetCount() {
+    QTemporaryDir dir;
+    const fs::path path = fs::path(dir.path().toStdString()) / "long.glb";
+    for (const std::size_t frames : {std::size_t(64), std::size_t(65)}) {
+        ClipSetup setup = smallSetup();
+        setup.info.frameCount = frames;
+        auto writer = makeClipWriter(CacheFormat::Glb);
+        QVERIFY(writer->begin(path, setup));
+        FrameData frame;
+        frame.normals = setup.restMesh.normals;
+        std::vector<Vec3f> positions = setup.restMesh.positions;
+        frame.positions = positions;
+        for (std::size_t f = 0; f < frames; ++f) {
+            positions[3].z() = 0.5f + 0.01f * float(f);
+            QVERIFY(writer->writeFrame(frame));
+        }
+        const Status s = writer->finish();
+        QVERIFY2(s, s.message().c_str());
+        if (frames == 64) {
+            QVERIFY(writer->warnings().empty());
+        } else {
+            QCOMPARE(writer->warnings().size(), std::size_t(1));
+            const QString warning = QString::fromStdString(writer->warnings().front());
+            QVERIFY2(warning.contains("65 morph targets") && warning.contains("at most 2 are active") &&
+                         warning.contains("long.glb"),
+                     qPrintable(warning));
+        }
     }
 }
 
