@@ -24,9 +24,19 @@ drivers simulated from rest, frame i at i/fps s) into a vertex cache.
 The rest mesh the cache matches is written beside it as FILE with extension .obj (for an OBJ
 sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
 
+Formats (docs/formats.md):
+  pc2, mdd          vertex caches
+  objseq            one OBJ per frame
+  gltf, glb         glTF 2.0 morph targets (one per frame) and a weights animation
+  vat               FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float),
+                    FILE.vat-mesh.glb, FILE.vat.json
+  lattice           FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w),
+                    FILE.lattice.bin (node positions per frame); shaders in io/shaders/
+
 Options:
-  --out FILE        Output cache (required). Format from the extension: .pc2, .mdd, .obj (sequence).
-  --format NAME     pc2 | mdd | objseq (overrides the extension).
+  --out FILE        Output (required). Format from the extension: .pc2, .mdd, .obj (sequence),
+                    .gltf, .glb.
+  --format NAME     pc2 | mdd | objseq | gltf | glb | vat | lattice (overrides the extension).
   --clip NAME       A clip of the scene's clip library (its frames, fps, loop closure).
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
@@ -106,12 +116,12 @@ int runBake(const std::vector<std::string>& args) {
     if (!formatName.empty()) {
         const auto f = io::parseCacheFormat(formatName);
         if (!f)
-            return usage("unknown format '" + formatName + "' (expected pc2, mdd or objseq)");
+            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, vat or lattice)");
         options.format = *f;
     } else {
         const auto f = io::cacheFormatFromPath(outPath);
         if (!f)
-            return usage("cannot tell the format from '" + outPath + "'; use .pc2, .mdd, .obj or --format");
+            return usage("cannot tell the format from '" + outPath + "'; use .pc2, .mdd, .obj, .gltf, .glb or --format");
         options.format = *f;
     }
     if (frames && (*frames < 1 || *frames > 1e6 || std::floor(*frames) != *frames))
@@ -146,9 +156,11 @@ int runBake(const std::vector<std::string>& args) {
         std::fprintf(stderr, "softtouch-cli: warning: %s\n", result->warnings[i].c_str());
     if (result->warnings.size() > shown)
         std::fprintf(stderr, "softtouch-cli: warning: ... and %zu more\n", result->warnings.size() - shown);
-    std::printf("wrote %s (%s, %d frames, %zu points)\nrest mesh %s\n", result->cache.string().c_str(),
-                std::string(io::cacheFormatName(options.format)).c_str(), result->frames, result->points,
-                result->restMesh.string().c_str());
+    std::printf("wrote %s (%s, %d frames, %zu points)\n", result->cache.string().c_str(),
+                std::string(io::cacheFormatName(options.format)).c_str(), result->frames, result->points);
+    for (std::size_t i = 1; i < result->files.size(); ++i)
+        std::printf("wrote %s\n", result->files[i].string().c_str());
+    std::printf("rest mesh %s\n", result->restMesh.string().c_str());
     if (!result->clip.empty())
         std::printf("clip %s\n", result->clip.c_str());
     if (result->seam)

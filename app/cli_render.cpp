@@ -1,7 +1,7 @@
 // softtouch-cli render: simulate a scene and write a video, headless (EGL, no X server).
 #include "app/cli_commands.h"
 
-#include "io/bake.h"
+#include "io/frame_source.h"
 #include "io/project_file.h"
 #include "io/video_encoder.h"
 #include "render/egl_context.h"
@@ -26,8 +26,9 @@ Part 2 with a warning when libx264 is missing), .gif (256 colours, looping), or 
 Options:
   --out PATH        Output (required).
   --size WxH        Frame size in pixels (default 960x540; 16..8192; even for MP4).
-  --fps F           Frames per second (default: the scene's clip rate; at most 240).
-  --frames N        Frames to render (default: the scene's clip length).
+  --clip NAME       A clip of the scene's clip library (default: its default clip, else the drivers).
+  --fps F           Frames per second (default: the clip's or the scene's rate; at most 240).
+  --frames N        Frames to render (default: the clip's or the scene's length; a loop clip cycles).
   --crf N           H.264 quality, 0..51, lower is better (default 20).
   --quiet           No progress output.
 )";
@@ -69,7 +70,7 @@ std::optional<std::pair<int, int>> parseSize(const std::string& text) {
 }  // namespace
 
 int runRender(const std::vector<std::string>& args) {
-    std::string scenePath, outPath, sizeText = "960x540";
+    std::string scenePath, outPath, clipName, sizeText = "960x540";
     std::optional<double> frames, fps, crf;
     bool quiet = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -80,7 +81,7 @@ int runRender(const std::vector<std::string>& args) {
         }
         if (a == "--quiet") {
             quiet = true;
-        } else if (a == "--out" || a == "--size" || a == "--fps" || a == "--frames" || a == "--crf") {
+        } else if (a == "--out" || a == "--size" || a == "--clip" || a == "--fps" || a == "--frames" || a == "--crf") {
             if (i + 1 >= args.size())
                 return usage(a + " needs a value");
             const std::string& v = args[++i];
@@ -88,6 +89,8 @@ int runRender(const std::vector<std::string>& args) {
                 outPath = v;
             } else if (a == "--size") {
                 sizeText = v;
+            } else if (a == "--clip") {
+                clipName = v;
             } else {
                 const auto n = parseNumber(v);
                 if (!n)
@@ -123,19 +126,23 @@ int runRender(const std::vector<std::string>& args) {
     if (!project)
         return fail(project.message());
     const Scene& scene = project->scene;
-    auto timing = io::resolveFrameTiming(scene, frames ? int(*frames) : 0, fps.value_or(0.0));
-    if (!timing)
-        return fail(timing.message());
-    auto simulation = SceneSimulation::create(scene);
-    if (!simulation)
-        return fail(simulation.message());
+    std::vector<std::string> warnings;
+    io::FrameRequest request;
+    request.clips = &project->clips;
+    request.clip = clipName;
+    request.frames = frames ? int(*frames) : 0;
+    request.fps = fps.value_or(0.0);
+    auto created = io::FrameSource::create(scene, request, &warnings);
+    if (!created)
+        return fail(created.message());
+    io::FrameSource& source = created.value();
 
     io::VideoSettings settings;
     settings.output = outPath;
     settings.format = *format;
     settings.width = size->first;
     settings.height = size->second;
-    settings.fps = timing->fps;
+    settings.fps = source.fps();
     settings.crf = crf ? int(*crf) : 20;
     auto encoder = io::VideoEncoder::open(settings);
     if (!encoder)
@@ -164,22 +171,25 @@ int runRender(const std::vector<std::string>& args) {
     const render::Camera camera = render::frameBounds(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f),
                                                       float(settings.width) / float(settings.height));
 
-    std::vector<std::string> warnings;
     std::vector<std::uint8_t> pixels;
-    SceneSimulation& sim = simulation.value();
-    const Status rendered = io::simulateFrames(sim, timing.value(), &warnings, [&](int f) -> Status {
-        for (std::size_t i = 0; i < sim.objectCount(); ++i)
-            renderer.setNodes(int(i), sim.simulator(i).state().position);
+    const int frameCount = source.frameCount();
+    auto renderFrame = [&](int f) -> Status {
+        source.seek(f, &warnings);
+        for (std::size_t i = 0; i < source.simulation().objectCount(); ++i)
+            renderer.setNodes(int(i), source.nodes(i));
         context.value()->bindFramebuffer();
         renderer.draw(camera, settings.width, settings.height);
         if (Status s = context.value()->readPixels(pixels); !s)
             return s;
         if (Status s = encoder.value()->writeFrame(pixels); !s)
             return s;
-        if (!quiet && (f + 1 == timing->frames || (f + 1) % 24 == 0))
-            std::fprintf(stderr, "\rrendering frame %d/%d%s", f + 1, timing->frames, f + 1 == timing->frames ? "\n" : "");
+        if (!quiet && (f + 1 == frameCount || (f + 1) % 24 == 0))
+            std::fprintf(stderr, "\rrendering frame %d/%d%s", f + 1, frameCount, f + 1 == frameCount ? "\n" : "");
         return Status::success();
-    });
+    };
+    Status rendered = Status::success();
+    for (int f = 0; f < frameCount && rendered; ++f)
+        rendered = renderFrame(f);
     renderer.release();
     if (!rendered) {
         encoder.value()->abort();

@@ -12,7 +12,7 @@ constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate
 
 Usage:
   softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
-  softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--size WxH] [--fps F] [--frames N] [--crf N]
+  softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick]

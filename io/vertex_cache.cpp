@@ -34,6 +34,14 @@ std::string_view cacheFormatName(CacheFormat format) {
         return "mdd";
     case CacheFormat::ObjSequence:
         return "objseq";
+    case CacheFormat::Gltf:
+        return "gltf";
+    case CacheFormat::Glb:
+        return "glb";
+    case CacheFormat::Vat:
+        return "vat";
+    case CacheFormat::Lattice:
+        return "lattice";
     }
     return "pc2";  // unreachable: every enumerator is handled above
 }
@@ -41,7 +49,8 @@ std::string_view cacheFormatName(CacheFormat format) {
 std::optional<CacheFormat> parseCacheFormat(std::string_view name) {
     // Case-insensitive: the same names are typed on the command line, where "PC2" is natural.
     const std::string key = lowercase(name);
-    for (CacheFormat format : {CacheFormat::Pc2, CacheFormat::Mdd, CacheFormat::ObjSequence}) {
+    for (CacheFormat format : {CacheFormat::Pc2, CacheFormat::Mdd, CacheFormat::ObjSequence, CacheFormat::Gltf,
+                               CacheFormat::Glb, CacheFormat::Vat, CacheFormat::Lattice}) {
         if (key == cacheFormatName(format))
             return format;
     }
@@ -56,7 +65,15 @@ std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path
         return CacheFormat::Mdd;
     if (extension == ".obj")
         return CacheFormat::ObjSequence;
+    if (extension == ".gltf")
+        return CacheFormat::Gltf;
+    if (extension == ".glb")
+        return CacheFormat::Glb;
     return std::nullopt;
+}
+
+bool isVertexCacheFormat(CacheFormat format) {
+    return format == CacheFormat::Pc2 || format == CacheFormat::Mdd || format == CacheFormat::ObjSequence;
 }
 
 std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mesh& restMesh) {
@@ -67,6 +84,11 @@ std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mes
         return detail::makeMddWriter();
     case CacheFormat::ObjSequence:
         return detail::makeObjSequenceWriter(restMesh);
+    case CacheFormat::Gltf:
+    case CacheFormat::Glb:
+    case CacheFormat::Vat:
+    case CacheFormat::Lattice:
+        return nullptr;  // not plain vertex caches: makeClipWriter() (io/clip_writer.h)
     }
     return nullptr;  // unreachable: every enumerator is handled above
 }

@@ -14,6 +14,9 @@ packages=(
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
   fonts-dejavu-core       # text in plots rendered headless (study)
+  libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
+  libopenexr-dev          # vertex animation textures (bake --format vat)
+  glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
   libegl-dev libgl-dev    # render/: OpenGL 3.3 core through glvnd, headless EGL context
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)

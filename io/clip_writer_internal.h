@@ -1,0 +1,79 @@
+#pragma once
+/// Internals shared by the clip writers (clip_writer.cpp, gltf_export.cpp, vat_export.cpp,
+/// lattice_cache.cpp). Not part of the io API: include it from io/*.cpp only.
+
+#include "io/clip_writer.h"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace softtouch::io::detail {
+
+/// One output of a multi-file export, staged in a temporary file beside its target and renamed
+/// over it by publish(). Destroying it unpublished removes the temporary, so an aborted export
+/// leaves the previous files untouched and nothing behind.
+class StagedFile {
+public:
+    explicit StagedFile(std::filesystem::path target);
+    ~StagedFile();
+    StagedFile(const StagedFile&) = delete;
+    StagedFile& operator=(const StagedFile&) = delete;
+
+    /// The file that publish() replaces.
+    const std::filesystem::path& target() const { return m_target; }
+    /// The temporary a library may write by name (OpenEXR); exists after a successful write or
+    /// once the library created it.
+    const std::filesystem::path& temporary() const { return m_temporary; }
+    /// Writes `bytes` to the temporary; errors name the target.
+    Status write(std::string_view bytes);
+    /// Syncs the temporary and renames it over the target.
+    Status publish();
+    /// Removes the temporary.
+    void discard();
+
+private:
+    std::filesystem::path m_target;
+    std::filesystem::path m_temporary;
+    bool m_published = false;
+};
+
+/// Publishes staged files in order; on the first failure, discards the rest and says which were
+/// already replaced.
+Status publishAll(std::vector<std::unique_ptr<StagedFile>>& files);
+
+/// Checks that `target`'s folder exists and is writable before a long bake starts; names the file.
+Status checkWritable(const std::filesystem::path& target);
+
+// ---- glTF building (tinygltf) -------------------------------------------------------------------
+
+/// Appends `values` (count elements of `components` floats each: 1, 2, 3 or 4) to buffer 0 as a
+/// new buffer view + FLOAT accessor; with `bounds`, min/max are set (required for POSITION).
+/// Returns the accessor index.
+int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
+                     bool vertexAttribute, bool bounds);
+/// Appends triangle indices (UNSIGNED_INT) as an index accessor; returns its index.
+int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
+                     std::uint32_t baseVertex);
+/// Serialises the model as .gltf (buffer embedded as a data URI) or .glb.
+Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path);
+
+// ---- Writers ------------------------------------------------------------------------------------
+
+/// glTF/GLB morph-target animation (gltf_export.cpp).
+std::unique_ptr<ClipWriter> makeGltfWriter(bool binary, const ClipExportOptions& options);
+/// Vertex animation textures (vat_export.cpp).
+std::unique_ptr<ClipWriter> makeVatWriter(const ClipExportOptions& options);
+/// Lattice cache (lattice_cache.cpp).
+std::unique_ptr<ClipWriter> makeLatticeCacheWriter();
+
+}  // namespace softtouch::io::detail

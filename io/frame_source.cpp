@@ -1,0 +1,88 @@
+#include "io/frame_source.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softtouch::io {
+
+Result<FrameSource> FrameSource::create(const Scene& scene, const FrameRequest& request,
+                                        std::vector<std::string>* warnings) {
+    auto simulation = SceneSimulation::create(scene);
+    if (!simulation)
+        return Status::error(simulation.message());
+    FrameSource source(std::move(simulation.value()));
+
+    const Clip* clip = nullptr;
+    if (request.clips) {
+        const std::string name = request.clip.empty() ? request.clips->defaultClip : request.clip;
+        if (!name.empty()) {
+            clip = request.clips->findClip(name);
+            if (!clip) {
+                std::string known;
+                for (const Clip& c : request.clips->clips)
+                    known += (known.empty() ? "" : ", ") + c.name;
+                return Status::error("no clip named '" + name + "' (the scene has: " + (known.empty() ? "none" : known) + ")");
+            }
+        }
+    } else if (!request.clip.empty()) {
+        return Status::error("no clip named '" + request.clip + "' (the scene has no clip library)");
+    }
+
+    if (clip) {
+        if (request.fps > 0.0 && std::abs(request.fps - clip->fps) > 1e-9)
+            return Status::error("clip '" + clip->name + "' plays at " + std::to_string(clip->fps) +
+                                 " fps; leave the frame rate out or change the clip");
+        auto evaluated = evaluateClip(scene, *request.clips, *clip, warnings);
+        if (!evaluated)
+            return Status::error(evaluated.message());
+        source.m_clipFrames = std::move(evaluated.value());
+        if (source.m_clipFrames.nodes.empty())
+            return Status::error("clip '" + clip->name + "' has no frames");
+        if (clip->loop && source.m_clipFrames.nodes.size() >= 3)
+            source.m_seam = measureSeam(source.m_clipFrames);
+        for (std::size_t i = 0; i < source.m_sim.objectCount(); ++i) {
+            Mesh m = source.m_sim.object(i).mesh;
+            if (m.normals.size() != m.positions.size())
+                m.computeNormals();
+            source.m_bindings.push_back(Binding::create(source.m_sim.object(i).lattice, m.positions, m.normals));
+        }
+        source.m_isClip = true;
+        source.m_loop = clip->loop;
+        source.m_clipName = clip->name;
+        source.m_fps = clip->fps;
+        source.m_frames = request.frames > 0 ? request.frames : int(source.m_clipFrames.nodes.size());
+    } else {
+        source.m_fps = request.fps > 0.0 ? request.fps : scene.world.fps;
+        source.m_frames = request.frames > 0 ? request.frames : scene.world.frames;
+    }
+    if (!(std::isfinite(source.m_fps) && source.m_fps > 0.0 && source.m_fps <= 1000.0))
+        return Status::error("fps must be in (0, 1000], got " + std::to_string(source.m_fps));
+    if (source.m_frames < 1)
+        return Status::error("the frame count must be at least 1, got " + std::to_string(source.m_frames));
+    return source;
+}
+
+void FrameSource::seek(int frame, std::vector<std::string>* warnings) {
+    if (!m_isClip) {
+        m_sim.advanceTo(double(frame) / m_fps, warnings);
+        return;
+    }
+    // Past a clip's end: a loop cycles, anything else holds its last frame.
+    const int length = int(m_clipFrames.nodes.size());
+    m_current = m_loop ? frame % length : std::min(frame, length - 1);
+}
+
+std::span<const Vec3> FrameSource::nodes(std::size_t object) const {
+    if (m_isClip)
+        return m_clipFrames.nodes[std::size_t(m_current)][object];
+    return m_sim.simulator(object).state().position;
+}
+
+void FrameSource::evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
+    if (m_isClip)
+        m_bindings[object].evaluate(nodes(object), positions, normals, threads);
+    else
+        m_sim.evaluate(object, positions, normals, threads);
+}
+
+}  // namespace softtouch::io

@@ -1,0 +1,295 @@
+// glTF 2.0 / GLB morph-target animation, written with tinygltf (no hand-written JSON).
+//
+// One mesh, one primitive: the rest mesh (POSITION, NORMAL, indices) of every object concatenated
+// in cache order, and one morph target per frame holding POSITION deltas (frame - rest) and, by
+// default, NORMAL deltas. A weights animation on the mesh's node drives the targets: key f at time
+// f / fps is target f at weight 1 and every other at 0, with a LINEAR sampler (two targets active
+// between keys) or STEP (one active). The deformation at frame f is therefore exactly
+// rest + delta_f, which is what the round-trip test re-imports with assimp.
+//
+// glTF cannot be streamed: the JSON (written first in a GLB) must know every accessor, so the
+// whole binary buffer stays in memory until finish(): about pointCount x 24 bytes per frame
+// (12 with normals off). The weights are frames x frames floats. docs/formats.md has the numbers.
+
+#include "io/clip_writer_internal.h"
+#include "io/vertex_cache_internal.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+namespace softtouch::io {
+
+namespace detail {
+
+int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
+                     bool vertexAttribute, bool bounds) {
+    std::vector<unsigned char>& data = model.buffers.front().data;
+    const std::size_t bytes = count * std::size_t(components) * sizeof(float);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = data.size();
+    view.byteLength = bytes;
+    if (vertexAttribute)
+        view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
+    data.resize(data.size() + bytes);
+    if (bytes != 0)
+        std::memcpy(data.data() + view.byteOffset, values, bytes);
+    model.bufferViews.push_back(view);
+
+    tinygltf::Accessor accessor;
+    accessor.bufferView = int(model.bufferViews.size() - 1);
+    accessor.byteOffset = 0;
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    accessor.count = count;
+    accessor.type = components == 1   ? TINYGLTF_TYPE_SCALAR
+                    : components == 2 ? TINYGLTF_TYPE_VEC2
+                    : components == 3 ? TINYGLTF_TYPE_VEC3
+                                      : TINYGLTF_TYPE_VEC4;
+    if (bounds && count > 0) {
+        accessor.minValues.assign(std::size_t(components), std::numeric_limits<double>::infinity());
+        accessor.maxValues.assign(std::size_t(components), -std::numeric_limits<double>::infinity());
+        for (std::size_t i = 0; i < count; ++i) {
+            for (std::size_t c = 0; c < std::size_t(components); ++c) {
+                const double v = values[i * std::size_t(components) + c];
+                accessor.minValues[c] = std::min(accessor.minValues[c], v);
+                accessor.maxValues[c] = std::max(accessor.maxValues[c], v);
+            }
+        }
+    }
+    model.accessors.push_back(accessor);
+    return int(model.accessors.size() - 1);
+}
+
+int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
+                     std::uint32_t baseVertex) {
+    std::vector<unsigned char>& data = model.buffers.front().data;
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = data.size();
+    view.byteLength = triangles.size() * 3 * sizeof(std::uint32_t);
+    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
+    data.resize(data.size() + view.byteLength);
+    unsigned char* out = data.data() + view.byteOffset;
+    for (const auto& t : triangles) {
+        for (std::uint32_t index : t) {
+            const std::uint32_t local = index - baseVertex;
+            std::memcpy(out, &local, sizeof local);  // glTF is little-endian, like every host we build on
+            out += sizeof local;
+        }
+    }
+    model.bufferViews.push_back(view);
+    tinygltf::Accessor accessor;
+    accessor.bufferView = int(model.bufferViews.size() - 1);
+    accessor.byteOffset = 0;
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    accessor.count = triangles.size() * 3;
+    accessor.type = TINYGLTF_TYPE_SCALAR;
+    model.accessors.push_back(accessor);
+    return int(model.accessors.size() - 1);
+}
+
+Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path) {
+    tinygltf::TinyGLTF gltf;
+    std::ostringstream out(std::ios::binary);
+    if (!gltf.WriteGltfSceneToStream(&model, out, false, binary))
+        return Status::error("cannot write " + quoted(path) + ": tinygltf could not serialise the model");
+    return out.str();
+}
+
+}  // namespace detail
+
+namespace {
+
+/// Spec-guaranteed simultaneously active targets; more may be ignored by some viewers.
+constexpr std::size_t kGuaranteedActiveTargets = 8;
+/// Targets per mesh above which some runtimes refuse or truncate (Bevy's loader takes at most 64,
+/// bevyengine/bevy#8158).
+constexpr std::size_t kCommonTargetLimit = 64;
+
+class GltfWriter final : public ClipWriter {
+public:
+    GltfWriter(bool binary, const ClipExportOptions& options) : m_binary(binary), m_options(options) {}
+
+    Status begin(const std::filesystem::path& path, const ClipSetup& setup) override {
+        abort();
+        m_warnings.clear();
+        if (Status s = detail::checkCacheInfo(path, setup.info); !s)
+            return s;
+        if (setup.restMesh.positions.size() != setup.info.pointCount ||
+            setup.restMesh.normals.size() != setup.info.pointCount)
+            return Status::error("cannot write " + detail::quoted(path) + ": the rest mesh has " +
+                                 std::to_string(setup.restMesh.positions.size()) + " positions and " +
+                                 std::to_string(setup.restMesh.normals.size()) + " normals, expected " +
+                                 std::to_string(setup.info.pointCount) + " of each");
+        if (setup.info.pointCount > std::numeric_limits<std::uint32_t>::max())
+            return Status::error("cannot write " + detail::quoted(path) + ": glTF indices hold at most 2^32 vertices");
+        if (Status s = detail::checkWritable(path); !s)
+            return s;
+        m_path = path;
+        m_setup = setup;
+        m_model = std::make_unique<tinygltf::Model>();
+        m_model->asset.version = "2.0";
+        m_model->asset.generator = "SoftTouch";
+        m_model->buffers.emplace_back();
+
+        tinygltf::Primitive primitive;
+        primitive.mode = TINYGLTF_MODE_TRIANGLES;
+        primitive.attributes["POSITION"] = detail::addFloatAccessor(
+            *m_model, setup.restMesh.positions.front().data(), setup.info.pointCount, 3, true, true);
+        primitive.attributes["NORMAL"] = detail::addFloatAccessor(
+            *m_model, setup.restMesh.normals.front().data(), setup.info.pointCount, 3, true, false);
+        primitive.indices = detail::addIndexAccessor(*m_model, setup.restMesh.triangles, 0);
+        tinygltf::Mesh mesh;
+        mesh.name = setup.objects.size() == 1 ? setup.objects.front().name : std::string("clip");
+        mesh.primitives.push_back(primitive);
+        m_model->meshes.push_back(mesh);
+        m_delta.resize(setup.info.pointCount);
+        m_framesWritten = 0;
+        return Status::success();
+    }
+
+    Status writeFrame(const FrameData& frame) override {
+        if (!m_model)
+            return Status::error("no glTF is being written: begin() was not called or the write failed");
+        if (Status s = checkFrameData(m_path, m_framesWritten, m_setup, frame, m_options.gltfNormals, false); !s) {
+            abort();
+            return s;
+        }
+        const Mesh& rest = m_setup.restMesh;
+        std::map<std::string, int> target;
+        for (std::size_t v = 0; v < m_delta.size(); ++v)
+            m_delta[v] = frame.positions[v] - rest.positions[v];
+        target["POSITION"] = detail::addFloatAccessor(*m_model, m_delta.front().data(), m_delta.size(), 3, true, true);
+        if (m_options.gltfNormals) {
+            for (std::size_t v = 0; v < m_delta.size(); ++v)
+                m_delta[v] = frame.normals[v] - rest.normals[v];
+            target["NORMAL"] = detail::addFloatAccessor(*m_model, m_delta.front().data(), m_delta.size(), 3, true, false);
+        }
+        m_model->meshes.front().primitives.front().targets.push_back(std::move(target));
+        ++m_framesWritten;
+        return Status::success();
+    }
+
+    Status finish() override {
+        if (!m_model)
+            return Status::error("no glTF is being written: begin() was not called or the write failed");
+        const std::size_t frames = m_setup.info.frameCount;
+        if (m_framesWritten != frames) {
+            Status s = detail::frameCountMismatch(m_path, m_framesWritten, frames);
+            abort();
+            return s;
+        }
+        tinygltf::Mesh& mesh = m_model->meshes.front();
+        mesh.weights.assign(frames, 0.0);
+        mesh.weights.front() = 1.0;  // a viewer that ignores the animation shows frame 0
+        tinygltf::Value::Array names;
+        for (std::size_t f = 0; f < frames; ++f) {
+            std::string number = std::to_string(f);
+            names.emplace_back(std::string("frame_") + std::string(number.size() < 4 ? 4 - number.size() : 0, '0') + number);
+        }
+        tinygltf::Value::Object extras;
+        extras["targetNames"] = tinygltf::Value(names);  // the de-facto convention Blender and three.js read
+        mesh.extras = tinygltf::Value(extras);
+
+        tinygltf::Node node;
+        node.mesh = 0;
+        node.name = mesh.name;
+        m_model->nodes.push_back(node);
+        tinygltf::Scene scene;
+        scene.nodes.push_back(0);
+        m_model->scenes.push_back(scene);
+        m_model->defaultScene = 0;
+
+        // Key f at f / fps: target f at weight 1, the others 0.
+        std::vector<float> times(frames);
+        std::vector<float> weights(frames * frames, 0.0f);
+        for (std::size_t f = 0; f < frames; ++f) {
+            times[f] = float(double(f) / m_setup.info.fps);
+            weights[f * frames + f] = 1.0f;
+        }
+        warnAboutTargets(weights, frames);
+        tinygltf::AnimationSampler sampler;
+        sampler.input = detail::addFloatAccessor(*m_model, times.data(), frames, 1, false, true);
+        sampler.output = detail::addFloatAccessor(*m_model, weights.data(), weights.size(), 1, false, false);
+        sampler.interpolation = m_options.gltfLinear ? "LINEAR" : "STEP";
+        tinygltf::AnimationChannel channel;
+        channel.sampler = 0;
+        channel.target_node = 0;
+        channel.target_path = "weights";
+        tinygltf::Animation animation;
+        animation.name = "clip";
+        animation.samplers.push_back(sampler);
+        animation.channels.push_back(channel);
+        m_model->animations.push_back(animation);
+
+        Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path);
+        m_model.reset();
+        if (!bytes)
+            return Status::error(bytes.message());
+        std::vector<std::unique_ptr<detail::StagedFile>> files;
+        files.push_back(std::make_unique<detail::StagedFile>(m_path));
+        if (Status s = files.front()->write(bytes.value()); !s)
+            return s;
+        return detail::publishAll(files);
+    }
+
+    void abort() override {
+        m_model.reset();
+        m_framesWritten = 0;
+        m_delta.clear();
+        m_delta.shrink_to_fit();
+    }
+
+    bool needsNormals() const override { return m_options.gltfNormals; }
+
+private:
+    /// Counts the targets the sampler makes active at once (a key's non-zero weights, and with
+    /// LINEAR the union of two neighbouring keys) and warns past what engines guarantee.
+    void warnAboutTargets(const std::vector<float>& weights, std::size_t targets) {
+        std::size_t mostActive = 0;
+        const std::size_t keys = targets;
+        for (std::size_t k = 0; k < keys; ++k) {
+            std::size_t active = 0;
+            for (std::size_t t = 0; t < targets; ++t) {
+                const bool here = weights[k * targets + t] != 0.0f;
+                const bool next = m_options.gltfLinear && k + 1 < keys && weights[(k + 1) * targets + t] != 0.0f;
+                active += (here || next) ? 1 : 0;
+            }
+            mostActive = std::max(mostActive, active);
+        }
+        const std::string file = detail::quoted(m_path);
+        if (mostActive > kGuaranteedActiveTargets)
+            m_warnings.push_back(file + ": up to " + std::to_string(mostActive) +
+                                 " morph targets are active at once; glTF viewers only guarantee " +
+                                 std::to_string(kGuaranteedActiveTargets) + ", so some will drop targets");
+        if (targets > kCommonTargetLimit)
+            m_warnings.push_back(file + ": " + std::to_string(targets) + " morph targets (one per frame) in one mesh; " +
+                                 "at most " + std::to_string(mostActive) + " are active at once, but some runtimes load only " +
+                                 std::to_string(kCommonTargetLimit) + " targets per mesh (Bevy), so prefer VAT or the " +
+                                 "lattice cache for long clips");
+    }
+
+    bool m_binary;
+    ClipExportOptions m_options;
+    std::filesystem::path m_path;
+    ClipSetup m_setup;                         ///< Copied by begin().
+    std::unique_ptr<tinygltf::Model> m_model;  ///< The whole file until finish() (glTF cannot stream).
+    std::vector<Vec3f> m_delta;                ///< One frame's deltas, reused.
+    std::size_t m_framesWritten = 0;
+};
+
+}  // namespace
+
+namespace detail {
+
+std::unique_ptr<ClipWriter> makeGltfWriter(bool binary, const ClipExportOptions& options) {
+    return std::make_unique<GltfWriter>(binary, options);
+}
+
+}  // namespace detail
+
+}  // namespace softtouch::io

@@ -1,0 +1,717 @@
+// Round trips of the clip exports (glTF/GLB morph animation, vertex animation textures, lattice
+// cache) against the PC2 of the same bake, and their behaviour on bad input.
+
+#include "io/bake.h"
+#include "io/clip_writer.h"
+#include "io/lattice_cache.h"
+#include "io/project_file.h"
+#include "io/vertex_cache.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/anim.h>
+#include <assimp/mesh.h>
+#include <assimp/scene.h>
+
+#include <ImfRgbaFile.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <QProcess>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
+
+#include <sys/stat.h>
+
+using namespace softtouch;
+using namespace softtouch::io;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSource = SOFTTOUCH_SOURCE_DIR;
+
+/// Frames baked by the round trips: enough for real motion, few enough for ASan runs.
+constexpr int kFrames = 6;
+
+/// The formats written through ClipWriter only.
+const char* const kClipFormats[] = {"gltf", "glb", "vat", "lattice"};
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+}
+
+/// Names of the entries of a folder, sorted.
+QStringList folderEntries(const fs::path& dir) {
+    QStringList names;
+    for (const auto& entry : fs::directory_iterator(dir))
+        names << QString::fromStdString(entry.path().filename().string());
+    names.sort();
+    return names;
+}
+
+/// Diagonal of the bounding box of every position of every frame.
+double diagonalOf(const VertexCache& cache) {
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
+    Vec3f hi = -lo;
+    for (const auto& frame : cache.frames) {
+        for (const Vec3f& p : frame) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+    }
+    return double((hi - lo).norm());
+}
+
+Scene loadScene(const fs::path& path) {
+    Result<Project> project = loadProject(path);
+    if (!project)
+        qFatal("%s", project.message().c_str());
+    return project.value().scene;
+}
+
+/// Bakes `scene` to `out` in `format` (kFrames frames) and returns the result; fails the test on error.
+BakeResult bakeTo(const Scene& scene, CacheFormat format, const fs::path& out, ClipExportOptions exportOptions = {}) {
+    BakeOptions options;
+    options.output = out;
+    options.format = format;
+    options.frames = kFrames;
+    options.threads = 1;
+    options.exportOptions = exportOptions;
+    Result<BakeResult> result = bake(scene, options);
+    if (!result)
+        qFatal("bake failed: %s", result.message().c_str());
+    return result.value();
+}
+
+/// Loads a GLB with tinygltf; fails the test on error.
+tinygltf::Model loadGlb(const fs::path& path) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error;
+    std::string warning;
+    if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string()))
+        qFatal("cannot load %s: %s", path.string().c_str(), error.c_str());
+    return model;
+}
+
+/// The floats of a tightly packed FLOAT accessor.
+std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
+    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
+    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
+    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || view.byteStride != 0)
+        qFatal("accessor %d is not tightly packed floats", index);
+    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
+    std::vector<float> out(accessor.count * components);
+    std::memcpy(out.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset,
+                out.size() * sizeof(float));
+    return out;
+}
+
+/// Every B-spline basis function of one axis and its derivative at t, by the textbook Cox-de Boor
+/// recursion over the header's knot vector (dense, 0/0 = 0): independent of core/axis_basis and of
+/// the shaders' triangular form. Outside [0,1] the end spans extrapolate, as the engine does.
+struct AxisValues {
+    std::vector<double> value;  ///< N_i(t), i < count.
+    std::vector<double> slope;  ///< dN_i/dt.
+};
+
+AxisValues bsplineBasis(const std::vector<double>& knots, int degree, int count, double t) {
+    int span = degree;  // the last knot span whose start is <= t
+    while (span < count - 1 && knots[std::size_t(span + 1)] <= t)
+        ++span;
+    const auto ratio = [](double a, double b) { return b == 0.0 ? 0.0 : a / b; };
+    const auto U = [&](int i) { return knots[std::size_t(i)]; };
+    std::vector<double> n(knots.size(), 0.0);  // degree q functions, N_{i,q} for i < knots - q - 1
+    n[std::size_t(span)] = 1.0;
+    std::vector<double> lower;
+    for (int q = 1; q <= degree; ++q) {
+        lower = n;
+        for (int i = 0; i + q + 1 < int(knots.size()); ++i)
+            n[std::size_t(i)] = ratio(t - U(i), U(i + q) - U(i)) * lower[std::size_t(i)] +
+                                ratio(U(i + q + 1) - t, U(i + q + 1) - U(i + 1)) * lower[std::size_t(i + 1)];
+    }
+    AxisValues out;
+    out.value.assign(n.begin(), n.begin() + count);
+    out.slope.assign(std::size_t(count), 0.0);
+    for (int i = 0; i < count; ++i)  // N'_{i,p} = p N_{i,p-1} / (U_{i+p} - U_i) - p N_{i+1,p-1} / (U_{i+p+1} - U_{i+1})
+        out.slope[std::size_t(i)] = degree * (ratio(lower[std::size_t(i)], U(i + degree) - U(i)) -
+                                              ratio(lower[std::size_t(i + 1)], U(i + degree + 1) - U(i + 1)));
+    return out;
+}
+
+/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache, and the unit
+/// normal from the Jacobian's cofactor (core/binding.h) applied to the rest normal.
+std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw,
+                                      const Vec3& restNormal) {
+    AxisValues axis[3];
+    for (std::size_t a = 0; a < 3; ++a)
+        axis[a] = bsplineBasis(object.knots[a], object.degrees[a], object.nodes[a], uvw[int(a)]);
+    Vec3 x = Vec3::Zero();
+    Vec3 xu = Vec3::Zero();
+    Vec3 xv = Vec3::Zero();
+    Vec3 xw = Vec3::Zero();
+    for (int k = 0; k < object.nodes[2]; ++k)
+        for (int j = 0; j < object.nodes[1]; ++j)
+            for (int i = 0; i < object.nodes[0]; ++i) {
+                const Vec3 p = nodes[i + object.nodes[0] * (j + object.nodes[1] * k)].cast<double>();
+                const double nu = axis[0].value[std::size_t(i)], nv = axis[1].value[std::size_t(j)],
+                             nw = axis[2].value[std::size_t(k)];
+                x += nu * nv * nw * p;
+                xu += axis[0].slope[std::size_t(i)] * nv * nw * p;
+                xv += nu * axis[1].slope[std::size_t(j)] * nw * p;
+                xw += nu * nv * axis[2].slope[std::size_t(k)] * p;
+            }
+    // cof(A) n_rest with A = d(u,v,w)/dx = diag(1/size) axes^T, up to a positive factor.
+    const Vec3 m = (object.box.axes.transpose() * restNormal).cwiseProduct(object.box.size);
+    const Vec3 normal = (xv.cross(xw) * m.x() + xw.cross(xu) * m.y() + xu.cross(xv) * m.z()).normalized();
+    return {x, normal};
+}
+
+/// A project with two objects on different lattices (the star on a cubic B-spline 6x4x4 with its
+/// drag, then the swimming angelfish on its Bezier 4x4x4), so that vertex, triangle and node offsets
+/// of the second object matter.
+void writeTwoObjectProject(const fs::path& path) {
+    const fs::path scenes = kSource / "presets/scenes";
+    nlohmann::json star = nlohmann::json::parse(readText(scenes / "star-drag.softtouch"));
+    nlohmann::json fish = nlohmann::json::parse(readText(scenes / "angelfish-swim.softtouch"));
+    nlohmann::json first = star["objects"][0];
+    first["lattice"] = {{"kind", "bspline"}, {"nodes", {6, 4, 4}}, {"padding", 0.02}};
+    first["mesh"] = (kSource / "presets/meshes/star.obj").string();
+    nlohmann::json second = fish["objects"][0];
+    second["mesh"] = (kSource / "presets/meshes/angelfish.obj").string();
+    second["material"]["preset"] = (kSource / "presets/materials/fish-body.stpreset").string();
+    fish["objects"] = nlohmann::json::array({first, second});
+    writeText(path, fish.dump(2));
+}
+
+/// A small mesh on a small lattice: what the bad-input tests hand writers directly.
+ClipSetup smallSetup() {
+    ClipSetup setup;
+    Mesh& mesh = setup.restMesh;
+    mesh.positions = {Vec3f(0, 0, 0), Vec3f(1, 0, 0), Vec3f(0, 1, 0), Vec3f(1, 1, 0.5f)};
+    mesh.triangles = {{0, 1, 2}, {1, 3, 2}};
+    mesh.computeNormals();
+    auto box = fitBox(mesh.positions);
+    auto lattice = Lattice::create(LatticeShape{}, box.value());
+    setup.objects.push_back(ClipObject{"small", 0, 4, 0, 2, lattice.value()});
+    setup.info.pointCount = 4;
+    setup.info.frameCount = 2;
+    setup.info.fps = 24.0;
+    return setup;
+}
+
+}  // namespace
+
+class TestExports : public QObject {
+    Q_OBJECT
+
+private slots:
+    void initTestCase();
+    void formatNamesAndOutputs();
+    void gltfRoundTrip_data();
+    void gltfRoundTrip();
+    void gltfWarnsAboutTargetCount();
+    void vatRoundTrip_data();
+    void vatRoundTrip();
+    void latticeRoundTrip_data();
+    void latticeRoundTrip();
+    void latticeCacheRejectsBadFiles();
+    void latticeShadersCompile_data();
+    void latticeShadersCompile();
+    void cancelledBakeLeavesOldFiles_data();
+    void cancelledBakeLeavesOldFiles();
+    void nonFiniteFrameLeavesOldFiles_data();
+    void nonFiniteFrameLeavesOldFiles();
+    void unwritablePathFailsEarly_data();
+    void unwritablePathFailsEarly();
+
+private:
+    Scene m_fish;  ///< The angelfish swim scene (Bezier 4x4x4).
+};
+
+void TestExports::initTestCase() { m_fish = loadScene(kSource / "presets/scenes/angelfish-swim.softtouch"); }
+
+void TestExports::formatNamesAndOutputs() {
+    for (const char* name : kClipFormats) {
+        const auto format = parseCacheFormat(name);
+        QVERIFY(format);
+        QCOMPARE(cacheFormatName(*format), std::string_view(name));
+        QVERIFY(!isVertexCacheFormat(*format));
+        QVERIFY(makeCacheWriter(*format, Mesh{}) == nullptr);
+        QVERIFY(makeClipWriter(*format) != nullptr);
+    }
+    QCOMPARE(cacheFormatFromPath("a/b.GLB"), std::optional(CacheFormat::Glb));
+    QCOMPARE(cacheFormatFromPath("a/b.gltf"), std::optional(CacheFormat::Gltf));
+    QCOMPARE(exportOutputs(CacheFormat::Vat, "out/fish").back(), fs::path("out/fish.vat.json"));
+    QCOMPARE(exportOutputs(CacheFormat::Lattice, "out/fish.v2").front(), fs::path("out/fish.v2.lattice.glb"));
+    QCOMPARE(restMeshPath("out/fish.v2", CacheFormat::Lattice), fs::path("out/fish.v2.obj"));
+}
+
+void TestExports::gltfRoundTrip_data() {
+    QTest::addColumn<QString>("name");
+    QTest::addColumn<bool>("linear");
+    QTest::addColumn<bool>("normals");
+    QTest::newRow("glb linear with normals") << "clip.glb" << true << true;
+    QTest::newRow("gltf step without normals") << "clip.gltf" << false << false;
+}
+
+void TestExports::gltfRoundTrip() {
+    QFETCH(QString, name);
+    QFETCH(bool, linear);
+    QFETCH(bool, normals);
+    QTemporaryDir dir;
+    const fs::path out = fs::path(dir.path().toStdString()) / name.toStdString();
+    const CacheFormat format = *cacheFormatFromPath(out);
+    ClipExportOptions options;
+    options.gltfLinear = linear;
+    options.gltfNormals = normals;
+    const BakeResult baked = bakeTo(m_fish, format, out, options);
+    QCOMPARE(baked.files, std::vector<fs::path>{out});
+    bakeTo(m_fish, CacheFormat::Pc2, out.parent_path() / "clip.pc2");
+    const Result<VertexCache> pc2 = readPc2(out.parent_path() / "clip.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const VertexCache& reference = pc2.value();
+    const double tolerance = 1e-5 * diagonalOf(reference);
+
+    // Re-import with assimp, no post-processing: vertices stay unjoined and in order.
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(out.string(), 0);
+    QVERIFY2(scene != nullptr, importer.GetErrorString());
+    QCOMPARE(scene->mNumMeshes, 1u);
+    const aiMesh* mesh = scene->mMeshes[0];
+    QCOMPARE(std::size_t(mesh->mNumVertices), reference.info.pointCount);
+    QCOMPARE(int(mesh->mNumAnimMeshes), kFrames);
+    QCOMPARE(mesh->mAnimMeshes[0]->HasNormals(), normals);
+    double worst = 0.0;
+    for (int f = 0; f < kFrames; ++f) {
+        const aiAnimMesh* target = mesh->mAnimMeshes[f];
+        QCOMPARE(target->mNumVertices, mesh->mNumVertices);
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            // assimp stores a target as absolute positions (rest + delta).
+            const aiVector3D& p = target->mVertices[v];
+            const Vec3f& expected = reference.frames[std::size_t(f)][v];
+            worst = std::max(worst, double((Vec3f(p.x, p.y, p.z) - expected).norm()));
+        }
+    }
+    qInfo("worst glTF position error: %.3g of the diagonal", worst / diagonalOf(reference));
+    QVERIFY2(worst <= tolerance, qPrintable(QString("error %1 > %2").arg(worst).arg(tolerance)));
+    // The clip really moves: the comparison above is not between identical rest poses.
+    QVERIFY((reference.frames.back()[0] - reference.frames.front()[0]).norm() > 0.0f ||
+            (reference.frames.back()[100] - reference.frames.front()[100]).norm() > 0.0f);
+
+    // The weights animation: key f at f / fps holds target f alone.
+    QCOMPARE(scene->mNumAnimations, 1u);
+    const aiAnimation* animation = scene->mAnimations[0];
+    QCOMPARE(animation->mNumMorphMeshChannels, 1u);
+    const aiMeshMorphAnim* channel = animation->mMorphMeshChannels[0];
+    QCOMPARE(int(channel->mNumKeys), kFrames);
+    const double ticksPerSecond = animation->mTicksPerSecond > 0 ? animation->mTicksPerSecond : 1.0;
+    for (int f = 0; f < kFrames; ++f) {
+        const aiMeshMorphKey& key = channel->mKeys[f];
+        QVERIFY(std::abs(key.mTime / ticksPerSecond - f / m_fish.world.fps) < 1e-6);
+        double sum = 0.0;
+        bool found = false;
+        for (unsigned k = 0; k < key.mNumValuesAndWeights; ++k) {
+            sum += key.mWeights[k];
+            if (key.mValues[k] == unsigned(f) && key.mWeights[k] == 1.0)
+                found = true;
+        }
+        QVERIFY(found);
+        QCOMPARE(sum, 1.0);
+    }
+}
+
+void TestExports::gltfWarnsAboutTargetCount() {
+    QTemporaryDir dir;
+    const fs::path path = fs::path(dir.path().toStdString()) / "long.glb";
+    for (const std::size_t frames : {std::size_t(64), std::size_t(65)}) {
+        ClipSetup setup = smallSetup();
+        setup.info.frameCount = frames;
+        auto writer = makeClipWriter(CacheFormat::Glb);
+        QVERIFY(writer->begin(path, setup));
+        FrameData frame;
+        frame.normals = setup.restMesh.normals;
+        std::vector<Vec3f> positions = setup.restMesh.positions;
+        frame.positions = positions;
+        for (std::size_t f = 0; f < frames; ++f) {
+            positions[3].z() = 0.5f + 0.01f * float(f);
+            QVERIFY(writer->writeFrame(frame));
+        }
+        const Status s = writer->finish();
+        QVERIFY2(s, s.message().c_str());
+        if (frames == 64) {
+            QVERIFY(writer->warnings().empty());
+        } else {
+            QCOMPARE(writer->warnings().size(), std::size_t(1));
+            const QString warning = QString::fromStdString(writer->warnings().front());
+            QVERIFY2(warning.contains("65 morph targets") && warning.contains("at most 2 are active") &&
+                         warning.contains("long.glb"),
+                     qPrintable(warning));
+        }
+    }
+}
+
+void TestExports::vatRoundTrip_data() {
+    QTest::addColumn<int>("maxWidth");
+    QTest::newRow("one row per frame") << 8192;
+    QTest::newRow("wrapped rows") << 1000;  // 3,656 vertices: 4 rows per frame, the last one partial
+}
+
+void TestExports::vatRoundTrip() {
+    QFETCH(int, maxWidth);
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / "swim";
+    ClipExportOptions options;
+    options.vatMaxWidth = maxWidth;
+    const BakeResult baked = bakeTo(m_fish, CacheFormat::Vat, base, options);
+    QCOMPARE(baked.files, exportOutputs(CacheFormat::Vat, base));
+    for (const fs::path& file : baked.files)
+        QVERIFY2(fs::is_regular_file(file), file.c_str());
+    bakeTo(m_fish, CacheFormat::Pc2, base.parent_path() / "swim.pc2");
+    bakeTo(m_fish, CacheFormat::Glb, base.parent_path() / "normals.glb");  // the bake's normals, as morph targets
+    const tinygltf::Model morphs = loadGlb(base.parent_path() / "normals.glb");
+    const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
+    const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
+    const Result<VertexCache> pc2 = readPc2(base.parent_path() / "swim.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const VertexCache& reference = pc2.value();
+    const std::size_t vertices = reference.info.pointCount;
+
+    // Everything below comes from the exported files alone: sidecar, mesh, textures.
+    const nlohmann::json sidecar = nlohmann::json::parse(readText(base.string() + ".vat.json"));
+    QCOMPARE(sidecar.at("frameCount").get<int>(), kFrames);
+    QCOMPARE(sidecar.at("fps").get<double>(), m_fish.world.fps);
+    QCOMPARE(sidecar.at("vertexCount").get<std::size_t>(), vertices);
+    const auto width = sidecar.at("textureWidth").get<std::size_t>();
+    const auto height = sidecar.at("textureHeight").get<std::size_t>();
+    const auto rows = sidecar.at("rowsPerFrame").get<std::size_t>();
+    QCOMPARE(width, std::min<std::size_t>(vertices, std::size_t(maxWidth)));
+    QCOMPARE(rows, (vertices + width - 1) / width);
+    QCOMPARE(height, rows * std::size_t(kFrames));
+    const double rowStep = sidecar.at("frameRowStep").get<double>();
+
+    const tinygltf::Model mesh = loadGlb(base.string() + ".vat-mesh.glb");
+    const tinygltf::Primitive& primitive = mesh.meshes.at(0).primitives.at(0);
+    const std::vector<float> rest = accessorFloats(mesh, primitive.attributes.at("POSITION"));
+    const std::vector<float> index = accessorFloats(mesh, primitive.attributes.at("TEXCOORD_0"));
+    const std::vector<float> lookup = accessorFloats(mesh, primitive.attributes.at("TEXCOORD_1"));
+    QCOMPARE(rest.size(), 3 * vertices);
+
+    auto decode = [&](const std::string& name) {
+        Imf::RgbaInputFile file(name.c_str());
+        const Imath::Box2i window = file.dataWindow();
+        if (std::size_t(window.max.x - window.min.x + 1) != width || std::size_t(window.max.y - window.min.y + 1) != height)
+            qFatal("%s has the wrong size", name.c_str());
+        std::vector<Imf::Rgba> pixels(width * height);
+        file.setFrameBuffer(pixels.data(), 1, width);
+        file.readPixels(window.min.y, window.max.y);
+        return pixels;
+    };
+    const std::vector<Imf::Rgba> offsets = decode(base.string() + ".vat-position.exr");
+    const std::vector<Imf::Rgba> normals = decode(base.string() + ".vat-normal.exr");
+
+    const Vec3f lo(sidecar["bounds"]["min"][0], sidecar["bounds"]["min"][1], sidecar["bounds"]["min"][2]);
+    const Vec3f hi(sidecar["bounds"]["max"][0], sidecar["bounds"]["max"][1], sidecar["bounds"]["max"][2]);
+    double worstExcess = -1.0;  // largest (error - tolerance); must stay <= 0
+    double worstRelative = 0.0;
+    const double diagonal = diagonalOf(reference);
+    double worstNormal = 0.0;
+    for (int f = 0; f < kFrames; ++f) {
+        const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(std::size_t(f)).at("NORMAL"));
+        for (std::size_t v = 0; v < vertices; ++v) {
+            QCOMPARE(std::size_t(index[2 * v]), v);
+            // What a VAT shader does: the lookup UV of frame 0 plus f rows of frames, texel centres.
+            const double u = lookup[2 * v];
+            const double vv = lookup[2 * v + 1] + f * rowStep;
+            const auto x = std::size_t(std::floor(u * double(width)));
+            const auto y = std::size_t(std::floor(vv * double(height)));
+            QVERIFY(x < width && y < height);
+            const Imf::Rgba& o = offsets[y * width + x];
+            const Imf::Rgba& n = normals[y * width + x];
+            const Vec3f offset(o.r, o.g, o.b);
+            QVERIFY((offset.array() >= lo.array() - 1e-3f * std::abs(lo.maxCoeff()) - 1e-6f).all());
+            QVERIFY((offset.array() <= hi.array() + 1e-3f * std::abs(hi.maxCoeff()) + 1e-6f).all());
+            const Vec3f decoded = Vec3f(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]) + offset;
+            const Vec3f& expected = reference.frames[std::size_t(f)][v];
+            const Vec3f restPosition(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+            for (int c = 0; c < 3; ++c) {
+                // Half keeps 11 significant bits of the offset: relative 2^-11, absolute 2^-25 for
+                // subnormals; the float sum adds one rounding of the position.
+                const double trueOffset = double(expected[c]) - double(restPosition[c]);
+                const double tolerance = std::abs(trueOffset) * std::ldexp(1.0, -11) + std::ldexp(1.0, -25) +
+                                         2.0 * std::numeric_limits<float>::epsilon() * std::abs(expected[c]);
+                const double error = std::abs(double(decoded[c]) - double(expected[c]));
+                worstExcess = std::max(worstExcess, error - tolerance);
+                worstRelative = std::max(worstRelative, error / diagonal);
+            }
+            // Normals: the bake's (rest + morph delta) rounded to half, 2^-11 relative per component.
+            for (int c = 0; c < 3; ++c) {
+                const float bakedNormal = morphRestNormals[3 * v + std::size_t(c)] + normalDeltas[3 * v + std::size_t(c)];
+                const float decodedNormal = c == 0 ? float(n.r) : c == 1 ? float(n.g) : float(n.b);
+                const double error = std::abs(double(decodedNormal) - double(bakedNormal));
+                worstNormal = std::max(worstNormal, error);
+                QVERIFY2(error <= std::abs(bakedNormal) * std::ldexp(1.0, -11) + std::ldexp(1.0, -24),
+                         qPrintable(QString("frame %1 vertex %2 normal %3: %4 vs %5").arg(f).arg(v).arg(c)
+                                        .arg(decodedNormal).arg(bakedNormal)));
+            }
+        }
+    }
+    qInfo("VAT: worst position error %.3g of the diagonal; worst excess over half precision %.3g m; worst normal "
+          "component error %.3g", worstRelative, worstExcess, worstNormal);
+    QVERIFY(worstExcess <= 0.0);
+    QVERIFY((hi - lo).maxCoeff() > 0.0f);  // the clip moves
+}
+
+void TestExports::latticeRoundTrip_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::addColumn<QString>("lattice");
+    QTest::newRow("angelfish, Bezier 4x4x4") << "angelfish-swim" << "";
+    QTest::newRow("star, cubic B-spline 6x4x4") << "star-drag" << R"("lattice": {"kind": "bspline", "nodes": [6, 4, 4], "padding": 0.02})";
+    QTest::newRow("star, Bezier 8x3x4 (degree 7)") << "star-drag" << R"("lattice": {"kind": "bezier", "nodes": [8, 3, 4], "padding": 0.02})";
+    QTest::newRow("two objects: B-spline star + Bezier angelfish") << "two-objects" << "";
+}
+
+void TestExports::latticeRoundTrip() {
+    QFETCH(QString, scene);
+    QFETCH(QString, lattice);
+    QTemporaryDir dir;
+    const fs::path folder = dir.path().toStdString();
+    fs::path project = kSource / "presets/scenes" / (scene.toStdString() + ".softtouch");
+    if (scene == "two-objects") {
+        project = folder / "scene.softtouch";
+        writeTwoObjectProject(project);
+    } else if (!lattice.isEmpty()) {  // the same scene on another lattice
+        std::string text = readText(project);
+        const auto begin = text.find("\"lattice\"");
+        const auto end = text.find('}', begin);
+        text.replace(begin, end + 1 - begin, lattice.toStdString());
+        const auto mesh = text.find("../meshes/");
+        text.replace(mesh, 3, (kSource / "presets").string() + "/");
+        project = folder / "scene.softtouch";
+        writeText(project, text);
+    }
+    const Scene source = loadScene(project);
+    const fs::path base = folder / "clip";
+    const BakeResult baked = bakeTo(source, CacheFormat::Lattice, base);
+    QCOMPARE(baked.files, exportOutputs(CacheFormat::Lattice, base));
+    bakeTo(source, CacheFormat::Pc2, folder / "clip.pc2");
+    bakeTo(source, CacheFormat::Glb, folder / "normals.glb");  // the bake's normals, as morph targets
+    const tinygltf::Model morphs = loadGlb(folder / "normals.glb");
+    const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
+    const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
+    const Result<VertexCache> pc2 = readPc2(folder / "clip.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const VertexCache& reference = pc2.value();
+
+    // From the exported files alone: the header and nodes of the .bin, the parameters of the GLB.
+    const Result<LatticeCache> read = readLatticeCache(base.string() + ".lattice.bin");
+    QVERIFY2(read, read.message().c_str());
+    const LatticeCache& cache = read.value();
+    QCOMPARE(int(cache.frameCount), kFrames);
+    QCOMPARE(cache.fps, source.world.fps);
+    QCOMPARE(cache.objects.size(), source.objects.size());
+    const tinygltf::Model mesh = loadGlb(folder / cache.mesh);
+    QCOMPARE(mesh.meshes.at(0).primitives.size(), cache.objects.size());
+
+    const double diagonal = diagonalOf(reference);
+    double worst = 0.0;
+    double worstNormal = 0.0;
+    for (std::size_t o = 0; o < cache.objects.size(); ++o) {
+        const LatticeCacheObject& object = cache.objects[o];
+        QCOMPARE(object.kind, source.objects[o].lattice.shape().kind);
+        const std::vector<float> uvw = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("_LATTICE_UVW"));
+        const std::vector<float> restNormals = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("NORMAL"));
+        QCOMPARE(uvw.size(), 3 * std::size_t(object.vertexCount));
+        std::size_t firstNode = 0;
+        for (std::size_t before = 0; before < o; ++before)
+            firstNode += std::size_t(cache.objects[before].nodeCount());
+        for (std::size_t f = 0; f < cache.frameCount; ++f) {
+            const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(f).at("NORMAL"));
+            for (std::size_t v = 0; v < object.vertexCount; ++v) {
+                const Vec3 p(uvw[3 * v], uvw[3 * v + 1], uvw[3 * v + 2]);
+                const Vec3 n(restNormals[3 * v], restNormals[3 * v + 1], restNormals[3 * v + 2]);
+                const auto [x, normal] = evaluateLattice(object, cache.frames[f].data() + firstNode, p, n);
+                const Vec3f& expected = reference.frames[f][object.firstVertex + v];
+                worst = std::max(worst, (x - expected.cast<double>()).norm());
+                const std::size_t g = 3 * (object.firstVertex + v);
+                const Vec3 bakedNormal(morphRestNormals[g] + normalDeltas[g], morphRestNormals[g + 1] + normalDeltas[g + 1],
+                                       morphRestNormals[g + 2] + normalDeltas[g + 2]);
+                worstNormal = std::max(worstNormal, (normal - bakedNormal).norm());
+            }
+        }
+    }
+    const auto size = [](const fs::path& p) { return double(fs::file_size(p)); };
+    qInfo("lattice cache: worst error %.3g of the diagonal, normals %.3g; %.0f + %.0f bytes vs PC2 %.0f bytes",
+          worst / diagonal, worstNormal,
+          size(base.string() + ".lattice.bin"), size(base.string() + ".lattice.glb"), size(folder / "clip.pc2"));
+    QVERIFY2(worst <= 1e-6 * diagonal, qPrintable(QString("error %1 of the diagonal").arg(worst / diagonal)));
+    // Normals: the bake's are float32 (basis values too); the shaders' formula must agree with them.
+    QVERIFY2(worstNormal <= 1e-5, qPrintable(QString("normal error %1").arg(worstNormal)));
+    // The clip moves, so the comparison is not between rest poses.
+    double motion = 0.0;
+    for (std::size_t v = 0; v < reference.info.pointCount; ++v)
+        motion = std::max(motion, double((reference.frames.back()[v] - reference.frames.front()[v]).norm()));
+    QVERIFY(motion > 1e-3 * diagonal);
+}
+
+void TestExports::latticeCacheRejectsBadFiles() {
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / "clip";
+    bakeTo(m_fish, CacheFormat::Lattice, base);
+    const fs::path bin = base.string() + ".lattice.bin";
+    const std::string good = readText(bin);
+    struct Case {
+        std::string bytes;
+        const char* expected;
+    };
+    std::string wrongKind = good;
+    wrongKind.replace(wrongKind.find("\"bezier\""), 8, "\"bezjer\"");
+    std::string wrongNodes = good;
+    wrongNodes.replace(wrongNodes.find("\"nodes\":[4,4,4]"), 15, "\"nodes\":[4,4,1]");
+    const Case cases[] = {
+        {"POINTCACHE2", "is not a lattice cache"},
+        {good.substr(0, good.size() - 5), "is truncated"},
+        {good + "xyz", "extra bytes"},
+        {wrongKind, "/objects/0/kind"},
+        {wrongNodes, "/objects/0/nodes"},
+    };
+    for (const Case& c : cases) {
+        writeText(bin, c.bytes);
+        const Result<LatticeCache> read = readLatticeCache(bin);
+        QVERIFY(!read);
+        QVERIFY2(QString::fromStdString(read.message()).contains(c.expected), read.message().c_str());
+        QVERIFY2(QString::fromStdString(read.message()).contains("clip.lattice.bin"), read.message().c_str());
+    }
+}
+
+void TestExports::latticeShadersCompile_data() {
+    QTest::addColumn<QString>("file");
+    QTest::addColumn<QStringList>("arguments");
+    QTest::newRow("GLSL 4.30 vertex") << "lattice_deform.glsl" << QStringList{"-S", "vert"};
+    QTest::newRow("HLSL vertex to SPIR-V") << "lattice_deform.hlsl" << QStringList{"-D", "-S", "vert", "-e", "main", "-V"};
+}
+
+void TestExports::latticeShadersCompile() {
+    // The shaders mirror evaluateLattice() above; this proves they build (glslang-tools, installed by
+    // scripts/install-deps.sh, compiles both the GLSL and the HLSL).
+    QFETCH(QString, file);
+    QFETCH(QStringList, arguments);
+    const QString validator = QStandardPaths::findExecutable("glslangValidator");
+    QVERIFY2(!validator.isEmpty(), "glslangValidator not found: run scripts/install-deps.sh (glslang-tools)");
+    QTemporaryDir dir;
+    QProcess process;
+    if (arguments.contains("-V"))  // SPIR-V output for the HLSL; the GLSL is checked as OpenGL GLSL
+        arguments << "-o" << dir.filePath("out.spv");
+    arguments << QString::fromStdString((kSource / "io/shaders").string()) + "/" + file;
+    process.start(validator, arguments);
+    QVERIFY(process.waitForFinished(60000));
+    const QByteArray output = process.readAllStandardOutput() + process.readAllStandardError();
+    QVERIFY2(process.exitStatus() == QProcess::NormalExit && process.exitCode() == 0, output.constData());
+}
+
+void TestExports::cancelledBakeLeavesOldFiles_data() {
+    QTest::addColumn<QString>("format");
+    for (const char* name : kClipFormats)
+        QTest::newRow(name) << name;
+}
+
+void TestExports::cancelledBakeLeavesOldFiles() {
+    QFETCH(QString, format);
+    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
+    std::vector<fs::path> outputs = exportOutputs(kind, base);
+    outputs.push_back(restMeshPath(base, kind));
+    for (const fs::path& path : outputs)
+        writeText(path, "previous " + path.filename().string());
+    const QStringList before = folderEntries(base.parent_path());
+    BakeOptions options;
+    options.output = base;
+    options.format = kind;
+    options.frames = kFrames;
+    options.threads = 1;
+    options.progress = [](int done, int) { return done < 3; };
+    const Result<BakeResult> result = bake(m_fish, options);
+    QVERIFY(!result);
+    QVERIFY2(QString::fromStdString(result.message()).contains("cancelled"), result.message().c_str());
+    for (const fs::path& path : outputs)
+        QCOMPARE(readText(path), "previous " + path.filename().string());
+    QCOMPARE(folderEntries(base.parent_path()), before);
+}
+
+void TestExports::nonFiniteFrameLeavesOldFiles_data() {
+    QTest::addColumn<QString>("format");
+    for (const char* name : kClipFormats)
+        QTest::newRow(name) << name;
+}
+
+void TestExports::nonFiniteFrameLeavesOldFiles() {
+    QFETCH(QString, format);
+    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    QTemporaryDir dir;
+    const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
+    const std::vector<fs::path> outputs = exportOutputs(kind, base);
+    for (const fs::path& path : outputs)
+        writeText(path, "previous " + path.filename().string());
+    const QStringList before = folderEntries(base.parent_path());
+
+    const ClipSetup setup = smallSetup();
+    auto writer = makeClipWriter(kind);
+    QVERIFY(writer->begin(base, setup));
+    std::vector<Vec3f> positions = setup.restMesh.positions;
+    std::vector<Vec3f> normals = setup.restMesh.normals;
+    std::vector<Vec3> nodes = setup.objects.front().lattice.restNodes();
+    FrameData frame;
+    frame.positions = positions;
+    frame.normals = normals;
+    frame.nodes = {nodes};
+    QVERIFY(writer->writeFrame(frame));
+    positions[2].y() = std::numeric_limits<float>::quiet_NaN();
+    if (kind == CacheFormat::Lattice) {  // the lattice cache stores nodes: poison those
+        positions[2].y() = 0.0f;
+        nodes[5].x() = std::numeric_limits<double>::infinity();
+    }
+    const Status s = writer->writeFrame(frame);
+    QVERIFY(!s);
+    QVERIFY2(QString::fromStdString(s.message()).contains("not finite"), s.message().c_str());
+    QVERIFY2(QString::fromStdString(s.message()).contains(QString::fromStdString(base.string())), s.message().c_str());
+    QVERIFY(!writer->finish());
+    for (const fs::path& path : outputs)
+        QCOMPARE(readText(path), "previous " + path.filename().string());
+    QCOMPARE(folderEntries(base.parent_path()), before);
+}
+
+void TestExports::unwritablePathFailsEarly_data() {
+    QTest::addColumn<QString>("format");
+    for (const char* name : kClipFormats)
+        QTest::newRow(name) << name;
+}
+
+void TestExports::unwritablePathFailsEarly() {
+    QFETCH(QString, format);
+    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    QTemporaryDir dir;
+    const fs::path missing = fs::path(dir.path().toStdString()) / "no-such-folder" / "clip";
+    auto writer = makeClipWriter(kind);
+    const Status s = writer->begin(missing, smallSetup());
+    QVERIFY(!s);
+    QVERIFY2(QString::fromStdString(s.message()).contains("no-such-folder"), s.message().c_str());
+    QVERIFY(!fs::exists(missing.parent_path()));
+}
+
+QTEST_GUILESS_MAIN(TestExports)
+#include "test_exports.moc"
