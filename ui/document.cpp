@@ -105,6 +105,11 @@ void Document::setWorld(const WorldSettings& world) {
     emit worldChanged();
 }
 
+void Document::setClips(const ClipLibrary& clips) {
+    m_project.clips = clips;
+    emit clipsChanged();
+}
+
 void Document::setLattice(int object, const Lattice& lattice, const LatticeMaterial& material) {
     SceneObject& o = m_project.scene.objects[std::size_t(object)];
     o.lattice = lattice;

@@ -51,6 +51,8 @@ public:
     void setMaterial(int object, const LatticeMaterial& material);
     /// Replaces the world settings; emits worldChanged.
     void setWorld(const WorldSettings& world);
+    /// Replaces the clip library (takes, clips, keyframe sets); emits clipsChanged.
+    void setClips(const ClipLibrary& clips);
     /// Replaces object i's lattice and material together (resolution or box change); emits latticeChanged.
     void setLattice(int object, const Lattice& lattice, const LatticeMaterial& material);
 
@@ -59,6 +61,8 @@ signals:
     void materialChanged(int object);
     /// Object i's lattice (and so its node count) changed.
     void latticeChanged(int object);
+    /// The clip library (takes, clips) changed.
+    void clipsChanged();
     /// Gravity, planes or simulation settings changed.
     void worldChanged();
     /// A different scene was opened or imported: rebuild everything.

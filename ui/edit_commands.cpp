@@ -41,6 +41,12 @@ bool WorldEditCommand::mergeWith(const QUndoCommand* other) {
     return true;
 }
 
+ClipsEditCommand::ClipsEditCommand(Document* document, ClipLibrary before, ClipLibrary after, const QString& text)
+    : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)) {}
+
+void ClipsEditCommand::undo() { m_document->setClips(m_before); }
+void ClipsEditCommand::redo() { m_document->setClips(m_after); }
+
 LatticeEditCommand::LatticeEditCommand(Document* document, int object, Lattice before,
                                        LatticeMaterial beforeMaterial, Lattice after,
                                        LatticeMaterial afterMaterial, const QString& text)

@@ -58,6 +58,19 @@ private:
     int m_mergeKey;
 };
 
+/// Replaces the clip library (a new take, a clip made from it, a deleted clip).
+class ClipsEditCommand : public QUndoCommand {
+public:
+    ClipsEditCommand(Document* document, ClipLibrary before, ClipLibrary after, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    Document* m_document;
+    ClipLibrary m_before;
+    ClipLibrary m_after;
+};
+
 /// Replaces an object's lattice together with its material (resolution, kind or box changes).
 class LatticeEditCommand : public QUndoCommand {
 public:

@@ -164,6 +164,21 @@ Status SimulationController::scrub(const Session& session, double seconds) {
     return Status::success();
 }
 
+void SimulationController::showPose(const std::vector<std::vector<Vec3>>& nodes) {
+    if (!m_sim || nodes.size() != m_sim->objectCount())
+        return;
+    pause();
+    SceneSimulation::Snapshot pose = m_sim->saveSnapshot();
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        if (nodes[i].size() != pose.bodies[i].position.size())
+            return;
+        pose.bodies[i].position = nodes[i];
+        std::fill(pose.bodies[i].velocity.begin(), pose.bodies[i].velocity.end(), Vec3::Zero());
+    }
+    m_sim->restoreSnapshot(pose);
+    emit stepped();
+}
+
 void SimulationController::setDriversEnabled(bool enabled) {
     if (enabled == m_driversEnabled)
         return;

@@ -63,6 +63,10 @@ public:
     /// Pauses and shows the state of `session` at `seconds` (from its start), by replaying it.
     Status scrub(const Session& session, double seconds);
 
+    /// Pauses and poses every object at the given node positions ([object][node], at rest velocity):
+    /// previewing a clip frame. Play continues the simulation from that pose.
+    void showPose(const std::vector<std::vector<Vec3>>& nodes);
+
     /// Advances the simulation by `seconds` now (what a timer tick does; tests call it directly).
     void advance(double seconds);
 

@@ -1,8 +1,16 @@
 #include "ui/timeline_panel.h"
 
+#include "io/bake.h"
+#include "ui/edit_commands.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QFileDialog>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
+#include <QMessageBox>
+#include <QProgressDialog>
 #include <QPushButton>
 #include <QSlider>
 #include <QVBoxLayout>
@@ -11,57 +19,101 @@
 
 namespace softtouch::ui {
 
+namespace {
+
+/// Export format from a file name; a path without a known extension is a base path for VAT
+/// (…_vat) or the lattice cache (…_lattice) when it says so, PC2 otherwise.
+io::CacheFormat formatFor(const QString& path) {
+    if (auto f = io::cacheFormatFromPath(path.toStdString()))
+        return *f;
+    if (path.endsWith("_vat") || path.endsWith(".vat"))
+        return io::CacheFormat::Vat;
+    if (path.endsWith("_lattice") || path.endsWith(".lattice"))
+        return io::CacheFormat::Lattice;
+    return io::CacheFormat::Pc2;
+}
+
+}  // namespace
+
 TimelinePanel::TimelinePanel(Document* document, SimulationController* simulation, QWidget* parent)
     : QWidget(parent), m_document(document), m_simulation(simulation) {
     auto* layout = new QHBoxLayout(this);
     auto* left = new QVBoxLayout;
-    m_record = new QPushButton(tr("● Record"));
+    m_record = new QPushButton(tr("● Record take"));
     m_record->setObjectName("recordButton");
     m_record->setCheckable(true);
     m_record->setToolTip(tr("Record a take: every grab and drag, step by step, so it replays exactly."));
     left->addWidget(m_record);
-    m_list = new QListWidget;
-    m_list->setObjectName("takes");
-    m_list->setMaximumWidth(220);
-    left->addWidget(m_list);
+    m_takes = new QListWidget;
+    m_takes->setObjectName("takes");
+    left->addWidget(m_takes);
     layout->addLayout(left);
+
+    auto* middle = new QVBoxLayout;
+    auto* clipsLabel = new QLabel(tr("Clips"));
+    middle->addWidget(clipsLabel);
+    m_clips = new QListWidget;
+    m_clips->setObjectName("clips");
+    middle->addWidget(m_clips);
+    layout->addLayout(middle);
+
     auto* right = new QVBoxLayout;
     m_slider = new QSlider(Qt::Horizontal);
     m_slider->setObjectName("scrubber");
     m_slider->setEnabled(false);
     right->addWidget(m_slider);
-    m_time = new QLabel(tr("Record a take, then scrub it here."));
+    m_time = new QLabel(tr("Record a take, then scrub it here; make a clip of it and export it."));
+    m_time->setWordWrap(true);
     right->addWidget(m_time);
+    auto* buttons = new QHBoxLayout;
+    auto* makeClipButton = new QPushButton(tr("Clip from take"));
+    m_loop = new QCheckBox(tr("Loop"));
+    m_loop->setToolTip(tr("A cycle: the last frame leads into the first (closed over a quarter second)."));
+    auto* exportButton = new QPushButton(tr("Export…"));
+    exportButton->setToolTip(tr("Export the selected clip (or the drivers from frame 0) as PC2, MDD, OBJ, glTF/GLB, "
+                                "VAT or lattice cache."));
+    buttons->addWidget(makeClipButton);
+    buttons->addWidget(m_loop);
+    buttons->addWidget(exportButton);
+    buttons->addStretch();
+    right->addLayout(buttons);
     right->addStretch();
     layout->addLayout(right, 1);
 
     connect(m_record, &QPushButton::clicked, this, &TimelinePanel::toggleRecording);
     connect(simulation, &SimulationController::recordingChanged, this, [this](bool on) {
         m_record->setChecked(on);
-        m_record->setText(on ? tr("■ Stop") : tr("● Record"));
+        m_record->setText(on ? tr("■ Stop") : tr("● Record take"));
     });
+    // A finished recording becomes a take of the project (undoable, saved with it).
     connect(simulation, &SimulationController::sessionRecorded, this, [this](const Session& session) {
-        m_sessions.push_back(session);
-        refreshList();
-        m_list->setCurrentRow(int(m_sessions.size()) - 1);
+        ClipLibrary after = m_document->project().clips;
+        int n = int(after.sessions.size()) + 1;
+        while (after.findSession("take " + std::to_string(n)))
+            ++n;
+        after.sessions.push_back(NamedSession{"take " + std::to_string(n), session});
+        m_document->undoStack()->push(new ClipsEditCommand(m_document, m_document->project().clips, std::move(after),
+                                                           tr("Record take %1").arg(n)));
+        m_takes->setCurrentRow(takeCount() - 1);
     });
-    connect(m_list, &QListWidget::currentRowChanged, this, [this](int row) {
-        m_slider->setEnabled(row >= 0);
-        if (row < 0)
-            return;
-        const Session& s = m_sessions[std::size_t(row)];
-        const QSignalBlocker block(m_slider);
-        m_slider->setRange(0, int(std::floor((s.endSeconds() - s.startSeconds()) * fps() + 1e-9)));
-        m_slider->setValue(0);
+    connect(m_takes, &QListWidget::currentRowChanged, this, &TimelinePanel::selectTake);
+    connect(m_clips, &QListWidget::currentRowChanged, this, &TimelinePanel::selectClip);
+    connect(m_slider, &QSlider::valueChanged, this, [this](int frame) {
+        if (m_clips->currentRow() >= 0)
+            showClipFrame(m_clips->currentRow(), frame);
+        else
+            scrubTo(m_takes->currentRow(), frame);
     });
-    connect(m_slider, &QSlider::valueChanged, this, [this](int frame) { scrubTo(m_list->currentRow(), frame); });
-    connect(document, &Document::sceneReplaced, this, [this] {
-        m_sessions.clear();  // takes replay only on the scene they were recorded on
-        refreshList();
-    });
+    connect(makeClipButton, &QPushButton::clicked, this, [this] { makeClip(m_takes->currentRow(), m_loop->isChecked()); });
+    connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
+    connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
+    connect(document, &Document::sceneReplaced, this, &TimelinePanel::refreshLists);
+    refreshLists();
 }
 
 double TimelinePanel::fps() const { return m_document->scene().world.fps; }
+
+int TimelinePanel::takeCount() const { return int(m_document->project().clips.sessions.size()); }
 
 void TimelinePanel::toggleRecording() {
     if (m_simulation->isRecording()) {
@@ -72,22 +124,160 @@ void TimelinePanel::toggleRecording() {
     }
 }
 
-void TimelinePanel::scrubTo(int index, int frame) {
-    if (index < 0 || std::size_t(index) >= m_sessions.size())
+void TimelinePanel::selectTake(int row) {
+    if (row < 0)
         return;
-    const double seconds = frame / fps();
-    if (Status s = m_simulation->scrub(m_sessions[std::size_t(index)], seconds); !s)
-        m_time->setText(QString::fromStdString(s.message()));
-    else
-        m_time->setText(tr("Take %1 · frame %2 · %3 s").arg(index + 1).arg(frame).arg(seconds, 0, 'f', 3));
+    {
+        const QSignalBlocker block(m_clips);
+        m_clips->setCurrentRow(-1);
+    }
+    const Session& s = m_document->project().clips.sessions[std::size_t(row)].session;
+    const QSignalBlocker block(m_slider);
+    m_slider->setEnabled(true);
+    m_slider->setRange(0, int(std::floor((s.endSeconds() - s.startSeconds()) * fps() + 1e-9)));
+    m_slider->setValue(0);
 }
 
-void TimelinePanel::refreshList() {
-    m_list->clear();
-    for (std::size_t i = 0; i < m_sessions.size(); ++i) {
-        const Session& s = m_sessions[i];
-        m_list->addItem(tr("Take %1 · %2 s").arg(i + 1).arg(s.endSeconds() - s.startSeconds(), 0, 'f', 2));
+void TimelinePanel::selectClip(int row) {
+    if (row < 0)
+        return;
+    {
+        const QSignalBlocker block(m_takes);
+        m_takes->setCurrentRow(-1);
     }
+    const Clip& clip = m_document->project().clips.clips[std::size_t(row)];
+    const QSignalBlocker block(m_slider);
+    m_slider->setEnabled(true);
+    m_slider->setRange(0, clip.frames - 1);
+    m_slider->setValue(0);
+    showClipFrame(row, 0);
+}
+
+void TimelinePanel::scrubTo(int index, int frame) {
+    const auto& sessions = m_document->project().clips.sessions;
+    if (index < 0 || std::size_t(index) >= sessions.size())
+        return;
+    const double seconds = frame / fps();
+    if (Status s = m_simulation->scrub(sessions[std::size_t(index)].session, seconds); !s)
+        m_time->setText(QString::fromStdString(s.message()));
+    else
+        m_time->setText(tr("%1 · frame %2 · %3 s")
+                            .arg(QString::fromStdString(sessions[std::size_t(index)].name))
+                            .arg(frame)
+                            .arg(seconds, 0, 'f', 3));
+}
+
+void TimelinePanel::showClipFrame(int index, int frame) {
+    const ClipLibrary& library = m_document->project().clips;
+    if (index < 0 || std::size_t(index) >= library.clips.size())
+        return;
+    const Clip& clip = library.clips[std::size_t(index)];
+    if (m_clipShown != index) {
+        auto frames = evaluateClip(m_document->scene(), library, clip);
+        if (!frames) {
+            m_time->setText(QString::fromStdString(frames.message()));
+            return;
+        }
+        m_clipFrames = std::move(frames.value());
+        m_clipShown = index;
+    }
+    if (m_clipFrames.nodes.empty())
+        return;
+    const int f = std::clamp(frame, 0, int(m_clipFrames.nodes.size()) - 1);
+    m_simulation->showPose(m_clipFrames.nodes[std::size_t(f)]);
+    m_time->setText(tr("clip %1 · frame %2 of %3 at %4 fps%5")
+                        .arg(QString::fromStdString(clip.name))
+                        .arg(f)
+                        .arg(clip.frames)
+                        .arg(clip.fps)
+                        .arg(clip.loop ? tr(" · loop") : QString()));
+}
+
+bool TimelinePanel::makeClip(int index, bool loop) {
+    const ClipLibrary& library = m_document->project().clips;
+    if (index < 0 || std::size_t(index) >= library.sessions.size())
+        return false;
+    const NamedSession& take = library.sessions[std::size_t(index)];
+    Clip clip;
+    clip.source = ClipSource::Session;
+    clip.sourceName = take.name;
+    clip.fps = fps();
+    clip.frames = std::max(1, int(std::floor((take.session.endSeconds() - take.session.startSeconds()) * clip.fps + 1e-9)));
+    clip.loop = loop;
+    clip.blendFrames = loop ? std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))) : 0;
+    int n = 1;
+    while (library.findClip(take.name + " clip" + (n > 1 ? " " + std::to_string(n) : "")))
+        ++n;
+    clip.name = take.name + " clip" + (n > 1 ? " " + std::to_string(n) : "");
+    ClipLibrary after = library;
+    after.clips.push_back(clip);
+    if (Status s = after.validate(m_document->scene()); !s) {
+        m_time->setText(QString::fromStdString(s.message()));
+        return false;
+    }
+    m_document->undoStack()->push(new ClipsEditCommand(m_document, library, std::move(after),
+                                                       tr("Make clip %1").arg(QString::fromStdString(clip.name))));
+    m_clips->setCurrentRow(m_clips->count() - 1);
+    return true;
+}
+
+void TimelinePanel::exportClip(int index) {
+    const QString path = QFileDialog::getSaveFileName(
+        this, tr("Export Clip"), QString(),
+        tr("Point cache (*.pc2);;MDD (*.mdd);;glTF binary (*.glb);;glTF (*.gltf);;OBJ sequence (*.obj);;"
+           "Vertex animation textures (base name ending _vat) (*);;Lattice cache (base name ending _lattice) (*)"));
+    if (path.isEmpty())
+        return;
+    const Status s = exportClipTo(index, path);
+    if (!s && s.message() != "cancelled")
+        QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));
+}
+
+Status TimelinePanel::exportClipTo(int index, const QString& path) {
+    const ClipLibrary& library = m_document->project().clips;
+    io::BakeOptions options;
+    options.output = path.toStdString();
+    options.format = formatFor(path);
+    options.clips = &library;
+    if (index >= 0 && std::size_t(index) < library.clips.size())
+        options.clip = library.clips[std::size_t(index)].name;
+    QProgressDialog progress(tr("Exporting %1…").arg(path), tr("Cancel"), 0, 100, this);
+    progress.setWindowModality(Qt::WindowModal);
+    progress.setMinimumDuration(300);
+    options.progress = [&progress](int done, int total) {
+        progress.setMaximum(total);
+        progress.setValue(done);
+        QApplication::processEvents();
+        return !progress.wasCanceled();
+    };
+    auto result = io::bake(m_document->scene(), options);
+    progress.reset();
+    if (!result) {
+        m_time->setText(QString::fromStdString(result.message()));
+        return Status::error(result.message());
+    }
+    QString text = tr("Exported %1 frames to %2").arg(result->frames).arg(QString::fromStdString(result->cache.string()));
+    if (result->seam)
+        text += tr(" · loop seam %1× the median frame step").arg(result->seam->ratio, 0, 'f', 2);
+    m_time->setText(text);
+    return Status::success();
+}
+
+void TimelinePanel::refreshLists() {
+    const ClipLibrary& library = m_document->project().clips;
+    m_clipShown = -1;  // a clip may have changed: evaluate again
+    const QSignalBlocker blockTakes(m_takes);
+    const QSignalBlocker blockClips(m_clips);
+    m_takes->clear();
+    for (const NamedSession& s : library.sessions)
+        m_takes->addItem(tr("%1 · %2 s").arg(QString::fromStdString(s.name)).arg(s.session.endSeconds() - s.session.startSeconds(), 0, 'f', 2));
+    m_clips->clear();
+    for (const Clip& c : library.clips)
+        m_clips->addItem(tr("%1 · %2 frames @ %3%4")
+                             .arg(QString::fromStdString(c.name))
+                             .arg(c.frames)
+                             .arg(c.fps)
+                             .arg(c.loop ? tr(" · loop") : QString()));
 }
 
 }  // namespace softtouch::ui

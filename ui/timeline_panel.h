@@ -1,44 +1,61 @@
 #pragma once
-/// The timeline dock: record a session (everything that drives the body, so it replays exactly),
-/// list the recorded takes, and scrub through one (the scene shows the replayed state).
+/// The timeline dock: record takes (everything that drives the body, per step, so a take replays
+/// exactly), keep them in the project's clip library, make clips of them (range, fps, loop with
+/// closure), scrub takes and clips, and export a clip with progress and cancel (the same io::bake the
+/// CLI runs).
 
+#include "core/clip.h"
 #include "ui/simulation_controller.h"
 
 #include <QWidget>
 
-class QListWidget;
-class QSlider;
+class QCheckBox;
 class QLabel;
+class QListWidget;
 class QPushButton;
+class QSlider;
 
 namespace softtouch::ui {
 
-/// Recorded sessions of the open document.
+/// Takes and clips of the open document.
 class TimelinePanel : public QWidget {
     Q_OBJECT
 public:
     TimelinePanel(Document* document, SimulationController* simulation, QWidget* parent = nullptr);
 
-    /// The recorded takes, oldest first.
-    const std::vector<Session>& sessions() const { return m_sessions; }
-    /// Frames per second of the scrub slider (the scene's clip rate).
+    /// Frames per second of the scrub slider for takes (the scene's clip rate).
     double fps() const;
+    /// Number of takes (recorded sessions) in the project.
+    int takeCount() const;
 
 public slots:
     void toggleRecording();
-    /// Shows take `index` at `frame`.
+    /// Shows take `index` at `frame` (replayed exactly).
     void scrubTo(int index, int frame);
+    /// Shows clip `index` at `frame`.
+    void showClipFrame(int index, int frame);
+    /// Makes a clip of take `index` (all of it; a loop with a quarter-second closure when `loop`).
+    bool makeClip(int index, bool loop);
+    /// Asks for a file and exports clip `index` (or the drivers when < 0) with a progress dialog.
+    void exportClip(int index);
+    /// Exports without asking (tests, scripts); returns the message shown.
+    Status exportClipTo(int index, const QString& path);
 
 private:
-    void refreshList();
+    void refreshLists();
+    void selectTake(int row);
+    void selectClip(int row);
 
     Document* m_document;
     SimulationController* m_simulation;
-    std::vector<Session> m_sessions;
     QPushButton* m_record = nullptr;
-    QListWidget* m_list = nullptr;
+    QListWidget* m_takes = nullptr;
+    QListWidget* m_clips = nullptr;
+    QCheckBox* m_loop = nullptr;
     QSlider* m_slider = nullptr;
     QLabel* m_time = nullptr;
+    NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
+    int m_clipShown = -1;      ///< Which clip m_clipFrames holds.
 };
 
 }  // namespace softtouch::ui

@@ -2,6 +2,7 @@
 // one undo step, anchors are set by clicking nodes, a mouse drag pulls the fish and it swings back,
 // projects survive save and reopen, an autosave survives a killed session, a corrupt project gives
 // an error dialog, and the viewport draws the fish in shaded and wireframe modes.
+#include "io/vertex_cache.h"
 #include "ui/edit_commands.h"
 #include "ui/main_window.h"
 #include "ui/presets_panel.h"
@@ -100,7 +101,7 @@ private slots:
     void recoversAutosaveAfterKill();
     void corruptProjectShowsErrorAndEditorStaysUsable();
     void presetAppliesAsOneUndoStep();
-    void recordedTakeScrubsToReplayedState();
+    void recordedTakeScrubsAndExports();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -384,7 +385,7 @@ void TestEditor::presetAppliesAsOneUndoStep() {
     QCOMPARE(presets->count(), count + 1);
 }
 
-void TestEditor::recordedTakeScrubsToReplayedState() {
+void TestEditor::recordedTakeScrubsAndExports() {
     MainWindow& w = *m_window;
     SimulationController* sim = w.simulation();
     sim->startRecording();
@@ -393,11 +394,28 @@ void TestEditor::recordedTakeScrubsToReplayedState() {
     const BodyState atHalf = sim->simulation()->simulator(0).state();
     sim->advance(0.5);
     QVERIFY(sim->stopRecording().has_value());
-    QCOMPARE(w.timeline()->sessions().size(), std::size_t(1));
+    QCOMPARE(w.timeline()->takeCount(), 1);  // the take is in the project (undoable, saved with it)
+    QVERIFY(w.document()->isModified());
     // Scrubbing to 0.5 s replays the take and shows exactly the state recorded there.
     w.timeline()->scrubTo(0, int(0.5 * w.timeline()->fps()));
-    const BodyState& shown = sim->simulation()->simulator(0).state();
-    QVERIFY(shown.position == atHalf.position);
+    QVERIFY(sim->simulation()->simulator(0).state().position == atHalf.position);
+    // A looping clip of the take, exported as a point cache the CLI's reader accepts.
+    const std::size_t clipsBefore = w.document()->project().clips.clips.size();
+    QVERIFY(w.timeline()->makeClip(0, true));
+    QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore + 1);
+    const int clip = int(clipsBefore);
+    const QString pc2 = m_dir->filePath("take.pc2");
+    const Status exported = w.timeline()->exportClipTo(clip, pc2);
+    QVERIFY2(exported.ok(), exported.message().c_str());
+    auto cache = io::readPc2(pc2.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
+    QCOMPARE(cache->info.pointCount, w.document()->scene().objects[0].mesh.positions.size());
+    // Undo removes the clip, then the take.
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.timeline()->takeCount(), 0);
 }
 
 void TestEditor::viewportDrawsTheFish_data() {
