@@ -96,6 +96,7 @@ struct VideoEncoder::Impl {
     std::vector<std::string> warnings;
     int frames = 0;
     bool finished = false;
+    bool headerWritten = false;  ///< The muxer then owns buffered packets that only its trailer frees.
 
     Status error(const std::string& what) const {
         return Status::error("cannot write " + detail::quoted(target) + " (" + (codecName.empty() ? "video" : codecName) +
@@ -109,6 +110,9 @@ struct VideoEncoder::Impl {
         av_packet_free(&packet);
         avcodec_free_context(&codec);
         if (format != nullptr) {
+            if (headerWritten)
+                av_write_trailer(format);  // into the temporary that discard() removes; frees the muxer's packets
+            headerWritten = false;
             if (format->pb != nullptr)
                 avio_closep(&format->pb);
             avformat_free_context(format);
@@ -220,6 +224,7 @@ struct VideoEncoder::Impl {
             return error("cannot create " + detail::quoted(temporary) + ": " + avError(opened));
         if (const int header = avformat_write_header(format, nullptr); header < 0)
             return error("cannot write the header: " + avError(header));
+        headerWritten = true;
         return Status::success();
     }
 };
@@ -361,6 +366,7 @@ Status VideoEncoder::finish() {
         return s;
     }
     if (d.format != nullptr) {
+        d.headerWritten = false;
         if (const int trailer = av_write_trailer(d.format); trailer < 0) {
             Status s = d.error("cannot finish the file: " + avError(trailer));
             d.discard();

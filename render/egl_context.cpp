@@ -44,10 +44,10 @@ std::string eglErrorName(EGLint error) {
     }
 }
 
-/// EGL displays are not reference counted: eglTerminate() would end every context on the display.
-/// Count our contexts per process and terminate with the last one.
+/// The display stays initialised for the life of the process: EGL displays are not reference counted
+/// (eglTerminate() would end every other context on it), initialising it again is a no-op, and
+/// terminating unloads Mesa's driver with allocations LeakSanitizer then reports as ours.
 std::mutex g_displayMutex;
-int g_displayUsers = 0;
 
 struct OpenedDisplay {
     EGLDisplay display = EGL_NO_DISPLAY;
@@ -162,14 +162,7 @@ struct EglContext::Impl {
             eglDestroyContext(display, context);
             context = EGL_NO_CONTEXT;
         }
-        if (display != EGL_NO_DISPLAY) {
-            std::lock_guard lock(g_displayMutex);
-            if (--g_displayUsers == 0) {
-                eglTerminate(display);
-                eglReleaseThread();
-            }
-            display = EGL_NO_DISPLAY;
-        }
+        display = EGL_NO_DISPLAY;
     }
 };
 
@@ -185,8 +178,6 @@ Status EglContext::probeDriver() {
     auto opened = openDisplay();
     if (!opened)
         return Status::error(opened.message());
-    if (g_displayUsers == 0)
-        eglTerminate(opened->display);
     return Status::success();
 }
 
@@ -199,7 +190,6 @@ Result<std::unique_ptr<EglContext>> EglContext::create(int width, int height, in
             return Status::error(opened.message());
         impl->display = opened->display;
         impl->platform = opened->platform;
-        ++g_displayUsers;
     }
     auto fail = [&](const std::string& what) {
         const std::string message = "EGL (" + impl->platform + "): " + what + ": " + eglErrorName(eglGetError());
