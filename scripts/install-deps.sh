@@ -11,6 +11,7 @@ packages=(
   nlohmann-json3-dev      # project and preset files
   fonts-dejavu-core       # text in plots rendered headless (study)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
+  libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
 )
 
 missing=()
