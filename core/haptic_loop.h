@@ -57,6 +57,9 @@ struct HapticSettings {
     int statsWindow = 1000;            ///< Ticks in the sliding window of the rate/jitter figures, [10, 1e6].
     std::size_t recordCapacity = 0;    ///< Ticks to record (samples reserved up front); 0 records nothing.
     std::size_t commandCapacity = 256; ///< Commands kept in a recording, reserved up front.
+    int realtimePriority = 0;          ///< 0: normal scheduling. 1..99: ask for SCHED_FIFO at this priority
+                                       ///< (Linux; needs CAP_SYS_NICE or an rtprio limit, else ignored and
+                                       ///< HapticStats::realtime stays false). [0, 99].
     /// Checks every field against its range.
     Status validate() const;
 };
@@ -73,6 +76,7 @@ struct HapticStats {
     double passiveEnergyJ = 0.0;    ///< The passivity observer's energy (≥ 0), joules.
     long long passivityActiveTicks = 0; ///< Ticks on which the passivity controller added damping.
     long long clampedTicks = 0;     ///< Ticks whose force was clamped to the device maximum.
+    bool realtime = false;          ///< The thread runs under real-time scheduling (realtimePriority granted).
 };
 
 /// What the UI reads: the body and the coupling after one tick.
