@@ -181,14 +181,22 @@ int runBench(const std::vector<std::string>& args) {
                       "  --quick       small sizes only (seconds, not minutes)\n"
                       "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, haptic\n"
                       "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"
-                      "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)");
+                      "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)\n"
+                      "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)");
             return 0;
         }
         if (args[i] == "--quick")
             options.quick = true;
         else if (args[i] == "--only" && i + 1 < args.size())
             options.only = args[++i];
-        else if (args[i] == "--haptic-scene" && i + 1 < args.size())
+        else if (args[i] == "--haptic-priority" && i + 1 < args.size()) {
+            const std::string& v = args[++i];
+            int priority = -1;
+            const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), priority);
+            if (ec != std::errc() || end != v.data() + v.size() || priority < 0 || priority > 99)
+                return usage("--haptic-priority expects an integer in [0, 99], got '" + v + "'");
+            options.hapticPriority = priority;
+        } else if (args[i] == "--haptic-scene" && i + 1 < args.size())
             hapticScene = args[++i];
         else if (args[i] == "--json" && i + 1 < args.size())
             jsonPath = args[++i];

@@ -187,7 +187,7 @@ json runBench(const BenchOptions& options, std::ostream& out) {
     if (wanted("features")) doc["features"] = features(minSeconds, out);
     if (wanted("deform")) doc["deform"] = deformation(options, out);
     if (wanted("table1")) doc["table1"] = table1(options, out);
-    if (wanted("haptic")) doc["haptic"] = hapticBench(options.hapticScenes, options.quick ? 2.0 : 5.0, out);
+    if (wanted("haptic")) doc["haptic"] = hapticBench(options.hapticScenes, options.quick ? 2.0 : 5.0, options.hapticPriority, out);
     return doc;
 }
 

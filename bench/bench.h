@@ -17,6 +17,7 @@ struct BenchOptions {
     std::string only;    ///< Empty: every section; otherwise one JSON key ("haptic", "table1", …) alone.
     std::vector<HapticBenchScene> hapticScenes; ///< Scenes for the haptic section (the app loads the star);
                                                 ///< the million-triangle scene is always added.
+    int hapticPriority = 80;  ///< SCHED_FIFO priority the haptic loop asks for; 0: normal scheduling. [0, 99].
 };
 
 /// Runs every benchmark, prints a readable report to `out` as it goes, returns the JSON document.

@@ -34,7 +34,7 @@ Scene millionTriangleScene() {
 }
 
 json runOne(const std::string& name, const Scene& scene, const Vec3& grabUvw, double seconds, bool deformMesh,
-            std::ostream& out) {
+            int priority, std::ostream& out) {
     const SceneObject& object = scene.objects.front();
     auto model = buildLatticeBody(object.lattice, object.material);
     if (!model) {
@@ -58,7 +58,7 @@ json runOne(const std::string& name, const Scene& scene, const Vec3& grabUvw, do
     settings.statsWindow = int(seconds * 1000.0) + 1000;  // the whole run
     settings.coupling.stiffness = 20.0;
     settings.coupling.damping = 0.05;
-    settings.realtimePriority = 80;  // granted only with CAP_SYS_NICE / an rtprio limit; reported either way
+    settings.realtimePriority = priority;  // granted only with CAP_SYS_NICE / an rtprio limit; reported either way
     ExternalForces world;
     world.gravity = scene.world.gravity;
     world.planes = scene.world.planes;
@@ -115,7 +115,7 @@ json runOne(const std::string& name, const Scene& scene, const Vec3& grabUvw, do
 
 }  // namespace
 
-json hapticBench(const std::vector<HapticBenchScene>& scenes, double seconds, std::ostream& out) {
+json hapticBench(const std::vector<HapticBenchScene>& scenes, double seconds, int priority, std::ostream& out) {
     out << "\nHaptic loop at 1 kHz (own thread; the mesh is deformed from its snapshots at 60 Hz on another), "
         << seconds << " s each\n";
     json rows = json::array();
@@ -125,7 +125,7 @@ json hapticBench(const std::vector<HapticBenchScene>& scenes, double seconds, st
     // Each scene twice: the loop alone, then with the editor's side deforming the mesh at 60 Hz on
     // another thread (which competes for the cores, not for anything the loop touches).
     for (bool deform : {false, true})
-        for (const HapticBenchScene& s : all) rows.push_back(runOne(s.name, *s.scene, s.grabPoint, seconds, deform, out));
+        for (const HapticBenchScene& s : all) rows.push_back(runOne(s.name, *s.scene, s.grabPoint, seconds, deform, priority, out));
     return rows;
 }
 

@@ -23,6 +23,7 @@ struct HapticBenchScene {
 /// returns the "haptic" rows, each scene first with the loop alone, then with a 60 Hz mesh consumer:
 /// [{scene, triangles, mesh_consumer, rate_hz, p50_period_ms, p99_period_ms, max_period_ms,
 /// tick_p99_us, missed_deadlines, realtime, ticks, mesh_evaluations}].
-nlohmann::json hapticBench(const std::vector<HapticBenchScene>& scenes, double seconds, std::ostream& out);
+/// `priority` is the SCHED_FIFO priority asked for (0: normal scheduling).
+nlohmann::json hapticBench(const std::vector<HapticBenchScene>& scenes, double seconds, int priority, std::ostream& out);
 
 }  // namespace softtouch::bench
