@@ -12,5 +12,6 @@ int runValidate(const std::vector<std::string>& args);
 int runBench(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);
 int runStability(const std::vector<std::string>& args);
+int runHaptic(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

@@ -2,6 +2,7 @@
 
 #include <QCoreApplication>
 #include <QDir>
+#include <QFileInfo>
 #include <QLibrary>
 
 namespace softtouch {
@@ -9,7 +10,10 @@ namespace softtouch {
 QString DeviceRegistry::defaultFolder() {
     const QByteArray env = qgetenv("SOFTTOUCH_PLUGIN_PATH");
     if (!env.isEmpty()) return QString::fromLocal8Bit(env);
-    return QDir(QCoreApplication::applicationDirPath()).filePath("../plugins/devices");
+    // Without a QCoreApplication (the CLI) the executable's folder comes from /proc (Linux).
+    const QString bin = QCoreApplication::instance() ? QCoreApplication::applicationDirPath()
+                                                     : QFileInfo(QStringLiteral("/proc/self/exe")).canonicalFilePath().section('/', 0, -2);
+    return QDir(bin).filePath("../plugins/devices");
 }
 
 DeviceRegistry::DeviceRegistry(const QString& folder) {
