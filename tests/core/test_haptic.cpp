@@ -269,7 +269,7 @@ void TestHaptic::couplingNeverAddsEnergy() {
     for (int i = 0; i < 12; ++i)
         waves.push_back({Vec3(unit(rng), unit(rng), unit(rng)) * 0.02, 2 * std::numbers::pi * (0.2 + 8 * unit(rng)),
                          2 * std::numbers::pi * unit(rng)});
-    const double seconds = 6.0;
+    const double seconds = 3.0;
     auto path = [&](double t, Vec3& p, Vec3& v) {
         p = top - Vec3(0, 0.06, 0);  // around the cube's middle, so the floor is reached
         v.setZero();
