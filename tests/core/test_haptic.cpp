@@ -269,6 +269,8 @@ void TestHaptic::couplingNeverAddsEnergy() {
     for (int i = 0; i < 12; ++i)
         waves.push_back({Vec3(unit(rng), unit(rng), unit(rng)) * 0.02, 2 * std::numbers::pi * (0.2 + 8 * unit(rng)),
                          2 * std::numbers::pi * unit(rng)});
+    // The controlled run is the claim (3 s); the uncontrolled one only has to show the coupling would
+    // give energy back, which it does within its first 1.5 s.
     const double seconds = 3.0;
     auto path = [&](double t, Vec3& p, Vec3& v) {
         p = top - Vec3(0, 0.06, 0);  // around the cube's middle, so the floor is reached
@@ -279,9 +281,9 @@ void TestHaptic::couplingNeverAddsEnergy() {
         }
     };
     const std::vector<DeviceSample> samples = sampled(seconds, path);
-    const long long ticks = (long long)samples.size();
     double minimum[2] = {0.0, 0.0};
     for (int control = 0; control < 2; ++control) {
+        const long long ticks = control == 1 ? (long long)samples.size() : (long long)samples.size() / 2;
         auto device = std::make_unique<TrajectoryDevice>(samples, scriptedDeviceInfo());
         device->keepForces(true, std::size_t(ticks));
         HapticSettings settings;
