@@ -145,7 +145,7 @@ public:
     /// from one thread). Returns true when `out` changed. Never blocks the loop.
     bool readSnapshot(HapticSnapshot& out);
 
-    /// Ticks run so far.
+    /// Ticks run so far (read it only while the thread is not running; snapshots carry it otherwise).
     long long tickCount() const { return m_tick; }
     /// The simulator (read it only while the thread is not running).
     const Simulator& simulator() const { return m_simulator; }
