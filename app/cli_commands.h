@@ -14,5 +14,6 @@ int runStudy(const std::vector<std::string>& args);
 int runStability(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
 int runPreset(const std::vector<std::string>& args);
+int runHaptic(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

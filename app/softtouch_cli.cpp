@@ -15,9 +15,10 @@ Usage:
   softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
-  softtouch-cli bench [--json FILE] [--quick]
+  softtouch-cli bench [--json FILE] [--quick] [--only KEY]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
   softtouch-cli stability [--out FILE.md] [--quick]
+  softtouch-cli haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]
   softtouch-cli --help | --version
 
 Commands:
@@ -30,6 +31,7 @@ Commands:
              one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
   study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
+  haptic     Run the 1 kHz haptic loop on SCENE's first object with a device plugin (docs/haptics.md).
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
 
 Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage.
@@ -67,6 +69,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runStudy(args);
     if (command == "stability")
         return softtouch::cli::runStability(args);
+    if (command == "haptic")
+        return softtouch::cli::runHaptic(args);
     std::fprintf(stderr, "softtouch-cli: error: unknown command '%s'; see 'softtouch-cli --help'\n", command.c_str());
     return 2;
 }

@@ -176,15 +176,18 @@ json features(double minSeconds, std::ostream& out) {
 
 json runBench(const BenchOptions& options, std::ostream& out) {
     const double minSeconds = options.quick ? 0.05 : 0.3;
+    const auto wanted = [&](const char* key) { return options.only.empty() || options.only == key; };
     json doc;
     doc["machine"] = {{"hardware_threads", resolveThreadCount(0)}, {"bullet", bulletAvailable()}};
     doc["quick"] = options.quick;
-    doc["lattice_step_us"] = latticeSteps({LatticeKind::Bezier, {4, 4, 4}}, "4x4x4 Bezier", minSeconds, out);
-    doc["lattice_step_us_8x4x4"] = latticeSteps({LatticeKind::BSpline, {8, 4, 4}}, "8x4x4 B-spline", minSeconds, out);
-    doc["features"] = features(minSeconds, out);
-    doc["deform"] = deformation(options, out);
-    doc["table1"] = table1(options, out);
-    doc["haptic"] = json::array();  // filled once the haptic loop exists
+    if (wanted("lattice_step_us"))
+        doc["lattice_step_us"] = latticeSteps({LatticeKind::Bezier, {4, 4, 4}}, "4x4x4 Bezier", minSeconds, out);
+    if (wanted("lattice_step_us_8x4x4"))
+        doc["lattice_step_us_8x4x4"] = latticeSteps({LatticeKind::BSpline, {8, 4, 4}}, "8x4x4 B-spline", minSeconds, out);
+    if (wanted("features")) doc["features"] = features(minSeconds, out);
+    if (wanted("deform")) doc["deform"] = deformation(options, out);
+    if (wanted("table1")) doc["table1"] = table1(options, out);
+    if (wanted("haptic")) doc["haptic"] = hapticBench(options.hapticScenes, options.quick ? 2.0 : 5.0, options.hapticPriority, out);
     return doc;
 }
 

@@ -3,6 +3,8 @@
 /// (these machines are shared and noisy, so only same-run ratios are comparable across runs).
 /// JSON keys: docs/benchmarks.md.
 
+#include "bench/haptic_bench.h"
+
 #include <nlohmann/json.hpp>
 
 #include <ostream>
@@ -12,6 +14,10 @@ namespace softtouch::bench {
 /// What to run.
 struct BenchOptions {
     bool quick = false;  ///< Small sizes only (seconds instead of minutes); for CI smoke runs.
+    std::string only;    ///< Empty: every section; otherwise one JSON key ("haptic", "table1", …) alone.
+    std::vector<HapticBenchScene> hapticScenes; ///< Scenes for the haptic section (the app loads the star);
+                                                ///< the million-triangle scene is always added.
+    int hapticPriority = 80;  ///< SCHED_FIFO priority the haptic loop asks for; 0: normal scheduling. [0, 99].
 };
 
 /// Runs every benchmark, prints a readable report to `out` as it goes, returns the JSON document.

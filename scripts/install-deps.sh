@@ -8,7 +8,7 @@ packages=(
   qt6-base-dev            # Qt Core/Gui/Widgets/Test
   libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
   libgl-dev libegl-dev    # OpenGL 3.3 core through glvnd (render/), EGL for headless rendering
-  libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe: OpenGL without a GPU
+  libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe and EGL surfaceless platform: OpenGL without a GPU or X
   xvfb xauth              # the editor's GUI tests run under a virtual X server
   libeigen3-dev           # core maths
   libassimp-dev           # mesh import
@@ -18,9 +18,8 @@ packages=(
   libopenexr-dev          # vertex animation textures (bake --format vat)
   glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
-  libegl-dev libgl-dev    # render/: OpenGL 3.3 core through glvnd, headless EGL context
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
-  libegl-mesa0 libgl1-mesa-dri  # runtime: Mesa's EGL (surfaceless platform) and llvmpipe when there is no GPU
+  libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
 )
 
 missing=()
