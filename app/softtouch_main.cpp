@@ -7,10 +7,51 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
+#include <QMouseEvent>
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include <cmath>
 #include <cstdio>
+
+namespace {
+
+/// A scripted mouse gesture for pictures of the drag tool: press on the tail, move, hold while the
+/// body follows, all recorded as a take (the same events a person's mouse sends).
+void dragTail(softtouch::ui::MainWindow& window, const QPointF& offset, double seconds) {
+    softtouch::ui::Viewport* view = window.viewport();
+    const auto* sim = window.simulation()->simulation();
+    if (!sim)
+        return;
+    // The mesh vertex nearest the tail's mid-line (u = 0.15, v = 0.5): a point on the surface.
+    const softtouch::Lattice& lattice = sim->object(0).lattice;
+    softtouch::Vec3 best(0.5, 0.5, 0.5);
+    double bestDistance = 1e300;
+    for (const softtouch::Vec3f& p : sim->object(0).mesh.positions) {
+        const softtouch::Vec3 uvw = lattice.box().toParameters(p.cast<double>());
+        const double d = std::hypot(uvw.x() - 0.15, uvw.y() - 0.5);
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = uvw;
+        }
+    }
+    const QPointF from = view->toWidget(lattice.evaluate(best, sim->simulator(0).state().position));
+    auto send = [view](QEvent::Type type, const QPointF& at, Qt::MouseButtons buttons) {
+        QMouseEvent event(type, at, view->mapToGlobal(at), type == QEvent::MouseMove ? Qt::NoButton : Qt::LeftButton,
+                          buttons, Qt::NoModifier);
+        QApplication::sendEvent(view, &event);
+    };
+    window.simulation()->startRecording();
+    send(QEvent::MouseButtonPress, from, Qt::LeftButton);
+    window.simulation()->pause();
+    for (int i = 1; i <= 10; ++i) {
+        send(QEvent::MouseMove, from + offset * (i / 10.0), Qt::LeftButton);
+        window.simulation()->advance(seconds / 10.0);
+    }
+    window.simulation()->stopRecording();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     // The viewport needs OpenGL 3.3 core; ask for it before any context exists.
@@ -33,8 +74,10 @@ int main(int argc, char** argv) {
     const QCommandLineOption screenshot("screenshot", "Render one frame of the window to FILE.png and exit.", "FILE.png");
     const QCommandLineOption mode("mode", "Viewport shading: shaded, wireframe or xray.", "MODE", "shaded");
     const QCommandLineOption seconds("seconds", "With --screenshot: simulate this long before the picture.", "S", "0");
+    const QCommandLineOption drag("drag", "With --screenshot: record a take in which the mouse pulls the object's tail "
+                                          "(lattice point u=0.15) by DX,DY pixels, held for --seconds.", "DX,DY");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    parser.addOptions({screenshot, mode, seconds, noRecovery});
+    parser.addOptions({screenshot, mode, seconds, drag, noRecovery});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -59,7 +102,17 @@ int main(int argc, char** argv) {
             return 1;
         }
         window.simulation()->pause();
-        window.simulation()->advance(parser.value(seconds).toDouble());
+        if (parser.isSet(drag)) {
+            const QStringList d = parser.value(drag).split(',');
+            if (d.size() != 2) {
+                std::fprintf(stderr, "softtouch: error: --drag expects DX,DY in pixels, got '%s'\n", qPrintable(parser.value(drag)));
+                return 2;
+            }
+            QApplication::processEvents();
+            dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), parser.value(seconds).toDouble());
+        } else {
+            window.simulation()->advance(parser.value(seconds).toDouble());
+        }
         QApplication::processEvents();
         window.refreshStatus();
         const QImage image = window.grab().toImage();

@@ -11,9 +11,40 @@
 #include <QWheelEvent>
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 
 namespace softtouch::ui {
+
+/// The user's hands: for each grab, a line from the held point of the body to where the cursor pulls
+/// it (the drag spring), so the pull is visible while the body lags behind.
+class GrabIndicator : public QWidget {
+public:
+    GrabIndicator(QWidget* parent, std::function<std::vector<std::pair<QPointF, QPointF>>()> lines)
+        : QWidget(parent), m_lines(std::move(lines)) {
+        setAttribute(Qt::WA_TransparentForMouseEvents);
+        setAttribute(Qt::WA_NoSystemBackground);
+    }
+
+protected:
+    void paintEvent(QPaintEvent*) override {
+        QPainter painter(this);
+        painter.setRenderHint(QPainter::Antialiasing);
+        for (const auto& [held, target] : m_lines()) {
+            painter.setPen(QPen(QColor(255, 230, 90), 2, Qt::DashLine));
+            painter.drawLine(held, target);
+            painter.setPen(QPen(QColor(30, 30, 30), 1));
+            painter.setBrush(QColor(255, 230, 90));
+            painter.drawEllipse(held, 4.5, 4.5);
+            painter.setBrush(Qt::NoBrush);
+            painter.setPen(QPen(QColor(255, 230, 90), 2));
+            painter.drawEllipse(target, 7.0, 7.0);
+        }
+    }
+
+private:
+    std::function<std::vector<std::pair<QPointF, QPointF>>()> m_lines;
+};
 
 /// The colour scale of the node overlay: the painted field from its lowest to its highest value, in
 /// the node discs' blue-grey-red map. A child widget, so Qt composites it over the GL picture.
@@ -52,6 +83,21 @@ Viewport::Viewport(Document* document, SimulationController* simulation, QWidget
     setMouseTracking(true);
     setMinimumSize(320, 240);
     m_legend = new ValueLegend(this);
+    m_grabIndicator = new GrabIndicator(this, [this] {
+        std::vector<std::pair<QPointF, QPointF>> lines;
+        const SceneSimulation* sim = m_simulation->simulation();
+        for (int slot = 0; sim && slot < SimulationController::kGrabSlots; ++slot) {
+            const auto& g = m_simulation->grab(slot);
+            if (!g || std::size_t(g->object) >= sim->objectCount())
+                continue;
+            Vec3 point, velocity;
+            const BodyState& state = sim->simulator(std::size_t(g->object)).state();
+            dragPointState(g->drag, state.position, state.velocity, point, velocity);
+            lines.emplace_back(toWidget(point), toWidget(g->drag.target));
+        }
+        return lines;
+    });
+    connect(simulation, &SimulationController::stepped, m_grabIndicator, qOverload<>(&QWidget::update));
     connect(document, &Document::materialChanged, this, &Viewport::updateLegend);
     connect(document, &Document::sceneReplaced, this, &Viewport::updateLegend);
     connect(simulation, &SimulationController::stepped, this, qOverload<>(&QWidget::update));
@@ -90,7 +136,10 @@ void Viewport::initializeGL() {
     m_sceneDirty = true;
 }
 
-void Viewport::resizeGL(int, int) { updateLegend(); }
+void Viewport::resizeGL(int, int) {
+    m_grabIndicator->resize(size());
+    updateLegend();
+}
 
 void Viewport::uploadScene() {
     m_renderer.clearObjects();

@@ -28,12 +28,13 @@ enum class NavigationStyle {
 
 /// Settings of the drag tool.
 struct DragToolSettings {
-    double stiffness = 60.0;  ///< Ks of the mouse's drag spring, N/m, (0, 1e9]. Pen pressure scales it.
+    double stiffness = 200.0; ///< Ks of the mouse's drag spring, N/m, (0, 1e9]. Pen pressure scales it.
     double damping = 0.5;     ///< Kd, N·s/m, [0, 1e6].
 };
 
 /// OpenGL viewport of one document.
 class ValueLegend;
+class GrabIndicator;
 
 class Viewport : public QOpenGLWidget {
     Q_OBJECT
@@ -141,6 +142,7 @@ private:
     int m_strokeKey = -1;
     double m_frameMs = 0.0;
     ValueLegend* m_legend = nullptr;
+    GrabIndicator* m_grabIndicator = nullptr;
 };
 
 }  // namespace softtouch::ui

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Makes the pictures of docs/user-guide.md from the built editor and CLI (run scripts/build.sh first).
+# Every picture is the real window (softtouch --screenshot, under Xvfb) or a real render
+# (softtouch-cli render, headless EGL), so the guide shows what a user sees.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=docs/images
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$out"
+shot() { xvfb-run -a -s "-screen 0 1600x1000x24" ./build/bin/softtouch --no-recovery --screenshot "$@"; }
+scene=presets/scenes/angelfish-swim.softtouch
+
+# 1. The default scene as it opens, a second into its swim.
+shot "$out/guide-open.png" --seconds 1.0 "$scene"
+# 2. The drag tool: the tail pulled up and back, recorded as a take.
+shot "$out/guide-drag.png" --drag=-150,-130 --seconds 1.0 "$scene"
+# 3. Painted stiffness (supple tail, firm head): the nodes coloured by value, with the legend.
+shot "$out/guide-paint.png" --seconds 1.0 presets/scenes/angelfish-painted.softtouch
+# 4. Wireframe.
+shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
+# 5. The exported swim cycle, rendered headless: first frame of the PNG sequence.
+./build/bin/softtouch-cli render "$scene" --clip swim --out "$tmp/frames/" --size 640x360 --frames 1 --quiet >/dev/null
+cp "$tmp/frames/"*0000.png "$out/guide-render.png"
+echo "wrote $(ls "$out"/guide-*.png | wc -l) pictures to $out"
