@@ -1,5 +1,6 @@
 #include "ui/main_window.h"
 
+#include "ui/haptic_controller.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
 #include "ui/timeline_panel.h"
@@ -34,13 +35,14 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     m_autosave->setInterval(options.autosaveMilliseconds);
     connect(m_autosave, &Autosave::failed, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
 
+    m_haptics = new HapticController(m_document, m_simulation, this);
     buildDocks();
     buildActions();
 
     m_statusSim = new QLabel;
     m_statusFrame = new QLabel;
     m_statusMesh = new QLabel;
-    m_statusHaptic = new QLabel(tr("haptic: no device"));
+    m_statusHaptic = new QLabel;
     for (QLabel* l : {m_statusSim, m_statusFrame, m_statusMesh, m_statusHaptic}) {
         l->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::Preferred);
         statusBar()->addPermanentWidget(l);
@@ -209,6 +211,45 @@ void MainWindow::buildActions() {
         simBar->addAction(a);
         simMenu->addAction(a);
     }
+    simMenu->addSeparator();
+    buildDeviceMenu(simMenu->addMenu(tr("Input &Device")));
+}
+
+void MainWindow::buildDeviceMenu(QMenu* menu) {
+    // The mouse and pen are built into the viewport; every other device is a plugin running the
+    // 1 kHz haptic loop, its workspace fitted onto the current object's lattice box.
+    auto* group = new QActionGroup(this);
+    QAction* mouse = menu->addAction(tr("Mouse and pen (built in)"), m_haptics, &HapticController::stop);
+    mouse->setCheckable(true);
+    mouse->setChecked(true);
+    group->addAction(mouse);
+    for (const QString& name : m_haptics->deviceNames()) {
+        QAction* a = menu->addAction(name);
+        a->setObjectName("device_" + name);
+        a->setCheckable(true);
+        group->addAction(a);
+        connect(a, &QAction::triggered, this, [this, name, mouse] {
+            QString argument;
+            if (name == "scripted") {
+                argument = QFileDialog::getOpenFileName(this, tr("Device trajectory"), m_options.presetFolder + "/../devices",
+                                                        tr("Trajectories (*.sttraj)"));
+                if (argument.isEmpty()) {
+                    mouse->setChecked(true);
+                    return;
+                }
+            }
+            if (Status s = m_haptics->start(name, argument, m_viewport->currentObject()); !s) {
+                showError(tr("Cannot start the device"), QString::fromStdString(s.message()));
+                mouse->setChecked(true);
+            }
+        });
+    }
+    connect(m_haptics, &HapticController::runningChanged, mouse, [mouse](bool running) {
+        if (!running)
+            mouse->setChecked(true);
+    });
+    if (!m_haptics->pluginProblems().isEmpty())
+        menu->setToolTip(m_haptics->pluginProblems().join("\n"));
 }
 
 void MainWindow::refreshOutliner() {
@@ -255,6 +296,7 @@ void MainWindow::refreshStatus() {
         for (std::size_t i = 0; i < sim->objectCount(); ++i)
             triangles += sim->object(i).mesh.triangles.size();
     m_statusMesh->setText(tr("%L1 tris").arg(triangles));
+    m_statusHaptic->setText(m_haptics->statusText());
     m_properties->refreshLive();
 }
 

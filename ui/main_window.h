@@ -15,6 +15,7 @@ class QTreeWidget;
 
 namespace softtouch::ui {
 
+class HapticController;
 class PropertiesPanel;
 class PresetsPanel;
 class TimelinePanel;
@@ -40,6 +41,7 @@ public:
     PropertiesPanel* properties() { return m_properties; }
     TimelinePanel* timeline() { return m_timeline; }
     PresetsPanel* presets() { return m_presets; }
+    HapticController* haptics() { return m_haptics; }
 
     /// Opens a project; on failure shows the error in a dialog and keeps the current document.
     bool openFile(const QString& path);
@@ -60,6 +62,7 @@ protected:
 private:
     void buildActions();
     void buildDocks();
+    void buildDeviceMenu(QMenu* menu);
     void refreshOutliner();
     void updateTitle();
     void addRecentFile(const QString& path);
@@ -71,6 +74,7 @@ private:
     SimulationController* m_simulation;
     Viewport* m_viewport;
     Autosave* m_autosave;
+    HapticController* m_haptics = nullptr;
     PropertiesPanel* m_properties = nullptr;
     PresetsPanel* m_presets = nullptr;
     TimelinePanel* m_timeline = nullptr;

@@ -4,6 +4,7 @@
 // an error dialog, and the viewport draws the fish in shaded and wireframe modes.
 #include "io/vertex_cache.h"
 #include "ui/edit_commands.h"
+#include "ui/haptic_controller.h"
 #include "ui/main_window.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
@@ -102,6 +103,7 @@ private slots:
     void corruptProjectShowsErrorAndEditorStaysUsable();
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
+    void scriptedDeviceDrivesTheFishAtHapticRate();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -416,6 +418,30 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);
     w.document()->undoStack()->undo();
     QCOMPARE(w.timeline()->takeCount(), 0);
+}
+
+void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {
+    MainWindow& w = *m_window;
+    HapticController* haptics = w.haptics();
+    QVERIFY2(haptics->deviceNames().contains("scripted"), qPrintable(haptics->deviceNames().join(", ")));
+    QVERIFY(w.findChild<QAction*>("device_scripted") != nullptr);  // offered in Simulation > Input Device
+    const std::vector<Vec3f> rest = w.viewport()->deformedPositions(0);
+    const Status started = haptics->start("scripted", SOFTTOUCH_SOURCE_DIR "/presets/devices/figure-eight.sttraj", 0);
+    QVERIFY2(started.ok(), started.message().c_str());
+    QVERIFY(haptics->isRunning());
+    QVERIFY(!w.simulation()->isPlaying());  // the loop owns the body now
+    // The loop runs on its own thread at about 1 kHz; the viewport shows its snapshots.
+    QTRY_VERIFY_WITH_TIMEOUT(haptics->snapshot().tick > 800, 10000);
+    QTRY_VERIFY_WITH_TIMEOUT(maxDistance(w.viewport()->deformedPositions(0), rest) > 1e-3, 5000);
+    QVERIFY(haptics->snapshot().grabbed);
+    QVERIFY2(haptics->statusText().contains("Hz"), qPrintable(haptics->statusText()));
+    QVERIFY(haptics->snapshot().stats.rateHz > 100.0);  // a loose floor: timing goals live in the bench
+    haptics->stop();
+    QVERIFY(!haptics->isRunning());
+    // The editor's simulation takes the pose over and lets the fish swing back.
+    w.simulation()->setDriversEnabled(false);
+    w.simulation()->advance(5.0);
+    QVERIFY(maxDistance(w.viewport()->deformedPositions(0), rest) < 0.05 * w.document()->scene().objects[0].mesh.bounds().diagonal());
 }
 
 void TestEditor::viewportDrawsTheFish_data() {

@@ -1,0 +1,61 @@
+#pragma once
+/// The editor's side of the haptic loop (core/haptic_loop.h): picks a device plugin, calibrates its
+/// workspace onto the current object's lattice box, runs the 1 kHz loop on its own thread, and shows
+/// the loop's lock-free snapshots in the viewport at screen rate. While a device drives the body the
+/// interactive simulation is paused; stopping the device hands the pose back to it.
+
+#include "core/haptic_loop.h"
+#include "ui/simulation_controller.h"
+
+#include <QObject>
+#include <QStringList>
+#include <QTimer>
+
+#include <memory>
+
+namespace softtouch {
+class DeviceRegistry;
+}
+
+namespace softtouch::ui {
+
+/// Device choice and the running loop.
+class HapticController : public QObject {
+    Q_OBJECT
+public:
+    HapticController(Document* document, SimulationController* simulation, QObject* parent = nullptr);
+    ~HapticController() override;
+
+    /// Names of the device plugins found (null, scripted, sdl2, …).
+    QStringList deviceNames() const;
+    /// Problems met while loading plugins (one line each).
+    QStringList pluginProblems() const;
+    /// Starts plugin `device` (with `argument`, e.g. a trajectory file for "scripted") on object
+    /// `object`: the workspace is fitted onto its lattice box and the material point under the device's
+    /// first position is grabbed.
+    Status start(const QString& device, const QString& argument, int object);
+    /// Stops the loop; the editor's simulation continues from the last pose.
+    void stop();
+    bool isRunning() const { return m_loop != nullptr; }
+    /// The last snapshot read.
+    const HapticSnapshot& snapshot() const { return m_snapshot; }
+    /// One line for the status bar: device, rate, p99 period, force.
+    QString statusText() const;
+
+signals:
+    void runningChanged(bool running);
+
+private:
+    void poll();
+
+    Document* m_document;
+    SimulationController* m_simulation;
+    std::unique_ptr<DeviceRegistry> m_registry;
+    std::unique_ptr<HapticLoop> m_loop;
+    QString m_deviceName;
+    int m_object = 0;
+    HapticSnapshot m_snapshot;
+    QTimer m_timer;
+};
+
+}  // namespace softtouch::ui
