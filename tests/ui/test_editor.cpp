@@ -21,6 +21,7 @@
 #include <QSettings>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
+#include <QTabletEvent>
 #include <QTemporaryDir>
 #include <QtTest/QtTest>
 
@@ -98,6 +99,7 @@ private slots:
     void paintStrokeIsOneUndoStep();
     void anchorToolPinsAClickedNode();
     void mouseDragPullsAndReleaseSwingsBack();
+    void secondHandHoldsAndPenPressureScalesTheSpring();
     void saveAndReopenGivesTheSameScene();
     void recoversAutosaveAfterKill();
     void corruptProjectShowsErrorAndEditorStaysUsable();
@@ -278,6 +280,37 @@ void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
     const double settled = maxDistance(view->deformedPositions(0), rest);
     QVERIFY2(settled < 0.2 * pulled, qPrintable(QString("still %1 of the pull away after 6 s").arg(settled / pulled)));
     QVERIFY(swinging > settled);
+}
+
+void TestEditor::secondHandHoldsAndPenPressureScalesTheSpring() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    const SceneObject& fish = w.document()->scene().objects[0];
+    const QPoint body = view->toWidget(fish.lattice.box().toWorld(Vec3(0.5, 0.5, 0.5))).toPoint();
+    // Ctrl+drag: the second hand, which keeps holding after the button is released.
+    QTest::mousePress(view, Qt::LeftButton, Qt::ControlModifier, body);
+    w.simulation()->pause();
+    QVERIFY2(w.simulation()->grab(1).has_value(), "Ctrl+press did not grab the body");
+    QTest::mouseMove(view, body + QPoint(40, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, Qt::ControlModifier, body + QPoint(40, 0));
+    QVERIFY(w.simulation()->grab(1).has_value());
+    // A pen at half pressure: the first hand's spring is half as stiff.
+    QTabletEvent pen(QEvent::TabletPress, QPointingDevice::primaryPointingDevice(), body, view->mapToGlobal(body), 0.5,
+                     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, Qt::NoModifier, Qt::LeftButton, Qt::LeftButton);
+    QApplication::sendEvent(view, &pen);
+    QTest::mousePress(view, Qt::LeftButton, {}, body + QPoint(0, 10));
+    w.simulation()->pause();
+    QVERIFY(w.simulation()->grab(0).has_value());
+    QCOMPARE(w.simulation()->grab(0)->drag.stiffness, 0.5 * view->dragSettings().stiffness);
+    // Both hands act at once.
+    w.simulation()->advance(0.05);
+    QCOMPARE(w.simulation()->simulation()->interactiveDrags(0).size(), std::size_t(2));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, body + QPoint(0, 10));
+    QVERIFY(!w.simulation()->grab(0).has_value());
+    QVERIFY(w.simulation()->grab(1).has_value());
+    // Ctrl+click on empty space lets the second hand go.
+    QTest::mouseClick(view, Qt::LeftButton, Qt::ControlModifier, QPoint(5, 5));
+    QVERIFY(!w.simulation()->grab(1).has_value());
 }
 
 void TestEditor::saveAndReopenGivesTheSameScene() {
