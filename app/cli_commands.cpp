@@ -1,6 +1,6 @@
 #include "app/cli_commands.h"
 
-#include "app/study_plot.h"
+#include "bench/study_plot.h"
 #include "bench/bench.h"
 #include "bench/study.h"
 #include "io/atomic_file.h"
@@ -307,7 +307,7 @@ int runStudy(const std::vector<std::string>& args) {
             return fail(s.message());
         if (Status s = io::writeFileAtomically(dir / "study.md", bench::studyMarkdown(result, command)); !s)
             return fail(s.message());
-        if (const std::string error = writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
+        if (const std::string error = bench::writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
             return fail(error);
         std::printf("wrote %s, %s and %s\n", (dir / "study.csv").c_str(), (dir / "study.md").c_str(),
                     (dir / "study.png").c_str());

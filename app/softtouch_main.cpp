@@ -7,6 +7,7 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
+#include <QDockWidget>
 #include <QMouseEvent>
 #include <QSurfaceFormat>
 #include <QTimer>
@@ -76,13 +77,15 @@ int main(int argc, char** argv) {
     const QCommandLineOption seconds("seconds", "With --screenshot: simulate this long before the picture.", "S", "0");
     const QCommandLineOption drag("drag", "With --screenshot: record a take in which the mouse pulls the object's tail "
                                           "(lattice point u=0.15) by DX,DY pixels, held for --seconds.", "DX,DY");
+    const QCommandLineOption dock("dock", "Bring a dock to the front: properties, presets, study.", "NAME");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    parser.addOptions({screenshot, mode, seconds, drag, noRecovery});
+    parser.addOptions({screenshot, mode, seconds, drag, dock, noRecovery});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;
     options.presetFolder = softtouch::app::presetFolder();
+    options.studyCsv = softtouch::app::studyCsvPath();
     softtouch::ui::MainWindow window(options);
     const QString shading = parser.value(mode);
     if (shading == "wireframe")
@@ -94,6 +97,14 @@ int main(int argc, char** argv) {
         return 2;
     }
     window.show();
+    if (parser.isSet(dock)) {
+        auto* d = window.findChild<QDockWidget*>(parser.value(dock) + "Dock");
+        if (!d) {
+            std::fprintf(stderr, "softtouch: error: no dock named '%s'\n", qPrintable(parser.value(dock)));
+            return 2;
+        }
+        d->raise();
+    }
 
     if (parser.isSet(screenshot)) {
         // No dialogs in batch use: a bad project is a message and exit status 1.

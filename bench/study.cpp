@@ -8,6 +8,7 @@
 #include <numbers>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace softtouch::bench {
 namespace {
@@ -254,6 +255,47 @@ std::string studyCsv(const StudyResult& result) {
             << ',' << r.rmsError << ',' << r.maxError << ',' << r.timeError << ',' << r.energyDrift << ',' << r.amplitudeLoss << ','
             << r.frequencyError << ',' << (r.finite ? 1 : 0) << ',' << (r.pareto ? 1 : 0) << '\n';
     return out.str();
+}
+
+Result<StudyResult> parseStudyCsv(const std::string& text) {
+    std::istringstream in(text);
+    std::string line;
+    StudyResult result;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        if (number == 1 || line.empty())
+            continue;  // the header
+        std::vector<std::string> f;
+        std::stringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');)
+            f.push_back(cell);
+        const auto kind = f.size() == 13 ? parseIntegratorKind(f[0]) : std::nullopt;
+        if (!kind)
+            return Status::error("line " + std::to_string(number) + ": expected 13 fields starting with an integrator name");
+        StudyRow r;
+        r.integrator = *kind;
+        try {
+            r.dt = std::stod(f[1]);
+            r.resolution = f[2];
+            r.nodes = std::stoi(f[3]);
+            r.costPerSecond = std::stod(f[4]);
+            r.rmsError = std::stod(f[5]);
+            r.maxError = std::stod(f[6]);
+            r.timeError = std::stod(f[7]);
+            r.energyDrift = std::stod(f[8]);
+            r.amplitudeLoss = std::stod(f[9]);
+            r.frequencyError = std::stod(f[10]);
+            r.finite = f[11] == "1";
+            r.pareto = f[12] == "1";
+        } catch (const std::exception&) {
+            return Status::error("line " + std::to_string(number) + ": a field is not a number");
+        }
+        result.rows.push_back(std::move(r));
+    }
+    if (result.rows.empty())
+        return Status::error("no study rows");
+    return result;
 }
 
 std::string studyMarkdown(const StudyResult& result, const std::string& command) {

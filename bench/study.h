@@ -54,6 +54,8 @@ const StudyRow* cheapestWithin(const StudyResult& result, double target);
 
 /// CSV, one row per cell.
 std::string studyCsv(const StudyResult& result);
+/// Reads what studyCsv() wrote (docs/study.csv): the editor plots it. Errors name the line.
+Result<StudyResult> parseStudyCsv(const std::string& text);
 /// A markdown page: method, reference, the Pareto front, and every row sorted by cost.
 std::string studyMarkdown(const StudyResult& result, const std::string& command);
 

@@ -19,7 +19,9 @@ shot "$out/guide-drag.png" --drag=-150,-130 --seconds 1.0 "$scene"
 shot "$out/guide-paint.png" --seconds 1.0 presets/scenes/angelfish-painted.softtouch
 # 4. Wireframe.
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
-# 5. The exported swim cycle, rendered headless: first frame of the PNG sequence.
+# 5. The speed/accuracy dock: the study with the current settings marked.
+shot "$out/guide-study.png" --dock study "$scene"
+# 6. The exported swim cycle, rendered headless: first frame of the PNG sequence.
 ./build/bin/softtouch-cli render "$scene" --clip swim --out "$tmp/frames/" --size 640x360 --frames 1 --quiet >/dev/null
 cp "$tmp/frames/"*0000.png "$out/guide-render.png"
 echo "wrote $(ls "$out"/guide-*.png | wc -l) pictures to $out"

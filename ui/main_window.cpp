@@ -3,6 +3,7 @@
 #include "ui/haptic_controller.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
+#include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
 
 #include <QActionGroup>
@@ -102,6 +103,9 @@ void MainWindow::buildDocks() {
     m_presets = new PresetsPanel(m_document, m_viewport, m_options.presetFolder);
     auto* presetsDock = dock(tr("Presets"), "presetsDock", m_presets, Qt::RightDockWidgetArea);
     tabifyDockWidget(propertiesDock, presetsDock);
+    m_study = new StudyPanel(m_document, m_options.studyCsv);
+    auto* studyDock = dock(tr("Speed vs accuracy"), "studyDock", m_study, Qt::RightDockWidgetArea);
+    tabifyDockWidget(presetsDock, studyDock);
     propertiesDock->raise();
 
     m_timeline = new TimelinePanel(m_document, m_simulation);

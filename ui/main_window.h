@@ -17,6 +17,7 @@ namespace softtouch::ui {
 
 class HapticController;
 class PropertiesPanel;
+class StudyPanel;
 class PresetsPanel;
 class TimelinePanel;
 
@@ -25,6 +26,7 @@ struct MainWindowOptions {
     QString autosaveFolder;          ///< Empty: <AppDataLocation>/autosave.
     int autosaveMilliseconds = 60000;///< Autosave interval.
     QString presetFolder;            ///< Shipped presets (presets/materials); empty: found next to the binary.
+    QString studyCsv;                ///< The speed/accuracy study shown in its dock (docs/study.csv).
 };
 
 /// The editor window.
@@ -42,6 +44,7 @@ public:
     TimelinePanel* timeline() { return m_timeline; }
     PresetsPanel* presets() { return m_presets; }
     HapticController* haptics() { return m_haptics; }
+    StudyPanel* study() { return m_study; }
 
     /// Opens a project; on failure shows the error in a dialog and keeps the current document.
     bool openFile(const QString& path);
@@ -78,6 +81,7 @@ private:
     PropertiesPanel* m_properties = nullptr;
     PresetsPanel* m_presets = nullptr;
     TimelinePanel* m_timeline = nullptr;
+    StudyPanel* m_study = nullptr;
     QTreeWidget* m_outliner = nullptr;
     QMenu* m_recentMenu = nullptr;
     QLabel* m_statusSim = nullptr;

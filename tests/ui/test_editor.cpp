@@ -8,6 +8,7 @@
 #include "ui/main_window.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
+#include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
 
 #include <QAbstractButton>
@@ -18,6 +19,7 @@
 #include <QFile>
 #include <QMessageBox>
 #include <QProcess>
+#include <QPushButton>
 #include <QSettings>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
@@ -106,6 +108,7 @@ private slots:
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
     void scriptedDeviceDrivesTheFishAtHapticRate();
+    void studyDockMarksCurrentSettingsAndSuggests();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -146,6 +149,7 @@ std::unique_ptr<MainWindow> TestEditor::makeWindow() {
     options.autosaveFolder = m_dir->filePath("autosave");
     options.autosaveMilliseconds = 100;
     options.presetFolder = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/materials");
+    options.studyCsv = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/docs/study.csv");
     auto w = std::make_unique<MainWindow>(options);
     w->resize(1280, 800);
     w->show();
@@ -475,6 +479,30 @@ void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {
     w.simulation()->setDriversEnabled(false);
     w.simulation()->advance(5.0);
     QVERIFY(maxDistance(w.viewport()->deformedPositions(0), rest) < 0.05 * w.document()->scene().objects[0].mesh.bounds().diagonal());
+}
+
+void TestEditor::studyDockMarksCurrentSettingsAndSuggests() {
+    MainWindow& w = *m_window;
+    StudyPanel* study = w.study();
+    QVERIFY(study->hasStudy());
+    // The default scene (implicit Euler, 1/240 s, 4x4x4 Bezier) is a measured cell.
+    const bench::StudyRow* current = study->currentRow();
+    QVERIFY(current != nullptr);
+    QCOMPARE(current->integrator, w.document()->scene().world.simulation.integrator);
+    // The suggestion is within the target and no other measured cell of this lattice is cheaper and within it.
+    const bench::StudyRow* suggested = study->suggestion();
+    QVERIFY(suggested != nullptr);
+    QVERIFY(suggested->timeError <= 0.005);
+    QVERIFY(suggested->resolution == current->resolution);
+    // Applying it is one undoable edit of the world settings, and the mark follows.
+    const WorldSettings before = w.document()->scene().world;
+    for (QPushButton* b : study->findChildren<QPushButton*>())
+        b->click();
+    QCOMPARE(w.document()->scene().world.simulation.integrator, suggested->integrator);
+    QCOMPARE(w.document()->scene().world.simulation.dt, suggested->dt);
+    QCOMPARE(study->currentRow(), suggested);
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.document()->scene().world.simulation.dt, before.simulation.dt);
 }
 
 void TestEditor::viewportDrawsTheFish_data() {

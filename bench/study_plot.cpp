@@ -1,4 +1,4 @@
-#include "app/study_plot.h"
+#include "bench/study_plot.h"
 
 #include <QGuiApplication>
 #include <QImage>
@@ -10,19 +10,10 @@
 #include <cmath>
 #include <memory>
 
-namespace softtouch::cli {
+namespace softtouch::bench {
 
-std::string writeStudyPlot(const bench::StudyResult& result, const std::string& path) {
-    // Text needs a QGuiApplication; the offscreen platform gives one without any display.
-    std::unique_ptr<QGuiApplication> app;
-    if (!QGuiApplication::instance()) {
-        qputenv("QT_QPA_PLATFORM", "offscreen");
-        static int argc = 1;
-        static char name[] = "softtouch-cli";
-        static char* argv[] = {name, nullptr};
-        app = std::make_unique<QGuiApplication>(argc, argv);
-    }
-    const int W = 1000, H = 700, left = 90, right = 200, top = 50, bottom = 70;
+QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optional<PlotMarker>& marker) {
+    const int left = 90, right = 200, top = 50, bottom = 70;
     QImage image(W, H, QImage::Format_RGB32);
     image.fill(Qt::white);
     QPainter p(&image);
@@ -37,8 +28,14 @@ std::string writeStudyPlot(const bench::StudyResult& result, const std::string& 
         ymin = std::min(ymin, r.rmsError);
         ymax = std::max(ymax, r.rmsError);
     }
+    if (marker && marker->costPerSecond > 0 && marker->rmsError > 0) {
+        xmin = std::min(xmin, marker->costPerSecond);
+        xmax = std::max(xmax, marker->costPerSecond);
+        ymin = std::min(ymin, marker->rmsError);
+        ymax = std::max(ymax, marker->rmsError);
+    }
     if (xmax <= 0)
-        return "nothing finite to plot";
+        return {};
     const double lx0 = std::floor(std::log10(xmin)), lx1 = std::ceil(std::log10(xmax));
     const double ly0 = std::floor(std::log10(ymin)), ly1 = std::ceil(std::log10(ymax));
     auto X = [&](double v) { return left + (std::log10(v) - lx0) / std::max(1e-9, lx1 - lx0) * (W - left - right); };
@@ -79,7 +76,7 @@ std::string writeStudyPlot(const bench::StudyResult& result, const std::string& 
     const QColor colours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
     const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                     IntegratorKind::Xpbd};
-    std::vector<const bench::StudyRow*> front;
+    std::vector<const StudyRow*> front;
     for (const auto& r : result.rows) {
         if (!r.finite || r.costPerSecond <= 0 || r.rmsError <= 0)
             continue;
@@ -115,11 +112,55 @@ std::string writeStudyPlot(const bench::StudyResult& result, const std::string& 
     p.drawLine(QPointF(W - right + 15, top + 125), QPointF(W - right + 35, top + 125));
     p.setPen(Qt::black);
     p.drawText(QPointF(W - right + 38, top + 130), "Pareto front");
+    if (marker && marker->costPerSecond > 0 && marker->rmsError > 0) {
+        const QPointF at(X(marker->costPerSecond), Y(marker->rmsError));
+        p.setPen(QPen(QColor(200, 0, 160), 3));
+        p.setBrush(Qt::NoBrush);
+        p.drawLine(at + QPointF(-11, 0), at + QPointF(11, 0));
+        p.drawLine(at + QPointF(0, -11), at + QPointF(0, 11));
+        p.drawEllipse(at, 9, 9);
+        p.drawText(QRectF(at.x() + 12, at.y() - 24, 260, 20), Qt::AlignLeft, QString::fromStdString(marker->label));
+        p.drawLine(QPointF(W - right + 17, top + 150), QPointF(W - right + 33, top + 150));
+        p.drawLine(QPointF(W - right + 25, top + 142), QPointF(W - right + 25, top + 158));
+        p.setPen(Qt::black);
+        p.drawText(QPointF(W - right + 38, top + 155), "current settings");
+    }
     p.end();
+    return image;
+}
+
+std::string writeStudyPlot(const StudyResult& result, const std::string& path) {
+    // Text needs a QGuiApplication; the offscreen platform gives one without any display.
+    std::unique_ptr<QGuiApplication> app;
+    if (!QGuiApplication::instance()) {
+        qputenv("QT_QPA_PLATFORM", "offscreen");
+        static int argc = 1;
+        static char name[] = "softtouch-cli";
+        static char* argv[] = {name, nullptr};
+        app = std::make_unique<QGuiApplication>(argc, argv);
+    }
+    const QImage image = renderStudyPlot(result, 1000, 700);
+    if (image.isNull())
+        return "nothing finite to plot";
     QSaveFile file(QString::fromStdString(path));  // atomic: a failed write keeps the previous plot
     if (!file.open(QIODevice::WriteOnly) || !image.save(&file, "PNG") || !file.commit())
         return "cannot write '" + path + "': " + file.errorString().toStdString();
     return {};
 }
 
-}  // namespace softtouch::cli
+const StudyRow* nearestRow(const StudyResult& result, IntegratorKind integrator, double dt, const std::string& resolution) {
+    const StudyRow* best = nullptr;
+    double bestDistance = std::log(1.5);
+    for (const StudyRow& r : result.rows) {
+        if (r.integrator != integrator || r.resolution != resolution || r.dt <= 0 || dt <= 0)
+            continue;
+        const double d = std::abs(std::log(r.dt / dt));
+        if (d <= bestDistance) {
+            bestDistance = d;
+            best = &r;
+        }
+    }
+    return best;
+}
+
+}  // namespace softtouch::bench
