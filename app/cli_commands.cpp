@@ -1,4 +1,5 @@
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 
 #include "bench/study_plot.h"
 #include "bench/bench.h"
@@ -45,23 +46,7 @@ Options:
   --quiet           No progress output.
 )";
 
-int fail(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
-    return 1;
-}
-
-int usage(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli --help'\n", message.c_str());
-    return 2;
-}
-
-std::optional<double> parseNumber(const std::string& text) {
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
-        return std::nullopt;
-    return value;
-}
+int usage(const std::string& message) { return usageError(message); }
 
 }  // namespace
 

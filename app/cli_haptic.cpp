@@ -1,5 +1,6 @@
 // softtouch-cli haptic: the haptic loop headless, on a scene's first object, with any device plugin.
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 #include "core/haptic_loop.h"
 #include "core/lattice_body.h"
 #include "io/project_file.h"
@@ -33,15 +34,7 @@ rate and jitter, the largest force sent and a hash of the final lattice state.
   --record FILE        save every device sample of the session as a trajectory file
 )";
 
-int fail(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
-    return 1;
-}
-
-int usage(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli haptic --help'\n", message.c_str());
-    return 2;
-}
+int usage(const std::string& message) { return usageError(message, "haptic"); }
 
 bool parseDouble(const std::string& text, double& value) {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);

@@ -1,5 +1,6 @@
 // `softtouch-cli preset export|apply`: share an object's setup (lattice, painted maps, drivers, clips).
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 
 #include "io/project_file.h"
 
@@ -21,15 +22,7 @@ apply   Puts a setup preset onto one object of SCENE and writes the result as a 
         The result is validated before anything is written.
 )";
 
-int fail(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
-    return 1;
-}
-
-int usage(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli preset --help'\n", message.c_str());
-    return 2;
-}
+int usage(const std::string& message) { return usageError(message, "preset"); }
 
 /// Index of the object named `name` (empty: the first).
 Result<std::size_t> findObject(const io::Project& project, const std::string& name) {

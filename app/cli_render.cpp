@@ -1,5 +1,6 @@
 // softtouch-cli render: simulate a scene and write a video, headless (EGL, no X server).
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 
 #include "io/frame_source.h"
 #include "io/project_file.h"
@@ -33,23 +34,7 @@ Options:
   --quiet           No progress output.
 )";
 
-int fail(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: error: %s\n", message.c_str());
-    return 1;
-}
-
-int usage(const std::string& message) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli render --help'\n", message.c_str());
-    return 2;
-}
-
-std::optional<double> parseNumber(const std::string& text) {
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
-        return std::nullopt;
-    return value;
-}
+int usage(const std::string& message) { return usageError(message, "render"); }
 
 /// "WxH" with whole numbers in [16, 8192].
 std::optional<std::pair<int, int>> parseSize(const std::string& text) {

@@ -203,6 +203,33 @@ std::optional<Driver> readDriver(const JsonValue& v) {
     return std::nullopt;
 }
 
+/// A "totalMass" spread evenly over the non-void nodes (once voids are known).
+void spreadTotalMass(LatticeMaterial& material, const std::optional<double>& totalMass) {
+    if (!totalMass)
+        return;
+    std::size_t solid = 0;
+    for (auto isVoid : material.isVoid)
+        solid += isVoid == 0;
+    if (solid > 0)
+        material.mass.assign(material.mass.size(), *totalMass / double(solid));
+}
+
+/// A "drivers" array, each driver validated (problems reported at its pointer).
+void readDrivers(const JsonValue& drivers, std::vector<Driver>& out) {
+    if (!drivers.exists())
+        return;
+    if (!drivers.isArray())
+        drivers.problem("expected an array of drivers");
+    for (std::size_t i = 0; i < drivers.size(); ++i) {
+        if (auto d = readDriver(drivers.at(i))) {
+            if (Status s = validateDriver(*d); !s)
+                drivers.at(i).problem(s.message());
+            else
+                out.push_back(*d);
+        }
+    }
+}
+
 std::optional<Lattice> readLattice(const JsonValue& v, const Mesh& mesh) {
     LatticeShape shape;
     BoxFitSettings fit;
@@ -319,25 +346,8 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
                 object.material.isVoid[std::size_t(node)] = 1;
         }
     }
-    if (totalMass) {
-        std::size_t solid = 0;
-        for (auto isVoid : object.material.isVoid)
-            solid += isVoid == 0;
-        if (solid > 0)
-            object.material.mass.assign(object.material.mass.size(), *totalMass / double(solid));
-    }
-    if (const JsonValue drivers = v["drivers"]; drivers.exists()) {
-        if (!drivers.isArray())
-            drivers.problem("expected an array of drivers");
-        for (std::size_t i = 0; i < drivers.size(); ++i) {
-            if (auto d = readDriver(drivers.at(i))) {
-                if (Status s = validateDriver(*d); !s)
-                    drivers.at(i).problem(s.message());
-                else
-                    object.drivers.push_back(*d);
-            }
-        }
-    }
+    spreadTotalMass(object.material, totalMass);
+    readDrivers(v["drivers"], object.drivers);
     // The body itself validates combinations (every node void, …).
     if (issues.empty()) {
         if (auto body = buildLatticeBody(object.lattice, object.material); !body)
@@ -1141,25 +1151,8 @@ Result<SetupPreset> loadSetupPreset(const fs::path& path) {
         for (int node : readNodeSelection(voids, lattice))
             preset.material.isVoid[std::size_t(node)] = 1;
     }
-    if (totalMass) {
-        std::size_t solid = 0;
-        for (auto isVoid : preset.material.isVoid)
-            solid += isVoid == 0;
-        if (solid > 0)
-            preset.material.mass.assign(preset.material.mass.size(), *totalMass / double(solid));
-    }
-    if (const JsonValue drivers = root["drivers"]; drivers.exists()) {
-        if (!drivers.isArray())
-            drivers.problem("expected an array of drivers");
-        for (std::size_t i = 0; i < drivers.size(); ++i) {
-            if (auto d = readDriver(drivers.at(i))) {
-                if (Status st = validateDriver(*d); !st)
-                    drivers.at(i).problem(st.message());
-                else
-                    preset.drivers.push_back(*d);
-            }
-        }
-    }
+    spreadTotalMass(preset.material, totalMass);
+    readDrivers(root["drivers"], preset.drivers);
     if (const JsonValue clips = root["clips"]; clips.exists()) {
         if (!clips.isArray())
             clips.problem("expected an array of clips");
