@@ -203,6 +203,29 @@ std::optional<Driver> readDriver(const JsonValue& v) {
     return std::nullopt;
 }
 
+/// An "anchors" array: groups of nodes (by list or region) with a mode, pinned or heavy.
+void readAnchors(const JsonValue& anchors, const Lattice& lattice, std::vector<AnchorMode>& out) {
+    if (!anchors.exists())
+        return;
+    if (!anchors.isArray())
+        anchors.problem("expected an array of anchor groups");
+    for (std::size_t i = 0; i < anchors.size(); ++i) {
+        const JsonValue a = anchors.at(i);
+        if (!a.expectObject(true))
+            continue;
+        a.checkKeys({"mode", "nodes", "region"});
+        AnchorMode mode = AnchorMode::Pinned;
+        if (auto m = a["mode"].string()) {
+            if (*m == "heavy")
+                mode = AnchorMode::Heavy;
+            else if (*m != "pinned")
+                a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
+        }
+        for (int node : readNodeSelection(a, lattice))
+            out[std::size_t(node)] = mode;
+    }
+}
+
 /// A "totalMass" spread evenly over the non-void nodes (once voids are known).
 void spreadTotalMass(LatticeMaterial& material, const std::optional<double>& totalMass) {
     if (!totalMass)
@@ -318,25 +341,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     std::optional<double> totalMass;
     readMaterial(v["material"], object.material, totalMass, true, baseDir);
 
-    if (const JsonValue anchors = v["anchors"]; anchors.exists()) {
-        if (!anchors.isArray())
-            anchors.problem("expected an array of anchor groups");
-        for (std::size_t i = 0; i < anchors.size(); ++i) {
-            const JsonValue a = anchors.at(i);
-            if (!a.expectObject(true))
-                continue;
-            a.checkKeys({"mode", "nodes", "region"});
-            AnchorMode mode = AnchorMode::Pinned;
-            if (auto m = a["mode"].string()) {
-                if (*m == "heavy")
-                    mode = AnchorMode::Heavy;
-                else if (*m != "pinned")
-                    a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
-            }
-            for (int node : readNodeSelection(a, object.lattice))
-                object.material.anchor[std::size_t(node)] = mode;
-        }
-    }
+    readAnchors(v["anchors"], object.lattice, object.material.anchor);
     if (const JsonValue voids = v["voids"]; voids.expectObject()) {
         voids.checkKeys({"auto", "nodes", "region"});
         if (voids["auto"].boolean().value_or(false))
@@ -1127,25 +1132,7 @@ Result<SetupPreset> loadSetupPreset(const fs::path& path) {
     preset.material = uniformMaterial(lattice, 0.02, 80.0, 0.9);
     std::optional<double> totalMass;
     readMaterial(root["material"], preset.material, totalMass, false, path.parent_path());
-    if (const JsonValue anchors = root["anchors"]; anchors.exists()) {
-        if (!anchors.isArray())
-            anchors.problem("expected an array of anchor groups");
-        for (std::size_t i = 0; i < anchors.size(); ++i) {
-            const JsonValue a = anchors.at(i);
-            if (!a.expectObject(true))
-                continue;
-            a.checkKeys({"mode", "nodes", "region"});
-            AnchorMode mode = AnchorMode::Pinned;
-            if (auto m = a["mode"].string()) {
-                if (*m == "heavy")
-                    mode = AnchorMode::Heavy;
-                else if (*m != "pinned")
-                    a["mode"].problem("expected \"pinned\" or \"heavy\", got \"" + *m + "\"");
-            }
-            for (int node : readNodeSelection(a, lattice))
-                preset.material.anchor[std::size_t(node)] = mode;
-        }
-    }
+    readAnchors(root["anchors"], lattice, preset.material.anchor);
     if (const JsonValue voids = root["voids"]; voids.expectObject()) {
         voids.checkKeys({"nodes", "region"});
         for (int node : readNodeSelection(voids, lattice))
