@@ -49,16 +49,26 @@ void ClipsEditCommand::redo() { m_document->setClips(m_after); }
 
 LatticeEditCommand::LatticeEditCommand(Document* document, int object, Lattice before,
                                        LatticeMaterial beforeMaterial, Lattice after,
-                                       LatticeMaterial afterMaterial, const QString& text)
+                                       LatticeMaterial afterMaterial, const QString& text, int mergeKey)
     : QUndoCommand(text),
       m_document(document),
       m_object(object),
       m_before(std::move(before)),
       m_beforeMaterial(std::move(beforeMaterial)),
       m_after(std::move(after)),
-      m_afterMaterial(std::move(afterMaterial)) {}
+      m_afterMaterial(std::move(afterMaterial)),
+      m_mergeKey(mergeKey) {}
 
 void LatticeEditCommand::undo() { m_document->setLattice(m_object, m_before, m_beforeMaterial); }
 void LatticeEditCommand::redo() { m_document->setLattice(m_object, m_after, m_afterMaterial); }
+
+bool LatticeEditCommand::mergeWith(const QUndoCommand* other) {
+    const auto* o = static_cast<const LatticeEditCommand*>(other);
+    if (o->m_mergeKey != m_mergeKey || o->m_object != m_object)
+        return false;
+    m_after = o->m_after;
+    m_afterMaterial = o->m_afterMaterial;
+    return true;
+}
 
 }  // namespace softtouch::ui

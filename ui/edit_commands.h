@@ -75,9 +75,11 @@ private:
 class LatticeEditCommand : public QUndoCommand {
 public:
     LatticeEditCommand(Document* document, int object, Lattice before, LatticeMaterial beforeMaterial,
-                       Lattice after, LatticeMaterial afterMaterial, const QString& text);
+                       Lattice after, LatticeMaterial afterMaterial, const QString& text, int mergeKey = kNoMerge);
     void undo() override;
     void redo() override;
+    int id() const override { return m_mergeKey == kNoMerge ? -1 : 3; }
+    bool mergeWith(const QUndoCommand* other) override;
 
 private:
     Document* m_document;
@@ -86,6 +88,7 @@ private:
     LatticeMaterial m_beforeMaterial;
     Lattice m_after;
     LatticeMaterial m_afterMaterial;
+    int m_mergeKey;
 };
 
 }  // namespace softtouch::ui

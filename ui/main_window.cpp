@@ -176,7 +176,8 @@ void MainWindow::buildActions() {
         {tr("Paint"), Tool::Paint, "P", tr("Paint mass, stiffness or damping on lattice nodes; one stroke is one undo step.")},
         {tr("Anchor"), Tool::Anchor, "A", tr("Click a node to pin it (or make it heavy); drag a box for many, Ctrl+box clears.")},
         {tr("Void"), Tool::Void, "V", tr("Click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")},
-        {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")}};
+        {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")},
+        {tr("Lattice"), Tool::Lattice, "L", tr("Drag to move the lattice box; Shift+drag scales it, Ctrl+drag turns it.")}};
     for (const auto& [name, tool, key, tip] : toolList) {
         QAction* a = new QAction(name, this);
         a->setObjectName("tool" + name);

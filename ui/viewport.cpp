@@ -314,6 +314,10 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     case Tool::Anchor:
     case Tool::Void:
     case Tool::Select: m_gesture = Gesture::Box; break;
+    case Tool::Lattice:
+        m_gesture = Gesture::Place;
+        m_strokeKey = m_nextStrokeKey++;
+        break;
     }
 }
 
@@ -327,6 +331,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     case Gesture::Dolly: m_camera.dolly(std::exp(0.005 * (delta.y() - delta.x()))); break;
     case Gesture::Drag: moveDrag(pos); break;
     case Gesture::Paint: paintDab(pos); break;
+    case Gesture::Place: placeLattice(pos - delta, pos); break;
     case Gesture::Box: break;
     case Gesture::None: return;
     }
@@ -458,6 +463,37 @@ void Viewport::paintDab(const QPointF& pos) {
     m_document->undoStack()->push(new MaterialEditCommand(
         m_document, m_object, std::move(before), std::move(after),
         tr("Paint %1").arg(QString::fromUtf8(fieldName(m_brush.field))), m_strokeKey));
+}
+
+void Viewport::placeLattice(const QPointF& from, const QPointF& to) {
+    const Scene& scene = m_document->scene();
+    if (std::size_t(m_object) >= scene.objects.size())
+        return;
+    const SceneObject& o = scene.objects[std::size_t(m_object)];
+    const OrientedBox& box = o.lattice.box();
+    const Vec3 centre = box.toWorld(Vec3::Constant(0.5));
+    OrientedBox next = box;
+    if (m_pressModifiers & Qt::ShiftModifier) {
+        // Scale about the centre: up grows, down shrinks.
+        const double factor = std::exp(-0.005 * (to.y() - from.y()));
+        next.size = box.size * factor;
+        next.origin = centre - next.axes * (0.5 * next.size);
+    } else if (m_pressModifiers & Qt::ControlModifier) {
+        // Turn about the vertical through the centre.
+        const Mat3 turn = Eigen::AngleAxisd(0.01 * (to.x() - from.x()), Vec3::UnitY()).toRotationMatrix();
+        next.axes = turn * box.axes;
+        next.origin = centre - next.axes * (0.5 * box.size);
+    } else {
+        // Move in the view plane at the box centre's depth, so the box follows the cursor.
+        const Vec3 a = m_camera.pointOnViewPlane(from.x(), from.y(), width(), height(), centre);
+        const Vec3 b = m_camera.pointOnViewPlane(to.x(), to.y(), width(), height(), centre);
+        next.origin = box.origin + (b - a);
+    }
+    auto lattice = Lattice::create(o.lattice.shape(), next);
+    if (!lattice)
+        return;
+    m_document->undoStack()->push(new LatticeEditCommand(m_document, m_object, o.lattice, o.material, lattice.value(),
+                                                         o.material, tr("Place lattice"), m_strokeKey));
 }
 
 void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {

@@ -3,7 +3,8 @@
 /// lattice nodes each frame), the lattice overlay and the collision planes, and turns the mouse and
 /// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
 /// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
-/// (click or box), select (for numeric entry, fill and smooth).
+/// (click or box), select (for numeric entry, fill and smooth), lattice (move the box in the view
+/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step).
 
 #include "render/mesh_renderer.h"
 #include "ui/node_brush.h"
@@ -18,7 +19,7 @@
 namespace softtouch::ui {
 
 /// What the left mouse button does.
-enum class Tool { Drag, Paint, Anchor, Void, Select };
+enum class Tool { Drag, Paint, Anchor, Void, Select, Lattice };
 
 /// Which camera conventions the mouse follows.
 enum class NavigationStyle {
@@ -95,7 +96,7 @@ protected:
     void keyPressEvent(QKeyEvent* event) override;
 
 private:
-    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box };
+    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place };
     void uploadScene();
 public slots:
     /// Shows the painted field's range (call after changing brush().field).
@@ -109,6 +110,7 @@ private:
     void beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers);
     void moveDrag(const QPointF& pos);
     void paintDab(const QPointF& pos);
+    void placeLattice(const QPointF& from, const QPointF& to);
     void applyNodeTool(const std::vector<int>& nodes, bool clear);
     std::vector<int> nodesInRect(const QRectF& rect) const;
     int grabSlotDragged() const { return m_dragSlot; }

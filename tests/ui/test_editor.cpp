@@ -100,6 +100,7 @@ private slots:
     void opensDefaultScene();
     void paintStrokeIsOneUndoStep();
     void anchorToolPinsAClickedNode();
+    void latticeToolMovesAndScalesTheBox();
     void mouseDragPullsAndReleaseSwingsBack();
     void secondHandHoldsAndPenPressureScalesTheSpring();
     void saveAndReopenGivesTheSameScene();
@@ -245,6 +246,41 @@ void TestEditor::anchorToolPinsAClickedNode() {
     QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Free);
     w.document()->undoStack()->undo();
     QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Pinned);
+}
+
+void TestEditor::latticeToolMovesAndScalesTheBox() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolLattice")->trigger();
+    const OrientedBox before = w.document()->scene().objects[0].lattice.box();
+    const Vec3 centre = before.toWorld(Vec3::Constant(0.5));
+    const QPoint start = view->toWidget(centre).toPoint();
+    const int undoBefore = w.document()->undoStack()->index();
+    QTest::mousePress(view, Qt::LeftButton, {}, start);
+    for (int i = 1; i <= 4; ++i)
+        QTest::mouseMove(view, start + QPoint(15 * i, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(60, 0));
+    const OrientedBox moved = w.document()->scene().objects[0].lattice.box();
+    // The box centre now projects 60 pixels to the right, and the whole gesture is one undo step.
+    const QPointF now = view->toWidget(moved.toWorld(Vec3::Constant(0.5)));
+    QVERIFY2(std::abs(now.x() - (start.x() + 60)) < 2.0 && std::abs(now.y() - start.y()) < 2.0,
+             qPrintable(QString("centre at %1,%2").arg(now.x()).arg(now.y())));
+    QVERIFY(moved.size == before.size);
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
+    // The mesh did not move with it: at rest the map is still the identity.
+    const std::vector<Vec3f> rest = w.document()->scene().objects[0].mesh.positions;
+    QVERIFY(maxDistance(view->deformedPositions(0), rest) < 1e-5);
+    // Shift+drag up grows the box about its centre.
+    const QPoint c = now.toPoint();
+    QTest::mousePress(view, Qt::LeftButton, Qt::ShiftModifier, c);
+    QTest::mouseMove(view, c + QPoint(0, -40));
+    QTest::mouseRelease(view, Qt::LeftButton, Qt::ShiftModifier, c + QPoint(0, -40));
+    const OrientedBox grown = w.document()->scene().objects[0].lattice.box();
+    QVERIFY(grown.size.x() > moved.size.x() * 1.1);
+    QVERIFY((grown.toWorld(Vec3::Constant(0.5)) - moved.toWorld(Vec3::Constant(0.5))).norm() < 1e-9 * moved.diagonal() + 1e-12);
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QVERIFY(w.document()->scene().objects[0].lattice.box().origin == before.origin);
 }
 
 void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
