@@ -1,6 +1,7 @@
 #include "ui/main_window.h"
 
 #include "ui/haptic_controller.h"
+#include "ui/keyframe_panel.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
 #include "ui/study_panel.h"
@@ -109,7 +110,13 @@ void MainWindow::buildDocks() {
     propertiesDock->raise();
 
     m_timeline = new TimelinePanel(m_document, m_simulation);
-    dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea)->setMaximumHeight(200);
+    auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
+    timelineDock->setMaximumHeight(220);
+    m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
+    auto* keysDock = dock(tr("Keys"), "keysDock", m_keyframes, Qt::BottomDockWidgetArea);
+    keysDock->setMaximumHeight(220);
+    tabifyDockWidget(timelineDock, keysDock);
+    timelineDock->raise();
 }
 
 void MainWindow::buildActions() {

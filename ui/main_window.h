@@ -16,6 +16,7 @@ class QTreeWidget;
 namespace softtouch::ui {
 
 class HapticController;
+class KeyframePanel;
 class PropertiesPanel;
 class StudyPanel;
 class PresetsPanel;
@@ -45,6 +46,7 @@ public:
     PresetsPanel* presets() { return m_presets; }
     HapticController* haptics() { return m_haptics; }
     StudyPanel* study() { return m_study; }
+    KeyframePanel* keyframes() { return m_keyframes; }
 
     /// Opens a project; on failure shows the error in a dialog and keeps the current document.
     bool openFile(const QString& path);
@@ -82,6 +84,7 @@ private:
     PresetsPanel* m_presets = nullptr;
     TimelinePanel* m_timeline = nullptr;
     StudyPanel* m_study = nullptr;
+    KeyframePanel* m_keyframes = nullptr;
     QTreeWidget* m_outliner = nullptr;
     QMenu* m_recentMenu = nullptr;
     QLabel* m_statusSim = nullptr;

@@ -5,6 +5,7 @@
 #include "io/vertex_cache.h"
 #include "ui/edit_commands.h"
 #include "ui/haptic_controller.h"
+#include "ui/keyframe_panel.h"
 #include "ui/main_window.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
@@ -108,6 +109,7 @@ private slots:
     void corruptProjectShowsErrorAndEditorStaysUsable();
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
+    void keyframesFromPosesMakeAClip();
     void scriptedDeviceDrivesTheFishAtHapticRate();
     void studyDockMarksCurrentSettingsAndSuggests();
     void viewportDrawsTheFish_data();
@@ -491,6 +493,57 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);
     w.document()->undoStack()->undo();
     QCOMPARE(w.timeline()->takeCount(), 0);
+}
+
+void TestEditor::keyframesFromPosesMakeAClip() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    sim->setDriversEnabled(false);
+    // Key the rest pose at 0 s, pull the tail, key that pose at 1 s.
+    QVERIFY(keys->keyPose(0.0));
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    Grab grab;
+    grab.drag.support = lattice.weights(Vec3(0.1, 0.5, 0.5));
+    grab.drag.target = lattice.evaluate(Vec3(0.1, 0.5, 0.5), lattice.restNodes()) + Vec3(0, 0.3, 0);
+    grab.drag.stiffness = 200;
+    sim->setGrab(0, grab);
+    sim->advance(1.0);
+    const std::vector<Vec3> pulled = sim->simulation()->simulator(0).state().position;
+    QVERIFY(keys->keyPose(1.0));
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].nodes.size(), std::size_t(lattice.nodeCount()));
+    // Previewing a key shows its pose.
+    sim->setGrab(0, std::nullopt);
+    keys->showKey(1);
+    const std::vector<Vec3>& shown = sim->simulation()->simulator(0).state().position;
+    for (std::size_t n = 0; n < shown.size(); ++n)
+        QVERIFY((shown[n] - pulled[n]).norm() < 1e-9);
+    // Move, copy and delete are single undo steps.
+    QVERIFY(keys->moveKey(1, 2.0, false));
+    QCOMPARE(keys->keys()[1].seconds, 2.0);
+    QVERIFY(keys->moveKey(1, 3.0, true));
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    QVERIFY(keys->deleteKey(2));
+    w.document()->undoStack()->undo();
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QCOMPARE(keys->keys()[1].seconds, 1.0);
+    // A keyed clip plays the keys: its last frame is the pulled pose.
+    QVERIFY(keys->makeClip(false));
+    const ClipLibrary& library = w.document()->project().clips;
+    const Clip& clip = library.clips.back();
+    QCOMPARE(clip.source, ClipSource::Keyframes);
+    auto frames = evaluateClip(w.document()->scene(), library, clip);
+    QVERIFY2(frames.ok(), frames.message().c_str());
+    const auto& last = frames->nodes.back()[0];
+    for (std::size_t n = 0; n < last.size(); ++n)
+        QVERIFY((last[n] - pulled[n]).norm() < 1e-6);
+    // As goals, the simulated body follows the keys with physics (a valid clip that evaluates).
+    QVERIFY(keys->makeClip(true));
+    auto goalFrames = evaluateClip(w.document()->scene(), w.document()->project().clips, w.document()->project().clips.clips.back());
+    QVERIFY2(goalFrames.ok(), goalFrames.message().c_str());
 }
 
 void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {

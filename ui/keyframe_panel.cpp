@@ -1,0 +1,180 @@
+#include "ui/keyframe_panel.h"
+
+#include "ui/edit_commands.h"
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QGridLayout>
+#include <QLabel>
+#include <QListWidget>
+#include <QPushButton>
+
+#include <cmath>
+
+namespace softtouch::ui {
+
+KeyframePanel::KeyframePanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
+    : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
+    auto* layout = new QGridLayout(this);
+    m_list = new QListWidget;
+    m_list->setObjectName("keys");
+    layout->addWidget(m_list, 0, 0, 5, 1);
+    m_time = new QDoubleSpinBox;
+    m_time->setRange(0.0, 1e5);
+    m_time->setDecimals(3);
+    m_time->setSingleStep(0.25);
+    m_time->setSuffix(tr(" s"));
+    layout->addWidget(new QLabel(tr("Key time")), 0, 1);
+    layout->addWidget(m_time, 0, 2);
+    auto* key = new QPushButton(tr("Key pose"));
+    key->setToolTip(tr("Key the current pose of the selected nodes (all nodes when none is selected)."));
+    auto* move = new QPushButton(tr("Move key here"));
+    auto* copy = new QPushButton(tr("Copy key here"));
+    auto* remove = new QPushButton(tr("Delete key"));
+    layout->addWidget(key, 1, 1);
+    layout->addWidget(move, 1, 2);
+    layout->addWidget(copy, 2, 1);
+    layout->addWidget(remove, 2, 2);
+    m_goals = new QCheckBox(tr("As goals (physics follow-through)"));
+    auto* clip = new QPushButton(tr("Clip from keys"));
+    layout->addWidget(m_goals, 3, 1, 1, 2);
+    layout->addWidget(clip, 4, 1, 1, 2);
+    m_message = new QLabel;
+    m_message->setWordWrap(true);
+    layout->addWidget(m_message, 5, 0, 1, 3);
+
+    connect(key, &QPushButton::clicked, this, [this] { keyPose(m_time->value()); });
+    connect(move, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), m_time->value(), false); });
+    connect(copy, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), m_time->value(), true); });
+    connect(remove, &QPushButton::clicked, this, [this] { deleteKey(m_list->currentRow()); });
+    connect(clip, &QPushButton::clicked, this, [this] { makeClip(m_goals->isChecked()); });
+    connect(m_list, &QListWidget::currentRowChanged, this, &KeyframePanel::showKey);
+    connect(document, &Document::clipsChanged, this, &KeyframePanel::refresh);
+    connect(document, &Document::sceneReplaced, this, &KeyframePanel::refresh);
+    refresh();
+}
+
+std::vector<LatticeKey> KeyframePanel::keys() const {
+    const NamedKeyframes* set = m_document->project().clips.findKeyframes(kSetName);
+    const auto object = std::size_t(m_viewport->currentObject());
+    if (!set || object >= set->objects.size())
+        return {};
+    return set->objects[object].keys();
+}
+
+bool KeyframePanel::edit(const QString& text, const std::function<Status(KeyframeAnimation&)>& change) {
+    const Scene& scene = m_document->scene();
+    const auto object = std::size_t(m_viewport->currentObject());
+    if (object >= scene.objects.size())
+        return false;
+    ClipLibrary after = m_document->project().clips;
+    NamedKeyframes* set = nullptr;
+    for (NamedKeyframes& k : after.keyframes)
+        if (k.name == kSetName)
+            set = &k;
+    if (!set) {
+        NamedKeyframes fresh;
+        fresh.name = kSetName;
+        for (const SceneObject& o : scene.objects)
+            fresh.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
+        after.keyframes.push_back(std::move(fresh));
+        set = &after.keyframes.back();
+    }
+    if (object >= set->objects.size() || set->objects[object].nodeCount() != std::size_t(scene.objects[object].lattice.nodeCount())) {
+        m_message->setText(tr("The keys were made on another lattice; delete them first."));
+        return false;
+    }
+    if (Status s = change(set->objects[object]); !s) {
+        m_message->setText(QString::fromStdString(s.message()));
+        return false;
+    }
+    m_document->undoStack()->push(new ClipsEditCommand(m_document, m_document->project().clips, std::move(after), text));
+    m_message->clear();
+    return true;
+}
+
+bool KeyframePanel::keyPose(double seconds) {
+    const SceneSimulation* sim = m_simulation->simulation();
+    const auto object = std::size_t(m_viewport->currentObject());
+    if (!sim || object >= sim->objectCount())
+        return false;
+    const std::vector<Vec3> rest = sim->object(object).lattice.restNodes();
+    const std::vector<Vec3> pose = sim->simulator(object).state().position;
+    std::vector<std::uint32_t> nodes(m_viewport->selection().begin(), m_viewport->selection().end());
+    return edit(tr("Key pose at %1 s").arg(seconds), [&](KeyframeAnimation& a) -> Status {
+        auto index = a.setKey(seconds, rest, pose, nodes);
+        return index ? Status::success() : Status::error(index.message());
+    });
+}
+
+bool KeyframePanel::moveKey(int index, double seconds, bool copy) {
+    if (index < 0)
+        return false;
+    return edit(copy ? tr("Copy key") : tr("Move key"), [&](KeyframeAnimation& a) -> Status {
+        auto moved = copy ? a.copyKey(std::size_t(index), seconds) : a.moveKey(std::size_t(index), seconds);
+        return moved ? Status::success() : Status::error(moved.message());
+    });
+}
+
+bool KeyframePanel::deleteKey(int index) {
+    if (index < 0)
+        return false;
+    return edit(tr("Delete key"), [&](KeyframeAnimation& a) { return a.deleteKey(std::size_t(index)); });
+}
+
+void KeyframePanel::showKey(int index) {
+    const std::vector<LatticeKey> k = keys();
+    const SceneSimulation* sim = m_simulation->simulation();
+    const NamedKeyframes* set = m_document->project().clips.findKeyframes(kSetName);
+    if (index < 0 || std::size_t(index) >= k.size() || !sim || !set)
+        return;
+    m_time->setValue(k[std::size_t(index)].seconds);
+    std::vector<std::vector<Vec3>> pose;
+    for (std::size_t i = 0; i < sim->objectCount(); ++i) {
+        const std::vector<Vec3> rest = sim->object(i).lattice.restNodes();
+        pose.push_back(i < set->objects.size() && !set->objects[i].keys().empty()
+                           ? set->objects[i].pose(k[std::size_t(index)].seconds, rest)
+                           : sim->simulator(i).state().position);
+    }
+    m_simulation->showPose(pose);
+}
+
+bool KeyframePanel::makeClip(bool goals) {
+    const std::vector<LatticeKey> k = keys();
+    if (k.size() < 2) {
+        m_message->setText(tr("A clip needs at least two keys."));
+        return false;
+    }
+    const ClipLibrary& library = m_document->project().clips;
+    Clip clip;
+    clip.source = ClipSource::Keyframes;
+    clip.sourceName = kSetName;
+    clip.fps = m_document->scene().world.fps;
+    clip.startSeconds = k.front().seconds;
+    clip.frames = std::max(1, int(std::lround((k.back().seconds - k.front().seconds) * clip.fps)) + 1);
+    if (goals)
+        clip.goals = GoalSettings{};
+    int n = 1;
+    while (library.findClip("keys clip" + (n > 1 ? " " + std::to_string(n) : "")))
+        ++n;
+    clip.name = "keys clip" + (n > 1 ? " " + std::to_string(n) : "");
+    ClipLibrary after = library;
+    after.clips.push_back(clip);
+    if (Status s = after.validate(m_document->scene()); !s) {
+        m_message->setText(QString::fromStdString(s.message()));
+        return false;
+    }
+    m_document->undoStack()->push(new ClipsEditCommand(m_document, library, std::move(after),
+                                                       tr("Make clip %1").arg(QString::fromStdString(clip.name))));
+    m_message->setText(tr("Added %1 to the clips (see the Timeline).").arg(QString::fromStdString(clip.name)));
+    return true;
+}
+
+void KeyframePanel::refresh() {
+    const QSignalBlocker block(m_list);
+    m_list->clear();
+    for (const LatticeKey& k : keys())
+        m_list->addItem(tr("%1 s · %n node(s)", nullptr, int(k.nodes.size())).arg(k.seconds, 0, 'f', 3));
+}
+
+}  // namespace softtouch::ui

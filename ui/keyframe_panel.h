@@ -1,0 +1,55 @@
+#pragma once
+/// The keys dock: keyframes of the lattice pose (all nodes, or the selected ones) in the project's
+/// keyframe set "keys": set from the current pose, move, copy and delete keys, preview one, and make
+/// a clip of them, played as keyed or as goals (goal springs pull the simulated body toward the keyed
+/// pose, so physics adds follow-through). Every change is one undo step.
+
+#include "ui/viewport.h"
+
+#include <QWidget>
+
+#include <functional>
+
+class QCheckBox;
+class QDoubleSpinBox;
+class QLabel;
+class QListWidget;
+
+namespace softtouch::ui {
+
+/// Lattice-pose keyframes of the open document.
+class KeyframePanel : public QWidget {
+    Q_OBJECT
+public:
+    /// Name of the keyframe set the panel edits.
+    static constexpr const char* kSetName = "keys";
+
+    KeyframePanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent = nullptr);
+
+    /// Keys of the current object, in time order.
+    std::vector<LatticeKey> keys() const;
+    /// Keys the current pose at `seconds` (the selected nodes, or all). Returns false with the reason shown.
+    bool keyPose(double seconds);
+    /// Moves (copy = false) or copies key `index` to `seconds`.
+    bool moveKey(int index, double seconds, bool copy);
+    bool deleteKey(int index);
+    /// Shows key `index`'s pose.
+    void showKey(int index);
+    /// Adds a clip of the keys from the first to the last key at the scene's fps; goals simulate them.
+    bool makeClip(bool goals);
+
+private:
+    /// Applies `change` to a copy of the library's keyframe set (made when missing) as one undo step.
+    bool edit(const QString& text, const std::function<Status(KeyframeAnimation&)>& change);
+    void refresh();
+
+    Document* m_document;
+    SimulationController* m_simulation;
+    Viewport* m_viewport;
+    QListWidget* m_list = nullptr;
+    QDoubleSpinBox* m_time = nullptr;
+    QCheckBox* m_goals = nullptr;
+    QLabel* m_message = nullptr;
+};
+
+}  // namespace softtouch::ui
