@@ -78,14 +78,24 @@ int main(int argc, char** argv) {
     const QCommandLineOption drag("drag", "With --screenshot: record a take in which the mouse pulls the object's tail "
                                           "(lattice point u=0.15) by DX,DY pixels, held for --seconds.", "DX,DY");
     const QCommandLineOption dock("dock", "Bring a dock to the front: properties, presets, study.", "NAME");
+    const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
+    const QCommandLineOption autosaveSeconds("autosave-seconds", "Seconds between autosaves (default 60).", "S", "60");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    parser.addOptions({screenshot, mode, seconds, drag, dock, noRecovery});
+    parser.addOptions({screenshot, mode, seconds, drag, dock, autosaveFolder, autosaveSeconds, noRecovery});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;
     options.presetFolder = softtouch::app::presetFolder();
     options.studyCsv = softtouch::app::studyCsvPath();
+    options.autosaveFolder = parser.value(autosaveFolder);
+    const double autosaveS = parser.value(autosaveSeconds).toDouble();
+    if (!(autosaveS >= 0.05 && autosaveS <= 86400)) {
+        std::fprintf(stderr, "softtouch: error: --autosave-seconds must be in [0.05, 86400], got '%s'\n",
+                     qPrintable(parser.value(autosaveSeconds)));
+        return 2;
+    }
+    options.autosaveMilliseconds = int(autosaveS * 1000.0);
     softtouch::ui::MainWindow window(options);
     const QString shading = parser.value(mode);
     if (shading == "wireframe")
@@ -138,7 +148,15 @@ int main(int argc, char** argv) {
     }
 
     // A crashed or killed run leaves an autosave: offer it before opening anything else.
-    if (parser.isSet(noRecovery) || !window.offerRecovery())
-        window.openFile(project);
+    if (parser.isSet(noRecovery) || !window.offerRecovery()) {
+        if (window.openFile(project) && parser.isSet(drag)) {
+            const QStringList d = parser.value(drag).split(',');
+            if (d.size() == 2) {
+                window.simulation()->pause();
+                dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), parser.value(seconds).toDouble());
+                window.simulation()->play();
+            }
+        }
+    }
     return QApplication::exec();
 }

@@ -106,6 +106,7 @@ private slots:
     void secondHandHoldsAndPenPressureScalesTheSpring();
     void saveAndReopenGivesTheSameScene();
     void recoversAutosaveAfterKill();
+    void recoversAutosaveAfterRealKill();
     void corruptProjectShowsErrorAndEditorStaysUsable();
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
@@ -412,6 +413,36 @@ void TestEditor::recoversAutosaveAfterKill() {
     // The recovered scene still finds its mesh through the original file's location.
     QVERIFY(next->simulation()->simulation() != nullptr);
     next->document()->undoStack()->setClean();
+}
+
+void TestEditor::recoversAutosaveAfterRealKill() {
+    // A real editor process records a take (an edit), autosaves it, and is killed with SIGKILL.
+    const QString folder = m_dir->filePath("killed");
+    QProcess editor;
+    editor.setProcessChannelMode(QProcess::MergedChannels);
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    env.insert("XDG_CONFIG_HOME", m_dir->filePath("config"));  // the child's settings stay in the test folder
+    env.insert("XDG_DATA_HOME", m_dir->filePath("data"));
+    editor.setProcessEnvironment(env);
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--no-recovery", "--autosave-folder", folder, "--autosave-seconds", "0.2",
+                                                  "--drag=-100,-80", "--seconds", "0.3", kDefaultScene});
+    QVERIFY(editor.waitForStarted(10000));
+    QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(folder + "/autosave.softtouch") && QFile::exists(folder + "/autosave.json"), 30000);
+    editor.kill();
+    QVERIFY(editor.waitForFinished(10000));
+    QCOMPARE(editor.exitStatus(), QProcess::CrashExit);
+    // The next start offers it; accepting brings the take back, on the original file, unsaved.
+    MainWindowOptions options;
+    options.autosaveFolder = folder;
+    MainWindow next(options);
+    next.show();
+    DialogAnswerer yes(QMessageBox::Yes);
+    QVERIFY(next.offerRecovery());
+    QVERIFY(yes.seen);
+    QCOMPARE(next.document()->project().clips.sessions.size(), std::size_t(1));
+    QVERIFY(next.document()->isModified());
+    QCOMPARE(QFileInfo(next.document()->filePath()).canonicalFilePath(), QFileInfo(kDefaultScene).canonicalFilePath());
+    next.document()->undoStack()->setClean();
 }
 
 void TestEditor::corruptProjectShowsErrorAndEditorStaysUsable() {
