@@ -154,7 +154,8 @@ void MainWindow::buildActions() {
     overlay->setCheckable(true);
     overlay->setChecked(true);
     view->addSeparator();
-    view->addAction(tr("&Frame All (F)"), m_viewport, &Viewport::frameAll);
+    view->addAction(tr("&Frame Selection (F)"), m_viewport, &Viewport::frameSelection);
+    view->addAction(tr("Frame &All"), m_viewport, &Viewport::frameAll);
     view->addAction(tr("Front (1)"), m_viewport, &Viewport::viewFront);
     view->addAction(tr("Side (3)"), m_viewport, &Viewport::viewSide);
     view->addAction(tr("Top (7)"), m_viewport, &Viewport::viewTop);

@@ -382,7 +382,7 @@ void Viewport::tabletEvent(QTabletEvent* event) {
 
 void Viewport::keyPressEvent(QKeyEvent* event) {
     switch (event->key()) {
-    case Qt::Key_F: frameAll(); break;
+    case Qt::Key_F: frameSelection(); break;
     case Qt::Key_1: viewFront(); break;
     case Qt::Key_3: viewSide(); break;
     case Qt::Key_7: viewTop(); break;
@@ -580,6 +580,26 @@ void Viewport::frameAll() {
         all.max = all.max.cwiseMax(b.max);
     }
     m_camera.frame(all);
+    update();
+}
+
+void Viewport::frameSelection() {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (m_selection.empty() || !sim || std::size_t(m_object) >= sim->objectCount()) {
+        frameAll();
+        return;
+    }
+    const std::vector<Vec3>& x = sim->simulator(std::size_t(m_object)).state().position;
+    Bounds b{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+    for (int n : m_selection) {
+        b.min = b.min.cwiseMin(x[std::size_t(n)]);
+        b.max = b.max.cwiseMax(x[std::size_t(n)]);
+    }
+    // A single node still gets a view of its neighbourhood: a tenth of the object's size around it.
+    const Vec3 room = Vec3::Constant(0.05 * sim->object(std::size_t(m_object)).mesh.bounds().diagonal());
+    b.min -= room;
+    b.max += room;
+    m_camera.frame(b);
     update();
 }
 

@@ -74,6 +74,8 @@ public slots:
     void setSelection(const std::set<int>& nodes);
     /// Frames every object.
     void frameAll();
+    /// Frames the selected nodes (every object when nothing is selected).
+    void frameSelection();
     void viewFront();
     void viewSide();
     void viewTop();

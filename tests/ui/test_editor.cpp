@@ -244,6 +244,15 @@ void TestEditor::anchorToolPinsAClickedNode() {
     const Vec3 rest = w.simulation()->simulation()->simulator(0).state().position[std::size_t(node)];
     w.simulation()->advance(0.5);
     QVERIFY(w.simulation()->simulation()->simulator(0).state().position[std::size_t(node)] == rest);
+    // F frames the selection: select the node, frame it, and it lands in the middle of the view, closer.
+    w.findChild<QAction*>("toolSelect")->trigger();
+    QTest::mouseClick(w.viewport(), Qt::LeftButton, {}, screenOfNode(w, node));
+    QCOMPARE(w.viewport()->selection().size(), std::size_t(1));
+    const double distance = w.viewport()->camera().distance;
+    QTest::keyClick(w.viewport(), Qt::Key_F);
+    QVERIFY(w.viewport()->camera().distance < distance);
+    QVERIFY(QLineF(QPointF(screenOfNode(w, node)), QPointF(w.viewport()->rect().center())).length() < 3.0);
+    w.findChild<QAction*>("toolAnchor")->trigger();
     // Clicking again frees it; undo brings the anchor back.
     QTest::mouseClick(w.viewport(), Qt::LeftButton, {}, screenOfNode(w, node));
     QCOMPARE(w.document()->scene().objects[0].material.anchor[std::size_t(node)], AnchorMode::Free);
