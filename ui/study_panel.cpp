@@ -8,6 +8,7 @@
 #include <QFormLayout>
 #include <QLabel>
 #include <QPushButton>
+#include <QTimer>
 #include <QVBoxLayout>
 
 #include <cmath>
@@ -23,6 +24,8 @@ StudyPanel::StudyPanel(Document* document, const QString& csvPath, QWidget* pare
     auto* layout = new QVBoxLayout(this);
     m_plot = new QLabel;
     m_plot->setMinimumSize(320, 220);
+    // The pixmap follows the label's size, never the other way round (that would grow the dock).
+    m_plot->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
     m_plot->setAlignment(Qt::AlignCenter);
     layout->addWidget(m_plot, 1);
     m_text = new QLabel;
@@ -130,7 +133,8 @@ void StudyPanel::applySuggestion() {
 
 void StudyPanel::resizeEvent(QResizeEvent* event) {
     QWidget::resizeEvent(event);
-    refresh();
+    // Redraw once the layout has given the plot label its new size.
+    QTimer::singleShot(0, this, &StudyPanel::refresh);
 }
 
 }  // namespace softtouch::ui
