@@ -50,6 +50,8 @@ Status HapticController::start(const QString& device, const QString& argument, i
         hi = hi.cwiseMax(p);
     }
     settings.calibration = DeviceCalibration::fit(info, lo, hi);
+    settings.calibration.scale *= m_workspaceScale;
+    m_calibration = settings.calibration;
     ExternalForces world;
     world.gravity = scene.world.gravity;
     world.planes = scene.world.planes;

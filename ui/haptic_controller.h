@@ -39,6 +39,13 @@ public:
     bool isRunning() const { return m_loop != nullptr; }
     /// The last snapshot read.
     const HapticSnapshot& snapshot() const { return m_snapshot; }
+    /// Workspace calibration: the device workspace is fitted onto the object's lattice box (centres
+    /// matched, uniform scale), then scaled by this factor: above 1 a small hand motion moves further in
+    /// the scene, below 1 it gives finer control. (0.01, 100]. Applies from the next start().
+    void setWorkspaceScale(double factor) { m_workspaceScale = factor; }
+    double workspaceScale() const { return m_workspaceScale; }
+    /// The calibration the running (or last) loop used.
+    const DeviceCalibration& calibration() const { return m_calibration; }
     /// One line for the status bar: device, rate, p99 period, force.
     QString statusText() const;
 
@@ -54,6 +61,8 @@ private:
     std::unique_ptr<HapticLoop> m_loop;
     QString m_deviceName;
     int m_object = 0;
+    double m_workspaceScale = 1.0;
+    DeviceCalibration m_calibration;
     HapticSnapshot m_snapshot;
     QTimer m_timer;
 };

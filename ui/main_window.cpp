@@ -13,6 +13,7 @@
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QInputDialog>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -257,6 +258,17 @@ void MainWindow::buildDeviceMenu(QMenu* menu) {
             }
         });
     }
+    menu->addSeparator();
+    menu->addAction(tr("Workspace Scale…"), this, [this] {
+        bool ok = false;
+        const double factor = QInputDialog::getDouble(
+            this, tr("Workspace scale"),
+            tr("The device workspace is fitted onto the lattice box, then scaled by this factor\n"
+               "(above 1: a small hand motion reaches further; below 1: finer control). Next device start:"),
+            m_haptics->workspaceScale(), 0.01, 100.0, 2, &ok);
+        if (ok)
+            m_haptics->setWorkspaceScale(factor);
+    });
     connect(m_haptics, &HapticController::runningChanged, mouse, [mouse](bool running) {
         if (!running)
             mouse->setChecked(true);

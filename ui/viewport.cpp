@@ -361,6 +361,7 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
     m_dragSlot = -1;
     m_strokeKey = -1;
     m_pressure = 1.0;
+    m_tiltDepth = 0.0;
     update();
 }
 
@@ -370,9 +371,12 @@ void Viewport::wheelEvent(QWheelEvent* event) {
 }
 
 void Viewport::tabletEvent(QTabletEvent* event) {
-    // Pen pressure scales the drag stiffness (a firmer press pulls harder). The event is ignored so
-    // Qt delivers the matching mouse event, which drives the tools as for a mouse.
+    // Pen pressure scales the drag stiffness (a firmer press pulls harder); tilting the pen towards or
+    // away from the screen moves the pulled point in depth, the third axis a 2D pen lacks (a stylus
+    // device has it). The event is ignored so Qt delivers the matching mouse event, which drives the
+    // tools as for a mouse.
     m_pressure = std::clamp(double(event->pressure()), 0.05, 1.0);
+    m_tiltDepth = std::clamp(double(event->yTilt()) / 60.0, -1.0, 1.0);
     if (auto g = m_simulation->grab(0); g && m_dragSlot == 0) {
         g->drag.stiffness = m_drag.stiffness * m_pressure;
         m_simulation->setGrab(0, g);
@@ -445,7 +449,8 @@ void Viewport::moveDrag(const QPointF& pos) {
     if (!grab)
         return;
     const Vec3 cursor = m_camera.pointOnViewPlane(pos.x(), pos.y(), width(), height(), m_dragDepthPoint);
-    grab->drag.target = cursor - m_grabOffset;
+    const double diagonal = m_simulation->simulation()->object(std::size_t(grab->object)).mesh.bounds().diagonal();
+    grab->drag.target = cursor - m_grabOffset + m_camera.forward() * (m_tiltDepth * m_drag.tiltDepth * diagonal);
     grab->drag.stiffness = m_drag.stiffness * m_pressure;
     m_simulation->setGrab(m_dragSlot, grab);
 }

@@ -31,6 +31,8 @@ enum class NavigationStyle {
 struct DragToolSettings {
     double stiffness = 200.0; ///< Ks of the mouse's drag spring, N/m, (0, 1e9]. Pen pressure scales it.
     double damping = 0.5;     ///< Kd, N·s/m, [0, 1e6].
+    double tiltDepth = 0.25;  ///< How far a fully tilted pen (60°) pushes the target into or out of the
+                              ///< screen, as a fraction of the object's diagonal. [0, 10].
 };
 
 /// OpenGL viewport of one document.
@@ -142,6 +144,7 @@ private:
     Vec3 m_dragDepthPoint = Vec3::Zero();
     Vec3 m_grabOffset = Vec3::Zero();
     double m_pressure = 1.0;
+    double m_tiltDepth = 0.0;    ///< Pen tilt towards/away from the screen, in [-1, 1] (yTilt / 60°).
     int m_nextStrokeKey = 1000;  // kFirstStrokeKey
     int m_strokeKey = -1;
     double m_frameMs = 0.0;

@@ -2,6 +2,7 @@
 // one undo step, anchors are set by clicking nodes, a mouse drag pulls the fish and it swings back,
 // projects survive save and reopen, an autosave survives a killed session, a corrupt project gives
 // an error dialog, and the viewport draws the fish in shaded and wireframe modes.
+#include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
 #include "ui/edit_commands.h"
 #include "ui/haptic_controller.h"
@@ -354,6 +355,16 @@ void TestEditor::secondHandHoldsAndPenPressureScalesTheSpring() {
     w.simulation()->pause();
     QVERIFY(w.simulation()->grab(0).has_value());
     QCOMPARE(w.simulation()->grab(0)->drag.stiffness, 0.5 * view->dragSettings().stiffness);
+    // Tilting the pen 30° pushes the target into the screen by half the tilt depth.
+    const Vec3 flat = w.simulation()->grab(0)->drag.target;
+    QTabletEvent tilt(QEvent::TabletMove, QPointingDevice::primaryPointingDevice(), body + QPoint(0, 10),
+                      view->mapToGlobal(body + QPoint(0, 10)), 0.5, 0.0f, 30.0f, 0.0f, 0.0f, 0.0f, Qt::NoModifier,
+                      Qt::LeftButton, Qt::LeftButton);
+    QApplication::sendEvent(view, &tilt);
+    QTest::mouseMove(view, body + QPoint(0, 10));
+    const double depth = (w.simulation()->grab(0)->drag.target - flat).dot(view->camera().forward());
+    const double expected = 0.5 * view->dragSettings().tiltDepth * fish.mesh.bounds().diagonal();
+    QVERIFY2(std::abs(depth - expected) < 0.02 * expected, qPrintable(QString("depth %1, expected %2").arg(depth).arg(expected)));
     // Both hands act at once.
     w.simulation()->advance(0.05);
     QCOMPARE(w.simulation()->simulation()->interactiveDrags(0).size(), std::size_t(2));
@@ -592,10 +603,24 @@ void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {
     QVERIFY2(haptics->deviceNames().contains("scripted"), qPrintable(haptics->deviceNames().join(", ")));
     QVERIFY(w.findChild<QAction*>("device_scripted") != nullptr);  // offered in Simulation > Input Device
     const std::vector<Vec3f> rest = w.viewport()->deformedPositions(0);
+    haptics->setWorkspaceScale(2.0);
     const Status started = haptics->start("scripted", SOFTTOUCH_SOURCE_DIR "/presets/devices/figure-eight.sttraj", 0);
     QVERIFY2(started.ok(), started.message().c_str());
     QVERIFY(haptics->isRunning());
     QVERIFY(!w.simulation()->isPlaying());  // the loop owns the body now
+    // Calibration: the workspace fitted onto the lattice box, scaled by the user's factor.
+    {
+        Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+        for (const Vec3& p : w.document()->scene().objects[0].lattice.restNodes()) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+        auto trajectory = io::loadTrajectory(SOFTTOUCH_SOURCE_DIR "/presets/devices/figure-eight.sttraj");
+        QVERIFY(trajectory.ok());
+        const DeviceCalibration fit = DeviceCalibration::fit(trajectory->device, lo, hi);
+        QCOMPARE(haptics->calibration().scale, 2.0 * fit.scale);
+        QVERIFY((haptics->calibration().origin - fit.origin).norm() < 1e-12);
+    }
     // The loop runs on its own thread at about 1 kHz; the viewport shows its snapshots.
     QTRY_VERIFY_WITH_TIMEOUT(haptics->snapshot().tick > 800, 10000);
     QTRY_VERIFY_WITH_TIMEOUT(maxDistance(w.viewport()->deformedPositions(0), rest) > 1e-3, 5000);
