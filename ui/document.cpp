@@ -105,6 +105,13 @@ void Document::setWorld(const WorldSettings& world) {
     emit worldChanged();
 }
 
+void Document::setProjectContent(const io::Project& project) {
+    m_project.scene = project.scene;
+    m_project.meshReferences = project.meshReferences;
+    m_project.clips = project.clips;
+    emit sceneReplaced();
+}
+
 void Document::setClips(const ClipLibrary& clips) {
     m_project.clips = clips;
     emit clipsChanged();

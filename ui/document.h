@@ -51,6 +51,9 @@ public:
     void setMaterial(int object, const LatticeMaterial& material);
     /// Replaces the world settings; emits worldChanged.
     void setWorld(const WorldSettings& world);
+    /// Replaces the whole scene and clip library, keeping the file path and the undo history (a
+    /// setup preset applied to an object); emits sceneReplaced.
+    void setProjectContent(const io::Project& project);
     /// Replaces the clip library (takes, clips, keyframe sets); emits clipsChanged.
     void setClips(const ClipLibrary& clips);
     /// Replaces object i's lattice and material together (resolution or box change); emits latticeChanged.

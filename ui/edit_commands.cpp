@@ -47,6 +47,12 @@ ClipsEditCommand::ClipsEditCommand(Document* document, ClipLibrary before, ClipL
 void ClipsEditCommand::undo() { m_document->setClips(m_before); }
 void ClipsEditCommand::redo() { m_document->setClips(m_after); }
 
+ProjectEditCommand::ProjectEditCommand(Document* document, io::Project before, io::Project after, const QString& text)
+    : QUndoCommand(text), m_document(document), m_before(std::move(before)), m_after(std::move(after)) {}
+
+void ProjectEditCommand::undo() { m_document->setProjectContent(m_before); }
+void ProjectEditCommand::redo() { m_document->setProjectContent(m_after); }
+
 LatticeEditCommand::LatticeEditCommand(Document* document, int object, Lattice before,
                                        LatticeMaterial beforeMaterial, Lattice after,
                                        LatticeMaterial afterMaterial, const QString& text, int mergeKey)

@@ -71,6 +71,19 @@ private:
     ClipLibrary m_after;
 };
 
+/// Replaces the scene and clip library as a whole (a setup preset applied to an object).
+class ProjectEditCommand : public QUndoCommand {
+public:
+    ProjectEditCommand(Document* document, io::Project before, io::Project after, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    Document* m_document;
+    io::Project m_before;
+    io::Project m_after;
+};
+
 /// Replaces an object's lattice together with its material (resolution, kind or box changes).
 class LatticeEditCommand : public QUndoCommand {
 public:

@@ -1,6 +1,7 @@
 #include "ui/presets_panel.h"
 
 #include "ui/edit_commands.h"
+#include "ui/material_thumbnail.h"
 
 #include <QDir>
 #include <QHBoxLayout>
@@ -51,20 +52,39 @@ void PresetsPanel::reload() {
     m_presets.clear();
     m_list->clear();
     QStringList problems;
-    for (const QString& folder : {m_shipped, userFolder()}) {
+    m_list->setIconSize(QSize(56, 56));
+    const QString shippedSetups = m_shipped.isEmpty() ? QString() : QDir(m_shipped + "/../setups").absolutePath();
+    for (const QString& folder : {m_shipped, shippedSetups, userFolder()}) {
         if (folder.isEmpty())
             continue;
         const QDir dir(folder);
         for (const QString& file : dir.entryList({"*.stpreset"}, QDir::Files, QDir::Name)) {
             const QString path = dir.filePath(file);
-            auto preset = io::loadMaterialPreset(path.toStdString());
-            if (!preset) {
-                problems << QString::fromStdString(preset.message());
+            Entry entry{path, std::nullopt, std::nullopt};
+            QString name, description;
+            QImage thumbnail;
+            if (auto material = io::loadMaterialPreset(path.toStdString())) {
+                // The thumbnail: the preset on a 4x4x4 block held at its top.
+                const LatticeShape shape;
+                const Lattice block = Lattice::create(shape, OrientedBox{}).value();
+                LatticeMaterial m = uniformMaterial(block, 0.02, 80.0, 0.9);
+                if (io::applyMaterialPreset(material.value(), block, m))
+                    thumbnail = materialThumbnail(shape, m);
+                name = QString::fromStdString(material->name);
+                description = QString::fromStdString(material->description);
+                entry.material = std::move(material.value());
+            } else if (auto setup = io::loadSetupPreset(path.toStdString())) {
+                thumbnail = materialThumbnail(setup->shape, setup->material);
+                name = tr("Setup: %1").arg(QString::fromStdString(setup->name));
+                description = QString::fromStdString(setup->description);
+                entry.setup = std::move(setup.value());
+            } else {
+                problems << QString::fromStdString(material.message());
                 continue;
             }
-            auto* item = new QListWidgetItem(QString::fromStdString(preset->name), m_list);
-            item->setToolTip(QString::fromStdString(preset->description) + "\n" + path);
-            m_presets.emplace_back(path, std::move(preset.value()));
+            auto* item = new QListWidgetItem(QIcon(QPixmap::fromImage(thumbnail)), name, m_list);
+            item->setToolTip(description + "\n" + path);
+            m_presets.push_back(std::move(entry));
         }
     }
     m_message->setText(problems.join("\n"));
@@ -76,8 +96,21 @@ bool PresetsPanel::applyRow(int row) {
     const int object = m_viewport->currentObject();
     if (row < 0 || row >= count() || std::size_t(object) >= m_document->scene().objects.size())
         return false;
+    const Entry& entry = m_presets[std::size_t(row)];
+    if (entry.setup) {
+        // A setup replaces the object's lattice setup, drivers and clips: one undo step for all of it.
+        auto applied = io::applySetupPreset(*entry.setup, m_document->project(), std::size_t(object));
+        if (!applied) {
+            m_message->setText(QString::fromStdString(applied.message()));
+            return false;
+        }
+        m_document->undoStack()->push(new ProjectEditCommand(m_document, m_document->project(), std::move(applied.value()),
+                                                             tr("Apply setup %1").arg(QString::fromStdString(entry.setup->name))));
+        m_message->setText(tr("Setup applied to the object (lattice, painted maps, anchors, drivers, clips)."));
+        return true;
+    }
     const SceneObject& o = m_document->scene().objects[std::size_t(object)];
-    const io::MaterialPreset& preset = m_presets[std::size_t(row)].second;
+    const io::MaterialPreset& preset = *entry.material;
     const std::vector<int> nodes(m_viewport->selection().begin(), m_viewport->selection().end());
     LatticeMaterial after = o.material;
     if (Status s = io::applyMaterialPreset(preset, o.lattice, after, nodes); !s) {

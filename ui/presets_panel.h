@@ -1,12 +1,16 @@
 #pragma once
-/// The presets dock: the shipped material presets and the user's own (in the user's data folder),
-/// applied to the selected nodes or the whole lattice as one undo step; the current material saved
+/// The presets dock: the shipped material and setup presets and the user's own (in the user's data
+/// folder), each with a thumbnail of how its material sags; a material applies to the selected nodes
+/// or the whole lattice, a setup (lattice, painted maps, anchors, drivers, clips; remapped when the
+/// resolutions differ) to the current object, each as one undo step; the current material is saved
 /// as a new preset to share.
 
 #include "io/project_file.h"
 #include "ui/viewport.h"
 
 #include <QWidget>
+
+#include <optional>
 
 class QListWidget;
 class QLabel;
@@ -37,7 +41,12 @@ private:
     QString m_shipped;
     QListWidget* m_list = nullptr;
     QLabel* m_message = nullptr;
-    std::vector<std::pair<QString, io::MaterialPreset>> m_presets;  // path, preset
+    struct Entry {
+        QString path;
+        std::optional<io::MaterialPreset> material;
+        std::optional<io::SetupPreset> setup;
+    };
+    std::vector<Entry> m_presets;
 };
 
 }  // namespace softtouch::ui

@@ -505,6 +505,36 @@ void TestEditor::presetAppliesAsOneUndoStep() {
     QVERIFY(after.anchor == before.anchor);  // anchors are the scene's, not the material's
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+    // Thumbnails show behaviour: jelly sags further than stiff rubber (the lowest dark pixel is lower).
+    auto lowestDark = [&](const QString& name) {
+        auto* list = presets->findChild<QListWidget*>("presetList");
+        for (int row = 0; row < list->count(); ++row) {
+            if (list->item(row)->text() != name)
+                continue;
+            const QImage image = list->item(row)->icon().pixmap(72, 72).toImage();
+            int lowest = -1;
+            for (int y = 0; y < image.height(); ++y)
+                for (int x = 0; x < image.width(); ++x)
+                    if (QColor(image.pixel(x, y)).lightness() < 110)
+                        lowest = y;
+            return lowest;
+        }
+        return -2;
+    };
+    const int jellySag = lowestDark("Jelly"), stiffSag = lowestDark("Stiff rubber");
+    QVERIFY2(jellySag > stiffSag && stiffSag > 0, qPrintable(QString("jelly %1, stiff %2").arg(jellySag).arg(stiffSag)));
+    // A setup preset applies to the object as one undo step: painted maps, anchors, drivers and clips.
+    int setup = -1;
+    for (int row = 0; row < presets->count(); ++row)
+        if (presets->findChild<QListWidget*>("presetList")->item(row)->text().startsWith("Setup: Fish swim"))
+            setup = row;
+    QVERIFY(setup >= 0);
+    const io::Project projectBefore = w.document()->project();
+    QVERIFY(presets->applyRow(setup));
+    QVERIFY(w.document()->project().clips.findClip("swim") != nullptr);
+    QVERIFY(w.simulation()->simulation() != nullptr);
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, projectBefore.scene.objects[0].material));
     // Saving the current material as a preset lists it.
     QFile::remove(PresetsPanel::userFolder() + "/my-fish.stpreset");
     presets->reload();
