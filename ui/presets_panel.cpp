@@ -4,6 +4,8 @@
 #include "ui/material_thumbnail.h"
 
 #include <QDir>
+#include <QFile>
+#include <QFileDialog>
 #include <QHBoxLayout>
 #include <QInputDialog>
 #include <QLabel>
@@ -24,9 +26,14 @@ PresetsPanel::PresetsPanel(Document* document, Viewport* viewport, QString shipp
     auto* buttons = new QHBoxLayout;
     auto* apply = new QPushButton(tr("Apply"));
     apply->setToolTip(tr("Apply to the selected nodes, or to the whole lattice when none is selected."));
-    auto* save = new QPushButton(tr("Save current…"));
+    auto* save = new QPushButton(tr("Save material…"));
+    auto* saveSetupButton = new QPushButton(tr("Save setup…"));
+    saveSetupButton->setToolTip(tr("Share the object's lattice, painted maps, anchors, drivers and swim clips."));
+    auto* import = new QPushButton(tr("Import…"));
     buttons->addWidget(apply);
     buttons->addWidget(save);
+    buttons->addWidget(saveSetupButton);
+    buttons->addWidget(import);
     layout->addLayout(buttons);
     m_message = new QLabel;
     m_message->setWordWrap(true);
@@ -39,6 +46,21 @@ PresetsPanel::PresetsPanel(Document* document, Viewport* viewport, QString shipp
         if (ok && !name.trimmed().isEmpty()) {
             const Status s = saveCurrent(name.trimmed());
             m_message->setText(s ? tr("Saved to %1").arg(userFolder()) : QString::fromStdString(s.message()));
+        }
+    });
+    connect(saveSetupButton, &QPushButton::clicked, this, [this] {
+        bool ok = false;
+        const QString name = QInputDialog::getText(this, tr("Save Setup"), tr("Setup name:"), QLineEdit::Normal, QString(), &ok);
+        if (ok && !name.trimmed().isEmpty()) {
+            const Status s = saveSetup(name.trimmed());
+            m_message->setText(s ? tr("Saved to %1").arg(userFolder()) : QString::fromStdString(s.message()));
+        }
+    });
+    connect(import, &QPushButton::clicked, this, [this] {
+        const QString path = QFileDialog::getOpenFileName(this, tr("Import Preset"), QString(), tr("SoftTouch presets (*.stpreset)"));
+        if (!path.isEmpty()) {
+            const Status s = importFile(path);
+            m_message->setText(s ? tr("Imported into %1").arg(userFolder()) : QString::fromStdString(s.message()));
         }
     });
     reload();
@@ -138,6 +160,49 @@ Status PresetsPanel::saveCurrent(const QString& name) {
     if (s)
         reload();
     return s;
+}
+
+namespace {
+QString presetFileName(const QString& name) {
+    QString file = name.toLower();
+    file.replace(QRegularExpression("[^a-z0-9]+"), "-");
+    return QDir(PresetsPanel::userFolder()).filePath(file + ".stpreset");
+}
+}  // namespace
+
+Status PresetsPanel::saveSetup(const QString& name) {
+    auto setup = io::setupFromProject(m_document->project(), std::size_t(m_viewport->currentObject()));
+    if (!setup)
+        return Status::error(setup.message());
+    setup->name = name.toStdString();
+    setup->description = "Saved from " + m_document->displayName().toStdString();
+    QDir().mkpath(userFolder());
+    const Status s = io::saveSetupPreset(setup.value(), presetFileName(name).toStdString());
+    if (s)
+        reload();
+    return s;
+}
+
+Status PresetsPanel::importFile(const QString& path) {
+    // Valid as either kind, or refused with the reason (file, JSON pointer, what was expected).
+    auto material = io::loadMaterialPreset(path.toStdString());
+    std::string name;
+    if (material) {
+        name = material->name;
+    } else if (auto setup = io::loadSetupPreset(path.toStdString())) {
+        name = setup->name;
+    } else {
+        const std::string reason = setup.message().find("\"setup\"") != std::string::npos ? material.message() : setup.message();
+        return Status::error(reason);
+    }
+    QDir().mkpath(userFolder());
+    const QString target = presetFileName(QString::fromStdString(name));
+    QFile::remove(target + ".part");
+    if (!QFile::copy(path, target + ".part") || (QFile::exists(target) && !QFile::remove(target)) ||
+        !QFile::rename(target + ".part", target))
+        return Status::error("cannot copy " + path.toStdString() + " into " + userFolder().toStdString());
+    reload();
+    return Status::success();
 }
 
 }  // namespace softtouch::ui

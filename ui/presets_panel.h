@@ -34,6 +34,12 @@ public:
     bool applyRow(int row);
     /// Saves the current object's material as a preset named `name` in the user folder.
     Status saveCurrent(const QString& name);
+    /// Saves the current object's setup (lattice, painted maps, anchors, voids, drivers, drivers clips)
+    /// as a setup preset named `name` in the user folder.
+    Status saveSetup(const QString& name);
+    /// Imports a preset file shared by someone else: validated (errors name the file and the JSON
+    /// pointer), then copied into the user folder and listed.
+    Status importFile(const QString& path);
 
 private:
     Document* m_document;

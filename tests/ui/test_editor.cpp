@@ -541,6 +541,25 @@ void TestEditor::presetAppliesAsOneUndoStep() {
     const int count = presets->count();
     QVERIFY(presets->saveCurrent("My fish").ok());
     QCOMPARE(presets->count(), count + 1);
+    // The object's setup saves as a setup preset, which lists and applies like the shipped one.
+    QFile::remove(PresetsPanel::userFolder() + "/my-swim.stpreset");
+    presets->reload();
+    const int withSetup = presets->count();
+    const Status savedSetup = presets->saveSetup("My swim");
+    QVERIFY2(savedSetup.ok(), savedSetup.message().c_str());
+    QCOMPARE(presets->count(), withSetup + 1);
+    // Importing a shared file validates it first: a broken one is refused naming the file and the field.
+    const QString broken = m_dir->filePath("broken.stpreset");
+    QFile bad(broken);
+    QVERIFY(bad.open(QIODevice::WriteOnly));
+    bad.write(R"({"format": "softtouch-preset", "version": 1, "kind": "material", "name": "Bad", "material": {"stiffness": -5}})");
+    bad.close();
+    const Status refused = presets->importFile(broken);
+    QVERIFY(!refused.ok());
+    QVERIFY2(QString::fromStdString(refused.message()).contains("broken.stpreset") &&
+                 QString::fromStdString(refused.message()).contains("stiffness"),
+             refused.message().c_str());
+    QCOMPARE(presets->count(), withSetup + 1);
 }
 
 void TestEditor::recordedTakeScrubsAndExports() {
