@@ -2,11 +2,9 @@
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
 
-#include "io/frame_source.h"
 #include "io/project_file.h"
 #include "io/video_encoder.h"
-#include "render/egl_context.h"
-#include "render/mesh_renderer.h"
+#include "render/video_render.h"
 
 #include <charconv>
 #include <cmath>
@@ -110,86 +108,30 @@ int runRender(const std::vector<std::string>& args) {
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());
-    const Scene& scene = project->scene;
-    std::vector<std::string> warnings;
-    io::FrameRequest request;
-    request.clips = &project->clips;
-    request.clip = clipName;
-    request.frames = frames ? int(*frames) : 0;
-    request.fps = fps.value_or(0.0);
-    auto created = io::FrameSource::create(scene, request, &warnings);
-    if (!created)
-        return fail(created.message());
-    io::FrameSource& source = created.value();
-
-    io::VideoSettings settings;
-    settings.output = outPath;
-    settings.format = *format;
-    settings.width = size->first;
-    settings.height = size->second;
-    settings.fps = source.fps();
-    settings.crf = crf ? int(*crf) : 20;
-    auto encoder = io::VideoEncoder::open(settings);
-    if (!encoder)
-        return fail(encoder.message());
-
-    auto context = render::EglContext::create(settings.width, settings.height, 4);
-    if (!context)
-        return fail("cannot create a headless OpenGL context: " + context.message());
-    render::MeshRenderer renderer;
-    if (Status s = renderer.initialize(); !s)
-        return fail(s.message());
-    Bounds bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
-    for (const SceneObject& object : scene.objects) {
-        auto id = renderer.addObject(object.mesh, object.lattice);
-        if (!id)
-            return fail("object '" + object.name + "': " + id.message());
-        const Bounds b = object.mesh.bounds();
-        bounds.min = bounds.min.cwiseMin(b.min);
-        bounds.max = bounds.max.cwiseMax(b.max);
-    }
-    // Room for the motion: the camera frames the rest bounds grown by a tenth on each side.
-    const Vec3 margin = 0.1 * (bounds.max - bounds.min);
-    bounds.min -= margin;
-    bounds.max += margin;
-    renderer.setPlanes(scene.world.planes, float(bounds.diagonal()));
-    const render::Camera camera = render::frameBounds(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f),
-                                                      float(settings.width) / float(settings.height));
-
-    std::vector<std::uint8_t> pixels;
-    const int frameCount = source.frameCount();
-    auto renderFrame = [&](int f) -> Status {
-        source.seek(f, &warnings);
-        for (std::size_t i = 0; i < source.simulation().objectCount(); ++i)
-            renderer.setNodes(int(i), source.nodes(i));
-        context.value()->bindFramebuffer();
-        renderer.draw(camera, settings.width, settings.height);
-        if (Status s = context.value()->readPixels(pixels); !s)
-            return s;
-        if (Status s = encoder.value()->writeFrame(pixels); !s)
-            return s;
-        if (!quiet && (f + 1 == frameCount || (f + 1) % 24 == 0))
-            std::fprintf(stderr, "\rrendering frame %d/%d%s", f + 1, frameCount, f + 1 == frameCount ? "\n" : "");
-        return Status::success();
-    };
-    Status rendered = Status::success();
-    for (int f = 0; f < frameCount && rendered; ++f)
-        rendered = renderFrame(f);
-    renderer.release();
-    if (!rendered) {
-        encoder.value()->abort();
+    render::VideoRenderOptions options;
+    options.video.output = outPath;
+    options.video.format = *format;
+    options.video.width = size->first;
+    options.video.height = size->second;
+    options.video.crf = crf ? int(*crf) : 20;
+    options.frames.clips = &project->clips;
+    options.frames.clip = clipName;
+    options.frames.frames = frames ? int(*frames) : 0;
+    options.frames.fps = fps.value_or(0.0);
+    if (!quiet)
+        options.progress = [](int done, int total) {
+            if (done == total || done % 24 == 0)
+                std::fprintf(stderr, "\rrendering frame %d/%d%s", done, total, done == total ? "\n" : "");
+            return true;
+        };
+    auto rendered = render::renderVideo(project->scene, options);
+    if (!rendered)
         return fail(rendered.message());
-    }
-    if (Status s = encoder.value()->finish(); !s)
-        return fail(s.message());
-    for (const std::string& w : encoder.value()->warnings())
-        std::fprintf(stderr, "softtouch-cli: warning: %s\n", w.c_str());
-    const std::size_t shown = std::min<std::size_t>(warnings.size(), 5);
+    const std::size_t shown = std::min<std::size_t>(rendered->warnings.size(), 5);
     for (std::size_t i = 0; i < shown; ++i)
-        std::fprintf(stderr, "softtouch-cli: warning: %s\n", warnings[i].c_str());
-    std::printf("wrote %s (%s, %dx%d, %d frames at %g fps; %s)\n", outPath.c_str(), encoder.value()->codecName().c_str(),
-                settings.width, settings.height, encoder.value()->frameCount(), settings.fps,
-                context.value()->description().c_str());
+        std::fprintf(stderr, "softtouch-cli: warning: %s\n", rendered->warnings[i].c_str());
+    std::printf("wrote %s (%s, %dx%d, %d frames at %g fps; %s)\n", outPath.c_str(), rendered->codec.c_str(),
+                options.video.width, options.video.height, rendered->frames, rendered->fps, rendered->context.c_str());
     return 0;
 }
 

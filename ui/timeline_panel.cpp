@@ -1,6 +1,7 @@
 #include "ui/timeline_panel.h"
 
 #include "io/bake.h"
+#include "render/video_render.h"
 #include "ui/edit_commands.h"
 
 #include <QApplication>
@@ -15,7 +16,11 @@
 #include <QSlider>
 #include <QVBoxLayout>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <optional>
+#include <thread>
 
 namespace softtouch::ui {
 
@@ -72,9 +77,13 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     auto* exportButton = new QPushButton(tr("Export…"));
     exportButton->setToolTip(tr("Export the selected clip (or the drivers from frame 0) as PC2, MDD, OBJ, glTF/GLB, "
                                 "VAT or lattice cache."));
+    auto* renderButton = new QPushButton(tr("Render video…"));
+    renderButton->setToolTip(tr("Render the selected clip (or the drivers) as MP4/H.264, GIF or PNG frames, "
+                                "drawn headless on the GPU: the same code as softtouch-cli render."));
     buttons->addWidget(makeClipButton);
     buttons->addWidget(m_loop);
     buttons->addWidget(exportButton);
+    buttons->addWidget(renderButton);
     buttons->addStretch();
     right->addLayout(buttons);
     right->addStretch();
@@ -106,6 +115,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     });
     connect(makeClipButton, &QPushButton::clicked, this, [this] { makeClip(m_takes->currentRow(), m_loop->isChecked()); });
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
+    connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
     connect(document, &Document::sceneReplaced, this, &TimelinePanel::refreshLists);
     refreshLists();
@@ -260,6 +270,67 @@ Status TimelinePanel::exportClipTo(int index, const QString& path) {
     if (result->seam)
         text += tr(" · loop seam %1× the median frame step").arg(result->seam->ratio, 0, 'f', 2);
     m_time->setText(text);
+    return Status::success();
+}
+
+void TimelinePanel::renderClip(int index) {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Render Video"), QString(),
+                                                      tr("MP4 video (*.mp4);;Animated GIF (*.gif)"));
+    if (path.isEmpty())
+        return;
+    const Status s = renderClipTo(index, path);
+    if (!s && s.message().find("cancelled") == std::string::npos)
+        QMessageBox::critical(this, tr("Render failed"), QString::fromStdString(s.message()));
+}
+
+Status TimelinePanel::renderClipTo(int index, const QString& path, int width, int height) {
+    const ClipLibrary& library = m_document->project().clips;
+    const auto format = io::videoFormatFromPath(path.toStdString());
+    if (!format)
+        return Status::error(path.toStdString() + ": use .mp4, .gif or a folder ending in '/'");
+    render::VideoRenderOptions options;
+    options.video.output = path.toStdString();
+    options.video.format = *format;
+    options.video.width = width;
+    options.video.height = height;
+    options.frames.clips = &library;
+    if (index >= 0 && std::size_t(index) < library.clips.size())
+        options.frames.clip = library.clips[std::size_t(index)].name;
+    // The render runs on its own thread: its EGL context cannot be current on the UI thread, where the
+    // viewport's GLX context lives (glvnd allows one window-system API per thread). The UI thread keeps
+    // the progress dialog alive and passes Cancel on.
+    std::atomic<int> done{0}, total{0};
+    std::atomic<bool> cancelled{false}, finished{false};
+    options.progress = [&](int d, int t) {
+        done = d;
+        total = t;
+        return !cancelled.load();
+    };
+    std::optional<Result<render::VideoRenderResult>> outcome;
+    const Scene scene = m_document->scene();
+    std::thread worker([&] {
+        outcome.emplace(render::renderVideo(scene, options));
+        finished = true;
+    });
+    QProgressDialog progress(tr("Rendering %1…").arg(path), tr("Cancel"), 0, 100, this);
+    progress.setWindowModality(Qt::WindowModal);
+    progress.setMinimumDuration(300);
+    while (!finished) {
+        progress.setMaximum(std::max(total.load(), 1));
+        progress.setValue(done.load());
+        if (progress.wasCanceled())
+            cancelled = true;
+        QApplication::processEvents(QEventLoop::AllEvents, 20);
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    worker.join();
+    Result<render::VideoRenderResult>& result = *outcome;
+    progress.reset();
+    if (!result) {
+        m_time->setText(QString::fromStdString(result.message()));
+        return Status::error(result.message());
+    }
+    m_time->setText(tr("Rendered %1 frames (%2) to %3").arg(result->frames).arg(QString::fromStdString(result->codec)).arg(path));
     return Status::success();
 }
 

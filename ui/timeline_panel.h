@@ -40,6 +40,10 @@ public slots:
     void exportClip(int index);
     /// Exports without asking (tests, scripts); returns the message shown.
     Status exportClipTo(int index, const QString& path);
+    /// Asks for a file and renders clip `index` (or the drivers when < 0) as a video.
+    void renderClip(int index);
+    /// Renders without asking: .mp4, .gif or a folder ending in '/' for PNG frames, at width × height.
+    Status renderClipTo(int index, const QString& path, int width = 960, int height = 540);
 
 private:
     void refreshLists();

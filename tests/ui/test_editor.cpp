@@ -4,6 +4,7 @@
 // an error dialog, and the viewport draws the fish in shaded and wireframe modes.
 #include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
+#include "io/video_encoder.h"
 #include "ui/edit_commands.h"
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
@@ -588,6 +589,17 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QVERIFY2(cache.ok(), cache.message().c_str());
     QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
     QCOMPARE(cache->info.pointCount, w.document()->scene().objects[0].mesh.positions.size());
+    // The same clip rendered as a video from the editor (headless EGL beside the viewport's context).
+    const QString mp4 = m_dir->filePath("take.mp4");
+    const Status rendered = w.timeline()->renderClipTo(clip, mp4, 160, 96);
+    QVERIFY2(rendered.ok(), rendered.message().c_str());
+    auto probe = io::probeVideo(mp4.toStdString());
+    QVERIFY2(probe.ok(), probe.message().c_str());
+    QCOMPARE(probe->frames, w.document()->project().clips.clips[std::size_t(clip)].frames);
+    QCOMPARE(probe->width, 160);
+    // The viewport still draws afterwards.
+    QVERIFY(!w.viewport()->grabFramebuffer().isNull());
+    QVERIFY(w.viewport()->renderProblem().isEmpty());
     // Undo removes the clip, then the take.
     w.document()->undoStack()->undo();
     QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);

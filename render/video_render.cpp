@@ -1,0 +1,75 @@
+#include "render/video_render.h"
+
+#include "render/egl_context.h"
+#include "render/mesh_renderer.h"
+
+namespace softtouch::render {
+
+Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptions& options) {
+    VideoRenderResult result;
+    auto created = io::FrameSource::create(scene, options.frames, &result.warnings);
+    if (!created)
+        return Status::error(created.message());
+    io::FrameSource& source = created.value();
+
+    io::VideoSettings settings = options.video;
+    settings.fps = source.fps();
+    auto encoder = io::VideoEncoder::open(settings);
+    if (!encoder)
+        return Status::error(encoder.message());
+    auto context = EglContext::create(settings.width, settings.height, 4);
+    if (!context)
+        return Status::error("cannot create a headless OpenGL context: " + context.message());
+    MeshRenderer renderer;
+    if (Status s = renderer.initialize(); !s)
+        return s;
+    Bounds bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+    for (const SceneObject& object : scene.objects) {
+        auto id = renderer.addObject(object.mesh, object.lattice);
+        if (!id) {
+            renderer.release();
+            return Status::error("object '" + object.name + "': " + id.message());
+        }
+        const Bounds b = object.mesh.bounds();
+        bounds.min = bounds.min.cwiseMin(b.min);
+        bounds.max = bounds.max.cwiseMax(b.max);
+    }
+    // Room for the motion: the camera frames the rest bounds grown by a tenth on each side.
+    const Vec3 margin = 0.1 * (bounds.max - bounds.min);
+    bounds.min -= margin;
+    bounds.max += margin;
+    renderer.setPlanes(scene.world.planes, float(bounds.diagonal()));
+    const Camera camera = frameBounds(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f),
+                                      float(settings.width) / float(settings.height));
+
+    std::vector<std::uint8_t> pixels;
+    const int frameCount = source.frameCount();
+    Status rendered = Status::success();
+    for (int f = 0; f < frameCount && rendered; ++f) {
+        source.seek(f, &result.warnings);
+        for (std::size_t i = 0; i < source.simulation().objectCount(); ++i)
+            renderer.setNodes(int(i), source.nodes(i));
+        context.value()->bindFramebuffer();
+        renderer.draw(camera, settings.width, settings.height);
+        rendered = context.value()->readPixels(pixels);
+        if (rendered)
+            rendered = encoder.value()->writeFrame(pixels);
+        if (rendered && options.progress && !options.progress(f + 1, frameCount))
+            rendered = Status::error("the render was cancelled; nothing was written");
+    }
+    renderer.release();
+    if (!rendered) {
+        encoder.value()->abort();
+        return rendered;
+    }
+    if (Status s = encoder.value()->finish(); !s)
+        return s;
+    result.warnings.insert(result.warnings.begin(), encoder.value()->warnings().begin(), encoder.value()->warnings().end());
+    result.frames = encoder.value()->frameCount();
+    result.fps = settings.fps;
+    result.codec = encoder.value()->codecName();
+    result.context = context.value()->description();
+    return result;
+}
+
+}  // namespace softtouch::render

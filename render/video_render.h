@@ -1,0 +1,36 @@
+#pragma once
+/// A scene's frames (a clip of its library, or its drivers) drawn headless on the GPU and encoded as
+/// a video: the one loop behind `softtouch-cli render` and the editor's Render Video. Needs no X
+/// server (render::EglContext, surfaceless EGL); one frame in memory; nothing published unless every
+/// frame succeeded.
+
+#include "io/frame_source.h"
+#include "io/video_encoder.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace softtouch::render {
+
+/// What to render.
+struct VideoRenderOptions {
+    io::VideoSettings video;        ///< Output, format, size, crf; `fps` is taken from the frames played.
+    io::FrameRequest frames;        ///< Clip, frame count and rate (io/frame_source.h).
+    /// Called after each frame with (frames done, total); returning false cancels (nothing is written).
+    std::function<bool(int, int)> progress;
+};
+
+/// What was written.
+struct VideoRenderResult {
+    int frames = 0;                      ///< Frames encoded.
+    double fps = 0.0;                    ///< Frame rate.
+    std::string codec;                   ///< Encoder used (libx264, mpeg4, gif, png).
+    std::string context;                 ///< The OpenGL implementation that drew it.
+    std::vector<std::string> warnings;   ///< Simulation and encoder warnings.
+};
+
+/// Renders and encodes; errors name the file, the codec or the GL problem.
+Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptions& options);
+
+}  // namespace softtouch::render
