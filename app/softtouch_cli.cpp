@@ -11,7 +11,7 @@ namespace {
 constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches
 
 Usage:
-  softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq] [--threads N]
+  softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|vat|lattice] [--threads N]
   softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch

@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
     const QCommandLineOption screenshot("screenshot", "Render one frame of the window to FILE.png and exit.", "FILE.png");
     const QCommandLineOption mode("mode", "Viewport shading: shaded, wireframe or xray.", "MODE", "shaded");
     const QCommandLineOption seconds("seconds", "With --screenshot: simulate this long before the picture.", "S", "0");
-    const QCommandLineOption drag("drag", "With --screenshot: record a take in which the mouse pulls the object's tail "
+    const QCommandLineOption drag("drag", "Record a take in which the mouse pulls the object's tail "
                                           "(lattice point u=0.15) by DX,DY pixels, held for --seconds.", "DX,DY");
     const QCommandLineOption dock("dock", "Bring a dock to the front: properties, presets, study.", "NAME");
     const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
