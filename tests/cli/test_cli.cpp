@@ -2,9 +2,10 @@
 #include "io/mesh_import.h"
 #include "io/vertex_cache.h"
 
+#include "cli_run.h"
+
 #include <QCryptographicHash>
 #include <QDataStream>
-#include <QProcess>
 #include <QRegularExpression>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -15,23 +16,10 @@ using namespace softtouch;
 
 namespace {
 
-const QString kCli = QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli");
+using test::Run;
+using test::runCli;
 const QString kScenes = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/");
 
-struct Run {
-    int exitCode = -1;
-    QString out;
-    QString err;
-};
-
-Run runCli(const QStringList& args) {
-    QProcess p;
-    p.start(kCli, args);
-    if (!p.waitForFinished(300000))
-        qFatal("softtouch-cli did not finish");
-    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
-            QString::fromUtf8(p.readAllStandardError())};
-}
 
 /// The v lines of an OBJ file.
 std::vector<Vec3f> objVertices(const QString& path) {

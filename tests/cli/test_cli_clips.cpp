@@ -3,7 +3,8 @@
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 
-#include <QProcess>
+#include "cli_run.h"
+
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -11,23 +12,10 @@ using namespace softtouch;
 
 namespace {
 
-const QString kCli = QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli");
+using test::Run;
+using test::runCli;
 const QString kPresets = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/");
 
-struct Run {
-    int exitCode = -1;
-    QString out;
-    QString err;
-};
-
-Run runCli(const QStringList& args) {
-    QProcess p;
-    p.start(kCli, args);
-    if (!p.waitForFinished(300000))
-        qFatal("softtouch-cli did not finish");
-    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
-            QString::fromUtf8(p.readAllStandardError())};
-}
 
 }  // namespace
 

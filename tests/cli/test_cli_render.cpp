@@ -2,8 +2,9 @@
 // cleanly on bad input without touching existing files.
 #include "io/video_encoder.h"
 
+#include "cli_run.h"
+
 #include <QDir>
-#include <QProcess>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -11,28 +12,11 @@ using namespace softtouch;
 
 namespace {
 
-const QString kCli = QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli");
+using test::Run;
 const QString kScene = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-swim.softtouch");
 
-struct Run {
-    int exitCode = -1;
-    QString out;
-    QString err;
-};
-
-/// Runs the CLI with no X or Wayland display: rendering must be headless.
-Run runCli(const QStringList& args) {
-    QProcess p;
-    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
-    env.remove("DISPLAY");
-    env.remove("WAYLAND_DISPLAY");
-    p.setProcessEnvironment(env);
-    p.start(kCli, args);
-    if (!p.waitForFinished(300000))
-        qFatal("softtouch-cli did not finish");
-    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
-            QString::fromUtf8(p.readAllStandardError())};
-}
+/// Rendering must work without a window system: every run here is headless.
+Run runCli(const QStringList& args) { return test::runCli(args, true); }
 
 /// Width and height from a PNG's IHDR chunk (big-endian at bytes 16..23).
 std::pair<int, int> pngSize(const QString& path) {
