@@ -8,21 +8,6 @@ using namespace softtouch;
 
 namespace {
 
-Scene ballScene() {
-    Scene scene;
-    SceneObject object;
-    object.name = "ball";
-    object.mesh = test::makeSphere(0.5, Vec3::Zero(), 12, 24);
-    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
-    object.material = uniformMaterial(object.lattice, 0.01, 80.0, 0.5);
-    // The bottom layer is pinned, so a pulled ball stretches and swings back instead of flying off.
-    for (int k = 0; k < object.lattice.count(2); ++k)
-        for (int i = 0; i < object.lattice.count(0); ++i)
-            object.material.anchor[std::size_t(object.lattice.index(i, 0, k))] = AnchorMode::Pinned;
-    scene.objects.push_back(std::move(object));
-    return scene;
-}
-
 DragSpring pullUp(const SceneSimulation& sim, double height) {
     DragSpring drag;
     const Lattice& lattice = sim.object(0).lattice;
@@ -48,7 +33,7 @@ private slots:
 };
 
 void TestScene::interactiveDragMovesAndReleaseSwingsBack() {
-    auto created = SceneSimulation::create(ballScene());
+    auto created = SceneSimulation::create(test::anchoredBallScene());
     QVERIFY2(created.ok(), created.message().c_str());
     SceneSimulation& sim = created.value();
     const double rest = topHeight(sim);
@@ -65,7 +50,7 @@ void TestScene::interactiveDragMovesAndReleaseSwingsBack() {
 }
 
 void TestScene::snapshotRestoreReplaysBitExactly() {
-    auto created = SceneSimulation::create(ballScene());
+    auto created = SceneSimulation::create(test::anchoredBallScene());
     QVERIFY(created.ok());
     SceneSimulation& sim = created.value();
     sim.setInteractiveDrags(0, {pullUp(sim, 0.2)});
@@ -88,7 +73,7 @@ void TestScene::snapshotRestoreReplaysBitExactly() {
 }
 
 void TestScene::resetReturnsToRest() {
-    auto created = SceneSimulation::create(ballScene());
+    auto created = SceneSimulation::create(test::anchoredBallScene());
     QVERIFY(created.ok());
     SceneSimulation& sim = created.value();
     const std::vector<Vec3> rest = sim.object(0).lattice.restNodes();

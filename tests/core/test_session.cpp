@@ -9,22 +9,13 @@ using namespace softtouch;
 namespace {
 
 Scene ballScene() {
-    Scene scene;
-    SceneObject object;
-    object.name = "ball";
-    object.mesh = test::makeSphere(0.5, Vec3::Zero(), 12, 24);
-    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
-    object.material = uniformMaterial(object.lattice, 0.01, 80.0, 0.5);
-    for (int k = 0; k < object.lattice.count(2); ++k)
-        for (int i = 0; i < object.lattice.count(0); ++i)
-            object.material.anchor[std::size_t(object.lattice.index(i, 0, k))] = AnchorMode::Pinned;
+    Scene scene = test::anchoredBallScene();
     // A driver too: the session adds to the drivers, it does not replace them.
     SwimDriver swim;
     swim.point = Vec3(0.5, 0.9, 0.5);
     swim.direction = Vec3::UnitX();
     swim.amplitude = 0.05;
-    object.drivers.push_back(swim);
-    scene.objects.push_back(std::move(object));
+    scene.objects[0].drivers.push_back(swim);
     return scene;
 }
 

@@ -3,6 +3,7 @@
 
 #include "core/mesh.h"
 #include "core/primitives.h"
+#include "core/scene.h"
 
 #include <cmath>
 #include <numbers>
@@ -24,6 +25,22 @@ inline std::vector<Vec3f> scatter(int count, const Vec3& lo, const Vec3& hi, uns
         out.push_back((lo + t.cwiseProduct(hi - lo)).cast<float>());
     }
     return out;
+}
+
+/// One object: a ball of radius 0.5 in a 4x4x4 Bezier lattice (0.01 kg, 80 N/m, 0.5 N·s/m per node)
+/// whose bottom layer of nodes is pinned, so a pulled ball stretches and swings back instead of flying off.
+inline Scene anchoredBallScene() {
+    Scene scene;
+    SceneObject object;
+    object.name = "ball";
+    object.mesh = makeSphere(0.5, Vec3::Zero(), 12, 24);
+    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
+    object.material = uniformMaterial(object.lattice, 0.01, 80.0, 0.5);
+    for (int k = 0; k < object.lattice.count(2); ++k)
+        for (int i = 0; i < object.lattice.count(0); ++i)
+            object.material.anchor[std::size_t(object.lattice.index(i, 0, k))] = AnchorMode::Pinned;
+    scene.objects.push_back(std::move(object));
+    return scene;
 }
 
 }  // namespace softtouch::test
