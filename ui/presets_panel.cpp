@@ -17,6 +17,15 @@
 
 namespace softtouch::ui {
 
+namespace {
+/// Where a preset named `name` is saved in the user folder (lower case, runs of other characters as '-').
+QString presetFileName(const QString& name) {
+    QString file = name.toLower();
+    file.replace(QRegularExpression("[^a-z0-9]+"), "-");
+    return QDir(PresetsPanel::userFolder()).filePath(file + ".stpreset");
+}
+}  // namespace
+
 PresetsPanel::PresetsPanel(Document* document, Viewport* viewport, QString shippedFolder, QWidget* parent)
     : QWidget(parent), m_document(document), m_viewport(viewport), m_shipped(std::move(shippedFolder)) {
     auto* layout = new QVBoxLayout(this);
@@ -152,23 +161,13 @@ Status PresetsPanel::saveCurrent(const QString& name) {
     if (std::size_t(object) >= m_document->scene().objects.size())
         return Status::error("no object to take the material from");
     QDir().mkpath(userFolder());
-    QString file = name.toLower();
-    file.replace(QRegularExpression("[^a-z0-9]+"), "-");
-    const QString path = QDir(userFolder()).filePath(file + ".stpreset");
+    const QString path = presetFileName(name);
     const Status s = io::saveMaterialPreset(name.toStdString(), "Saved from " + m_document->displayName().toStdString(),
                                             m_document->scene().objects[std::size_t(object)].material, path.toStdString());
     if (s)
         reload();
     return s;
 }
-
-namespace {
-QString presetFileName(const QString& name) {
-    QString file = name.toLower();
-    file.replace(QRegularExpression("[^a-z0-9]+"), "-");
-    return QDir(PresetsPanel::userFolder()).filePath(file + ".stpreset");
-}
-}  // namespace
 
 Status PresetsPanel::saveSetup(const QString& name) {
     auto setup = io::setupFromProject(m_document->project(), std::size_t(m_viewport->currentObject()));
