@@ -1,5 +1,6 @@
 #include "core/body_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -116,6 +117,9 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
             model->maxDampingRatio = std::max(model->maxDampingRatio, s.damping / s.stiffness);
     }
     model->voidFollowers = d.voidFollowers;
+    model->springTable = SpringTable::build(model->springs, model->inverseMass);
+    for (double w : model->inverseMass)
+        model->maxInverseMass = std::max(model->maxInverseMass, w);
     model->maxStiffnessOverMass = largestStiffnessOverMass(*model);
     return std::shared_ptr<const BodyModel>(std::move(model));
 }

@@ -3,6 +3,7 @@
 /// buildBodyModel() and shared (std::shared_ptr<const BodyModel>) by every simulator that runs it.
 
 #include "core/result.h"
+#include "core/spring_forces.h"
 #include "core/types.h"
 
 #include <memory>
@@ -57,10 +58,12 @@ struct BodyModel {
     std::vector<std::uint8_t> simulated; ///< 1 unless void.
     std::vector<std::uint8_t> pinned;    ///< 1 for pinned anchors.
     std::vector<Spring> springs;         ///< Springs between simulated nodes only.
+    SpringTable springTable;             ///< The springs that move a free node, laid out for the force pass.
     std::vector<VoidFollower> voidFollowers; ///< See VoidFollower.
     double airDamping = 0.0;             ///< N·s/m on absolute velocity, every simulated node.
     double maxStiffnessOverMass = 0.0;   ///< Largest eigenvalue of M^-1 K at rest (1/s^2); filled by build.
     double maxDampingRatio = 0.0;        ///< Largest c/k over springs (s); filled by build.
+    double maxInverseMass = 0.0;         ///< Largest inverse mass of a free node (1/kg); filled by build.
 
     std::size_t nodeCount() const { return restPositions.size(); }
 };

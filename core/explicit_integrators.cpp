@@ -12,7 +12,7 @@ public:
     bool isExplicit() const override { return true; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
         m_force.resize(model.nodeCount());
-        accumulateForces(model, external, state.position, state.velocity, m_force);
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch);
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
@@ -23,6 +23,7 @@ public:
 
 private:
     std::vector<Vec3> m_force;
+    SpringScratch m_scratch;
 };
 
 /// Central differences, as in the paper: M (x+ − 2x + x−)/h² + D (x+ − x−)/2h + f_int(x) = F.
@@ -40,7 +41,7 @@ public:
         ForceTerms terms;
         terms.airDamping = false;
         const double airDamping = model.airDamping;
-        accumulateForces(model, external, state.position, state.velocity, m_force, terms);
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms);
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
@@ -55,6 +56,7 @@ public:
 
 private:
     std::vector<Vec3> m_force;
+    SpringScratch m_scratch;
 };
 
 }  // namespace

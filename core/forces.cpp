@@ -51,24 +51,8 @@ void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std:
     }
 }
 
-std::vector<NodeWeight> dragDistribution(const BodyModel& model, const DragSpring& drag) {
-    std::vector<NodeWeight> out;
-    double total = 0.0;
-    for (const NodeWeight& w : drag.support) {
-        if (model.inverseMass[w.node] > 0.0 && w.weight != 0.0) {
-            out.push_back(w);
-            total += w.weight;
-        }
-    }
-    if (total <= 0.0)
-        return {};
-    for (NodeWeight& w : out)
-        w.weight /= total;
-    return out;
-}
-
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> x,
-                      std::span<const Vec3> v, std::span<Vec3> f, ForceTerms terms) {
+                      std::span<const Vec3> v, std::span<Vec3> f, SpringScratch& scratch, ForceTerms terms) {
     const std::size_t n = model.nodeCount();
     const bool gravity = !external.gravity.isZero();
     for (std::size_t i = 0; i < n; ++i) {
@@ -76,28 +60,13 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
         if (terms.airDamping && model.airDamping > 0.0)
             f[i] -= model.airDamping * v[i];
     }
-    if (terms.springs || terms.springDamping) {
-        for (const Spring& s : model.springs) {
-            const Vec3 r = x[s.b] - x[s.a];
-            const double length = r.norm();
-            if (length <= 0.0)
-                continue;  // coincident nodes: no direction, no force (the implicit solve still couples them)
-            const Vec3 dir = r * (1.0 / length);  // one division, not three
-            double magnitude = 0.0;
-            if (terms.springs)
-                magnitude += s.stiffness * (length - s.restLength);
-            if (terms.springDamping)
-                magnitude += s.damping * dir.dot(v[s.b] - v[s.a]);
-            f[s.a] += magnitude * dir;
-            f[s.b] -= magnitude * dir;
-        }
-    }
+    if (terms.springs)
+        addSpringForces(model.springTable, x, v, f, scratch);
     for (const DragSpring& drag : external.drags) {
         Vec3 p, pv;
         dragPointState(drag, x, v, p, pv);
         const Vec3 pull = drag.stiffness * (drag.target - p) + drag.damping * (drag.targetVelocity - pv);
-        for (const NodeWeight& w : dragDistribution(model, drag))
-            f[w.node] += w.weight * pull;
+        forEachDragShare(model, drag, [&](std::uint32_t node, double share) { f[node] += share * pull; });
     }
 }
 

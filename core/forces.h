@@ -3,6 +3,7 @@
 
 #include "core/body_model.h"
 #include "core/lattice.h"
+#include "core/spring_forces.h"
 #include "core/types.h"
 
 #include <span>
@@ -51,23 +52,39 @@ struct ExternalForces {
 
 /// Which force terms accumulateForces() adds.
 struct ForceTerms {
-    bool springs = true;       ///< Elastic spring forces k(|r|-L) r/|r|.
-    bool springDamping = true; ///< c ((v_b - v_a)·r̂) r̂ along each spring.
+    bool springs = true;       ///< Spring forces: elastic k(|r|-L) r̂ and damping c ((v_b - v_a)·r̂) r̂.
     bool airDamping = true;    ///< −d v on every node (the paper's D).
 };
 
 /// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, air
-/// damping, gravity (m·g), drags. Forces on pinned and void nodes are computed but never used.
+/// damping, gravity (m·g), drags. Only free nodes' forces are meaningful; pinned and void nodes get
+/// gravity and damping but no spring or drag force. `scratch` is the caller's, so nothing is allocated.
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,
-                      std::span<const Vec3> velocity, std::span<Vec3> force, ForceTerms terms = {});
+                      std::span<const Vec3> velocity, std::span<Vec3> force, SpringScratch& scratch,
+                      ForceTerms terms = {});
 
 /// The current position and velocity of a drag's material point.
 void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std::span<const Vec3> velocity,
                     Vec3& point, Vec3& pointVelocity);
 
-/// Weight of each simulated, unpinned node in a drag's force distribution (renormalised so the full
-/// force reaches the body when part of the support is void or pinned). Empty when nothing can move.
-std::vector<NodeWeight> dragDistribution(const BodyModel& model, const DragSpring& drag);
+/// Calls share(node, weight) for each free node of a drag's support with its weight in the drag's
+/// force distribution (renormalised so the full force reaches the body when part of the support is
+/// void or pinned). Calls nothing when no node of the support can move. Allocates nothing.
+template <typename Share>
+void forEachDragShare(const BodyModel& model, const DragSpring& drag, Share&& share) {
+    double total = 0.0;
+    for (const NodeWeight& w : drag.support) {
+        if (model.inverseMass[w.node] > 0.0)
+            total += w.weight;
+    }
+    if (total <= 0.0)
+        return;
+    const double scale = 1.0 / total;
+    for (const NodeWeight& w : drag.support) {
+        if (model.inverseMass[w.node] > 0.0 && w.weight != 0.0)
+            share(w.node, w.weight * scale);
+    }
+}
 
 /// Point-to-plane response after a step (the paper's model): a node behind a plane is put back onto
 /// it and its inward velocity Vn answered with V' = Vt·(friction loss) − Kr·Vn. Only a node that

@@ -43,16 +43,11 @@ void Simulator::restoreState(const BodyState& state, long long stepCount) {
 double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
     double lambda = m.maxStiffnessOverMass;
-    double dampingRate = 0.0;  // largest c/m-like rate from air damping and drags
-    for (std::size_t i = 0; i < m.nodeCount(); ++i) {
-        if (m.inverseMass[i] > 0.0)
-            dampingRate = std::max(dampingRate, m.airDamping * m.inverseMass[i]);
-    }
+    double dampingRate = m.airDamping * m.maxInverseMass;  // largest c/m-like rate from air damping and drags
     // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks Σ ŵ²/m (Weyl's bound).
     for (const DragSpring& drag : external.drags) {
         double sum = 0.0;
-        for (const NodeWeight& w : dragDistribution(m, drag))
-            sum += w.weight * w.weight * m.inverseMass[w.node];
+        forEachDragShare(m, drag, [&](std::uint32_t node, double share) { sum += share * share * m.inverseMass[node]; });
         lambda += drag.stiffness * sum;
         dampingRate = std::max(dampingRate, drag.damping * sum);
     }
@@ -148,10 +143,10 @@ StepReport Simulator::step(const ExternalForces& external) {
     m_lastGood = m_state;
 
     if (m_settings.sleep) {
-        double maxSpeed = 0.0;
-        for (std::size_t i = 0; i < m_model->nodeCount(); ++i)
-            maxSpeed = std::max(maxSpeed, m_state.velocity[i].norm());
-        m_quietSteps = maxSpeed < m_settings.sleepSpeed ? m_quietSteps + 1 : 0;
+        double maxSpeedSquared = 0.0;  // squared: no square root per node
+        for (const Vec3& v : m_state.velocity)
+            maxSpeedSquared = std::max(maxSpeedSquared, v.squaredNorm());
+        m_quietSteps = maxSpeedSquared < m_settings.sleepSpeed * m_settings.sleepSpeed ? m_quietSteps + 1 : 0;
         if (m_quietSteps >= m_settings.sleepSteps) {
             m_sleeping = true;
             m_sleepForces = external;

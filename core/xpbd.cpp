@@ -23,10 +23,9 @@ public:
         m_previous.resize(n);
         ForceTerms terms;
         terms.springs = false;
-        terms.springDamping = false;
         ExternalForces withoutDrags;  // drags are constraints below
         withoutDrags.gravity = external.gravity;
-        accumulateForces(model, withoutDrags, state.position, state.velocity, m_force, terms);
+        accumulateForces(model, withoutDrags, state.position, state.velocity, m_force, m_scratch, terms);
         for (std::size_t i = 0; i < n; ++i) {
             m_previous[i] = state.position[i];
             if (model.inverseMass[i] == 0.0)
@@ -92,6 +91,7 @@ private:
     }
 
     std::vector<Vec3> m_force;
+    SpringScratch m_scratch;
     std::vector<Vec3> m_previous;
 };
 

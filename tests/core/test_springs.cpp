@@ -1,4 +1,5 @@
-// Lattice spring topology: counts, voids, automatic void detection.
+// Lattice spring topology (counts, voids, automatic void detection) and the spring force pass.
+#include "core/forces.h"
 #include "core/lattice_body.h"
 #include "test_support.h"
 
@@ -22,6 +23,37 @@ SpringCounts expectedCounts(int nx, int ny, int nz) {
     return c;
 }
 
+/// The spring force on every node, spring by spring: k(|r| − L) r̂ + c (r̂·Δv) r̂ on a, the opposite on b.
+std::vector<Vec3> referenceSpringForces(const BodyModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v) {
+    std::vector<Vec3> f(model.nodeCount(), Vec3::Zero());
+    for (const Spring& s : model.springs) {
+        const Vec3 r = x[s.b] - x[s.a];
+        const double length = r.norm();
+        if (length == 0.0)
+            continue;
+        const Vec3 dir = r / length;
+        const Vec3 force = (s.stiffness * (length - s.restLength) + s.damping * dir.dot(v[s.b] - v[s.a])) * dir;
+        f[s.a] += force;
+        f[s.b] -= force;
+    }
+    return f;
+}
+
+/// A 4x4x4 body with mixed per-node stiffness and damping, its u = 0 face pinned and one void node.
+std::shared_ptr<const BodyModel> mixedBody() {
+    const Lattice lattice = makeLattice({4, 4, 4});
+    LatticeMaterial m = uniformMaterial(lattice, 0.01, 80, 0.3);
+    for (std::size_t i = 0; i < m.stiffness.size(); ++i) {
+        m.stiffness[i] = 10.0 + 37.0 * double(i % 7);
+        m.damping[i] = 0.05 * double(i % 5);
+    }
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 4; ++j)
+            m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
+    m.isVoid[std::size_t(lattice.index(2, 3, 3))] = 1;
+    return buildLatticeBody(lattice, m).value();
+}
+
 }  // namespace
 
 class TestSprings : public QObject {
@@ -34,6 +66,9 @@ private slots:
     void anisotropySoftensOneAxis();
     void autoVoidFindsEmptyCells();
     void badMaterialNamesTheNode();
+    void springForcesMatchThePerSpringFormula();
+    void springForcesSkipPinnedPairsAndZeroLengths();
+    void springForcesPropagateNonFinitePositions();
 };
 
 void TestSprings::counts_data() {
@@ -165,3 +200,94 @@ void TestSprings::badMaterialNamesTheNode() {
 
 QTEST_GUILESS_MAIN(TestSprings)
 #include "test_springs.moc"
+
+void TestSprings::springForcesMatchThePerSpringFormula() {
+    const auto model = mixedBody();
+    const std::size_t n = model->nodeCount();
+    std::vector<Vec3> x = model->restPositions, v(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double t = double(i);
+        x[i] += 0.04 * Vec3(std::sin(1.3 * t), std::cos(2.1 * t), std::sin(0.7 * t + 1.0));
+        v[i] = Vec3(std::cos(0.9 * t), 0.5 - std::sin(1.7 * t), 0.2 * t / double(n));
+    }
+    const std::vector<Vec3> expected = referenceSpringForces(*model, x, v);
+    std::vector<Vec3> f(n);
+    SpringScratch scratch;
+    ForceTerms terms;
+    terms.airDamping = false;
+    for (int pass = 0; pass < 2; ++pass) {  // the second pass reuses the scratch
+        accumulateForces(*model, ExternalForces{}, x, v, f, scratch, terms);
+        double largest = 0.0;
+        for (const Vec3& e : expected)
+            largest = std::max(largest, e.norm());
+        QVERIFY(largest > 1.0);  // the deformation really loads the springs
+        for (std::size_t i = 0; i < n; ++i) {
+            if (model->inverseMass[i] == 0.0) {
+                QCOMPARE(f[i], Vec3(Vec3::Zero()));  // pinned and void nodes get no spring force
+                continue;
+            }
+            QVERIFY2((f[i] - expected[i]).norm() <= 1e-12 * largest,
+                     qPrintable(QString("node %1: %2 off").arg(i).arg((f[i] - expected[i]).norm())));
+        }
+    }
+}
+
+void TestSprings::springForcesSkipPinnedPairsAndZeroLengths() {
+    const auto model = mixedBody();
+    const SpringTable& table = model->springTable;
+    int pinnedPairs = 0;
+    for (const Spring& s : model->springs)
+        pinnedPairs += model->pinned[s.a] && model->pinned[s.b];
+    QVERIFY(pinnedPairs > 0);
+    QCOMPARE(int(table.size()), int(model->springs.size()) - pinnedPairs);
+    // Every free node lists each of its springs once, at the end it sits on.
+    std::size_t listed = 0;
+    for (std::size_t i = 0; i < model->nodeCount(); ++i) {
+        listed += table.startOffset[i + 1] - table.startOffset[i] + table.endOffset[i + 1] - table.endOffset[i];
+        for (std::uint32_t e = table.startOffset[i]; e < table.startOffset[i + 1]; ++e)
+            QCOMPARE(table.a[table.startSpring[e]], std::uint32_t(i));
+        for (std::uint32_t e = table.endOffset[i]; e < table.endOffset[i + 1]; ++e)
+            QCOMPARE(table.b[table.endSpring[e]], std::uint32_t(i));
+    }
+    std::size_t freeEnds = 0;
+    for (std::size_t k = 0; k < table.size(); ++k)
+        freeEnds += (model->inverseMass[table.a[k]] > 0.0) + (model->inverseMass[table.b[k]] > 0.0);
+    QCOMPARE(listed, freeEnds);
+
+    // Two coincident nodes: the spring between them has no direction and adds nothing, and every
+    // other force stays finite.
+    std::vector<Vec3> x = model->restPositions, v(model->nodeCount(), Vec3::Zero());
+    const Spring& s = model->springs[std::size_t(model->springs.size() / 2)];
+    x[s.b] = x[s.a];
+    std::vector<Vec3> f(model->nodeCount());
+    SpringScratch scratch;
+    accumulateForces(*model, ExternalForces{}, x, v, f, scratch);
+    const std::vector<Vec3> expected = referenceSpringForces(*model, x, v);
+    for (std::size_t i = 0; i < model->nodeCount(); ++i) {
+        QVERIFY(isFinite(f[i]));
+        if (model->inverseMass[i] > 0.0)
+            QVERIFY((f[i] - expected[i]).norm() <= 1e-12 * (1.0 + expected[i].norm()));
+    }
+}
+
+void TestSprings::springForcesPropagateNonFinitePositions() {
+    // A NaN node must poison its neighbours' forces (so the simulator sees it and rolls back), not
+    // be masked by the zero-length guard.
+    const auto model = mixedBody();
+    std::vector<Vec3> x = model->restPositions, v(model->nodeCount(), Vec3::Zero());
+    const std::size_t bad = std::size_t(makeLattice({4, 4, 4}).index(2, 1, 1));
+    x[bad].y() = std::nan("");
+    std::vector<Vec3> f(model->nodeCount());
+    SpringScratch scratch;
+    accumulateForces(*model, ExternalForces{}, x, v, f, scratch);
+    QVERIFY(!isFinite(f[bad]));
+    int poisoned = 0;
+    for (const Spring& s : model->springs) {
+        const std::uint32_t other = s.a == bad ? s.b : s.b == bad ? s.a : std::uint32_t(-1);
+        if (other != std::uint32_t(-1) && model->inverseMass[other] > 0.0) {
+            QVERIFY(!isFinite(f[other]));
+            ++poisoned;
+        }
+    }
+    QCOMPARE(poisoned, 26);  // an interior node has 26 springs
+}
