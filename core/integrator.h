@@ -24,6 +24,12 @@ std::string_view integratorName(IntegratorKind kind);
 /// Parses a name written by integratorName().
 std::optional<IntegratorKind> parseIntegratorKind(std::string_view name);
 
+/// How an implicit scheme solved its last step's linear system.
+struct LinearSolveStats {
+    int iterations = 0;   ///< Conjugate-gradient iterations (0: nothing to solve, or not implicit).
+    bool direct = false;  ///< CG did not converge and the system was factorised and solved directly.
+};
+
 /// One time-integration scheme.
 class Integrator {
 public:
@@ -35,6 +41,8 @@ public:
     /// Advances `state` by h seconds. Pinned nodes keep their position with zero velocity; void
     /// nodes are left to updateVoidNodes().
     virtual void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) = 0;
+    /// How the last step's linear system was solved; all zero for schemes that solve none.
+    virtual LinearSolveStats lastSolve() const { return {}; }
 };
 
 /// Creates an integrator of the given kind.
