@@ -125,6 +125,26 @@ __attribute__((target_clones("avx2", "default"))) void Binding::evaluateChunk(co
                 dvw[0][v] = dv[v] * bw[v];
                 dvw[1][v] = bv[v] * dw[v];
             }
+            if (m_order[0] == 4 && !withNormals) {
+                // Cubic rows, positions only: the four nodes of the row in one pass, so the running
+                // sums are loaded and stored once per row instead of once per node.
+                float px[4], py[4], pz[4];
+                const float* bu[4];
+                for (int a = 0; a < 4; ++a) {
+                    const int node = (chunk.firstNode[0] + a) +
+                                     m_counts[0] * ((chunk.firstNode[1] + b) + m_counts[1] * (chunk.firstNode[2] + c));
+                    const Vec3 local = nodes[std::size_t(node)] - centre;
+                    px[a] = float(local.x()), py[a] = float(local.y()), pz[a] = float(local.z());
+                    bu[a] = basisRow(0, a, false) + s0;
+                }
+                for (std::uint32_t v = 0; v < n; ++v) {
+                    const float w0 = bu[0][v] * vw[v], w1 = bu[1][v] * vw[v], w2 = bu[2][v] * vw[v], w3 = bu[3][v] * vw[v];
+                    X[v] = (((X[v] + w0 * px[0]) + w1 * px[1]) + w2 * px[2]) + w3 * px[3];
+                    Y[v] = (((Y[v] + w0 * py[0]) + w1 * py[1]) + w2 * py[2]) + w3 * py[3];
+                    Z[v] = (((Z[v] + w0 * pz[0]) + w1 * pz[1]) + w2 * pz[2]) + w3 * pz[3];
+                }
+                continue;
+            }
             for (int a = 0; a < m_order[0]; ++a) {
                 const int node = (chunk.firstNode[0] + a) +
                                  m_counts[0] * ((chunk.firstNode[1] + b) + m_counts[1] * (chunk.firstNode[2] + c));
