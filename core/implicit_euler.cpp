@@ -126,8 +126,10 @@ private:
                 sum -= springProduct[t.endSpring[e]];
             y.segment<3>(Eigen::Index(3 * f)) = sum;
         }
-        if (m_U.cols() > 0)
-            y.noalias() += m_U * (m_U.transpose() * p);
+        if (m_U.cols() > 0) {
+            m_lowRank.noalias() = m_U.transpose() * p;
+            y.noalias() += m_U * m_lowRank;
+        }
     }
 
     /// Writes the linearised system into m_matrix (for factorisations only: CG runs matrix-free).
@@ -249,8 +251,11 @@ private:
         }
         auto precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& y) {
             m_rest.solveInto(r, y);
-            if (m_U.cols() > 0)
-                y.noalias() -= m_Z * m_small.solve(m_U.transpose() * y);
+            if (m_U.cols() > 0) {
+                m_lowRank.noalias() = m_U.transpose() * y;
+                m_small.solveInPlace(m_lowRank);
+                y.noalias() -= m_Z * m_lowRank;
+            }
         };
         m_x.setZero(m_rhs.size());
         m_r = m_rhs;
@@ -401,6 +406,7 @@ private:
     // Conjugate gradients (kept: no allocation per step).
     Eigen::VectorXd m_x, m_r, m_z, m_p, m_Ap;
     Eigen::VectorXd m_padded;                ///< p with a zero node appended (applyMatrix()).
+    Eigen::VectorXd m_lowRank;               ///< Uᵀ times a vector (3 per drag).
     std::vector<Vec3> m_springProduct;       ///< Per table spring: S (p_a − p_b).
 };
 
