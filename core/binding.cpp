@@ -120,10 +120,13 @@ __attribute__((target_clones("avx2", "default"))) void Binding::evaluateChunk(co
         for (int b = 0; b < m_order[1]; ++b) {
             const float* bv = basisRow(1, b, false) + s0;
             const float* dv = basisRow(1, b, true) + s0;
-            for (std::uint32_t v = 0; v < n; ++v) {
+            for (std::uint32_t v = 0; v < n; ++v)
                 vw[v] = bv[v] * bw[v];
-                dvw[0][v] = dv[v] * bw[v];
-                dvw[1][v] = bv[v] * dw[v];
+            if (withNormals) {
+                for (std::uint32_t v = 0; v < n; ++v) {
+                    dvw[0][v] = dv[v] * bw[v];
+                    dvw[1][v] = bv[v] * dw[v];
+                }
             }
             if (m_order[0] == 4 && !withNormals) {
                 // Cubic rows, positions only: the four nodes of the row in one pass, so the running
