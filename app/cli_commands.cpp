@@ -147,6 +147,9 @@ int runBake(const std::vector<std::string>& args) {
     for (std::size_t i = 1; i < result->files.size(); ++i)
         std::printf("wrote %s\n", result->files[i].string().c_str());
     std::printf("rest mesh %s\n", result->restMesh.string().c_str());
+    if (const int unchanged = result->frames * result->objects - result->meshEvaluations; unchanged > 0)
+        std::printf("%d of %d object frames unchanged (asleep or held): their meshes were not deformed again\n",
+                    unchanged, result->frames * result->objects);
     if (!result->clip.empty())
         std::printf("clip %s\n", result->clip.c_str());
     if (result->seam)

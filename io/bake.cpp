@@ -1,5 +1,7 @@
 #include "io/bake.h"
 
+#include "core/node_change.h"
+
 #include "io/frame_source.h"
 
 #include <cmath>
@@ -69,6 +71,9 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     FrameData frame;
     frame.positions = positions;
     frame.normals = normals;
+    // An object whose nodes did not move keeps last frame's mesh (a sleeping body costs nothing).
+    std::vector<NodeChangeTracker> moved(sim.objectCount());
+    result.objects = int(sim.objectCount());
     for (int f = 0; f < frames; ++f) {
         source.seek(f, &result.warnings);
         std::size_t offset = 0;
@@ -76,7 +81,10 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
             const std::size_t n = sim.object(i).mesh.positions.size();
             const std::span<Vec3f> objectNormals =
                 normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
-            source.evaluate(i, std::span<Vec3f>(positions).subspan(offset, n), objectNormals, options.threads);
+            if (moved[i].changed(source.nodes(i))) {
+                source.evaluate(i, std::span<Vec3f>(positions).subspan(offset, n), objectNormals, options.threads);
+                ++result.meshEvaluations;
+            }
             offset += n;
         }
         frame.nodes.clear();

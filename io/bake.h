@@ -40,6 +40,9 @@ struct BakeResult {
     std::vector<std::filesystem::path> files; ///< Every file the export wrote (exportOutputs()), rest mesh excluded.
     std::filesystem::path restMesh;  ///< The OBJ whose vertex order the cache follows.
     int frames = 0;                  ///< Frames written.
+    int objects = 0;                 ///< Objects in the scene.
+    int meshEvaluations = 0;         ///< Object meshes deformed: an object whose nodes did not move since the
+                                     ///< last frame (asleep, or a held clip frame) keeps its mesh, at no cost.
     std::size_t points = 0;          ///< Vertices per frame.
     std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …) and the exporter's (engine limits).
     std::string clip;                ///< The clip baked; empty for the drivers from frame 0.

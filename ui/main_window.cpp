@@ -311,10 +311,13 @@ void MainWindow::refreshOutliner() {
 void MainWindow::refreshStatus() {
     const SimulationStats& s = m_simulation->stats();
     const SceneSimulation* sim = m_simulation->simulation();
-    m_statusSim->setText(tr("%1 steps/s · %2 µs/step · %3× real time")
-                             .arg(s.stepsPerSecond, 0, 'f', 0)
-                             .arg(s.stepMicros, 0, 'f', 1)
-                             .arg(s.realtimeFactor, 0, 'f', 2));
+    if (s.asleep)
+        m_statusSim->setText(tr("asleep: nothing moves, nothing is simulated or redrawn"));
+    else
+        m_statusSim->setText(tr("%1 steps/s · %2 µs/step · %3× real time")
+                                 .arg(s.stepsPerSecond, 0, 'f', 0)
+                                 .arg(s.stepMicros, 0, 'f', 1)
+                                 .arg(s.realtimeFactor, 0, 'f', 2));
     m_statusFrame->setText(tr("frame %1 ms").arg(m_viewport->frameMilliseconds(), 0, 'f', 2));
     std::size_t triangles = 0;
     if (sim)

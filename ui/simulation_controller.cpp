@@ -72,6 +72,7 @@ void SimulationController::advance(double seconds) {
     applyGrabs();
     if (m_recorder.isRecording())
         m_recorder.recordStep(*m_sim);  // grabs are constant within one advance
+    const bool wasAsleep = everyBodyAsleep();
     const long long before = m_sim->stepCount();
     std::vector<std::string> problems;
     QElapsedTimer cost;
@@ -83,9 +84,19 @@ void SimulationController::advance(double seconds) {
     const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
     m_stats.stableStepSeconds = m_sim->simulator(0).stableStep(forces);
     m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
+    m_stats.asleep = everyBodyAsleep();
     for (const std::string& p : problems)
         emit problemReported(QString::fromStdString(p));
-    emit stepped();
+    if (!(wasAsleep && m_stats.asleep))  // asleep before and after: no node moved, nothing to redraw
+        emit stepped();
+}
+
+bool SimulationController::everyBodyAsleep() const {
+    for (std::size_t i = 0; i < m_sim->objectCount(); ++i) {
+        if (!m_sim->simulator(i).isSleeping())
+            return false;
+    }
+    return true;
 }
 
 void SimulationController::tick() {

@@ -24,6 +24,7 @@ struct SimulationStats {
     double stableStepSeconds = 0.0;///< Explicit stability bound for the current forces, seconds.
     int substeps = 0;              ///< Substeps the last step took (explicit schemes).
     double realtimeFactor = 0.0;   ///< Simulated seconds per wall second while playing (1 = real time).
+    bool asleep = false;           ///< Every body slept through the last advance: nothing moved or was drawn.
 };
 
 /// A user's grab of an object: which object and the drag spring on it.
@@ -81,7 +82,8 @@ public slots:
     void setDriversEnabled(bool enabled);
 
 signals:
-    /// New node positions are available.
+    /// New node positions are available. Not emitted by an advance during which every body slept:
+    /// an unchanged frame is not drawn again.
     void stepped();
     /// The scene was rebuilt (object count or lattices may differ).
     void rebuilt();
@@ -93,6 +95,8 @@ signals:
     void problemReported(const QString& message);
 
 private:
+    /// True when every body is asleep (its steps cost a comparison and move nothing).
+    bool everyBodyAsleep() const;
     void rebuild(bool keepState);
     void tick();
     void applyGrabs();

@@ -236,6 +236,7 @@ private slots:
     void cancelledBakeLeavesOldFiles();
     void nonFiniteFrameLeavesOldFiles_data();
     void nonFiniteFrameLeavesOldFiles();
+    void unchangedFramesAreNotDeformedAgain();
     void unwritablePathFailsEarly_data();
     void unwritablePathFailsEarly();
 
@@ -715,3 +716,30 @@ void TestExports::unwritablePathFailsEarly() {
 
 QTEST_GUILESS_MAIN(TestExports)
 #include "test_exports.moc"
+
+void TestExports::unchangedFramesAreNotDeformedAgain() {
+    QTemporaryDir dir;
+    const fs::path root(dir.path().toStdString());
+    // The swimming fish moves every frame: every frame is deformed.
+    const BakeResult swimming = bakeTo(m_fish, CacheFormat::Pc2, root / "swim.pc2");
+    QCOMPARE(swimming.objects, 1);
+    QCOMPARE(swimming.meshEvaluations, kFrames);
+
+    // Without its drivers (and no gravity) nothing acts on it: its nodes never move, so only the
+    // first frame is deformed, and every frame of the cache is still written and still the rest mesh.
+    Scene still = m_fish;
+    for (SceneObject& object : still.objects)
+        object.drivers.clear();
+    still.world.gravity = Vec3::Zero();
+    const BakeResult resting = bakeTo(still, CacheFormat::Pc2, root / "still.pc2");
+    QCOMPARE(resting.meshEvaluations, 1);
+    const Result<VertexCache> cache = readPc2(root / "still.pc2");
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache.value().frames.size()), kFrames);
+    const Mesh& rest = still.objects[0].mesh;
+    for (const auto& frame : cache.value().frames) {
+        QCOMPARE(frame.size(), rest.positions.size());
+        for (std::size_t v = 0; v < frame.size(); ++v)
+            QVERIFY((frame[v] - rest.positions[v]).norm() <= 1e-5f);
+    }
+}

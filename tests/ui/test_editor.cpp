@@ -105,6 +105,7 @@ private slots:
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void mouseDragPullsAndReleaseSwingsBack();
+    void restingFishIsNotRedrawn();
     void secondHandHoldsAndPenPressureScalesTheSpring();
     void saveAndReopenGivesTheSameScene();
     void recoversAutosaveAfterKill();
@@ -334,6 +335,35 @@ void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
     const double settled = maxDistance(view->deformedPositions(0), rest);
     QVERIFY2(settled < 0.2 * pulled, qPrintable(QString("still %1 of the pull away after 6 s").arg(settled / pulled)));
     QVERIFY(swinging > settled);
+}
+
+void TestEditor::restingFishIsNotRedrawn() {
+    // With its drivers off nothing acts on the fish: it falls asleep, and while it sleeps playing
+    // costs nothing — no step moves a node, so no frame is announced for drawing — until a grab wakes it.
+    MainWindow& w = *m_window;
+    w.simulation()->setDriversEnabled(false);
+    w.simulation()->advance(1.0);
+    QVERIFY(w.simulation()->simulation()->simulator(0).isSleeping());
+    QSignalSpy frames(w.simulation(), &SimulationController::stepped);
+    const std::vector<Vec3> before = w.simulation()->simulation()->simulator(0).state().position;
+    for (int i = 0; i < 10; ++i)
+        w.simulation()->advance(0.1);
+    QCOMPARE(frames.count(), 0);
+    QVERIFY(w.simulation()->stats().asleep);
+    QVERIFY(w.simulation()->simulation()->simulator(0).state().position == before);
+
+    Viewport* view = w.viewport();
+    const SceneObject& fish = w.document()->scene().objects[0];
+    const Bounds bounds = fish.mesh.bounds();
+    const QPoint grabAt = view->toWidget(0.5 * (bounds.min + bounds.max)).toPoint();
+    QTest::mousePress(view, Qt::LeftButton, {}, grabAt);
+    w.simulation()->pause();
+    QVERIFY2(w.simulation()->grab(0).has_value(), "the press did not hit the fish");
+    QTest::mouseMove(view, grabAt + QPoint(0, -40));
+    w.simulation()->advance(0.1);
+    QVERIFY(frames.count() > 0);
+    QVERIFY(!w.simulation()->stats().asleep);
+    QTest::mouseRelease(view, Qt::LeftButton, {}, grabAt + QPoint(0, -40));
 }
 
 void TestEditor::secondHandHoldsAndPenPressureScalesTheSpring() {
