@@ -1,6 +1,7 @@
 #include "core/binding.h"
 
 #include "core/parallel.h"
+#include "core/vector_clones.h"
 
 #include <algorithm>
 #include <cassert>
@@ -103,7 +104,7 @@ void Binding::evaluate(std::span<const Vec3> nodes, std::span<Vec3f> positions, 
 
 // Vectorised across vertices, so AVX2 computes each vertex with exactly the operations SSE2 does (no FMA:
 // -ffp-contract=off): clones only change speed, never results.
-__attribute__((target_clones("avx2", "default"))) void Binding::evaluateChunk(const Chunk& chunk, std::span<const Vec3> nodes, const Vec3& centre,
+SOFTTOUCH_VECTOR_CLONES void Binding::evaluateChunk(const Chunk& chunk, std::span<const Vec3> nodes, const Vec3& centre,
                             std::span<Vec3f> positions, std::span<Vec3f> normals) const {
     const std::uint32_t n = chunk.end - chunk.begin;
     const std::uint32_t s0 = chunk.begin;

@@ -5,15 +5,10 @@
 #include "core/spring_forces.h"
 
 #include "core/body_model.h"
+#include "core/vector_clones.h"
 
 #include <cassert>
 #include <cmath>
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define SOFTTOUCH_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define SOFTTOUCH_VECTOR_CLONES
-#endif
 
 namespace softtouch {
 
