@@ -114,6 +114,12 @@ SOFTTOUCH_VECTOR_CLONES void Binding::evaluateChunk(const Chunk& chunk, std::spa
     alignas(64) float D[3][3][kChunk] = {};
     alignas(64) float vw[kChunk];
     alignas(64) float dvw[2][kChunk];  // (dv * w), (v * dw)
+    // Node (a, b, c) of the chunk's cell block, relative to the centre, in float.
+    auto localNode = [&](int a, int b, int c) {
+        const int node = (chunk.firstNode[0] + a) +
+                         m_counts[0] * ((chunk.firstNode[1] + b) + m_counts[1] * (chunk.firstNode[2] + c));
+        return Vec3f((nodes[std::size_t(node)] - centre).cast<float>());
+    };
 
     for (int c = 0; c < m_order[2]; ++c) {
         const float* bw = basisRow(2, c, false) + s0;
@@ -135,10 +141,8 @@ SOFTTOUCH_VECTOR_CLONES void Binding::evaluateChunk(const Chunk& chunk, std::spa
                 float px[4], py[4], pz[4];
                 const float* bu[4];
                 for (int a = 0; a < 4; ++a) {
-                    const int node = (chunk.firstNode[0] + a) +
-                                     m_counts[0] * ((chunk.firstNode[1] + b) + m_counts[1] * (chunk.firstNode[2] + c));
-                    const Vec3 local = nodes[std::size_t(node)] - centre;
-                    px[a] = float(local.x()), py[a] = float(local.y()), pz[a] = float(local.z());
+                    const Vec3f local = localNode(a, b, c);
+                    px[a] = local.x(), py[a] = local.y(), pz[a] = local.z();
                     bu[a] = basisRow(0, a, false) + s0;
                 }
                 for (std::uint32_t v = 0; v < n; ++v) {
@@ -150,10 +154,8 @@ SOFTTOUCH_VECTOR_CLONES void Binding::evaluateChunk(const Chunk& chunk, std::spa
                 continue;
             }
             for (int a = 0; a < m_order[0]; ++a) {
-                const int node = (chunk.firstNode[0] + a) +
-                                 m_counts[0] * ((chunk.firstNode[1] + b) + m_counts[1] * (chunk.firstNode[2] + c));
-                const Vec3 local = nodes[std::size_t(node)] - centre;
-                const float px = float(local.x()), py = float(local.y()), pz = float(local.z());
+                const Vec3f local = localNode(a, b, c);
+                const float px = local.x(), py = local.y(), pz = local.z();
                 const float* bu = basisRow(0, a, false) + s0;
                 for (std::uint32_t v = 0; v < n; ++v) {
                     const float w = bu[v] * vw[v];
