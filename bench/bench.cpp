@@ -31,35 +31,55 @@ std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice) {
     return buildLatticeBody(lattice, m).value();
 }
 
-/// Microseconds per step of a dragged lattice (a moving target keeps it awake).
+/// A benchBody() lattice pulled at its free end by one drag whose target moves on every step (which
+/// keeps it awake), or, when `sleeping`, left alone until it sleeps. The scene of the step and frame
+/// benchmarks.
+struct DraggedBody {
+    DraggedBody(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool leftToSleep)
+        : lattice(Lattice::create(shape, OrientedBox{}).value()),
+          sim(benchBody(lattice), settingsFor(integrator, leftToSleep)), forces(base), sleeping(leftToSleep) {
+        drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
+        drag.stiffness = 50.0;
+        drag.damping = 0.5;
+        if (sleeping) {
+            for (int i = 0; i < 2000 && !sim.isSleeping(); ++i)
+                (void)sim.step(forces);
+        }
+    }
+    static SimulationSettings settingsFor(IntegratorKind integrator, bool leftToSleep) {
+        SimulationSettings settings;
+        settings.integrator = integrator;
+        settings.dt = 1.0 / 240.0;
+        settings.sleep = leftToSleep;
+        return settings;
+    }
+    /// One simulator step, the drag target moved first unless the body is left to sleep.
+    void step() {
+        if (!sleeping) {
+            drag.target = Vec3(1.0, 0.5 + 0.2 * std::sin(0.05 * double(steps)), 0.5);
+            forces.drags.assign(1, drag);
+        }
+        (void)sim.step(forces);
+        ++steps;
+    }
+
+    Lattice lattice;
+    Simulator sim;
+    ExternalForces forces;
+    DragSpring drag;
+    bool sleeping = false;  ///< Left to sleep: the drag is never applied.
+    long long steps = 0;
+};
+
+/// Microseconds per step of a DraggedBody.
 double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool sleeping,
                         double minSeconds) {
-    const Lattice lattice = Lattice::create(shape, OrientedBox{}).value();
-    SimulationSettings settings;
-    settings.integrator = integrator;
-    settings.dt = 1.0 / 240.0;
-    settings.sleep = sleeping;
-    Simulator sim(benchBody(lattice), settings);
-    ExternalForces forces = base;
-    DragSpring drag;
-    drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
-    drag.stiffness = 50.0;
-    drag.damping = 0.5;
+    DraggedBody body(shape, integrator, base, sleeping);
     const int batch = 200;
-    long long step = 0;
     auto run = [&] {
-        for (int i = 0; i < batch; ++i, ++step) {
-            if (!sleeping) {
-                drag.target = Vec3(1.0, 0.5 + 0.2 * std::sin(0.05 * double(step)), 0.5);
-                forces.drags.assign(1, drag);
-            }
-            (void)sim.step(forces);
-        }
+        for (int i = 0; i < batch; ++i)
+            body.step();
     };
-    if (sleeping) {
-        for (int i = 0; i < 2000 && !sim.isSleeping(); ++i)
-            (void)sim.step(forces);
-    }
     return 1e6 * bestSecondsPerUnit(run, batch, minSeconds);
 }
 
@@ -154,40 +174,25 @@ json table1(const BenchOptions& options, std::ostream& out) {
     return rows;
 }
 
-/// Microseconds per 60 Hz frame of a 4x4x4 body deforming 100,000 scattered vertices (positions and
-/// normals, one thread): four steps of 1/240 s, then the mesh, unless the nodes did not move.
+/// Microseconds per 60 Hz frame of a 4x4x4 DraggedBody (symplectic Euler) deforming 100,000 scattered
+/// vertices (positions and normals, one thread): four steps of 1/240 s, then the mesh, unless the
+/// nodes did not move.
 double frameMicroseconds(bool sleeping, double minSeconds) {
-    const Lattice lattice = Lattice::create({}, OrientedBox{}).value();
-    SimulationSettings settings;
-    settings.integrator = IntegratorKind::SymplecticEuler;
-    Simulator sim(benchBody(lattice), settings);
+    DraggedBody body({}, IntegratorKind::SymplecticEuler, {}, sleeping);
     std::vector<Vec3f> points, normals(100000, Vec3f::UnitY());
     unsigned seed = 11;
     auto next = [&] { seed = seed * 1664525u + 1013904223u; return float(seed >> 8) / float(1u << 24); };
     for (std::size_t i = 0; i < normals.size(); ++i)
         points.emplace_back(next(), next(), next());
-    const Binding binding = Binding::create(lattice, points, normals);
+    const Binding binding = Binding::create(body.lattice, points, normals);
     std::vector<Vec3f> outPositions(points.size()), outNormals(points.size());
     NodeChangeTracker moved;
-    ExternalForces forces;
-    DragSpring drag;
-    drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
-    long long step = 0;
     auto frame = [&] {
-        for (int i = 0; i < 4; ++i, ++step) {
-            if (!sleeping) {
-                drag.target = Vec3(1.0, 0.5 + 0.2 * std::sin(0.05 * double(step)), 0.5);
-                forces.drags.assign(1, drag);
-            }
-            (void)sim.step(forces);
-        }
-        if (moved.changed(sim.state().position))
-            binding.evaluate(sim.state().position, outPositions, outNormals, 1);
+        for (int i = 0; i < 4; ++i)
+            body.step();
+        if (moved.changed(body.sim.state().position))
+            binding.evaluate(body.sim.state().position, outPositions, outNormals, 1);
     };
-    if (sleeping) {
-        for (int i = 0; i < 2000 && !sim.isSleeping(); ++i)
-            (void)sim.step(forces);
-    }
     return 1e6 * bestSecondsPerUnit(frame, 1, minSeconds);
 }
 
