@@ -15,5 +15,6 @@ int runStability(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
 int runPreset(const std::vector<std::string>& args);
 int runHaptic(const std::vector<std::string>& args);
+int runModes(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

@@ -66,8 +66,9 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         return Status::error("void has " + std::to_string(d.isVoid.size()) + " values for " + std::to_string(n) + " nodes");
     if (!inRange(d.heavyAnchorRatio, 1.0, 1e9))
         return Status::error("heavy anchor ratio must be in [1, 1e9], got " + std::to_string(d.heavyAnchorRatio));
-    if (!inRange(d.airDamping, 0.0, 1e6))
-        return Status::error("air damping must be in [0, 1e6] N·s/m, got " + std::to_string(d.airDamping));
+    if (!d.nodeDamping.empty() && d.nodeDamping.size() != n)
+        return Status::error("node damping has " + std::to_string(d.nodeDamping.size()) + " values for " +
+                             std::to_string(n) + " nodes");
 
     auto model = std::make_shared<BodyModel>();
     model->restPositions = d.restPositions;
@@ -75,7 +76,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     model->inverseMass.assign(n, 0.0);
     model->simulated.assign(n, 1);
     model->pinned.assign(n, 0);
-    model->airDamping = d.airDamping;
+    model->nodeDamping.assign(n, 0.0);
     bool anySimulated = false;
     for (std::size_t i = 0; i < n; ++i) {
         const std::string node = "node " + std::to_string(i);
@@ -93,6 +94,13 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         model->mass[i] = mode == AnchorMode::Heavy ? d.mass[i] * d.heavyAnchorRatio : d.mass[i];
         model->pinned[i] = mode == AnchorMode::Pinned;
         model->inverseMass[i] = mode == AnchorMode::Pinned ? 0.0 : 1.0 / model->mass[i];
+        const double damping = d.nodeDamping.empty() ? 0.0 : d.nodeDamping[i];
+        if (!inRange(damping, 0.0, 1e6))
+            return Status::error(node + " has node damping " + std::to_string(damping) +
+                                 " N·s/m; it must be finite and in [0, 1e6] N·s/m");
+        model->nodeDamping[i] = damping;
+        model->anyNodeDamping = model->anyNodeDamping || damping > 0.0;
+        model->maxNodeDampingRate = std::max(model->maxNodeDampingRate, damping * model->inverseMass[i]);
         anySimulated = true;
     }
     if (!anySimulated)

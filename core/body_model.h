@@ -47,7 +47,8 @@ struct BodyDescription {
     std::vector<Spring> springs;         ///< Springs touching void nodes are dropped.
     std::vector<VoidFollower> voidFollowers; ///< In resolution order; see VoidFollower.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors. Range [1, 1e9]. Paper: 1e4.
-    double airDamping = 0.0;             ///< Damping on absolute node velocity (the paper's d_i), N·s/m, [0, 1e6].
+    std::vector<double> nodeDamping;     ///< Damping on each node's absolute velocity (the paper's d_i), N·s/m,
+                                         ///< [0, 1e6]. Empty means none.
 };
 
 /// Immutable, validated body.
@@ -60,7 +61,9 @@ struct BodyModel {
     std::vector<Spring> springs;         ///< Springs between simulated nodes only.
     SpringTable springTable;             ///< The springs that move a free node, laid out for the force pass.
     std::vector<VoidFollower> voidFollowers; ///< See VoidFollower.
-    double airDamping = 0.0;             ///< N·s/m on absolute velocity, every simulated node.
+    std::vector<double> nodeDamping;     ///< d_i, N·s/m on absolute velocity (the paper's D); 0 for void nodes.
+    bool anyNodeDamping = false;         ///< Some d_i > 0 (otherwise the force pass skips the term).
+    double maxNodeDampingRate = 0.0;     ///< Largest d_i / m_i over free nodes (1/s); filled by build.
     double maxStiffnessOverMass = 0.0;   ///< Largest eigenvalue of M^-1 K at rest (1/s^2); filled by build.
     double maxDampingRatio = 0.0;        ///< Largest c/k over springs (s); filled by build.
     double maxInverseMass = 0.0;         ///< Largest inverse mass of a free node (1/kg); filled by build.

@@ -27,7 +27,7 @@ private:
 };
 
 /// Central differences, as in the paper: M (x+ − 2x + x−)/h² + D (x+ − x−)/2h + f_int(x) = F.
-/// With the diagonal (air) damping D taken central in time, each node solves in closed form:
+/// With the diagonal (node) damping D taken central in time, each node solves in closed form:
 ///   x+ = (2x − x− + h² a + (h d / 2m) x−) / (1 + h d / 2m),
 /// where a holds every other force at time n (spring damping uses the backward velocity). The state
 /// velocity is the backward difference (x − x−)/h, so x− = x − h v survives save/restore.
@@ -37,17 +37,16 @@ public:
     bool isExplicit() const override { return true; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
         m_force.resize(model.nodeCount());
-        // Air damping is handled implicitly below, so it stays out of the explicit forces.
+        // Node damping is handled implicitly below, so it stays out of the explicit forces.
         ForceTerms terms;
-        terms.airDamping = false;
-        const double airDamping = model.airDamping;
+        terms.nodeDamping = false;
         accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms);
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
             const Vec3 x = state.position[i];
             const Vec3 previous = x - h * state.velocity[i];
-            const double c = 0.5 * h * airDamping * model.inverseMass[i];
+            const double c = 0.5 * h * model.nodeDamping[i] * model.inverseMass[i];
             const Vec3 next = (2.0 * x - previous + h * h * model.inverseMass[i] * m_force[i] + c * previous) / (1.0 + c);
             state.velocity[i] = (next - x) / h;
             state.position[i] = next;

@@ -57,8 +57,8 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
     const bool gravity = !external.gravity.isZero();
     for (std::size_t i = 0; i < n; ++i) {
         f[i] = gravity ? Vec3(model.mass[i] * external.gravity) : Vec3::Zero();
-        if (terms.airDamping && model.airDamping > 0.0)
-            f[i] -= model.airDamping * v[i];
+        if (terms.nodeDamping && model.anyNodeDamping)
+            f[i] -= model.nodeDamping[i] * v[i];
     }
     if (terms.springs)
         addSpringForces(model.springTable, x, v, f, scratch);

@@ -53,10 +53,10 @@ struct ExternalForces {
 /// Which force terms accumulateForces() adds.
 struct ForceTerms {
     bool springs = true;       ///< Spring forces: elastic k(|r|-L) r̂ and damping c ((v_b - v_a)·r̂) r̂.
-    bool airDamping = true;    ///< −d v on every node (the paper's D).
+    bool nodeDamping = true;   ///< −d_i v_i on every node (the paper's D, absolute velocity).
 };
 
-/// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, air
+/// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, node
 /// damping, gravity (m·g), drags. Only free nodes' forces are meaningful; pinned and void nodes get
 /// gravity and damping but no spring or drag force. `scratch` is the caller's, so nothing is allocated.
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,

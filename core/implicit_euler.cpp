@@ -55,7 +55,7 @@ private:
         auto rhs = [&](std::uint32_t node) { return m_rhs.segment<3>(Eigen::Index(3 * m_dof[node])); };
         for (std::size_t f = 0; f < free; ++f) {
             const std::uint32_t i = m_freeNodes[f];
-            m_diagonal[f] = model.mass[i] + h * model.airDamping;
+            m_diagonal[f] = model.mass[i] + h * model.nodeDamping[i];
             rhs(i) = h * m_force[i];
         }
         const SpringTable& t = model.springTable;  // springs with a free end

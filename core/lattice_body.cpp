@@ -133,7 +133,7 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     d.isVoid = material.isVoid;
     d.springs = latticeSprings(lattice, material);
     d.heavyAnchorRatio = material.heavyAnchorRatio;
-    d.airDamping = material.airDamping;
+    d.nodeDamping.assign(d.restPositions.size(), material.airDamping);
     // Void nodes follow already-resolved 26-neighbours, resolved ring by ring outward from the body.
     const int n = lattice.nodeCount();
     std::vector<std::uint8_t> resolved(std::size_t(n), 0);

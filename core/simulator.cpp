@@ -43,7 +43,7 @@ void Simulator::restoreState(const BodyState& state, long long stepCount) {
 double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
     double lambda = m.maxStiffnessOverMass;
-    double dampingRate = m.airDamping * m.maxInverseMass;  // largest c/m-like rate from air damping and drags
+    double dampingRate = m.maxNodeDampingRate;  // largest d/m-like rate from node damping and drags
     // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks Σ ŵ²/m (Weyl's bound).
     for (const DragSpring& drag : external.drags) {
         double sum = 0.0;

@@ -23,7 +23,7 @@ std::vector<Vec3> referenceDeltaV(const BodyModel& model, const ExternalForces& 
     auto free = [&](std::size_t i) { return model.inverseMass[i] > 0.0; };
     for (Eigen::Index i = 0; i < n; ++i) {
         const std::size_t node = std::size_t(i);
-        A.block<3, 3>(3 * i, 3 * i) = Mat3::Identity() * (free(node) ? model.mass[node] + h * model.airDamping : 1.0);
+        A.block<3, 3>(3 * i, 3 * i) = Mat3::Identity() * (free(node) ? model.mass[node] + h * model.nodeDamping[node] : 1.0);
         if (free(node))
             b.segment<3>(3 * i) = h * force[node];
     }

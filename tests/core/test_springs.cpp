@@ -214,7 +214,7 @@ void TestSprings::springForcesMatchThePerSpringFormula() {
     std::vector<Vec3> f(n);
     SpringScratch scratch;
     ForceTerms terms;
-    terms.airDamping = false;
+    terms.nodeDamping = false;
     for (int pass = 0; pass < 2; ++pass) {  // the second pass reuses the scratch
         accumulateForces(*model, ExternalForces{}, x, v, f, scratch, terms);
         double largest = 0.0;

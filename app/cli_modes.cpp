@@ -1,0 +1,103 @@
+// `softtouch-cli modes`: the lowest vibration modes of each object of a scene, with what the scene's
+// integrator and step do to them (core/modes.h, core/mode_accuracy.h). The editor's Properties show
+// the same figures.
+#include "app/cli_commands.h"
+#include "app/cli_support.h"
+
+#include "core/mode_accuracy.h"
+#include "core/modes.h"
+#include "io/project_file.h"
+
+#include <cstdio>
+
+namespace softtouch::cli {
+namespace {
+
+constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME]
+
+Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
+damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
+and what the scene's integrator at its time step does to each mode: amplitude kept per period against
+what the material alone keeps, and the frequency error. Anchors and voids are as in the scene; the
+analysis is linear, so it describes small wobbles (docs/lattice.md).
+
+Options:
+  --count N       Modes per object, 1..20 (default 3).
+  --object NAME   Only this object.
+
+Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad usage.
+)";
+
+}  // namespace
+
+int runModes(const std::vector<std::string>& args) {
+    std::string scenePath, objectName;
+    int count = 3;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--help" || a == "-h") {
+            std::fputs(kModesUsage, stdout);
+            return 0;
+        }
+        if (a == "--count" || a == "--object") {
+            if (i + 1 == args.size())
+                return usageError(a + " needs a value", "modes");
+            const std::string& value = args[++i];
+            if (a == "--object") {
+                objectName = value;
+                continue;
+            }
+            const auto n = parseNumber(value);
+            if (!n || *n < 1 || *n > 20 || *n != double(int(*n)))
+                return usageError("--count must be a whole number in [1, 20], got '" + value + "'", "modes");
+            count = int(*n);
+        } else if (!a.empty() && a[0] == '-') {
+            return usageError("unknown modes option '" + a + "'", "modes");
+        } else if (scenePath.empty()) {
+            scenePath = a;
+        } else {
+            return usageError("unexpected argument '" + a + "'", "modes");
+        }
+    }
+    if (scenePath.empty())
+        return usageError("modes needs a SCENE", "modes");
+    auto project = io::loadProject(scenePath);
+    if (!project)
+        return fail(project.message());
+    const Scene& scene = project->scene;
+    const SimulationSettings& settings = scene.world.simulation;
+    bool found = false;
+    for (const SceneObject& object : scene.objects) {
+        if (!objectName.empty() && object.name != objectName)
+            continue;
+        found = true;
+        auto body = buildLatticeBody(object.lattice, object.material);
+        if (!body)
+            return fail(scenePath + ": object '" + object.name + "': " + body.message());
+        auto modes = analyseModes(*body.value(), count);
+        if (!modes)
+            return fail(scenePath + ": object '" + object.name + "': " + modes.message());
+        const double h = integrationStep(Simulator(body.value(), settings));
+        std::printf("%s: %d unknowns, %d rigid modes; %s, dt %.6g s (step %.6g s)\n", object.name.c_str(),
+                    modes->unknowns, modes->rigidModes, std::string(integratorName(settings.integrator)).c_str(),
+                    settings.dt, h);
+        std::printf("  mode  frequency_hz  damping_ratio  node_part  spring_part  kept_per_period  material_alone  frequency_error\n");
+        for (std::size_t m = 0; m < modes->modes.size(); ++m) {
+            const VibrationMode& mode = modes->modes[m];
+            const ModeAccuracy a = schemeAccuracy(body.value(), settings, mode);
+            std::printf("  %4zu  %12.4f  %13.4f  %9.4f  %11.4f  %14.1f%%  %13.1f%%  %+14.2f%%\n", m + 1, mode.frequencyHz,
+                        mode.dampingRatio, mode.nodeDampingRatio, mode.springDampingRatio, 100.0 * a.amplitudePerPeriod,
+                        100.0 * a.exactAmplitudePerPeriod, 100.0 * a.frequencyError);
+        }
+        if (!modes->modes.empty()) {
+            const VibrationMode& lowest = modes->modes.front();
+            std::printf("  %s\n",
+                        describeModeAccuracy(settings, lowest, schemeAccuracy(body.value(), settings, lowest)).c_str());
+        }
+    }
+    if (!found)
+        return fail(scenePath + ": no object named '" + objectName + "'");
+    return 0;
+}
+
+}  // namespace softtouch::cli

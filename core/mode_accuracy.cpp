@@ -1,0 +1,194 @@
+#include "core/mode_accuracy.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace softtouch {
+
+namespace {
+
+/// One step of `kind` on the unit-mass oscillator q̈ = −ω² q − (a + s) q̇, where a is the rate of node
+/// (absolute) damping and s that of spring (relative) damping, mirroring each scheme's code.
+Eigen::Vector2d stepOscillator(IntegratorKind kind, double omega, double a, double s, double h, Eigen::Vector2d state) {
+    const double q = state[0], v = state[1];
+    const double k = omega * omega;
+    switch (kind) {
+    case IntegratorKind::SymplecticEuler: {  // explicit_integrators.cpp: v += h f(x, v); x += h v
+        const double vNext = v + h * (-k * q - (a + s) * v);
+        return {q + h * vNext, vNext};
+    }
+    case IntegratorKind::Verlet: {  // central differences, node damping central, spring damping backward
+        const double previous = q - h * v;
+        const double c = 0.5 * h * a;
+        const double next = (2.0 * q - previous + h * h * (-k * q - s * v) + c * previous) / (1.0 + c);
+        return {next, (next - q) / h};
+    }
+    case IntegratorKind::ImplicitEuler: {  // v' = v + h f(x', v'), x' = x + h v' (exact for a linear body)
+        const double vNext = (v - h * k * q) / (1.0 + h * (a + s) + h * h * k);
+        return {q + h * vNext, vNext};
+    }
+    case IntegratorKind::Xpbd: {  // prediction with node damping as a force, then one compliant projection
+        const double vPredicted = v - h * a * v;
+        const double predicted = q + h * vPredicted;
+        const double compliance = 1.0 / (k * h * h);
+        const double gamma = s / (k * h);
+        const double dlambda = (-predicted - gamma * (predicted - q)) / ((1.0 + gamma) + compliance);
+        const double next = predicted + dlambda;
+        return {next, (next - q) / h};
+    }
+    }
+    return state;
+}
+
+}  // namespace
+
+ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double h) {
+    ModeAccuracy r;
+    r.stepSeconds = h;
+    const double omega = 2.0 * std::numbers::pi * mode.frequencyHz;
+    const double a = 2.0 * mode.nodeDampingRatio * omega;
+    const double s = 2.0 * mode.springDampingRatio * omega;
+    Eigen::Matrix2d A;
+    A.col(0) = stepOscillator(kind, omega, a, s, h, {1.0, 0.0});
+    A.col(1) = stepOscillator(kind, omega, a, s, h, {0.0, 1.0});
+    const double zeta = mode.dampingRatio;
+    r.exactAmplitudePerPeriod = zeta < 1.0 ? std::exp(-2.0 * std::numbers::pi * zeta / std::sqrt(1.0 - zeta * zeta)) : 0.0;
+    const double halfTrace = 0.5 * A.trace();
+    const double determinant = A.determinant();
+    const double discriminant = halfTrace * halfTrace - determinant;
+    const double dampedHz = mode.dampedFrequencyHz();
+    if (discriminant < 0.0) {
+        const double modulus = std::sqrt(determinant);
+        const double angle = std::atan2(std::sqrt(-discriminant), halfTrace);
+        r.oscillates = true;
+        r.stable = modulus <= 1.0;
+        r.amplitudePerPeriod = std::pow(modulus, 2.0 * std::numbers::pi / angle);
+        r.frequencyHz = angle / (2.0 * std::numbers::pi * h);
+        r.frequencyError = dampedHz > 0.0 ? r.frequencyHz / dampedHz - 1.0 : 0.0;
+    } else {
+        // Two real eigenvalues: the numerical mode creeps or flips sign each step, it no longer swings.
+        const double root = std::sqrt(discriminant);
+        const double largest = std::max(std::abs(halfTrace + root), std::abs(halfTrace - root));
+        r.oscillates = false;
+        r.stable = largest <= 1.0;
+        const double period = mode.frequencyHz > 0.0 ? 1.0 / mode.frequencyHz : 0.0;
+        r.amplitudePerPeriod = std::pow(largest, period / h);
+        r.frequencyHz = 0.0;
+        r.frequencyError = dampedHz > 0.0 ? -1.0 : 0.0;
+    }
+    return r;
+}
+
+FittedOscillation fitOscillation(const std::vector<double>& samples, double sampleSeconds) {
+    FittedOscillation fit;
+    if (samples.size() < 4)
+        return fit;
+    const Eigen::Index rows = Eigen::Index(samples.size()) - 2;
+    Eigen::MatrixXd A(rows, 2);
+    Eigen::VectorXd b(rows);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+        A(r, 0) = samples[std::size_t(r + 1)];
+        A(r, 1) = samples[std::size_t(r)];
+        b[r] = samples[std::size_t(r + 2)];
+    }
+    const Eigen::Vector2d c = A.colPivHouseholderQr().solve(b);  // q_{n+1} = c0 q_n + c1 q_{n-1}
+    const double discriminant = c[0] * c[0] / 4.0 + c[1];
+    if (!(discriminant < 0.0))
+        return fit;
+    const double radius = std::sqrt(-c[1]);
+    const double angle = std::atan2(std::sqrt(-discriminant), c[0] / 2.0);
+    const double sigma = -std::log(radius) / sampleSeconds;
+    const double omega = angle / sampleSeconds;
+    fit.oscillates = true;
+    fit.frequencyHz = omega / (2.0 * std::numbers::pi);
+    fit.dampingRatio = sigma / std::sqrt(sigma * sigma + omega * omega);
+    fit.amplitudePerPeriod = std::pow(radius, 2.0 * std::numbers::pi / angle);
+    return fit;
+}
+
+std::vector<double> bakeModeProjection(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                                       const VibrationMode& mode, double amplitude, double seconds, int sampleEvery) {
+    SimulationSettings quiet = settings;
+    quiet.sleep = false;
+    Simulator simulator(model, quiet);
+    BodyState state = restState(*model);
+    for (std::size_t i = 0; i < model->nodeCount(); ++i) {
+        if (model->inverseMass[i] > 0.0)
+            state.position[i] += amplitude * mode.shape[i];
+    }
+    updateVoidNodes(*model, state);
+    simulator.restoreState(state, 0);
+    auto project = [&](const BodyState& s) {
+        double q = 0.0;
+        for (std::size_t i = 0; i < model->nodeCount(); ++i) {
+            if (model->inverseMass[i] > 0.0)
+                q += model->mass[i] * mode.shape[i].dot(s.position[i] - model->restPositions[i]);
+        }
+        return q;
+    };
+    std::vector<double> samples{project(simulator.state())};
+    const long long steps = std::llround(seconds / settings.dt);
+    for (long long n = 1; n <= steps; ++n) {
+        (void)simulator.step({});
+        if (n % sampleEvery == 0)
+            samples.push_back(project(simulator.state()));
+    }
+    return samples;
+}
+
+ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                            const VibrationMode& mode) {
+    const Simulator simulator(model, settings);
+    const double h = integrationStep(simulator);
+    ModeAccuracy r = modeAccuracy(settings.integrator, mode, h);
+    if (settings.integrator != IntegratorKind::Xpbd || mode.frequencyHz <= 0.0)
+        return r;
+    // Two periods (at least 8 steps) from a small displacement: 1e-4 of the largest rest extent.
+    double extent = 0.0;
+    for (const Vec3& p : model->restPositions)
+        extent = std::max(extent, (p - model->restPositions.front()).norm());
+    const double seconds = std::max(2.0 / mode.frequencyHz, 8.0 * settings.dt);
+    const FittedOscillation fit =
+        fitOscillation(bakeModeProjection(model, settings, mode, 1e-4 * std::max(extent, 1e-9), seconds), settings.dt);
+    r.oscillates = fit.oscillates;
+    r.stable = !fit.oscillates || fit.amplitudePerPeriod <= 1.0;
+    r.amplitudePerPeriod = fit.oscillates ? fit.amplitudePerPeriod : 0.0;
+    r.frequencyHz = fit.frequencyHz;
+    const double damped = mode.dampedFrequencyHz();
+    r.frequencyError = fit.oscillates && damped > 0.0 ? fit.frequencyHz / damped - 1.0 : -1.0;
+    return r;
+}
+
+double integrationStep(const Simulator& simulator, const ExternalForces& external) {
+    const int substeps = std::max(1, simulator.substepsFor(external));
+    return simulator.settings().dt / substeps;
+}
+
+std::string describeModeAccuracy(const SimulationSettings& settings, const VibrationMode& mode, const ModeAccuracy& a) {
+    const std::string name(integratorName(settings.integrator));
+    const int substeps = int(std::lround(settings.dt / a.stepSeconds));
+    char scheme[96];
+    if (substeps > 1)
+        std::snprintf(scheme, sizeof scheme, "%s at %.4g steps/s (%d substeps)", name.c_str(), 1.0 / settings.dt, substeps);
+    else
+        std::snprintf(scheme, sizeof scheme, "%s at %.4g steps/s", name.c_str(), 1.0 / settings.dt);
+    char text[320];
+    if (!a.stable) {
+        std::snprintf(text, sizeof text, "%s makes the %.3g Hz mode grow (x%.3g per period)", scheme, mode.frequencyHz,
+                      a.amplitudePerPeriod);
+    } else if (!a.oscillates) {
+        std::snprintf(text, sizeof text, "%s no longer swings the %.3g Hz mode (it creeps back)", scheme, mode.frequencyHz);
+    } else {
+        std::snprintf(text, sizeof text,
+                      "%s keeps %.1f%% per period of the %.3g Hz mode (the material alone: %.1f%%), frequency %+.1f%%",
+                      scheme, 100.0 * a.amplitudePerPeriod, mode.frequencyHz, 100.0 * a.exactAmplitudePerPeriod,
+                      100.0 * a.frequencyError);
+    }
+    return text;
+}
+
+}  // namespace softtouch

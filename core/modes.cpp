@@ -1,0 +1,115 @@
+#include "core/modes.h"
+
+#include "core/forces.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace softtouch {
+
+double VibrationMode::dampedFrequencyHz() const {
+    return dampingRatio < 1.0 ? frequencyHz * std::sqrt(1.0 - dampingRatio * dampingRatio) : 0.0;
+}
+
+namespace {
+
+/// Adds w · n nᵀ to the 3x3 blocks (a,a), (b,b) and −w · n nᵀ to (a,b), (b,a) of a dense matrix over
+/// free-node unknowns; a node with slot −1 is fixed and contributes nothing.
+void addSpringBlock(Eigen::MatrixXd& matrix, int a, int b, const Mat3& block) {
+    if (a >= 0)
+        matrix.block<3, 3>(3 * a, 3 * a) += block;
+    if (b >= 0)
+        matrix.block<3, 3>(3 * b, 3 * b) += block;
+    if (a >= 0 && b >= 0) {
+        matrix.block<3, 3>(3 * a, 3 * b) -= block;
+        matrix.block<3, 3>(3 * b, 3 * a) -= block;
+    }
+}
+
+}  // namespace
+
+Result<ModalAnalysis> analyseModes(const BodyModel& model, int count) {
+    const std::size_t n = model.nodeCount();
+    std::vector<int> slot(n, -1);
+    int freeNodes = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (model.inverseMass[i] > 0.0)
+            slot[i] = freeNodes++;
+    }
+    ModalAnalysis result;
+    result.unknowns = 3 * freeNodes;
+    if (freeNodes == 0)
+        return Status::error("no node is free to move (every node is pinned or void), so the body has no modes");
+    if (result.unknowns > kMaxModalUnknowns)
+        return Status::error("modal analysis of " + std::to_string(freeNodes) + " free nodes (" +
+                             std::to_string(result.unknowns) + " unknowns) is beyond the " +
+                             std::to_string(kMaxModalUnknowns) + " SoftTouch solves; analyse a coarser lattice");
+
+    const int dof = result.unknowns;
+    Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dof, dof);
+    Eigen::MatrixXd springDamping = Eigen::MatrixXd::Zero(dof, dof);
+    for (const Spring& s : model.springs) {
+        const int a = slot[s.a], b = slot[s.b];
+        if ((a < 0 && b < 0) || s.restLength <= 0.0)
+            continue;
+        const Vec3 r = (model.restPositions[s.b] - model.restPositions[s.a]) / s.restLength;
+        const Mat3 nn = r * r.transpose();
+        addSpringBlock(stiffness, a, b, s.stiffness * nn);
+        addSpringBlock(springDamping, a, b, s.damping * nn);
+    }
+    Eigen::VectorXd invSqrtMass(dof), nodeDamping(dof);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (slot[i] < 0)
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            invSqrtMass[3 * slot[i] + c] = std::sqrt(model.inverseMass[i]);
+            nodeDamping[3 * slot[i] + c] = model.nodeDamping[i];
+        }
+    }
+    // K φ = ω² M φ  <=>  (M^-½ K M^-½) ψ = ω² ψ with φ = M^-½ ψ, ψ orthonormal (so φᵀ M φ = 1).
+    const Eigen::MatrixXd symmetric = invSqrtMass.asDiagonal() * stiffness * invSqrtMass.asDiagonal();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(symmetric);
+    if (solver.info() != Eigen::Success)
+        return Status::error("the eigenvalue solver did not converge on this body's stiffness");
+    const Eigen::VectorXd& lambda = solver.eigenvalues();  // ascending
+    // Rigid motions have ω² = 0 up to round-off, which scales with the largest eigenvalue.
+    const double rigidBelow = 1e-9 * std::max(std::abs(lambda[dof - 1]), 1e-300);
+    int first = 0;
+    while (first < dof && lambda[first] <= rigidBelow)
+        ++first;
+    result.rigidModes = first;
+
+    for (int m = first; m < dof && int(result.modes.size()) < count; ++m) {
+        const Eigen::VectorXd phi = invSqrtMass.asDiagonal() * solver.eigenvectors().col(m);
+        const double omega = std::sqrt(lambda[m]);
+        VibrationMode mode;
+        mode.frequencyHz = omega / (2.0 * std::numbers::pi);
+        const double twoOmega = 2.0 * omega;
+        mode.nodeDampingRatio = phi.cwiseProduct(nodeDamping).dot(phi) / twoOmega;
+        mode.springDampingRatio = phi.dot(springDamping * phi) / twoOmega;
+        mode.dampingRatio = mode.nodeDampingRatio + mode.springDampingRatio;
+        // The shape per node, void nodes filled the way the simulator fills them, scaled to max 1.
+        BodyState state = restState(model);
+        double largest = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (slot[i] >= 0)
+                largest = std::max(largest, phi.segment<3>(3 * slot[i]).norm());
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            if (slot[i] >= 0)
+                state.position[i] += phi.segment<3>(3 * slot[i]) / largest;
+        }
+        updateVoidNodes(model, state);
+        mode.shape.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            mode.shape[i] = state.position[i] - model.restPositions[i];
+        result.modes.push_back(std::move(mode));
+    }
+    return result;
+}
+
+}  // namespace softtouch

@@ -1,0 +1,47 @@
+#pragma once
+/// Vibration modes of a body about its rest state: the numbers an animator tunes by ("how fast does it
+/// wobble, how quickly does it settle") computed from the body itself, not from one node on one spring.
+///
+/// Linearised about rest (springs unstretched, so only the material stiffness remains):
+///   M ü + C u̇ + K u = 0,   K = Σ_springs k n nᵀ (assembled ±),   C = Σ_springs c n nᵀ + diag(d_i)
+/// over the free nodes (pinned anchors are fixed, void nodes are not simulated, heavy anchors keep
+/// their multiplied mass). The undamped modes solve the generalized eigenproblem K φ = ω² M φ (dense,
+/// through the symmetric form M^-½ K M^-½). Each mode's damping ratio is the modal projection
+/// ζ = φᵀ C φ / (2 ω φᵀ M φ), split into the part from the paper's node (absolute) damping and the part
+/// from spring (relative) damping; for the light damping of animation bodies the coupling C brings
+/// between modes changes ζ at second order only (tests/core/test_modes measures baked motion against it).
+
+#include "core/body_model.h"
+#include "core/result.h"
+
+#include <vector>
+
+namespace softtouch {
+
+/// One vibration mode.
+struct VibrationMode {
+    double frequencyHz = 0.0;         ///< Undamped natural frequency f = ω/2π, Hz.
+    double dampingRatio = 0.0;        ///< ζ = ζ_node + ζ_spring; 1 is critical (no oscillation).
+    double nodeDampingRatio = 0.0;    ///< Part of ζ from node damping on absolute velocity (paper's D).
+    double springDampingRatio = 0.0;  ///< Part of ζ from spring damping on relative velocity.
+    std::vector<Vec3> shape;          ///< Displacement per node, metres, scaled so max |φ_i| = 1; zero on
+                                      ///< pinned nodes; void nodes follow their donors (for drawing).
+    /// Frequency of the damped oscillation f·√(1−ζ²) (0 when ζ >= 1), Hz: what a baked release shows.
+    double dampedFrequencyHz() const;
+};
+
+/// The result of analyseModes().
+struct ModalAnalysis {
+    std::vector<VibrationMode> modes;  ///< Lowest elastic modes first.
+    int rigidModes = 0;                ///< Zero-frequency modes skipped (6 for a free body, fewer when anchored).
+    int unknowns = 0;                  ///< Size of the eigenproblem (3 × free nodes).
+};
+
+/// Largest eigenproblem analyseModes() solves (dense; ~3 s at this size on one core).
+inline constexpr int kMaxModalUnknowns = 3000;
+
+/// The `count` lowest elastic modes of a body at rest. Fails, saying why, when no node is free or the
+/// problem exceeds kMaxModalUnknowns.
+Result<ModalAnalysis> analyseModes(const BodyModel& model, int count = 3);
+
+}  // namespace softtouch

@@ -1,0 +1,122 @@
+// The animator's numbers against the motion: the modes analyseModes() reports (frequency, damping
+// ratio) are measured on baked free vibrations, and the per-period amplitude modeAccuracy() displays
+// for a scheme and step is measured on the same scheme's motion.
+#include "core/mode_accuracy.h"
+#include "core/modes.h"
+#include "mode_measure.h"
+#include "physics_fixture.h"
+
+#include <QtTest>
+
+using namespace softtouch;
+using namespace softtouch::test;
+
+namespace {
+
+/// A bar 0.1 x 0.1 x 1 m on a 2x2x7 lattice, pinned at w = 0: a cantilever.
+std::shared_ptr<const BodyModel> pinnedBar() {
+    OrientedBox box;
+    box.size = Vec3(0.1, 0.1, 1.0);
+    return latticeBody({2, 2, 7}, 0.01, 400.0, 0.02,
+                       [](const Lattice& lattice, LatticeMaterial& m) {
+                           m.airDamping = 0.004;
+                           for (int j = 0; j < 2; ++j)
+                               for (int i = 0; i < 2; ++i)
+                                   m.anchor[std::size_t(lattice.index(i, j, 0))] = AnchorMode::Pinned;
+                       },
+                       box);
+}
+
+/// A free 4x4x4 cube of 0.5 m: rigid modes plus elastic ones.
+std::shared_ptr<const BodyModel> freeCube() {
+    OrientedBox box;
+    box.size = Vec3::Constant(0.5);
+    return latticeBody({4, 4, 4}, 0.02, 20.0, 0.01, [](const Lattice&, LatticeMaterial& m) { m.airDamping = 0.01; }, box);
+}
+
+}  // namespace
+
+class TestModes : public QObject {
+    Q_OBJECT
+private slots:
+    void freeBodyHasSixRigidModes() {
+        const auto modes = analyseModes(*freeCube(), 3);
+        QVERIFY2(modes.ok(), modes.message().c_str());
+        QCOMPARE(modes->rigidModes, 6);
+        QCOMPARE(int(modes->modes.size()), 3);
+        QVERIFY(modes->modes[0].frequencyHz > 0.0);
+        QVERIFY(modes->modes[0].frequencyHz <= modes->modes[1].frequencyHz);
+        const auto pinned = analyseModes(*pinnedBar(), 3);
+        QVERIFY2(pinned.ok(), pinned.message().c_str());
+        QCOMPARE(pinned->rigidModes, 0);
+    }
+
+    void displayedModeMatchesBakedVibration_data() {
+        QTest::addColumn<int>("body");
+        QTest::addColumn<int>("integrator");
+        for (int body = 0; body < 2; ++body)
+            for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                     IntegratorKind::Xpbd})
+                QTest::newRow((std::string(body == 0 ? "bar/" : "cube/") + std::string(integratorName(k))).c_str())
+                    << body << int(k);
+    }
+    // A fine step: the scheme's own damping is negligible, so the motion shows the body's mode.
+    void displayedModeMatchesBakedVibration() {
+        QFETCH(int, body);
+        QFETCH(int, integrator);
+        const auto model = body == 0 ? pinnedBar() : freeCube();
+        const auto modes = analyseModes(*model, 1);
+        QVERIFY2(modes.ok(), modes.message().c_str());
+        const VibrationMode& mode = modes->modes.front();
+        const double period = 1.0 / mode.frequencyHz;
+        SimulationSettings settings = settingsFor(IntegratorKind(integrator), period / 2000.0, 4);
+        const int sampleEvery = 50;  // 40 samples a period
+        const FittedOscillation measured = measureMode(model, settings, mode, 1e-4, 4.0 * period, sampleEvery);
+        qInfo("%s: displayed %.4f Hz zeta %.4f; measured %.4f Hz zeta %.4f", QTest::currentDataTag(), mode.frequencyHz,
+              mode.dampingRatio, measured.frequencyHz, measured.dampingRatio);
+        QVERIFY(measured.oscillates);
+        QVERIFY(mode.dampingRatio > 0.01);
+        QVERIFY(std::abs(measured.frequencyHz / mode.dampedFrequencyHz() - 1.0) < 0.03);
+        QVERIFY(std::abs(measured.dampingRatio / mode.dampingRatio - 1.0) < 0.10);
+    }
+
+    void displayedAmplificationMatchesMeasuredDecay_data() {
+        QTest::addColumn<int>("integrator");
+        QTest::addColumn<int>("stepsPerSecond");
+        for (IntegratorKind k : {IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd})
+            for (int rate : {24, 60, 240})
+                QTest::newRow((std::string(integratorName(k)) + "/" + std::to_string(rate)).c_str()) << int(k) << rate;
+    }
+    // The displayed per-period amplitude (physics and the scheme's numerical damping together) against
+    // the motion baked with that scheme and step, within one percentage point.
+    void displayedAmplificationMatchesMeasuredDecay() {
+        QFETCH(int, integrator);
+        QFETCH(int, stepsPerSecond);
+        const auto model = pinnedBar();
+        const auto modes = analyseModes(*model, 1);
+        QVERIFY2(modes.ok(), modes.message().c_str());
+        const VibrationMode& mode = modes->modes.front();
+        const SimulationSettings settings = settingsFor(IntegratorKind(integrator), 1.0 / stepsPerSecond, 8);
+        const ModeAccuracy displayed = schemeAccuracy(model, settings, mode);
+        const FittedOscillation measured = measureMode(model, settings, mode, 1e-3, 6.0 / mode.frequencyHz);
+        qInfo("%s: %s; measured %.2f%% per period", QTest::currentDataTag(),
+              describeModeAccuracy(settings, mode, displayed).c_str(), 100.0 * measured.amplitudePerPeriod);
+        QVERIFY(measured.oscillates && displayed.oscillates);
+        QVERIFY(std::abs(measured.amplitudePerPeriod - displayed.amplitudePerPeriod) < 0.01);
+    }
+
+    // The explicit schemes below their bound keep nearly all of a mode; implicit Euler loses more the
+    // coarser the step, and the figures say so.
+    void implicitEulerLosesMoreAtCoarserSteps() {
+        const auto model = pinnedBar();
+        const VibrationMode mode = analyseModes(*model, 1)->modes.front();
+        const double fine = modeAccuracy(IntegratorKind::ImplicitEuler, mode, 1.0 / 240).amplitudePerPeriod;
+        const double coarse = modeAccuracy(IntegratorKind::ImplicitEuler, mode, 1.0 / 24).amplitudePerPeriod;
+        QVERIFY(coarse < fine && fine < modeAccuracy(IntegratorKind::Verlet, mode, 1.0 / 2400).amplitudePerPeriod);
+        const ModeAccuracy unstable = modeAccuracy(IntegratorKind::SymplecticEuler, mode, 1.0 / mode.frequencyHz);
+        QVERIFY(!unstable.stable || !unstable.oscillates);
+    }
+};
+
+QTEST_APPLESS_MAIN(TestModes)
+#include "test_modes.moc"
