@@ -1,7 +1,6 @@
 #include "ui/material_tuning.h"
 
 #include <cmath>
-#include <numbers>
 
 namespace softtouch::ui {
 
@@ -17,6 +16,19 @@ double meanOf(const std::vector<double>& values, const LatticeMaterial& m) {
     }
     return count > 0 ? sum / count : 0.0;
 }
+
+std::optional<VibrationMode> lowestMode(const Lattice& lattice, const LatticeMaterial& material) {
+    auto modes = materialModes(lattice, material, 1);
+    if (!modes || modes->modes.empty())
+        return std::nullopt;
+    return modes->modes.front();
+}
+
+void scaleDamping(LatticeMaterial& material, double factor) {
+    for (double& c : material.damping)
+        c *= factor;
+    material.airDamping *= factor;
+}
 }  // namespace
 
 MaterialSummary summarise(const LatticeMaterial& material) {
@@ -26,11 +38,14 @@ MaterialSummary summarise(const LatticeMaterial& material) {
     s.meanDamping = meanOf(material.damping, material);
     for (std::size_t n = 0; n < material.mass.size(); ++n)
         s.totalMass += material.isVoid[n] ? 0.0 : material.mass[n];
-    if (s.meanMass > 0.0 && s.meanStiffness > 0.0) {
-        s.frequencyHz = std::sqrt(s.meanStiffness / s.meanMass) / (2.0 * std::numbers::pi);
-        s.dampingRatio = s.meanDamping / (2.0 * std::sqrt(s.meanStiffness * s.meanMass));
-    }
     return s;
+}
+
+Result<ModalAnalysis> materialModes(const Lattice& lattice, const LatticeMaterial& material, int count) {
+    auto body = buildLatticeBody(lattice, material);
+    if (!body)
+        return Status::error(body.message());
+    return analyseModes(*body.value(), count);
 }
 
 void setMean(std::vector<double>& values, const LatticeMaterial& material, double mean) {
@@ -43,23 +58,33 @@ void setMean(std::vector<double>& values, const LatticeMaterial& material, doubl
     }
 }
 
-void setFrequency(LatticeMaterial& material, double hz) {
-    const MaterialSummary s = summarise(material);
-    if (s.frequencyHz <= 0.0 || hz <= 0.0)
-        return;
-    const double ratio = hz / s.frequencyHz;
+bool setFrequency(const Lattice& lattice, LatticeMaterial& material, double hz) {
+    const auto mode = lowestMode(lattice, material);
+    if (!mode || hz <= 0.0)
+        return false;
+    const double ratio = hz / mode->frequencyHz;
     for (double& k : material.stiffness)
         k *= ratio * ratio;
-    // c = 2 ζ √(k m): keeping ζ means damping follows √k, i.e. scales by the frequency ratio.
-    for (double& c : material.damping)
-        c *= ratio;
+    // ζ = φᵀCφ / 2ω with φ unchanged: scaling C with ω keeps every damping ratio.
+    scaleDamping(material, ratio);
+    return true;
 }
 
-void setDampingRatio(LatticeMaterial& material, double ratio) {
-    const MaterialSummary s = summarise(material);
-    if (s.meanMass <= 0.0 || s.meanStiffness <= 0.0 || ratio < 0.0)
-        return;
-    setMean(material.damping, material, ratio * 2.0 * std::sqrt(s.meanStiffness * s.meanMass));
+bool setDampingRatio(const Lattice& lattice, LatticeMaterial& material, double ratio) {
+    auto mode = lowestMode(lattice, material);
+    if (!mode || ratio < 0.0)
+        return false;
+    if (mode->dampingRatio <= 0.0) {
+        if (ratio == 0.0)
+            return true;
+        // Nothing to scale: start from the paper's node damping at a unit rate per kilogram.
+        material.airDamping = summarise(material).meanMass;
+        mode = lowestMode(lattice, material);
+        if (!mode || mode->dampingRatio <= 0.0)
+            return false;
+    }
+    scaleDamping(material, ratio / mode->dampingRatio);
+    return true;
 }
 
 }  // namespace softtouch::ui

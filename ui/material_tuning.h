@@ -1,35 +1,43 @@
 #pragma once
 /// Animator-facing material controls. Animators think in "how fast does it wobble" and "how quickly
-/// does it settle", not in N/m and N·s/m, so the editor shows both views of one material:
-///
-///   f = (1/2π) √(k̄ / m̄)        natural frequency of a mean node on a mean spring, Hz
-///   ζ = c̄ / (2 √(k̄ m̄))         damping ratio of that oscillator (1 = critically damped)
-///
-/// with k̄, c̄, m̄ the means over non-void nodes. Setting f scales every node's stiffness by
-/// (f'/f)², setting ζ every node's damping, so painted variations are kept. (The body's lowest mode is
-/// lower than f because many springs act in series; f is a per-node measure, stated as such in the UI.)
+/// does it settle", not in N/m and N·s/m, so the editor shows the body's lowest vibration modes
+/// (core/modes.h: the whole body with its anchors and voids, not one node on one spring) beside the
+/// raw values. Setting the lowest mode's frequency scales every spring by (f'/f)² — the mode shapes do
+/// not change when K is scaled, so the lowest mode lands on f' exactly — and both damping terms by
+/// f'/f, which keeps every damping ratio. Setting the lowest mode's damping ratio scales both damping
+/// terms by ζ'/ζ. Painted variations are kept either way.
 
 #include "core/lattice_body.h"
+#include "core/modes.h"
+
+#include <optional>
 
 namespace softtouch::ui {
 
-/// Means over non-void nodes.
+/// Means and totals over non-void nodes, plus the lowest modes when they could be computed.
 struct MaterialSummary {
     double meanMass = 0.0;       ///< kg.
     double totalMass = 0.0;      ///< kg, non-void nodes (anchors at their own mass, not multiplied).
     double meanStiffness = 0.0;  ///< N/m.
     double meanDamping = 0.0;    ///< N·s/m.
-    double frequencyHz = 0.0;    ///< f above.
-    double dampingRatio = 0.0;   ///< ζ above.
 };
 
-/// Summarises a material.
+/// Summarises a material's painted values.
 MaterialSummary summarise(const LatticeMaterial& material);
-/// Scales stiffness so that summarise().frequencyHz becomes `hz` (> 0). Damping is rescaled too so
-/// the damping ratio stays the same.
-void setFrequency(LatticeMaterial& material, double hz);
-/// Scales damping so that summarise().dampingRatio becomes `ratio` (>= 0).
-void setDampingRatio(LatticeMaterial& material, double ratio);
+
+/// Largest lattice the editor analyses on every edit (free-node unknowns); finer lattices are analysed
+/// by `softtouch-cli modes`.
+inline constexpr int kLiveModalUnknowns = 1200;
+
+/// The lowest `count` modes of the body built from `lattice` and `material`, or a reason why not.
+Result<ModalAnalysis> materialModes(const Lattice& lattice, const LatticeMaterial& material, int count = 3);
+
+/// Scales stiffness so the lowest mode lands on `hz` (> 0), damping so every damping ratio stays.
+/// Returns false (material unchanged) when the body has no elastic mode.
+bool setFrequency(const Lattice& lattice, LatticeMaterial& material, double hz);
+/// Scales both damping terms so the lowest mode's damping ratio becomes `ratio` (>= 0). A body with no
+/// damping at all gets node damping first. Returns false when the body has no elastic mode.
+bool setDampingRatio(const Lattice& lattice, LatticeMaterial& material, double ratio);
 /// Scales one per-node field so its mean over non-void nodes becomes `mean`.
 void setMean(std::vector<double>& values, const LatticeMaterial& material, double mean);
 

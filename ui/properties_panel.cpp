@@ -3,6 +3,8 @@
 #include "ui/edit_commands.h"
 #include "ui/material_tuning.h"
 
+#include "core/mode_accuracy.h"
+
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -122,21 +124,39 @@ QWidget* PropertiesPanel::buildSimulation() {
 QWidget* PropertiesPanel::buildMaterial() {
     auto* box = new QGroupBox(tr("Material"));
     auto* form = new QFormLayout(box);
-    m_frequency = spin(0.01, 1000, 2, tr(" Hz"), 0.1);
+    m_frequency = spin(0.001, 1000, 3, tr(" Hz"), 0.1);
     m_frequency->setObjectName("frequency");
-    m_frequency->setToolTip(tr("How fast a node wobbles: (1/2π)·√(k/m) of a mean node. Scales all stiffness, "
-                               "keeping what was painted."));
-    form->addRow(tr("Wobble frequency"), m_frequency);
-    m_dampingRatio = spin(0, 100, 3, QString(), 0.01);
-    m_dampingRatio->setToolTip(tr("How quickly it settles: 0 rings forever, 1 settles without overshoot."));
+    m_frequency->setToolTip(tr("How fast the whole body wobbles: the frequency of its lowest vibration mode, with "
+                               "its anchors and voids. Typing a value scales all stiffness (and damping, so the "
+                               "damping ratios stay), keeping what was painted."));
+    form->addRow(tr("Wobble (lowest mode)"), m_frequency);
+    m_dampingRatio = spin(0, 100, 4, QString(), 0.01);
+    m_dampingRatio->setObjectName("dampingRatio");
+    m_dampingRatio->setToolTip(tr("How quickly the lowest mode settles: 0 rings forever, 1 settles without overshoot. "
+                                  "Typing a value scales node and spring damping together."));
     form->addRow(tr("Damping ratio"), m_dampingRatio);
+    m_modes = new QLabel;
+    m_modes->setObjectName("modes");
+    m_modes->setWordWrap(true);
+    m_modes->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    // A word-wrapped label in a form layout gets one line's height unless told otherwise: room for the
+    // three modes, a rigid-mode note and the integrator's effect, which wraps once or twice.
+    m_modes->setMinimumHeight(m_modes->fontMetrics().lineSpacing() * 7);
+    form->addRow(m_modes);
     m_totalMass = spin(1e-6, 1e6, 4, tr(" kg"), 0.1);
     form->addRow(tr("Total mass"), m_totalMass);
     m_stiffness = spin(1e-3, 1e9, 2, tr(" N/m"), 5);
     m_stiffness->setObjectName("stiffness");
     form->addRow(tr("Stiffness (mean)"), m_stiffness);
     m_damping = spin(0, 1e6, 3, tr(" N·s/m"), 0.05);
-    form->addRow(tr("Damping (mean)"), m_damping);
+    m_damping->setToolTip(tr("Spring damping: resists the relative velocity of a spring's two nodes, so it calms "
+                             "wobble but never slows the body as a whole. Stronger on faster modes."));
+    form->addRow(tr("Spring damping (mean)"), m_damping);
+    m_nodeDamping = spin(0, 1e6, 4, tr(" N·s/m"), 0.01);
+    m_nodeDamping->setObjectName("nodeDamping");
+    m_nodeDamping->setToolTip(tr("Node damping (the paper's D, its 'damper'): resists each node's absolute velocity, "
+                                 "like moving through water, so a released body comes to rest. Stronger on slower modes."));
+    form->addRow(tr("Node damping"), m_nodeDamping);
     auto* aniso = new QHBoxLayout;
     const char* axes[] = {"u", "v", "w"};
     for (int a = 0; a < 3; ++a) {
@@ -152,11 +172,13 @@ QWidget* PropertiesPanel::buildMaterial() {
 
     connect(m_frequency, &QDoubleSpinBox::valueChanged, this, [this](double hz) {
         if (!m_refreshing)
-            editMaterial(tr("Set wobble frequency"), kMergeFrequency, [hz](LatticeMaterial& m) { setFrequency(m, hz); });
+            editMaterial(tr("Set wobble frequency"), kMergeFrequency,
+                         [hz, lattice = currentLattice()](LatticeMaterial& m) { setFrequency(lattice, m, hz); });
     });
     connect(m_dampingRatio, &QDoubleSpinBox::valueChanged, this, [this](double z) {
         if (!m_refreshing)
-            editMaterial(tr("Set damping ratio"), kMergeDamping, [z](LatticeMaterial& m) { setDampingRatio(m, z); });
+            editMaterial(tr("Set damping ratio"), kMergeDamping,
+                         [z, lattice = currentLattice()](LatticeMaterial& m) { setDampingRatio(lattice, m, z); });
     });
     connect(m_totalMass, &QDoubleSpinBox::valueChanged, this, [this](double kg) {
         if (m_refreshing)
@@ -174,7 +196,11 @@ QWidget* PropertiesPanel::buildMaterial() {
     });
     connect(m_damping, &QDoubleSpinBox::valueChanged, this, [this](double c) {
         if (!m_refreshing)
-            editMaterial(tr("Set damping"), kMergeDamping, [c](LatticeMaterial& m) { setMean(m.damping, m, c); });
+            editMaterial(tr("Set spring damping"), kMergeDamping, [c](LatticeMaterial& m) { setMean(m.damping, m, c); });
+    });
+    connect(m_nodeDamping, &QDoubleSpinBox::valueChanged, this, [this](double d) {
+        if (!m_refreshing)
+            editMaterial(tr("Set node damping"), kMergeDamping, [d](LatticeMaterial& m) { m.airDamping = d; });
     });
     return box;
 }
@@ -424,11 +450,11 @@ void PropertiesPanel::refresh() {
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.material);
-        setQuietly(m_frequency, s.frequencyHz);
-        setQuietly(m_dampingRatio, s.dampingRatio);
+        refreshModes(o, w.simulation);
         setQuietly(m_totalMass, s.totalMass);
         setQuietly(m_stiffness, s.meanStiffness);
         setQuietly(m_damping, s.meanDamping);
+        setQuietly(m_nodeDamping, o.material.airDamping);
         for (int a = 0; a < 3; ++a)
             setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
         m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
@@ -443,6 +469,55 @@ void PropertiesPanel::refresh() {
         m_selectionValue->setSuffix(QString(" ") + fieldUnit(field));
     }
     m_refreshing = false;
+}
+
+Lattice PropertiesPanel::currentLattice() const {
+    return m_document->scene().objects[std::size_t(object())].lattice;
+}
+
+void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSettings& settings) {
+    auto body = buildLatticeBody(o.lattice, o.material);
+    int freeNodes = 0;
+    if (body) {
+        for (double w : body.value()->inverseMass)
+            freeNodes += w > 0.0;
+    }
+    m_frequency->setEnabled(false);
+    m_dampingRatio->setEnabled(false);
+    if (!body) {
+        m_modes->setText(tr("No modes: %1").arg(QString::fromStdString(body.message())));
+        return;
+    }
+    if (3 * freeNodes > kLiveModalUnknowns) {
+        m_modes->setText(tr("This lattice is too fine to analyse on every edit (%1 unknowns): run "
+                            "'softtouch-cli modes' on the saved scene.").arg(3 * freeNodes));
+        return;
+    }
+    auto modes = analyseModes(*body.value(), 3);
+    if (!modes || modes->modes.empty()) {
+        m_modes->setText(modes ? tr("No elastic mode: every node moves rigidly.")
+                               : tr("No modes: %1").arg(QString::fromStdString(modes.message())));
+        return;
+    }
+    m_frequency->setEnabled(true);
+    m_dampingRatio->setEnabled(true);
+    const VibrationMode& lowest = modes->modes.front();
+    setQuietly(m_frequency, lowest.frequencyHz);
+    setQuietly(m_dampingRatio, lowest.dampingRatio);
+    QStringList lines;
+    for (std::size_t m = 0; m < modes->modes.size(); ++m) {
+        const VibrationMode& mode = modes->modes[m];
+        lines << tr("Mode %1: %2 Hz, ζ %3 (node %4, spring %5)")
+                     .arg(m + 1)
+                     .arg(mode.frequencyHz, 0, 'f', 3)
+                     .arg(mode.dampingRatio, 0, 'f', 3)
+                     .arg(mode.nodeDampingRatio, 0, 'f', 3)
+                     .arg(mode.springDampingRatio, 0, 'f', 3);
+    }
+    if (modes->rigidModes > 0)
+        lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
+    lines << QString::fromStdString(describeModeAccuracy(settings, lowest, schemeAccuracy(body.value(), settings, lowest)));
+    m_modes->setText(lines.join('\n'));
 }
 
 void PropertiesPanel::refreshLive() {

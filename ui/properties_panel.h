@@ -32,6 +32,10 @@ private:
     QWidget* buildTools();
     QWidget* buildSelection();
     void refresh();
+    /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one.
+    void refreshModes(const SceneObject& o, const SimulationSettings& settings);
+    /// The current object's lattice (a copy, for edits that need its geometry).
+    Lattice currentLattice() const;
     void editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change);
     void editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change);
     void applyLatticeShape();
@@ -55,6 +59,8 @@ private:
 
     QDoubleSpinBox* m_frequency = nullptr;
     QDoubleSpinBox* m_dampingRatio = nullptr;
+    QLabel* m_modes = nullptr;             ///< The three lowest modes and what the integrator does to them.
+    QDoubleSpinBox* m_nodeDamping = nullptr;
     QDoubleSpinBox* m_totalMass = nullptr;
     QDoubleSpinBox* m_stiffness = nullptr;
     QDoubleSpinBox* m_damping = nullptr;

@@ -32,7 +32,15 @@
 
 #include <memory>
 
+#include "../cli/cli_run.h"
+#include "core/modes.h"
+
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QRegularExpression>
+
 using namespace softtouch;
+using namespace softtouch::test;
 using namespace softtouch::ui;
 
 namespace {
@@ -116,6 +124,7 @@ private slots:
     void keyframesFromPosesMakeAClip();
     void scriptedDeviceDrivesTheFishAtHapticRate();
     void studyDockMarksCurrentSettingsAndSuggests();
+    void propertiesShowTheBodysModes();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -748,6 +757,39 @@ void TestEditor::studyDockMarksCurrentSettingsAndSuggests() {
     QCOMPARE(study->currentRow(), suggested);
     w.document()->undoStack()->undo();
     QCOMPARE(w.document()->scene().world.simulation.dt, before.simulation.dt);
+}
+
+// The wobble frequency and damping ratio in Properties are the body's lowest mode (as
+// `softtouch-cli modes` prints it); typing a frequency lands the lowest mode on it in one undo step.
+void TestEditor::propertiesShowTheBodysModes() {
+    MainWindow& w = *m_window;
+    auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
+    auto* ratio = w.findChild<QDoubleSpinBox*>("dampingRatio");
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY(frequency && ratio && modes);
+    QVERIFY(frequency->isEnabled());
+    QVERIFY2(modes->text().contains("Mode 3"), qPrintable(modes->text()));
+    const Run cli = runCli({"modes", kDefaultScene});
+    QCOMPARE(cli.exitCode, 0);
+    const QRegularExpression row(R"(^\s+1\s+([0-9.]+)\s+([0-9.]+))", QRegularExpression::MultilineOption);
+    const QRegularExpressionMatch match = row.match(cli.out);
+    QVERIFY2(match.hasMatch(), qPrintable(cli.out));
+    QVERIFY(std::abs(frequency->value() - match.captured(1).toDouble()) < 1e-3);
+    QVERIFY(std::abs(ratio->value() - match.captured(2).toDouble()) < 1e-4);
+
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    const int undoBefore = w.document()->undoStack()->count();
+    frequency->setValue(2.0);
+    QCOMPARE(w.document()->undoStack()->count(), undoBefore + 1);
+    const SceneObject& fish = w.document()->scene().objects[0];
+    auto body = buildLatticeBody(fish.lattice, fish.material);
+    QVERIFY(body.ok());
+    const auto after = analyseModes(*body.value(), 1);
+    QVERIFY(after.ok());
+    QVERIFY(std::abs(after->modes[0].frequencyHz - 2.0) < 1e-6);
+    QVERIFY(std::abs(after->modes[0].dampingRatio - match.captured(2).toDouble()) < 1e-4);  // ratio kept
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
 }
 
 void TestEditor::viewportDrawsTheFish_data() {
