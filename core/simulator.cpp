@@ -1,5 +1,6 @@
 #include "core/simulator.h"
 
+#include <algorithm>
 #include <cassert>
 
 #include <cmath>
@@ -16,6 +17,10 @@ Status SimulationSettings::validate() const {
         return Status::error("stability safety must be in (0, 1], got " + std::to_string(stabilitySafety));
     if (maxSubsteps < 1)
         return Status::error("max substeps must be at least 1");
+    if (energyCheckSteps < 0 || energyCheckSteps > 1000000)
+        return Status::error("energy check interval must be in [0, 1e6] steps, got " + std::to_string(energyCheckSteps));
+    if (!(std::isfinite(energyTolerance) && energyTolerance > 0.0 && energyTolerance <= 1.0))
+        return Status::error("energy tolerance must be in (0, 1], got " + std::to_string(energyTolerance));
     if (!(std::isfinite(sleepSpeed) && sleepSpeed >= 0.0))
         return Status::error("sleep speed must be finite and >= 0");
     return Status::success();
@@ -24,20 +29,122 @@ Status SimulationSettings::validate() const {
 Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSettings& settings)
     : m_model(std::move(model)), m_settings(settings), m_integrator(makeIntegrator(settings.integrator)) {
     m_state = restState(*m_model);
-    m_lastGood = m_state;
+    resetEnergyAccount({});
 }
 
 void Simulator::restoreState(const BodyState& state) {
     m_state = state;
-    m_lastGood = state;
     m_sleeping = false;
     m_quietSteps = 0;
+    m_guardFactor = 1;
+    m_peakScale = 0.0;
+    resetEnergyAccount({});
 }
 
 void Simulator::restoreState(const BodyState& state, long long stepCount) {
     assert(stepCount >= 0);
     restoreState(state);
     m_stepCount = stepCount;
+    m_lastGoodStep = stepCount;
+}
+
+double Simulator::accountedEnergy(const ExternalForces& external, double* elasticAndKinetic) {
+    const double moving = kineticEnergy(*m_model, m_state) + springEnergy(*m_model, m_state);
+    if (elasticAndKinetic)
+        *elasticAndKinetic = moving;
+    double energy = external.gravity.isZero() ? moving : moving + gravityEnergy(*m_model, m_state, external.gravity);
+    if (!m_integrator->isExplicit())
+        return energy;
+    // Symplectic Euler (and this Verlet, the same scheme with the velocity as a backward difference)
+    // conserves not E but the modified energy H̃ = E + (h/2) vᵀ f(x), f the conservative forces
+    // (exactly for a linear body: v² + ω²x² − hω²xv is invariant under v' = v − hω²x, x' = x + hv').
+    // Near the stability bound E itself swings by tens of percent in the stiffest modes while H̃ holds,
+    // so H̃ is what the account compares.
+    const std::size_t n = m_model->nodeCount();
+    m_zeroVelocity.assign(n, Vec3::Zero());
+    m_conservativeForce.resize(n);
+    ExternalForces gravityOnly;
+    gravityOnly.gravity = external.gravity;
+    ForceTerms terms;
+    terms.nodeDamping = false;
+    accumulateForces(*m_model, gravityOnly, m_state.position, m_zeroVelocity, m_conservativeForce, m_scratch, terms);
+    const double h = m_settings.dt / std::max(1, substepsFor(external));
+    double correction = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (m_model->inverseMass[i] > 0.0)
+            correction += m_state.velocity[i].dot(m_conservativeForce[i]);
+    }
+    return energy + 0.5 * h * correction;
+}
+
+double Simulator::dragWork(const ExternalForces& external, const BodyState& before) const {
+    double work = 0.0;
+    for (const DragSpring& drag : external.drags) {
+        Vec3 p0, v0, p1, v1;
+        dragPointState(drag, before.position, before.velocity, p0, v0);
+        dragPointState(drag, m_state.position, m_state.velocity, p1, v1);
+        const Vec3 f0 = drag.stiffness * (drag.target - p0) + drag.damping * (drag.targetVelocity - v0);
+        const Vec3 f1 = drag.stiffness * (drag.target - p1) + drag.damping * (drag.targetVelocity - v1);
+        // The pull reaches the free nodes by their renormalised shares (forEachDragShare), so it works
+        // along their motion, not the point's (which pinned support nodes hold back).
+        Vec3 moved = Vec3::Zero();
+        forEachDragShare(*m_model, drag, [&](std::uint32_t node, double share) {
+            moved += share * (m_state.position[node] - before.position[node]);
+        });
+        work += 0.5 * (f0 + f1).dot(moved);
+    }
+    return work;
+}
+
+void Simulator::checkpoint(const ExternalForces& external) {
+    m_lastGood = m_state;
+    m_lastGoodStep = m_stepCount;
+    m_stepsSinceCheckpoint = 0;
+    (void)external;
+}
+
+void Simulator::resetEnergyAccount(const ExternalForces& external) {
+    checkpoint(external);
+    m_checkpointGravity = external.gravity;
+    m_checkpointEnergy = accountedEnergy(external, &m_checkpointScale);
+    m_peakScale = std::max(m_peakScale, m_checkpointScale);
+    m_workSinceCheckpoint = 0.0;
+}
+
+bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) {
+    if (external.gravity != m_checkpointGravity) {  // gravity changed: its potential is measured anew
+        resetEnergyAccount(external);
+        return true;
+    }
+    double scale = 0.0;
+    const double energy = accountedEnergy(external, &scale);
+    // Near rest the energy is round-off: growth is measured against a millionth of the largest energy
+    // the body has held (and a picojoule), not against nothing.
+    m_peakScale = std::max(m_peakScale, scale);
+    scale = std::max({scale, m_checkpointScale, std::abs(m_workSinceCheckpoint), 1e-6 * m_peakScale, 1e-12});
+    const double growth = (energy - m_checkpointEnergy - m_workSinceCheckpoint) / scale;
+    if (!(growth > m_settings.energyTolerance)) {
+        checkpoint(external);
+        return true;
+    }
+    const long long lost = m_stepCount - m_lastGoodStep;
+    m_state = m_lastGood;  // passed its own check: never a state that was already bad
+    report.rolledBack = true;
+    report.energyGrowth = growth;
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "energy grew " << 100.0 * growth << "% in " << lost << " steps with nothing doing that work ("
+        << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step): rolled back "
+        << lost << " steps";
+    if (m_guardFactor < kMaxGuardFactor) {
+        m_guardFactor *= 2;  // the checkpoint below measures H̃ anew at the new substep
+        msg << " and now takes " << substepsFor(external) << " substeps a step";
+    } else {
+        msg << "; substeps are already " << kMaxGuardFactor << "x: lower dt, add damping or use implicit-euler";
+    }
+    report.problem = msg.str();
+    resetEnergyAccount(external);
+    return false;
 }
 
 double Simulator::stableStep(const ExternalForces& external) const {
@@ -62,10 +169,10 @@ double Simulator::stableStep(const ExternalForces& external) const {
 
 int Simulator::substepsFor(const ExternalForces& external) const {
     if (m_settings.integrator == IntegratorKind::Xpbd)
-        return m_settings.xpbdSubsteps;
+        return m_settings.xpbdSubsteps * m_guardFactor;
     if (!m_integrator->isExplicit())
-        return 1;
-    const double needed = std::ceil(m_settings.dt / stableStep(external) - 1e-9);
+        return m_guardFactor;
+    const double needed = std::ceil(m_settings.dt / stableStep(external) - 1e-9) * m_guardFactor;
     if (!(needed < double(m_settings.maxSubsteps) + 1.0))
         return m_settings.maxSubsteps + 1;  // refused by step()
     return std::max(1, int(needed));
@@ -118,6 +225,11 @@ StepReport Simulator::step(const ExternalForces& external) {
     }
     const double h = m_settings.dt / substeps;
     const bool contacts = !external.planes.empty();
+    // Implicit Euler only ever loses energy and XPBD's unconverged constraints hold less than their
+    // springs' energy by design; the account is for the explicit schemes, which can gain it.
+    const bool accountEnergy = m_settings.energyCheckSteps > 0 && m_integrator->isExplicit();
+    if (accountEnergy && !external.drags.empty())
+        m_stepStart = m_state;
     for (int s = 0; s < substeps; ++s) {
         if (contacts)
             m_substepStart = m_state.position;
@@ -131,6 +243,7 @@ StepReport Simulator::step(const ExternalForces& external) {
 
     if (!m_state.isFinite()) {
         m_state = m_lastGood;
+        resetEnergyAccount(external);
         report.rolledBack = true;
         const std::string input = external.firstNonFinite();
         report.problem = !input.empty()
@@ -140,7 +253,14 @@ StepReport Simulator::step(const ExternalForces& external) {
                                    ": the step was rolled back; lower dt or use implicit-euler";
         return report;
     }
-    m_lastGood = m_state;
+    if (accountEnergy) {
+        if (!external.drags.empty())
+            m_workSinceCheckpoint += dragWork(external, m_stepStart);
+        if (++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps && !checkEnergy(external, report))
+            return report;
+    } else {
+        checkpoint(external);
+    }
 
     if (m_settings.sleep) {
         double maxSpeedSquared = 0.0;  // squared: no square root per node
@@ -152,7 +272,7 @@ StepReport Simulator::step(const ExternalForces& external) {
             m_sleepForces = external;
             for (Vec3& v : m_state.velocity)
                 v.setZero();
-            m_lastGood = m_state;
+            resetEnergyAccount(external);
         }
     }
     return report;

@@ -116,7 +116,8 @@ void TestPhysics::dampedEnergyDecays() {
     const double e0 = energy();
     double previous = e0;
     for (int i = 0; i < 480; ++i) {
-        QVERIFY(sim.step(none).problem.empty());
+        const StepReport r = sim.step(none);
+        QVERIFY2(r.problem.empty(), r.problem.c_str());
         const double e = energy();
         QVERIFY2(e <= previous * (1.0 + 1e-12) + 1e-15 * e0,  // absolute floor: round-off near zero energy
                  qPrintable(QString("step %1: energy rose from %2 to %3").arg(i).arg(previous, 0, 'g', 12).arg(e, 0, 'g', 12)));
