@@ -77,21 +77,29 @@ double Simulator::accountedEnergy(const ExternalForces& external, double* elasti
     return energy + 0.5 * h * correction;
 }
 
-double Simulator::dragWork(const ExternalForces& external, const BodyState& before) const {
+void Simulator::beginDragWork(const ExternalForces& external) {
+    m_dragStart.resize(external.drags.size());
+    for (std::size_t d = 0; d < external.drags.size(); ++d)
+        m_dragStart[d] = dragPull(external.drags[d]);
+}
+
+Simulator::DragPull Simulator::dragPull(const DragSpring& drag) const {
+    Vec3 point, velocity;
+    dragPointState(drag, m_state.position, m_state.velocity, point, velocity);
+    DragPull pull;
+    pull.force = drag.stiffness * (drag.target - point) + drag.damping * (drag.targetVelocity - velocity);
+    // The pull reaches the free nodes by their renormalised shares (forEachDragShare), so it works
+    // along their motion, not the point's (which pinned support nodes hold back).
+    pull.sharedPosition.setZero();
+    forEachDragShare(*m_model, drag, [&](std::uint32_t node, double share) { pull.sharedPosition += share * m_state.position[node]; });
+    return pull;
+}
+
+double Simulator::dragWork(const ExternalForces& external) const {
     double work = 0.0;
-    for (const DragSpring& drag : external.drags) {
-        Vec3 p0, v0, p1, v1;
-        dragPointState(drag, before.position, before.velocity, p0, v0);
-        dragPointState(drag, m_state.position, m_state.velocity, p1, v1);
-        const Vec3 f0 = drag.stiffness * (drag.target - p0) + drag.damping * (drag.targetVelocity - v0);
-        const Vec3 f1 = drag.stiffness * (drag.target - p1) + drag.damping * (drag.targetVelocity - v1);
-        // The pull reaches the free nodes by their renormalised shares (forEachDragShare), so it works
-        // along their motion, not the point's (which pinned support nodes hold back).
-        Vec3 moved = Vec3::Zero();
-        forEachDragShare(*m_model, drag, [&](std::uint32_t node, double share) {
-            moved += share * (m_state.position[node] - before.position[node]);
-        });
-        work += 0.5 * (f0 + f1).dot(moved);
+    for (std::size_t d = 0; d < external.drags.size(); ++d) {
+        const DragPull end = dragPull(external.drags[d]);
+        work += 0.5 * (m_dragStart[d].force + end.force).dot(end.sharedPosition - m_dragStart[d].sharedPosition);
     }
     return work;
 }
@@ -229,7 +237,7 @@ StepReport Simulator::step(const ExternalForces& external) {
     // springs' energy by design; the account is for the explicit schemes, which can gain it.
     const bool accountEnergy = m_settings.energyCheckSteps > 0 && m_integrator->isExplicit();
     if (accountEnergy && !external.drags.empty())
-        m_stepStart = m_state;
+        beginDragWork(external);
     for (int s = 0; s < substeps; ++s) {
         if (contacts)
             m_substepStart = m_state.position;
@@ -255,7 +263,7 @@ StepReport Simulator::step(const ExternalForces& external) {
     }
     if (accountEnergy) {
         if (!external.drags.empty())
-            m_workSinceCheckpoint += dragWork(external, m_stepStart);
+            m_workSinceCheckpoint += dragWork(external);
         if (++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps && !checkEnergy(external, report))
             return report;
     } else {

@@ -89,8 +89,16 @@ private:
     bool forcesChanged(const ExternalForces& external) const;
     /// Kinetic + spring + gravity energy of the current state, and the part that is not gravity.
     double accountedEnergy(const ExternalForces& external, double* elasticAndKinetic);
-    /// Work the drags do on the body over one step from `before` to the current state (trapezoidal).
-    double dragWork(const ExternalForces& external, const BodyState& before) const;
+    /// A drag's pull and the share-weighted position of the free nodes it pulls.
+    struct DragPull {
+        Vec3 force = Vec3::Zero();
+        Vec3 sharedPosition = Vec3::Zero();
+    };
+    DragPull dragPull(const DragSpring& drag) const;
+    /// Notes each drag's pull before a step.
+    void beginDragWork(const ExternalForces& external);
+    /// Work the drags did over the step since beginDragWork() (trapezoidal).
+    double dragWork(const ExternalForces& external) const;
     /// Compares the energy with the last checkpoint; on growth rolls back, raises the substep factor and
     /// fills the report. Returns false when it rolled back.
     bool checkEnergy(const ExternalForces& external, StepReport& report);
@@ -105,7 +113,7 @@ private:
     BodyState m_state;
     BodyState m_lastGood;          ///< The last state that passed every check (finite, energy).
     long long m_lastGoodStep = 0;
-    BodyState m_stepStart;         ///< State at the start of the current step (drag work).
+    std::vector<DragPull> m_dragStart; ///< Each drag's pull at the start of the current step.
     double m_checkpointEnergy = 0.0;
     Vec3 m_checkpointGravity = Vec3::Zero();
     double m_checkpointScale = 0.0; ///< Kinetic + spring energy at the checkpoint, J.
