@@ -53,8 +53,6 @@ double Simulator::accountedEnergy(const ExternalForces& external, double* elasti
     if (elasticAndKinetic)
         *elasticAndKinetic = moving;
     double energy = external.gravity.isZero() ? moving : moving + gravityEnergy(*m_model, m_state, external.gravity);
-    if (!m_integrator->isExplicit())
-        return energy;
     // Symplectic Euler (and this Verlet, the same scheme with the velocity as a backward difference)
     // conserves not E but the modified energy H̃ = E + (h/2) vᵀ f(x), f the conservative forces
     // (exactly for a linear body: v² + ω²x² − hω²xv is invariant under v' = v − hω²x, x' = x + hv').
@@ -104,23 +102,30 @@ double Simulator::dragWork(const ExternalForces& external) const {
     return work;
 }
 
-void Simulator::checkpoint(const ExternalForces& external) {
+void Simulator::checkpoint() {
     m_lastGood = m_state;
     m_lastGoodStep = m_stepCount;
     m_stepsSinceCheckpoint = 0;
-    (void)external;
+}
+
+bool Simulator::accountsEnergy() const {
+    // Implicit Euler only ever loses energy and XPBD's unconverged constraints hold less than their
+    // springs' energy by design; the account is for the explicit schemes, which can gain it.
+    return m_settings.energyCheckSteps > 0 && m_integrator->isExplicit();
 }
 
 void Simulator::resetEnergyAccount(const ExternalForces& external) {
-    checkpoint(external);
-    m_checkpointGravity = external.gravity;
-    m_checkpointEnergy = accountedEnergy(external, &m_checkpointScale);
-    m_peakScale = std::max(m_peakScale, m_checkpointScale);
-    m_workSinceCheckpoint = 0.0;
+    checkpoint();
+    if (!accountsEnergy())
+        return;
+    m_accountGravity = external.gravity;
+    m_accountEnergy = accountedEnergy(external, &m_accountScale);
+    m_peakScale = std::max(m_peakScale, m_accountScale);
+    m_accountWork = 0.0;
 }
 
 bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) {
-    if (external.gravity != m_checkpointGravity) {  // gravity changed: its potential is measured anew
+    if (external.gravity != m_accountGravity) {  // gravity changed: its potential is measured anew
         resetEnergyAccount(external);
         return true;
     }
@@ -129,10 +134,10 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     // Near rest the energy is round-off: growth is measured against a millionth of the largest energy
     // the body has held (and a picojoule), not against nothing.
     m_peakScale = std::max(m_peakScale, scale);
-    scale = std::max({scale, m_checkpointScale, std::abs(m_workSinceCheckpoint), 1e-6 * m_peakScale, 1e-12});
-    const double growth = (energy - m_checkpointEnergy - m_workSinceCheckpoint) / scale;
+    scale = std::max({scale, m_accountScale, std::abs(m_accountWork), 1e-6 * m_peakScale, 1e-12});
+    const double growth = (energy - m_accountEnergy - m_accountWork) / scale;
     if (!(growth > m_settings.energyTolerance)) {
-        checkpoint(external);
+        checkpoint();
         return true;
     }
     const long long lost = m_stepCount - m_lastGoodStep;
@@ -145,7 +150,7 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
         << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step): rolled back "
         << lost << " steps";
     if (m_guardFactor < kMaxGuardFactor) {
-        m_guardFactor *= 2;  // the checkpoint below measures H̃ anew at the new substep
+        m_guardFactor *= 2;  // the account below measures H̃ anew at the new substep
         msg << " and now takes " << substepsFor(external) << " substeps a step";
     } else {
         msg << "; substeps are already " << kMaxGuardFactor << "x: lower dt, add damping or use implicit-euler";
@@ -177,9 +182,9 @@ double Simulator::stableStep(const ExternalForces& external) const {
 
 int Simulator::substepsFor(const ExternalForces& external) const {
     if (m_settings.integrator == IntegratorKind::Xpbd)
-        return m_settings.xpbdSubsteps * m_guardFactor;
+        return m_settings.xpbdSubsteps;
     if (!m_integrator->isExplicit())
-        return m_guardFactor;
+        return 1;
     const double needed = std::ceil(m_settings.dt / stableStep(external) - 1e-9) * m_guardFactor;
     if (!(needed < double(m_settings.maxSubsteps) + 1.0))
         return m_settings.maxSubsteps + 1;  // refused by step()
@@ -233,9 +238,7 @@ StepReport Simulator::step(const ExternalForces& external) {
     }
     const double h = m_settings.dt / substeps;
     const bool contacts = !external.planes.empty();
-    // Implicit Euler only ever loses energy and XPBD's unconverged constraints hold less than their
-    // springs' energy by design; the account is for the explicit schemes, which can gain it.
-    const bool accountEnergy = m_settings.energyCheckSteps > 0 && m_integrator->isExplicit();
+    const bool accountEnergy = accountsEnergy();
     if (accountEnergy && !external.drags.empty())
         beginDragWork(external);
     for (int s = 0; s < substeps; ++s) {
@@ -263,11 +266,11 @@ StepReport Simulator::step(const ExternalForces& external) {
     }
     if (accountEnergy) {
         if (!external.drags.empty())
-            m_workSinceCheckpoint += dragWork(external);
+            m_accountWork += dragWork(external);
         if (++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps && !checkEnergy(external, report))
             return report;
     } else {
-        checkpoint(external);
+        checkpoint();
     }
 
     if (m_settings.sleep) {

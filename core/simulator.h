@@ -5,8 +5,7 @@
 /// a non-finite result is rolled back the same way and reported with its cause, and a body at rest
 /// sleeps (costs nothing) until something changes.
 ///
-/// The energy account: E = kinetic + spring + gravity; between two checks it may grow by the work the
-/// drags did (∫ F·dp, trapezoidal per step) since the account started (the last restore, rollback or
+/// The energy account: E = kinetic + spring + gravity may grow by the work the drags did (∫ F·dp, trapezoidal per step) since the account started (the last restore, rollback or
 /// gravity change) and otherwise only fall (damping, contacts), so slow growth adds up and is seen. For
 /// the explicit schemes E is their modified energy (see accountedEnergy). A growth of more than
 /// energyTolerance of the body's elastic and kinetic energy is "from nowhere". Checks run every
@@ -87,7 +86,8 @@ public:
 
 private:
     bool forcesChanged(const ExternalForces& external) const;
-    /// Kinetic + spring + gravity energy of the current state, and the part that is not gravity.
+    /// The energy the account compares (an explicit scheme's modified energy: kinetic + spring +
+    /// gravity + (h/2) vᵀf), and the kinetic + spring part.
     double accountedEnergy(const ExternalForces& external, double* elasticAndKinetic);
     /// A drag's pull and the share-weighted position of the free nodes it pulls.
     struct DragPull {
@@ -99,12 +99,15 @@ private:
     void beginDragWork(const ExternalForces& external);
     /// Work the drags did over the step since beginDragWork() (trapezoidal).
     double dragWork(const ExternalForces& external) const;
-    /// Compares the energy with the last checkpoint; on growth rolls back, raises the substep factor and
-    /// fills the report. Returns false when it rolled back.
+    /// Compares the energy with the account's start plus the drags' work since; on growth rolls back,
+    /// raises the substep factor and fills the report. Returns false when it rolled back.
     bool checkEnergy(const ExternalForces& external, StepReport& report);
     /// Takes the current state as the known-good checkpoint.
-    void checkpoint(const ExternalForces& external);
-    /// Starts the energy account afresh from the current state (restore, rollback, gravity change, sleep).
+    void checkpoint();
+    /// The energy guard runs: an explicit scheme with checks on.
+    bool accountsEnergy() const;
+    /// Takes a checkpoint and starts the energy account afresh from the current state (restore,
+    /// rollback, gravity change, sleep).
     void resetEnergyAccount(const ExternalForces& external);
 
     std::shared_ptr<const BodyModel> m_model;
@@ -114,10 +117,10 @@ private:
     BodyState m_lastGood;          ///< The last state that passed every check (finite, energy).
     long long m_lastGoodStep = 0;
     std::vector<DragPull> m_dragStart; ///< Each drag's pull at the start of the current step.
-    double m_checkpointEnergy = 0.0;
-    Vec3 m_checkpointGravity = Vec3::Zero();
-    double m_checkpointScale = 0.0; ///< Kinetic + spring energy at the checkpoint, J.
-    double m_workSinceCheckpoint = 0.0;
+    double m_accountEnergy = 0.0;   ///< Energy when the account started, J.
+    Vec3 m_accountGravity = Vec3::Zero(); ///< Gravity the account's potential was measured with.
+    double m_accountScale = 0.0;    ///< Kinetic + spring energy when the account started, J.
+    double m_accountWork = 0.0;     ///< Work the drags did since the account started, J.
     double m_peakScale = 0.0;       ///< Largest kinetic + spring energy since the last restore, J.
     int m_stepsSinceCheckpoint = 0;
     int m_guardFactor = 1;
