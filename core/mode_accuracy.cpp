@@ -44,6 +44,31 @@ Eigen::Vector2d stepOscillator(IntegratorKind kind, double omega, double a, doub
     return state;
 }
 
+/// The roots of λ² − trace·λ + determinant = 0 (the eigenvalues of a 2x2 step matrix, or of a two-term
+/// recurrence's characteristic polynomial) as an oscillation: a complex pair r e^{±iθ} decays by r a
+/// sample and turns by θ, so it keeps r^(2π/θ) per period.
+struct RootPair {
+    bool complex = false;    ///< A complex pair: the motion oscillates.
+    double modulus = 0.0;    ///< r for a complex pair; the larger |root| otherwise.
+    double angle = 0.0;      ///< θ, radians per sample (complex pair only).
+    double perPeriod() const { return std::pow(modulus, 2.0 * std::numbers::pi / angle); }
+};
+
+RootPair rootsOf(double trace, double determinant) {
+    RootPair r;
+    const double halfTrace = 0.5 * trace;
+    const double discriminant = halfTrace * halfTrace - determinant;
+    if (discriminant < 0.0) {
+        r.complex = true;
+        r.modulus = std::sqrt(determinant);
+        r.angle = std::atan2(std::sqrt(-discriminant), halfTrace);
+    } else {
+        const double root = std::sqrt(discriminant);
+        r.modulus = std::max(std::abs(halfTrace + root), std::abs(halfTrace - root));
+    }
+    return r;
+}
+
 }  // namespace
 
 ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double h) {
@@ -57,26 +82,18 @@ ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double
     A.col(1) = stepOscillator(kind, omega, a, s, h, {0.0, 1.0});
     const double zeta = mode.dampingRatio;
     r.exactAmplitudePerPeriod = zeta < 1.0 ? std::exp(-2.0 * std::numbers::pi * zeta / std::sqrt(1.0 - zeta * zeta)) : 0.0;
-    const double halfTrace = 0.5 * A.trace();
-    const double determinant = A.determinant();
-    const double discriminant = halfTrace * halfTrace - determinant;
+    const RootPair roots = rootsOf(A.trace(), A.determinant());
     const double dampedHz = mode.dampedFrequencyHz();
-    if (discriminant < 0.0) {
-        const double modulus = std::sqrt(determinant);
-        const double angle = std::atan2(std::sqrt(-discriminant), halfTrace);
-        r.oscillates = true;
-        r.stable = modulus <= 1.0;
-        r.amplitudePerPeriod = std::pow(modulus, 2.0 * std::numbers::pi / angle);
-        r.frequencyHz = angle / (2.0 * std::numbers::pi * h);
+    r.oscillates = roots.complex;
+    r.stable = roots.modulus <= 1.0;
+    if (roots.complex) {
+        r.amplitudePerPeriod = roots.perPeriod();
+        r.frequencyHz = roots.angle / (2.0 * std::numbers::pi * h);
         r.frequencyError = dampedHz > 0.0 ? r.frequencyHz / dampedHz - 1.0 : 0.0;
     } else {
         // Two real eigenvalues: the numerical mode creeps or flips sign each step, it no longer swings.
-        const double root = std::sqrt(discriminant);
-        const double largest = std::max(std::abs(halfTrace + root), std::abs(halfTrace - root));
-        r.oscillates = false;
-        r.stable = largest <= 1.0;
         const double period = mode.frequencyHz > 0.0 ? 1.0 / mode.frequencyHz : 0.0;
-        r.amplitudePerPeriod = std::pow(largest, period / h);
+        r.amplitudePerPeriod = std::pow(roots.modulus, period / h);
         r.frequencyHz = 0.0;
         r.frequencyError = dampedHz > 0.0 ? -1.0 : 0.0;
     }
@@ -96,17 +113,15 @@ FittedOscillation fitOscillation(const std::vector<double>& samples, double samp
         b[r] = samples[std::size_t(r + 2)];
     }
     const Eigen::Vector2d c = A.colPivHouseholderQr().solve(b);  // q_{n+1} = c0 q_n + c1 q_{n-1}
-    const double discriminant = c[0] * c[0] / 4.0 + c[1];
-    if (!(discriminant < 0.0))
+    const RootPair roots = rootsOf(c[0], -c[1]);
+    if (!roots.complex)
         return fit;
-    const double radius = std::sqrt(-c[1]);
-    const double angle = std::atan2(std::sqrt(-discriminant), c[0] / 2.0);
-    const double sigma = -std::log(radius) / sampleSeconds;
-    const double omega = angle / sampleSeconds;
+    const double sigma = -std::log(roots.modulus) / sampleSeconds;
+    const double omega = roots.angle / sampleSeconds;
     fit.oscillates = true;
     fit.frequencyHz = omega / (2.0 * std::numbers::pi);
     fit.dampingRatio = sigma / std::sqrt(sigma * sigma + omega * omega);
-    fit.amplitudePerPeriod = std::pow(radius, 2.0 * std::numbers::pi / angle);
+    fit.amplitudePerPeriod = roots.perPeriod();
     return fit;
 }
 
