@@ -14,7 +14,7 @@
 
 namespace softtouch::ui {
 
-/// Means and totals over non-void nodes, plus the lowest modes when they could be computed.
+/// Means and totals of the painted values over non-void nodes (the modes come from materialModes()).
 struct MaterialSummary {
     double meanMass = 0.0;       ///< kg.
     double totalMass = 0.0;      ///< kg, non-void nodes (anchors at their own mass, not multiplied).

@@ -1,6 +1,6 @@
 // The bundled anchored angelfish: the modes `softtouch-cli modes` and the editor show against its
 // baked free vibration, with every integrator at a fine step.
-#include "core/mode_accuracy.h"
+#include "../core/mode_measure.h"
 #include "core/modes.h"
 #include "io/project_file.h"
 
@@ -39,9 +39,8 @@ private slots:
         settings.dt = 1.0 / (mode.frequencyHz * 2000.0);
         settings.xpbdSubsteps = 4;
         const int sampleEvery = 50;
-        const FittedOscillation measured = fitOscillation(
-            bakeModeProjection(body.value(), settings, mode, 1e-3, 4.0 / mode.frequencyHz, sampleEvery),
-            settings.dt * sampleEvery);
+        const FittedOscillation measured =
+            test::measureMode(body.value(), settings, mode, 1e-3, 4.0 / mode.frequencyHz, sampleEvery);
         qInfo("%s: displayed %.4f Hz zeta %.4f; measured %.4f Hz zeta %.4f", QTest::currentDataTag(), mode.frequencyHz,
               mode.dampingRatio, measured.frequencyHz, measured.dampingRatio);
         QVERIFY(measured.oscillates);
