@@ -35,9 +35,10 @@ std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice) {
 /// keeps it awake), or, when `sleeping`, left alone until it sleeps. The scene of the step and frame
 /// benchmarks.
 struct DraggedBody {
-    DraggedBody(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool leftToSleep)
+    DraggedBody(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool leftToSleep,
+                bool energyGuard = true)
         : lattice(Lattice::create(shape, OrientedBox{}).value()),
-          sim(benchBody(lattice), settingsFor(integrator, leftToSleep)), forces(base), sleeping(leftToSleep) {
+          sim(benchBody(lattice), settingsFor(integrator, leftToSleep, energyGuard)), forces(base), sleeping(leftToSleep) {
         drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
         drag.stiffness = 50.0;
         drag.damping = 0.5;
@@ -46,11 +47,13 @@ struct DraggedBody {
                 (void)sim.step(forces);
         }
     }
-    static SimulationSettings settingsFor(IntegratorKind integrator, bool leftToSleep) {
+    static SimulationSettings settingsFor(IntegratorKind integrator, bool leftToSleep, bool energyGuard) {
         SimulationSettings settings;
         settings.integrator = integrator;
         settings.dt = 1.0 / 240.0;
         settings.sleep = leftToSleep;
+        if (!energyGuard)
+            settings.energyCheckSteps = 0;
         return settings;
     }
     /// One simulator step, the drag target moved first unless the body is left to sleep.
@@ -73,8 +76,8 @@ struct DraggedBody {
 
 /// Microseconds per step of a DraggedBody.
 double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool sleeping,
-                        double minSeconds) {
-    DraggedBody body(shape, integrator, base, sleeping);
+                        double minSeconds, bool energyGuard = true) {
+    DraggedBody body(shape, integrator, base, sleeping, energyGuard);
     const int batch = 200;
     auto run = [&] {
         for (int i = 0; i < batch; ++i)
@@ -206,11 +209,14 @@ json features(double minSeconds, std::ostream& out) {
     const double withGravity = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, gravity, false, minSeconds);
     const double withPlane = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, plane, false, minSeconds);
     const double asleep = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, true, minSeconds);
+    const double unguarded = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, false);
     out << "\nWhat a scene does not use costs nothing (4x4x4, symplectic Euler), us per step\n";
     char line[200];
     std::snprintf(line, sizeof line,
                   "  drag only %.2f   + gravity %.2f   + plane %.2f   sleeping body %.3f (%.0fx cheaper)\n", base,
                   withGravity, withPlane, asleep, base / asleep);
+    out << line;
+    std::snprintf(line, sizeof line, "  energy guard off %.2f (the guard costs %.2fx)\n", unguarded, base / unguarded);
     out << line;
     // An unchanged frame (the body asleep) skips the mesh too.
     const double frameAwake = frameMicroseconds(false, minSeconds);
@@ -220,7 +226,8 @@ json features(double minSeconds, std::ostream& out) {
                   "asleep %.3f us (%.0fx cheaper)\n", frameAwake, frameAsleep, frameAwake / frameAsleep);
     out << line;
     return {{"awake_us", base},          {"gravity_us", withGravity},        {"plane_us", withPlane},
-            {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep}};
+            {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep},
+            {"energy_guard_off_us", unguarded}};
 }
 
 }  // namespace
