@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace softtouch {
@@ -17,10 +18,94 @@ LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, doub
     return m;
 }
 
+const MaterialRanges& materialRanges(MaterialModel model) {
+    static const MaterialRanges springs{{1e-12, 1e12, "kg"}, {0.0, 1e9, "N/m"}, {0.0, 1e6, "N·s/m"}, {0.0, 1e6, "N·s/m"}};
+    static const MaterialRanges continuum{{1e-3, 1e6, "kg/m³"}, {0.0, 1e12, "Pa"}, {0.0, 1e9, "Pa·s"}, {0.0, 1e4, "1/s"}};
+    return model == MaterialModel::Continuum ? continuum : springs;
+}
+
+LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity) {
+    LatticeMaterial m = uniformMaterial(lattice, density, modulus, viscosity);
+    m.model = MaterialModel::Continuum;
+    return m;
+}
+
+namespace {
+
+/// Rest spacing of the grid cells along each axis, metres (between neighbouring Greville points).
+std::array<std::vector<double>, 3> cellSpacings(const Lattice& lattice) {
+    std::array<std::vector<double>, 3> h;
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i + 1 < lattice.count(a); ++i)
+            h[std::size_t(a)].push_back((lattice.axis(a).greville(i + 1) - lattice.axis(a).greville(i)) *
+                                        lattice.box().size[a]);
+    return h;
+}
+
+/// Young's modulus of the spring network per unit of spring coefficient, for cubic cells and equal
+/// kind scales. A spring of rest length L gets k = E · share · V_cell / L² from every cell it crosses
+/// (share: edge 1/4, face diagonal 1/2, body diagonal 1, so each cell counts once). Under a uniform
+/// strain the 28 springs of a cell store the energy of a cubic solid with C11 = 22/9 E and
+/// C12 = C44 = 17/18 E (central springs obey Cauchy's relation), whose Young's modulus along an axis is
+/// (C11 − C12)(C11 + 2 C12)/(C11 + C12) = 117/61 E and Poisson's ratio C12/(C11 + C12) = 17/61 ≈ 0.28.
+/// Scaling by 61/117 makes the painted value the solid's Young's modulus.
+constexpr double kModulusPerCoefficient = 61.0 / 117.0;
+
+}  // namespace
+
+std::vector<double> nodeVolumes(const Lattice& lattice) {
+    const auto h = cellSpacings(lattice);
+    std::vector<double> volume(std::size_t(lattice.nodeCount()), 0.0);
+    for (int node = 0; node < lattice.nodeCount(); ++node) {
+        const auto c = lattice.coords(node);
+        double v = 1.0;
+        for (int a = 0; a < 3; ++a) {
+            const auto& spacing = h[std::size_t(a)];
+            const int i = c[std::size_t(a)];
+            // Half of each adjacent cell along this axis.
+            v *= 0.5 * ((i > 0 ? spacing[std::size_t(i - 1)] : 0.0) + (i < int(spacing.size()) ? spacing[std::size_t(i)] : 0.0));
+        }
+        volume[std::size_t(node)] = v;
+    }
+    return volume;
+}
+
+std::vector<double> nodeMasses(const Lattice& lattice, const LatticeMaterial& material) {
+    if (material.model == MaterialModel::LatticeSprings)
+        return material.mass;
+    std::vector<double> mass = nodeVolumes(lattice);
+    for (std::size_t n = 0; n < mass.size(); ++n)
+        mass[n] *= material.mass[n];
+    return mass;
+}
+
 std::vector<Spring> latticeSprings(const Lattice& lattice, const LatticeMaterial& material) {
     const int nx = lattice.count(0), ny = lattice.count(1), nz = lattice.count(2);
     const std::vector<Vec3> rest = lattice.restNodes();
     const Mat3 axes = lattice.box().axes;
+    const auto spacing = cellSpacings(lattice);
+    const bool continuum = material.model == MaterialModel::Continuum;
+    // Σ share · V_cell / L² over the cells a spring crosses (see kModulusPerCoefficient), in metres.
+    auto cellCoefficient = [&](const std::array<int, 3>& from, const std::array<int, 3>& to, double length) {
+        std::array<std::vector<double>, 3> extent;  // lengths of the adjacent cells along each axis
+        int spanned = 0;
+        for (std::size_t a = 0; a < 3; ++a) {
+            if (from[a] != to[a]) {
+                extent[a].push_back(spacing[a][std::size_t(std::min(from[a], to[a]))]);
+                ++spanned;
+            } else {
+                if (from[a] > 0) extent[a].push_back(spacing[a][std::size_t(from[a] - 1)]);
+                if (from[a] < int(spacing[a].size())) extent[a].push_back(spacing[a][std::size_t(from[a])]);
+            }
+        }
+        const double share = spanned == 1 ? 0.25 : spanned == 2 ? 0.5 : 1.0;
+        double volume = 0.0;
+        for (double x : extent[0])
+            for (double y : extent[1])
+                for (double z : extent[2])
+                    volume += x * y * z;
+        return kModulusPerCoefficient * share * volume / (length * length);
+    };
     std::vector<Spring> springs;
     auto add = [&](int i0, int j0, int k0, int i1, int j1, int k1, SpringKind kind) {
         const auto a = std::uint32_t(lattice.index(i0, j0, k0));
@@ -33,9 +118,10 @@ std::vector<Spring> latticeSprings(const Lattice& lattice, const LatticeMaterial
         s.restLength = r.norm();
         const Vec3 d = axes.transpose() * r / s.restLength;  // direction in the box frame
         const double anisotropy = d.cwiseProduct(d).dot(material.anisotropy);
+        const double coefficient = continuum ? cellCoefficient({i0, j0, k0}, {i1, j1, k1}, s.restLength) : 1.0;
         s.stiffness = 0.5 * (material.stiffness[a] + material.stiffness[b]) *
-                      material.kindScale[std::size_t(kind)] * anisotropy;
-        s.damping = 0.5 * (material.damping[a] + material.damping[b]);
+                      material.kindScale[std::size_t(kind)] * anisotropy * coefficient;
+        s.damping = 0.5 * (material.damping[a] + material.damping[b]) * coefficient;
         springs.push_back(s);
     };
     // Edges: from each node to its +u, +v, +w neighbour.
@@ -100,16 +186,28 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     if (Status s = sized(m.damping.size(), "damping"); !s) return s;
     if (Status s = sized(m.anchor.size(), "anchor"); !s) return s;
     if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
+    const MaterialRanges& range = materialRanges(m.model);
+    const bool continuum = m.model == MaterialModel::Continuum;
+    auto formatNumber = [](double x) {
+        std::ostringstream out;
+        out << x;
+        return out.str();
+    };
+    auto check = [&](double x, const MaterialRange& r, const std::string& what) -> Status {
+        if (std::isfinite(x) && x >= r.low && x <= r.high)
+            return Status::success();
+        return Status::error(what + " " + std::to_string(x) + " " + r.unit + " is outside [" + formatNumber(r.low) +
+                             ", " + formatNumber(r.high) + "]");
+    };
     for (std::size_t i = 0; i < n; ++i) {
         const auto c = lattice.coords(int(i));
         const std::string node = "node (" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
-        if (!m.isVoid[i] && !(std::isfinite(m.mass[i]) && m.mass[i] >= 1e-12 && m.mass[i] <= 1e12))
-            return Status::error(node + " mass " + std::to_string(m.mass[i]) + " kg is outside [1e-12, 1e12]");
-        if (!(std::isfinite(m.stiffness[i]) && m.stiffness[i] >= 0.0 && m.stiffness[i] <= 1e9))
-            return Status::error(node + " stiffness " + std::to_string(m.stiffness[i]) + " N/m is outside [0, 1e9]");
-        if (!(std::isfinite(m.damping[i]) && m.damping[i] >= 0.0 && m.damping[i] <= 1e6))
-            return Status::error(node + " damping " + std::to_string(m.damping[i]) + " N·s/m is outside [0, 1e6]");
+        if (!m.isVoid[i])
+            if (Status s = check(m.mass[i], range.mass, node + (continuum ? " density" : " mass")); !s) return s;
+        if (Status s = check(m.stiffness[i], range.stiffness, node + (continuum ? " modulus" : " stiffness")); !s) return s;
+        if (Status s = check(m.damping[i], range.damping, node + (continuum ? " viscosity" : " damping")); !s) return s;
     }
+    if (Status s = check(m.airDamping, range.airDamping, continuum ? "node damping rate" : "node damping"); !s) return s;
     for (int a = 0; a < 3; ++a) {
         const double s = m.kindScale[std::size_t(a)];
         if (!(std::isfinite(s) && s >= 0.0 && s <= 1e3))
@@ -128,12 +226,18 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
         return s;
     BodyDescription d;
     d.restPositions = lattice.restNodes();
-    d.mass = material.mass;
+    d.mass = nodeMasses(lattice, material);
     d.anchor = material.anchor;
     d.isVoid = material.isVoid;
     d.springs = latticeSprings(lattice, material);
     d.heavyAnchorRatio = material.heavyAnchorRatio;
-    d.nodeDamping.assign(d.restPositions.size(), material.airDamping);
+    if (material.model == MaterialModel::Continuum) {
+        d.nodeDamping = d.mass;  // the rate times each node's mass: mass-proportional, the same ζ at every resolution
+        for (double& x : d.nodeDamping)
+            x *= material.airDamping;
+    } else {
+        d.nodeDamping.assign(d.restPositions.size(), material.airDamping);
+    }
     // Void nodes follow already-resolved 26-neighbours, resolved ring by ring outward from the body.
     const int n = lattice.nodeCount();
     std::vector<std::uint8_t> resolved(std::size_t(n), 0);
@@ -188,6 +292,8 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
         return best;
     };
     // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
+    // A continuum's values are per volume or per area already: nothing to rescale.
+    keepContinuum = keepContinuum && material.model == MaterialModel::LatticeSprings;
     double spacing = 1.0, volume = 1.0;
     for (int a = 0; a < 3; ++a) {
         spacing *= double(from.count(a) - 1) / double(to.count(a) - 1);

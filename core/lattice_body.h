@@ -18,11 +18,27 @@
 
 namespace softtouch {
 
-/// Per-node painted values and global material settings of a lattice body.
+/// What a material's per-node values mean.
+enum class MaterialModel : std::uint8_t {
+    /// The paper's: the values belong to this lattice's nodes and springs (kg per node, N/m and N·s/m
+    /// per spring, node damping N·s/m). The same values on another resolution are another material.
+    /// Projects written before version 3 use it and keep their motion exactly.
+    LatticeSprings,
+    /// A solid filling the lattice box whose values do not depend on the lattice: density kg/m³,
+    /// Young's modulus Pa, viscosity Pa·s, node damping rate 1/s. buildLatticeBody() turns them into
+    /// node masses (density × the node's share of the box) and springs (docs/lattice.md, "Material").
+    Continuum,
+};
+
+/// Per-node painted values and global material settings of a lattice body. The units of mass,
+/// stiffness, damping and airDamping depend on `model`; ranges are those of materialRanges(model).
 struct LatticeMaterial {
-    std::vector<double> mass;            ///< kg per node, > 0. Filled by uniformMaterial() or painting.
-    std::vector<double> stiffness;       ///< N/m per node; a spring gets the mean of its two nodes. [0, 1e9].
-    std::vector<double> damping;         ///< N·s/m per node; a spring gets the mean of its two nodes. [0, 1e6].
+    MaterialModel model = MaterialModel::LatticeSprings; ///< What the values below mean.
+    std::vector<double> mass;            ///< kg per node, or density kg/m³ (Continuum). > 0.
+    std::vector<double> stiffness;       ///< N/m per node, or Young's modulus Pa (Continuum); a spring gets
+                                         ///< the mean of its two nodes. >= 0.
+    std::vector<double> damping;         ///< N·s/m per node, or viscosity Pa·s (Continuum); a spring gets the
+                                         ///< mean of its two nodes. >= 0.
     std::vector<AnchorMode> anchor;      ///< Per node; Free by default.
     std::vector<std::uint8_t> isVoid;    ///< Per node; 1 removes the node and its springs.
     std::array<double, 3> kindScale{1.0, 1.0, 1.0}; ///< Stiffness multiplier for edge, face-, body-diagonal springs. [0, 1e3].
@@ -30,8 +46,31 @@ struct LatticeMaterial {
                                          ///< direction d (box frame) gets Σ d_a² s_a. Paper's transversely
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
-    double airDamping = 0.0;             ///< Absolute-velocity damping per node (the paper's d_i), N·s/m. [0, 1e6].
+    double airDamping = 0.0;             ///< Absolute-velocity damping per node (the paper's d_i): N·s/m, or
+                                         ///< the rate d_i / m_i in 1/s (Continuum). >= 0.
 };
+
+/// Valid range and unit of each per-node field under a model (one table for validation, readers and UI).
+struct MaterialRange {
+    double low = 0.0;
+    double high = 0.0;
+    const char* unit = "";
+};
+struct MaterialRanges {
+    MaterialRange mass, stiffness, damping, airDamping;
+};
+const MaterialRanges& materialRanges(MaterialModel model);
+
+/// A resolution-independent material with the same values everywhere.
+LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity);
+
+/// Each node's share of the lattice box, m³: the dual volume (an eighth of every adjacent grid cell
+/// between rest node positions). They sum to the box volume.
+std::vector<double> nodeVolumes(const Lattice& lattice);
+
+/// The mass of every node in kg under either model (Continuum: density × node volume; heavy anchors
+/// not multiplied, voids included).
+std::vector<double> nodeMasses(const Lattice& lattice, const LatticeMaterial& material);
 
 /// A material with the same values on every node of a lattice.
 LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, double stiffness, double damping);
@@ -56,10 +95,10 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
 
 /// The material of `from` carried onto lattice `to` (another resolution or kind over the same object):
 /// every node of `to` takes the painted values, anchor and void state of the node of `from` nearest in
-/// lattice parameters. With `keepContinuum`, values are rescaled so the body stays the same material
-/// rather than the same springs: node mass and air damping scale with the node's share of the volume,
-/// spring stiffness and damping with the lattice spacing (a cubic spring lattice of spacing h and
-/// spring constant k behaves like a solid of modulus ~ k/h).
+/// lattice parameters. A Continuum material's values are intensive and carried as they are. For a
+/// LatticeSprings material with `keepContinuum`, values are rescaled so the body stays roughly the same
+/// material rather than the same springs: node mass and air damping scale with the node's share of the
+/// volume, spring stiffness and damping with the lattice spacing.
 LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& material, const Lattice& to,
                                  bool keepContinuum);
 
