@@ -16,5 +16,7 @@ int runRender(const std::vector<std::string>& args);
 int runPreset(const std::vector<std::string>& args);
 int runHaptic(const std::vector<std::string>& args);
 int runModes(const std::vector<std::string>& args);
+/// `softtouch-cli upgrade`: lattice-springs materials rewritten as continuum ones.
+int runUpgrade(const std::vector<std::string>& args);
 
 }  // namespace softtouch::cli

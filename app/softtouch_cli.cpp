@@ -15,6 +15,7 @@ Usage:
   softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
   softtouch-cli modes SCENE [--count N] [--object NAME]
+  softtouch-cli upgrade SCENE --out NEW.softtouch
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick] [--only KEY]
   softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
@@ -29,6 +30,8 @@ Commands:
              (EGL; no X server needed). 'softtouch-cli render --help' for details.
   modes      The lowest vibration modes of each object (frequency, damping ratio, shape) and what the
              scene's integrator and step do to them. 'softtouch-cli modes --help'.
+  upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
+             every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
   preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
              one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
@@ -74,6 +77,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runStability(args);
     if (command == "modes")
         return softtouch::cli::runModes(args);
+    if (command == "upgrade")
+        return softtouch::cli::runUpgrade(args);
     if (command == "haptic")
         return softtouch::cli::runHaptic(args);
     std::fprintf(stderr, "softtouch-cli: error: unknown command '%s'; see 'softtouch-cli --help'\n", command.c_str());

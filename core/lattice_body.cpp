@@ -7,6 +7,11 @@
 
 namespace softtouch {
 
+namespace {
+// The bundled fish-body preset as a continuum (softtouch-cli upgrade on angelfish-swim.softtouch).
+constexpr double kFishDensity = 2.64, kFishModulus = 1733.0, kFishViscosity = 4.334, kFishDampingRate = 1.28;
+}  // namespace
+
 LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, double stiffness, double damping) {
     const std::size_t n = std::size_t(lattice.nodeCount());
     LatticeMaterial m;
@@ -22,6 +27,22 @@ const MaterialRanges& materialRanges(MaterialModel model) {
     static const MaterialRanges springs{{1e-12, 1e12, "kg"}, {0.0, 1e9, "N/m"}, {0.0, 1e6, "N·s/m"}, {0.0, 1e6, "N·s/m"}};
     static const MaterialRanges continuum{{1e-3, 1e6, "kg/m³"}, {0.0, 1e12, "Pa"}, {0.0, 1e9, "Pa·s"}, {0.0, 1e4, "1/s"}};
     return model == MaterialModel::Continuum ? continuum : springs;
+}
+
+const DefaultMaterialValues& defaultMaterialValues(MaterialModel model) {
+    // LatticeSprings: the values new objects had before version 3. Continuum: the bundled
+    // "fish body" preset (presets/materials/fish-body.stpreset).
+    static const DefaultMaterialValues springs{0.02, 80.0, 0.9, 0.0};
+    static const DefaultMaterialValues continuum{kFishDensity, kFishModulus, kFishViscosity, kFishDampingRate};
+    return model == MaterialModel::Continuum ? continuum : springs;
+}
+
+LatticeMaterial defaultMaterial(const Lattice& lattice, MaterialModel model) {
+    const DefaultMaterialValues& d = defaultMaterialValues(model);
+    LatticeMaterial m = uniformMaterial(lattice, d.mass, d.stiffness, d.damping);
+    m.model = model;
+    m.airDamping = d.airDamping;
+    return m;
 }
 
 LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity) {

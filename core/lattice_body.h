@@ -61,6 +61,14 @@ struct MaterialRanges {
 };
 const MaterialRanges& materialRanges(MaterialModel model);
 
+/// The values a new material starts with, per model (uniform over the nodes).
+struct DefaultMaterialValues {
+    double mass, stiffness, damping, airDamping;
+};
+const DefaultMaterialValues& defaultMaterialValues(MaterialModel model);
+/// A new object's material: defaultMaterialValues(model) on every node.
+LatticeMaterial defaultMaterial(const Lattice& lattice, MaterialModel model = MaterialModel::Continuum);
+
 /// A resolution-independent material with the same values everywhere.
 LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity);
 

@@ -73,27 +73,71 @@ void applyPreset(const JsonValue& v, LatticeMaterial& m, std::optional<double>& 
         v.problem(message);
 }
 
+/// The JSON keys of a material's per-node values: each model has its own, so a file can never give
+/// kilograms where density is meant.
+struct MaterialKeys {
+    const char* mass;
+    const char* stiffness;
+    const char* damping;
+    const char* nodeDamping;
+};
+const MaterialKeys& materialKeys(MaterialModel model) {
+    static const MaterialKeys springs{"mass", "stiffness", "damping", "airDamping"};
+    static const MaterialKeys continuum{"density", "modulus", "viscosity", "dampingRate"};
+    return model == MaterialModel::Continuum ? continuum : springs;
+}
+
+/// A material switched to another model by its file's "model" starts from that model's defaults.
+void resetMaterialValues(LatticeMaterial& m, MaterialModel model) {
+    const DefaultMaterialValues& d = defaultMaterialValues(model);
+    m.model = model;
+    m.mass.assign(m.mass.size(), d.mass);
+    m.stiffness.assign(m.stiffness.size(), d.stiffness);
+    m.damping.assign(m.damping.size(), d.damping);
+    m.airDamping = d.airDamping;
+}
+
 void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, bool allowPreset,
                   const fs::path& baseDir) {
     if (!v.expectObject())
         return;
-    if (allowPreset) {
-        v.checkKeys({"preset", "mass", "totalMass", "stiffness", "damping", "springKindScale", "anisotropy",
-                     "heavyAnchorRatio", "airDamping"});
+    if (allowPreset)
+        v.checkKeys({"preset", "model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
+                     "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
+    else
+        v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
+                     "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
+    if (allowPreset)
         applyPreset(v["preset"], m, totalMass, baseDir);
-    } else {
-        v.checkKeys({"mass", "totalMass", "stiffness", "damping", "springKindScale", "anisotropy", "heavyAnchorRatio",
-                     "airDamping"});
+    if (const auto model = v["model"].string()) {
+        const MaterialModel wanted = *model == "continuum" ? MaterialModel::Continuum : MaterialModel::LatticeSprings;
+        if (*model != "continuum" && *model != "lattice-springs")
+            v["model"].problem("expected \"continuum\" or \"lattice-springs\", got \"" + *model + "\"");
+        else if (wanted != m.model)
+            resetMaterialValues(m, wanted);
     }
-    if (v["mass"].exists() && v["totalMass"].exists())
-        v["totalMass"].problem("give either mass (per node) or totalMass, not both");
-    readPerNode(v["mass"], m.mass, 1e-12, 1e12, "kg per node");
-    if (v["mass"].exists())
+    const MaterialKeys& key = materialKeys(m.model);
+    const MaterialKeys& other = materialKeys(m.model == MaterialModel::Continuum ? MaterialModel::LatticeSprings
+                                                                                 : MaterialModel::Continuum);
+    const char* modelName = m.model == MaterialModel::Continuum ? "continuum" : "lattice-springs";
+    for (auto [mine, theirs] : {std::pair{key.mass, other.mass}, {key.stiffness, other.stiffness},
+                                {key.damping, other.damping}, {key.nodeDamping, other.nodeDamping}}) {
+        if (v[theirs].exists())
+            v[theirs].problem(std::string("a ") + modelName + " material gives \"" + mine + "\", not \"" + theirs +
+                              "\" (set \"model\" to change what the values mean)");
+    }
+    const MaterialRanges& range = materialRanges(m.model);
+    if (v[key.mass].exists() && v["totalMass"].exists())
+        v["totalMass"].problem(std::string("give either ") + key.mass + " (per node) or totalMass, not both");
+    readPerNode(v[key.mass], m.mass, range.mass.low, range.mass.high, range.mass.unit);
+    if (v[key.mass].exists())
         totalMass.reset();
     if (auto t = v["totalMass"].number(1e-9, 1e15, "kg"))
         totalMass = *t;
-    readPerNode(v["stiffness"], m.stiffness, 0.0, 1e9, "N/m");
-    readPerNode(v["damping"], m.damping, 0.0, 1e6, "N·s/m");
+    readPerNode(v[key.stiffness], m.stiffness, range.stiffness.low, range.stiffness.high, range.stiffness.unit);
+    readPerNode(v[key.damping], m.damping, range.damping.low, range.damping.high, range.damping.unit);
+    if (auto x = v[key.nodeDamping].number(range.airDamping.low, range.airDamping.high, range.airDamping.unit))
+        m.airDamping = *x;
     if (const JsonValue k = v["springKindScale"]; k.expectObject()) {
         k.checkKeys({"edge", "face", "body"});
         const char* names[3] = {"edge", "face", "body"};
@@ -110,8 +154,6 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     }
     if (auto x = v["heavyAnchorRatio"].number(1.0, 1e9))
         m.heavyAnchorRatio = *x;
-    if (auto x = v["airDamping"].number(0.0, 1e6, "N·s/m"))
-        m.airDamping = *x;
 }
 
 std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {
@@ -226,15 +268,18 @@ void readAnchors(const JsonValue& anchors, const Lattice& lattice, std::vector<A
     }
 }
 
-/// A "totalMass" spread evenly over the non-void nodes (once voids are known).
-void spreadTotalMass(LatticeMaterial& material, const std::optional<double>& totalMass) {
+/// A "totalMass" spread evenly over the non-void nodes (once voids are known): the same kg per node,
+/// or for a Continuum material the same density over the nodes' share of the box.
+void spreadTotalMass(const Lattice& lattice, LatticeMaterial& material, const std::optional<double>& totalMass) {
     if (!totalMass)
         return;
-    std::size_t solid = 0;
-    for (auto isVoid : material.isVoid)
-        solid += isVoid == 0;
-    if (solid > 0)
-        material.mass.assign(material.mass.size(), *totalMass / double(solid));
+    const bool continuum = material.model == MaterialModel::Continuum;
+    const std::vector<double> volume = nodeVolumes(lattice);
+    double solid = 0.0;
+    for (std::size_t n = 0; n < material.isVoid.size(); ++n)
+        solid += material.isVoid[n] ? 0.0 : continuum ? volume[n] : 1.0;
+    if (solid > 0.0)
+        material.mass.assign(material.mass.size(), *totalMass / solid);
 }
 
 /// A "drivers" array, each driver validated (problems reported at its pointer).
@@ -351,7 +396,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
                 object.material.isVoid[std::size_t(node)] = 1;
         }
     }
-    spreadTotalMass(object.material, totalMass);
+    spreadTotalMass(object.lattice, object.material, totalMass);
     readDrivers(v["drivers"], object.drivers);
     // The body itself validates combinations (every node void, …).
     if (issues.empty()) {
@@ -737,7 +782,7 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
                 LatticeMaterial m = uniformMaterial(probe, 1.0, 1.0, 0.0);
                 std::optional<double> total;
                 const JsonValue material = root["material"];
-                for (const char* field : {"mass", "stiffness", "damping"}) {
+                for (const char* field : {"mass", "stiffness", "damping", "density", "modulus", "viscosity"}) {
                     if (material[field].isArray())
                         material[field].problem("a preset holds one value for every node, not an array");
                 }
@@ -916,13 +961,15 @@ void writeClipLibrary(const ClipLibrary& lib, json& doc) {
 
 /// The material, anchors and voids of a lattice as a project object writes them.
 void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& object) {
-    object["material"] = {{"mass", perNode(m.mass)},
-                          {"stiffness", perNode(m.stiffness)},
-                          {"damping", perNode(m.damping)},
+    const MaterialKeys& key = materialKeys(m.model);
+    object["material"] = {{"model", m.model == MaterialModel::Continuum ? "continuum" : "lattice-springs"},
+                          {key.mass, perNode(m.mass)},
+                          {key.stiffness, perNode(m.stiffness)},
+                          {key.damping, perNode(m.damping)},
                           {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
                           {"anisotropy", vec(m.anisotropy)},
                           {"heavyAnchorRatio", m.heavyAnchorRatio},
-                          {"airDamping", m.airDamping}};
+                          {key.nodeDamping, m.airDamping}};
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -997,13 +1044,9 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
     readMaterial(JsonValue(&preset.material, "/material", &issues), m, total, false, fs::path());
     if (!issues.empty())
         return Status::error(issues.summary());
-    if (total) {
-        int count = 0;
-        for (int n = 0; n < lattice.nodeCount(); ++n)
-            count += m.isVoid[std::size_t(n)] ? 0 : 1;
-        m.mass.assign(m.mass.size(), *total / std::max(count, 1));
-    }
-    if (nodes.empty()) {
+    spreadTotalMass(lattice, m, total);
+    if (nodes.empty() || m.model != material.model) {
+        // A preset of another model replaces every value: half of a map in kg and half in kg/m³ means nothing.
         material = m;
         return Status::success();
     }
@@ -1031,20 +1074,28 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
     }
     if (count == 0)
         return Status::error(path.string() + ": the material has no simulated node to take values from");
+    const bool continuum = material.model == MaterialModel::Continuum;
+    const MaterialKeys& key = materialKeys(material.model);
+    json values = {{"model", continuum ? "continuum" : "lattice-springs"},
+                   {key.stiffness, stiffness / count},
+                   {key.damping, damping / count},
+                   {"springKindScale",
+                    {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
+                   {"anisotropy", vec(material.anisotropy)},
+                   {"heavyAnchorRatio", material.heavyAnchorRatio},
+                   {key.nodeDamping, material.airDamping}};
+    // A lattice-springs preset keeps the body's total mass; a continuum one its (mean) density, which
+    // means the same on every object.
+    if (continuum)
+        values["density"] = total / count;
+    else
+        values["totalMass"] = total;
     const json doc = {{"format", kPresetFormat},
                       {"version", kPresetVersion},
                       {"kind", "material"},
                       {"name", name},
                       {"description", description},
-                      {"material",
-                       {{"totalMass", total},
-                        {"stiffness", stiffness / count},
-                        {"damping", damping / count},
-                        {"springKindScale",
-                         {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
-                        {"anisotropy", vec(material.anisotropy)},
-                        {"heavyAnchorRatio", material.heavyAnchorRatio},
-                        {"airDamping", material.airDamping}}}};
+                      {"material", values}};
     return writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
@@ -1138,7 +1189,7 @@ Result<SetupPreset> loadSetupPreset(const fs::path& path) {
         for (int node : readNodeSelection(voids, lattice))
             preset.material.isVoid[std::size_t(node)] = 1;
     }
-    spreadTotalMass(preset.material, totalMass);
+    spreadTotalMass(lattice, preset.material, totalMass);
     readDrivers(root["drivers"], preset.drivers);
     if (const JsonValue clips = root["clips"]; clips.exists()) {
         if (!clips.isArray())

@@ -15,8 +15,8 @@ namespace softtouch::io {
 
 /// Version written by this build; older versions are read, newer ones refused. Version 2 adds the
 /// clip library (clips, sessions, keyframes); version 1 files read as projects without clips.
-constexpr int kProjectVersion = 2;
-constexpr int kPresetVersion = 1;
+constexpr int kProjectVersion = 3;
+constexpr int kPresetVersion = 2;
 
 /// A loaded project: the scene plus what is needed to write it back.
 struct Project {

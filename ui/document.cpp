@@ -75,7 +75,7 @@ Status Document::importMesh(const QString& path) {
     if (!lattice)
         return Status::error(path.toStdString() + ": " + lattice.message());
     object.lattice = lattice.value();
-    object.material = uniformMaterial(object.lattice, 0.02, 80.0, 0.9);
+    object.material = defaultMaterial(object.lattice);  // a Continuum fish body: the same on any lattice
     io::Project project;
     project.scene.objects.push_back(std::move(object));
     project.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());

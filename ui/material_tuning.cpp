@@ -31,13 +31,14 @@ void scaleDamping(LatticeMaterial& material, double factor) {
 }
 }  // namespace
 
-MaterialSummary summarise(const LatticeMaterial& material) {
+MaterialSummary summarise(const Lattice& lattice, const LatticeMaterial& material) {
     MaterialSummary s;
     s.meanMass = meanOf(material.mass, material);
     s.meanStiffness = meanOf(material.stiffness, material);
     s.meanDamping = meanOf(material.damping, material);
-    for (std::size_t n = 0; n < material.mass.size(); ++n)
-        s.totalMass += material.isVoid[n] ? 0.0 : material.mass[n];
+    const std::vector<double> kg = nodeMasses(lattice, material);
+    for (std::size_t n = 0; n < kg.size(); ++n)
+        s.totalMass += material.isVoid[n] ? 0.0 : kg[n];
     return s;
 }
 
@@ -77,8 +78,8 @@ bool setDampingRatio(const Lattice& lattice, LatticeMaterial& material, double r
     if (mode->dampingRatio <= 0.0) {
         if (ratio == 0.0)
             return true;
-        // Nothing to scale: start from the paper's node damping at a unit rate per kilogram.
-        material.airDamping = summarise(material).meanMass;
+        // Nothing to scale: start from the paper's node damping at a unit rate (1/s).
+        material.airDamping = material.model == MaterialModel::Continuum ? 1.0 : summarise(lattice, material).meanMass;
         mode = lowestMode(lattice, material);
         if (!mode || mode->dampingRatio <= 0.0)
             return false;

@@ -15,15 +15,16 @@
 namespace softtouch::ui {
 
 /// Means and totals of the painted values over non-void nodes (the modes come from materialModes()).
+/// Means are in the material model's units (materialRanges()).
 struct MaterialSummary {
-    double meanMass = 0.0;       ///< kg.
+    double meanMass = 0.0;       ///< kg per node, or kg/m³.
     double totalMass = 0.0;      ///< kg, non-void nodes (anchors at their own mass, not multiplied).
-    double meanStiffness = 0.0;  ///< N/m.
-    double meanDamping = 0.0;    ///< N·s/m.
+    double meanStiffness = 0.0;  ///< N/m, or Pa.
+    double meanDamping = 0.0;    ///< N·s/m, or Pa·s.
 };
 
 /// Summarises a material's painted values.
-MaterialSummary summarise(const LatticeMaterial& material);
+MaterialSummary summarise(const Lattice& lattice, const LatticeMaterial& material);
 
 /// Largest lattice the editor analyses on every edit (free-node unknowns); finer lattices are analysed
 /// by `softtouch-cli modes`.

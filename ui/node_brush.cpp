@@ -18,20 +18,22 @@ const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintFie
     return fieldValues(const_cast<LatticeMaterial&>(material), field);
 }
 
-const char* fieldName(PaintField field) {
+const char* fieldName(PaintField field, MaterialModel model) {
+    const bool continuum = model == MaterialModel::Continuum;
     switch (field) {
-    case PaintField::Mass: return "mass";
-    case PaintField::Stiffness: return "stiffness";
-    case PaintField::Damping: return "damping";
+    case PaintField::Mass: return continuum ? "density" : "mass";
+    case PaintField::Stiffness: return continuum ? "modulus" : "stiffness";
+    case PaintField::Damping: return continuum ? "viscosity" : "damping";
     }
     return "";
 }
 
-const char* fieldUnit(PaintField field) {
+const char* fieldUnit(PaintField field, MaterialModel model) {
+    const MaterialRanges& range = materialRanges(model);
     switch (field) {
-    case PaintField::Mass: return "kg";
-    case PaintField::Stiffness: return "N/m";
-    case PaintField::Damping: return "N·s/m";
+    case PaintField::Mass: return range.mass.unit;
+    case PaintField::Stiffness: return range.stiffness.unit;
+    case PaintField::Damping: return range.damping.unit;
     }
     return "";
 }

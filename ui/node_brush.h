@@ -29,9 +29,9 @@ struct BrushSettings {
 /// The per-node array of a field.
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
-/// Human name and unit of a field ("stiffness", "N/m").
-const char* fieldName(PaintField field);
-const char* fieldUnit(PaintField field);
+/// Human name and unit of a field under a material model ("stiffness", "N/m"; "modulus", "Pa").
+const char* fieldName(PaintField field, MaterialModel model);
+const char* fieldUnit(PaintField field, MaterialModel model);
 
 /// Weight of a dab at `distance` pixels from its centre: 1 at the centre, 0 from the radius on.
 double brushWeight(double distancePixels, const BrushSettings& brush);

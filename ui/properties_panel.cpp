@@ -145,10 +145,10 @@ QWidget* PropertiesPanel::buildMaterial() {
     form->addRow(m_modes);
     m_totalMass = spin(1e-6, 1e6, 4, tr(" kg"), 0.1);
     form->addRow(tr("Total mass"), m_totalMass);
-    m_stiffness = spin(1e-3, 1e9, 2, tr(" N/m"), 5);
+    m_stiffness = spin(1e-3, 1e12, 2, tr(" N/m"), 5);
     m_stiffness->setObjectName("stiffness");
     form->addRow(tr("Stiffness (mean)"), m_stiffness);
-    m_damping = spin(0, 1e6, 3, tr(" N·s/m"), 0.05);
+    m_damping = spin(0, 1e9, 3, tr(" N·s/m"), 0.05);
     m_damping->setToolTip(tr("Spring damping: resists the relative velocity of a spring's two nodes, so it calms "
                              "wobble but never slows the body as a whole. Stronger on faster modes."));
     form->addRow(tr("Spring damping (mean)"), m_damping);
@@ -183,8 +183,8 @@ QWidget* PropertiesPanel::buildMaterial() {
     connect(m_totalMass, &QDoubleSpinBox::valueChanged, this, [this](double kg) {
         if (m_refreshing)
             return;
-        editMaterial(tr("Set mass"), kMergeMass, [kg](LatticeMaterial& m) {
-            const double total = summarise(m).totalMass;
+        editMaterial(tr("Set mass"), kMergeMass, [kg, lattice = currentLattice()](LatticeMaterial& m) {
+            const double total = summarise(lattice, m).totalMass;
             if (total > 0.0)
                 for (double& x : m.mass)
                     x *= kg / total;
@@ -290,6 +290,7 @@ QWidget* PropertiesPanel::buildTools() {
 
     connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
         m_viewport->brush().field = PaintField(m_brushField->currentData().toInt());
+        m_brushFieldShown.reset();  // offer a value in the new field's unit
         m_viewport->updateLegend();
         refresh();
         m_viewport->update();
@@ -325,7 +326,7 @@ QWidget* PropertiesPanel::buildSelection() {
         const double value = m_selectionValue->value();
         const std::vector<int> n = nodes();
         if (!n.empty())
-            editMaterial(tr("Set %1 of %n node(s)", nullptr, int(n.size())).arg(fieldName(field)), kNoMerge,
+            editMaterial(tr("Set %1 of %n node(s)", nullptr, int(n.size())).arg(fieldName(field, currentModel())), kNoMerge,
                          [&](LatticeMaterial& m) { fillNodes(m, field, n, value); });
     });
     connect(smooth, &QPushButton::clicked, this, [this, nodes] {
@@ -333,7 +334,7 @@ QWidget* PropertiesPanel::buildSelection() {
         const std::vector<int> n = nodes();
         const Lattice& lattice = m_document->scene().objects[std::size_t(object())].lattice;
         if (!n.empty())
-            editMaterial(tr("Smooth %1").arg(fieldName(field)), kNoMerge,
+            editMaterial(tr("Smooth %1").arg(fieldName(field, currentModel())), kNoMerge,
                          [&](LatticeMaterial& m) { smoothNodes(m, lattice, field, n); });
     });
     return box;
@@ -449,7 +450,8 @@ void PropertiesPanel::refresh() {
     m_groundPlane->setChecked(!w.planes.empty());
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
-        const MaterialSummary s = summarise(o.material);
+        const MaterialSummary s = summarise(o.lattice, o.material);
+        showMaterialUnits(o.material.model);
         refreshModes(o, w.simulation);
         setQuietly(m_totalMass, s.totalMass);
         setQuietly(m_stiffness, s.meanStiffness);
@@ -466,9 +468,44 @@ void PropertiesPanel::refresh() {
                                               : tr("%n node(s)", nullptr, int(sel.size())));
         if (!sel.empty())
             setQuietly(m_selectionValue, fieldValues(o.material, field)[std::size_t(*sel.begin())]);
-        m_selectionValue->setSuffix(QString(" ") + fieldUnit(field));
+        m_selectionValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
+        m_brushValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
+        // A brush value in kg means nothing on a density map: when the field or what its values mean
+        // changes, start the brush at twice the field's mean (paint "stiffer", "heavier").
+        const std::pair shown{field, o.material.model};
+        if (m_brushFieldShown != shown) {
+            m_brushFieldShown = shown;
+            const auto& values = fieldValues(o.material, field);
+            double mean = 0.0;
+            for (double x : values)
+                mean += x / double(values.size());
+            if (mean > 0.0)
+                m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
+        }
     }
     m_refreshing = false;
+}
+
+MaterialModel PropertiesPanel::currentModel() const {
+    return m_document->scene().objects[std::size_t(object())].material.model;
+}
+
+void PropertiesPanel::showMaterialUnits(MaterialModel model) {
+    // The same fields, named and measured for what the values mean (lattice_body.h, MaterialModel).
+    const bool continuum = model == MaterialModel::Continuum;
+    const MaterialRanges& range = materialRanges(model);
+    m_stiffness->setSuffix(QString(" ") + QString::fromUtf8(range.stiffness.unit));
+    m_damping->setSuffix(QString(" ") + QString::fromUtf8(range.damping.unit));
+    m_nodeDamping->setSuffix(QString(" ") + QString::fromUtf8(range.airDamping.unit));
+    m_stiffness->setSingleStep(continuum ? 100.0 : 5.0);
+    if (auto* form = qobject_cast<QFormLayout*>(m_stiffness->parentWidget()->layout())) {
+        if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_stiffness)))
+            label->setText(continuum ? tr("Young's modulus (mean)") : tr("Stiffness (mean)"));
+        if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_damping)))
+            label->setText(continuum ? tr("Spring viscosity (mean)") : tr("Spring damping (mean)"));
+        if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_nodeDamping)))
+            label->setText(continuum ? tr("Node damping rate") : tr("Node damping"));
+    }
 }
 
 Lattice PropertiesPanel::currentLattice() const {

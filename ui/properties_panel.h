@@ -8,6 +8,9 @@
 
 #include <QWidget>
 
+#include <optional>
+#include <utility>
+
 class QComboBox;
 class QDoubleSpinBox;
 class QSpinBox;
@@ -36,6 +39,10 @@ private:
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
     /// The current object's lattice (a copy, for edits that need its geometry).
     Lattice currentLattice() const;
+    /// What the current object's material values mean.
+    MaterialModel currentModel() const;
+    /// Names and units of the material fields for a model.
+    void showMaterialUnits(MaterialModel model);
     void editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change);
     void editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change);
     void applyLatticeShape();
@@ -75,6 +82,7 @@ private:
 
     QComboBox* m_brushField = nullptr;
     QDoubleSpinBox* m_brushValue = nullptr;
+    std::optional<std::pair<PaintField, MaterialModel>> m_brushFieldShown; ///< Field and model the brush value is for.
     QDoubleSpinBox* m_brushRadius = nullptr;
     QDoubleSpinBox* m_brushStrength = nullptr;
     QComboBox* m_brushFalloff = nullptr;

@@ -224,9 +224,11 @@ void Viewport::updateLegend() {
     m_legend->setVisible(show);
     if (!show)
         return;
-    const std::vector<double>& values = fieldValues(scene.objects[std::size_t(m_object)].material, m_brush.field);
+    const LatticeMaterial& material = scene.objects[std::size_t(m_object)].material;
+    const std::vector<double>& values = fieldValues(material, m_brush.field);
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    m_legend->setRange(QString::fromUtf8(fieldName(m_brush.field)), *lo, *hi, QString::fromUtf8(fieldUnit(m_brush.field)));
+    m_legend->setRange(QString::fromUtf8(fieldName(m_brush.field, material.model)), *lo, *hi,
+                       QString::fromUtf8(fieldUnit(m_brush.field, material.model)));
     m_legend->move(12, height() - m_legend->height() - 12);
 }
 
@@ -465,9 +467,9 @@ void Viewport::paintDab(const QPointF& pos) {
     brush.strength = std::clamp(brush.strength * m_pressure, 0.0, 1.0);
     if (!applyDab(after, nodeScreenPositions(m_object), Eigen::Vector2d(pos.x(), pos.y()), brush))
         return;
-    m_document->undoStack()->push(new MaterialEditCommand(
-        m_document, m_object, std::move(before), std::move(after),
-        tr("Paint %1").arg(QString::fromUtf8(fieldName(m_brush.field))), m_strokeKey));
+    const QString name = tr("Paint %1").arg(QString::fromUtf8(fieldName(m_brush.field, after.model)));
+    m_document->undoStack()->push(
+        new MaterialEditCommand(m_document, m_object, std::move(before), std::move(after), name, m_strokeKey));
 }
 
 void Viewport::placeLattice(const QPointF& from, const QPointF& to) {

@@ -167,7 +167,7 @@ void TestClips::libraryRoundTripsAndSessionsReplayExactly() {
 
     const auto saved = std::filesystem::path(dir.path().toStdString()) / "guppy.softtouch";
     QVERIFY(saveProject(project, saved).ok());
-    QVERIFY(readText(saved).find("\"version\": 2") != std::string::npos);
+    QVERIFY(readText(saved).find("\"version\": " + std::to_string(kProjectVersion)) != std::string::npos);
     auto reloaded = loadProject(saved);
     QVERIFY2(reloaded.ok(), reloaded.message().c_str());
     const ClipLibrary& lib = reloaded->clips;
@@ -216,8 +216,8 @@ void TestClips::versionOneStillReads() {
     QVERIFY2(refused.message().find("/clips") != std::string::npos &&
                  refused.message().find("version 2") != std::string::npos,
              refused.message().c_str());
-    const auto v3 = writeFile(dir, "v3.softtouch", projectText(3, ""));
-    QVERIFY(loadProject(v3).message().find("newer") != std::string::npos);
+    const auto newer = writeFile(dir, "newer.softtouch", projectText(kProjectVersion + 1, ""));
+    QVERIFY(loadProject(newer).message().find("newer") != std::string::npos);
 }
 
 void TestClips::badClipsNameTheProblem_data() {

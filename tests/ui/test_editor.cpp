@@ -216,10 +216,10 @@ void TestEditor::paintStrokeIsOneUndoStep() {
     w.findChild<QAction*>("toolPaint")->trigger();
     QCOMPARE(view->tool(), Tool::Paint);
     view->brush().field = PaintField::Stiffness;
-    view->brush().value = 400.0;
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    view->brush().value = 4.0 * *std::max_element(before.stiffness.begin(), before.stiffness.end());
     view->brush().strength = 0.8;
     view->brush().radiusPixels = 80.0;
-    const LatticeMaterial before = w.document()->scene().objects[0].material;
     const int undoBefore = w.document()->undoStack()->index();
 
     const QPoint start = view->rect().center() - QPoint(60, 0);
