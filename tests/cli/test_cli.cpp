@@ -1,5 +1,8 @@
 // End to end: run softtouch-cli on the bundled scenes and on bad input, check what it wrote.
+#include "core/lattice_body.h"
+#include "core/modes.h"
 #include "io/mesh_import.h"
+#include "io/project_file.h"
 #include "io/vertex_cache.h"
 
 #include "cli_run.h"
@@ -63,6 +66,7 @@ private slots:
     void bakeFormats();
     void bakeIsDeterministic();
     void goldenHash();
+    void upgradeKeepsMassLowestModeAndDamping();
     void badInputFailsCleanly_data();
     void badInputFailsCleanly();
     void failedBakeKeepsPreviousFile();
@@ -200,6 +204,55 @@ void TestCli::goldenHash() {
     const QString hash = QString::fromLatin1(QCryptographicHash::hash(fileBytes(out), QCryptographicHash::Sha256).toHex());
     const QString golden = QStringLiteral("535b974a56e3f34ca5f846db9956144158476346ea4154fca6e84f935b1d8da2");
     QVERIFY2(hash == golden, qPrintable("angelfish-swim, 24 frames: sha256 " + hash + ", golden " + golden));
+}
+
+// A version 2 project with the pre-v3 fish-body values inline (kg per node, N/m) upgraded to a
+// continuum material: the same total mass, lowest mode and damping ratios, in the new keys; and a
+// project mixing the models' keys is refused with the key to use.
+void TestCli::upgradeKeepsMassLowestModeAndDamping() {
+    QTemporaryDir dir;
+    const QString mesh = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/angelfish.obj");
+    auto project = [&](const QString& material) {
+        return QStringLiteral(R"({"format": "softtouch-project", "version": 2, "objects": [{"name": "fish", "mesh": ")") +
+               mesh + R"(", "lattice": {"kind": "bezier", "nodes": [4, 4, 4], "padding": 0.02}, "material": )" + material +
+               R"(, "anchors": [{"mode": "pinned", "region": {"min": [0.9, 0, 0], "max": [1, 1, 1]}}]}]})";
+    };
+    const QString old = dir.filePath("old.softtouch"), upgraded = dir.filePath("new.softtouch");
+    {
+        QFile f(old);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(project(R"({"totalMass": 1.0, "stiffness": 60, "damping": 0.15, "airDamping": 0.02})").toUtf8());
+    }
+    const Run run = runCli({"upgrade", old, "--out", upgraded});
+    QVERIFY2(run.exitCode == 0, qPrintable(run.err));
+    QVERIFY(run.out.contains("before Hz"));
+    auto before = io::loadProject(old.toStdString());
+    auto after = io::loadProject(upgraded.toStdString());
+    QVERIFY2(before && after, after ? before.message().c_str() : after.message().c_str());
+    const SceneObject& a = before->scene.objects[0];
+    const SceneObject& b = after->scene.objects[0];
+    QCOMPARE(a.material.model, MaterialModel::LatticeSprings);
+    QCOMPARE(b.material.model, MaterialModel::Continuum);
+    double massA = 0.0, massB = 0.0;
+    for (double kg : nodeMasses(a.lattice, a.material)) massA += kg;
+    for (double kg : nodeMasses(b.lattice, b.material)) massB += kg;
+    QVERIFY(std::abs(massB / massA - 1.0) < 1e-9);
+    const VibrationMode modeA = analyseModes(*buildLatticeBody(a.lattice, a.material).value(), 1)->modes.front();
+    const VibrationMode modeB = analyseModes(*buildLatticeBody(b.lattice, b.material).value(), 1)->modes.front();
+    QVERIFY(std::abs(modeB.frequencyHz / modeA.frequencyHz - 1.0) < 1e-6);
+    QVERIFY(std::abs(modeB.nodeDampingRatio - modeA.nodeDampingRatio) < 1e-6);
+    QVERIFY(std::abs(modeB.springDampingRatio - modeA.springDampingRatio) < 1e-6);
+
+    const QString mixed = dir.filePath("mixed.softtouch");
+    {
+        QFile f(mixed);
+        QVERIFY(f.open(QIODevice::WriteOnly));
+        f.write(project(R"({"model": "continuum", "stiffness": 60})").toUtf8());
+    }
+    const Run refused = runCli({"validate", mixed});
+    QCOMPARE(refused.exitCode, 1);
+    QVERIFY2(refused.err.contains("modulus") || refused.out.contains("modulus"), qPrintable(refused.err + refused.out));
+    QCOMPARE(runCli({"upgrade", old}).exitCode, 2);
 }
 
 void TestCli::badInputFailsCleanly_data() {
