@@ -74,6 +74,18 @@ constexpr double kModulusPerCoefficient = 61.0 / 117.0;
 
 }  // namespace
 
+double solidMean(const std::vector<double>& values, const LatticeMaterial& material) {
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t n = 0; n < values.size(); ++n) {
+        if (!material.isVoid[n]) {
+            sum += values[n];
+            ++count;
+        }
+    }
+    return count > 0 ? sum / count : 0.0;
+}
+
 std::vector<double> nodeVolumes(const Lattice& lattice) {
     const auto h = cellSpacings(lattice);
     std::vector<double> volume(std::size_t(lattice.nodeCount()), 0.0);

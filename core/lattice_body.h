@@ -72,6 +72,9 @@ LatticeMaterial defaultMaterial(const Lattice& lattice, MaterialModel model = Ma
 /// A resolution-independent material with the same values everywhere.
 LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity);
 
+/// Mean of a per-node field over the material's non-void nodes (0 when every node is void).
+double solidMean(const std::vector<double>& values, const LatticeMaterial& material);
+
 /// Each node's share of the lattice box, m³: the dual volume (an eighth of every adjacent grid cell
 /// between rest node positions). They sum to the box volume.
 std::vector<double> nodeVolumes(const Lattice& lattice);

@@ -14,19 +14,6 @@ Result<ModalAnalysis> modesOf(const Lattice& lattice, const LatticeMaterial& mat
     return modes;
 }
 
-/// Mean over the non-void nodes.
-double solidMean(const std::vector<double>& values, const LatticeMaterial& m) {
-    double sum = 0.0;
-    int count = 0;
-    for (std::size_t n = 0; n < values.size(); ++n) {
-        if (!m.isVoid[n]) {
-            sum += values[n];
-            ++count;
-        }
-    }
-    return count > 0 ? sum / count : 0.0;
-}
-
 /// Values divided by their solid mean (all ones when the mean is 0).
 std::vector<double> relative(const std::vector<double>& values, const LatticeMaterial& m) {
     const double mean = solidMean(values, m);

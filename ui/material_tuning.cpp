@@ -5,18 +5,6 @@
 namespace softtouch::ui {
 
 namespace {
-double meanOf(const std::vector<double>& values, const LatticeMaterial& m) {
-    double sum = 0.0;
-    int count = 0;
-    for (std::size_t n = 0; n < values.size(); ++n) {
-        if (!m.isVoid[n]) {
-            sum += values[n];
-            ++count;
-        }
-    }
-    return count > 0 ? sum / count : 0.0;
-}
-
 std::optional<VibrationMode> lowestMode(const Lattice& lattice, const LatticeMaterial& material) {
     auto modes = materialModes(lattice, material, 1);
     if (!modes || modes->modes.empty())
@@ -33,9 +21,9 @@ void scaleDamping(LatticeMaterial& material, double factor) {
 
 MaterialSummary summarise(const Lattice& lattice, const LatticeMaterial& material) {
     MaterialSummary s;
-    s.meanMass = meanOf(material.mass, material);
-    s.meanStiffness = meanOf(material.stiffness, material);
-    s.meanDamping = meanOf(material.damping, material);
+    s.meanMass = solidMean(material.mass, material);
+    s.meanStiffness = solidMean(material.stiffness, material);
+    s.meanDamping = solidMean(material.damping, material);
     const std::vector<double> kg = nodeMasses(lattice, material);
     for (std::size_t n = 0; n < kg.size(); ++n)
         s.totalMass += material.isVoid[n] ? 0.0 : kg[n];
@@ -50,7 +38,7 @@ Result<ModalAnalysis> materialModes(const Lattice& lattice, const LatticeMateria
 }
 
 void setMean(std::vector<double>& values, const LatticeMaterial& material, double mean) {
-    const double current = meanOf(values, material);
+    const double current = solidMean(values, material);
     if (current > 0.0) {
         for (double& v : values)
             v *= mean / current;
