@@ -24,8 +24,16 @@ LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, doub
 }
 
 const MaterialRanges& materialRanges(MaterialModel model) {
-    static const MaterialRanges springs{{1e-12, 1e12, "kg"}, {0.0, 1e9, "N/m"}, {0.0, 1e6, "N·s/m"}, {0.0, 1e6, "N·s/m"}};
-    static const MaterialRanges continuum{{1e-3, 1e6, "kg/m³"}, {0.0, 1e12, "Pa"}, {0.0, 1e9, "Pa·s"}, {0.0, 1e4, "1/s"}};
+    static const MaterialRanges springs{"lattice-springs",
+                                       {"mass", 1e-12, 1e12, "kg"},
+                                       {"stiffness", 0.0, 1e9, "N/m"},
+                                       {"damping", 0.0, 1e6, "N·s/m"},
+                                       {"airDamping", 0.0, 1e6, "N·s/m"}};
+    static const MaterialRanges continuum{"continuum",
+                                          {"density", 1e-3, 1e6, "kg/m³"},
+                                          {"modulus", 0.0, 1e12, "Pa"},
+                                          {"viscosity", 0.0, 1e9, "Pa·s"},
+                                          {"dampingRate", 0.0, 1e4, "1/s"}};
     return model == MaterialModel::Continuum ? continuum : springs;
 }
 
@@ -236,9 +244,9 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
         const auto c = lattice.coords(int(i));
         const std::string node = "node (" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
         if (!m.isVoid[i])
-            if (Status s = check(m.mass[i], range.mass, node + (continuum ? " density" : " mass")); !s) return s;
-        if (Status s = check(m.stiffness[i], range.stiffness, node + (continuum ? " modulus" : " stiffness")); !s) return s;
-        if (Status s = check(m.damping[i], range.damping, node + (continuum ? " viscosity" : " damping")); !s) return s;
+            if (Status s = check(m.mass[i], range.mass, node + " " + range.mass.name); !s) return s;
+        if (Status s = check(m.stiffness[i], range.stiffness, node + " " + range.stiffness.name); !s) return s;
+        if (Status s = check(m.damping[i], range.damping, node + " " + range.damping.name); !s) return s;
     }
     if (Status s = check(m.airDamping, range.airDamping, continuum ? "node damping rate" : "node damping"); !s) return s;
     for (int a = 0; a < 3; ++a) {

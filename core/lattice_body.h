@@ -50,13 +50,16 @@ struct LatticeMaterial {
                                          ///< the rate d_i / m_i in 1/s (Continuum). >= 0.
 };
 
-/// Valid range and unit of each per-node field under a model (one table for validation, readers and UI).
+/// Name, valid range and unit of each field under a model: one table for validation, the project
+/// files' keys and the editor's labels.
 struct MaterialRange {
+    const char* name = "";  ///< As files and the editor call it ("density", "modulus", …).
     double low = 0.0;
     double high = 0.0;
     const char* unit = "";
 };
 struct MaterialRanges {
+    const char* model = "";  ///< The model's name in files: "lattice-springs" or "continuum".
     MaterialRange mass, stiffness, damping, airDamping;
 };
 const MaterialRanges& materialRanges(MaterialModel model);

@@ -73,20 +73,6 @@ void applyPreset(const JsonValue& v, LatticeMaterial& m, std::optional<double>& 
         v.problem(message);
 }
 
-/// The JSON keys of a material's per-node values: each model has its own, so a file can never give
-/// kilograms where density is meant.
-struct MaterialKeys {
-    const char* mass;
-    const char* stiffness;
-    const char* damping;
-    const char* nodeDamping;
-};
-const MaterialKeys& materialKeys(MaterialModel model) {
-    static const MaterialKeys springs{"mass", "stiffness", "damping", "airDamping"};
-    static const MaterialKeys continuum{"density", "modulus", "viscosity", "dampingRate"};
-    return model == MaterialModel::Continuum ? continuum : springs;
-}
-
 /// A material switched to another model by its file's "model" starts from that model's defaults.
 void resetMaterialValues(LatticeMaterial& m, MaterialModel model) {
     const DefaultMaterialValues& d = defaultMaterialValues(model);
@@ -109,34 +95,39 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
                      "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
     if (allowPreset)
         applyPreset(v["preset"], m, totalMass, baseDir);
+    // Each model has its own keys (materialRanges().name), so a file can never give kilograms where a
+    // density is meant.
+    const MaterialRanges& springs = materialRanges(MaterialModel::LatticeSprings);
+    const MaterialRanges& continuum = materialRanges(MaterialModel::Continuum);
     if (const auto model = v["model"].string()) {
-        const MaterialModel wanted = *model == "continuum" ? MaterialModel::Continuum : MaterialModel::LatticeSprings;
-        if (*model != "continuum" && *model != "lattice-springs")
-            v["model"].problem("expected \"continuum\" or \"lattice-springs\", got \"" + *model + "\"");
+        const MaterialModel wanted = *model == continuum.model ? MaterialModel::Continuum : MaterialModel::LatticeSprings;
+        if (*model != continuum.model && *model != springs.model)
+            v["model"].problem(std::string("expected \"") + continuum.model + "\" or \"" + springs.model + "\", got \"" +
+                               *model + "\"");
         else if (wanted != m.model)
             resetMaterialValues(m, wanted);
     }
-    const MaterialKeys& key = materialKeys(m.model);
-    const MaterialKeys& other = materialKeys(m.model == MaterialModel::Continuum ? MaterialModel::LatticeSprings
-                                                                                 : MaterialModel::Continuum);
-    const char* modelName = m.model == MaterialModel::Continuum ? "continuum" : "lattice-springs";
-    for (auto [mine, theirs] : {std::pair{key.mass, other.mass}, {key.stiffness, other.stiffness},
-                                {key.damping, other.damping}, {key.nodeDamping, other.nodeDamping}}) {
+    const MaterialRanges& range = materialRanges(m.model);
+    const MaterialRanges& other = m.model == MaterialModel::Continuum ? springs : continuum;
+    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name}, {range.stiffness.name, other.stiffness.name},
+                                {range.damping.name, other.damping.name}, {range.airDamping.name, other.airDamping.name}}) {
         if (v[theirs].exists())
-            v[theirs].problem(std::string("a ") + modelName + " material gives \"" + mine + "\", not \"" + theirs +
+            v[theirs].problem(std::string("a ") + range.model + " material gives \"" + mine + "\", not \"" + theirs +
                               "\" (set \"model\" to change what the values mean)");
     }
-    const MaterialRanges& range = materialRanges(m.model);
-    if (v[key.mass].exists() && v["totalMass"].exists())
-        v["totalMass"].problem(std::string("give either ") + key.mass + " (per node) or totalMass, not both");
-    readPerNode(v[key.mass], m.mass, range.mass.low, range.mass.high, range.mass.unit);
-    if (v[key.mass].exists())
+    auto readField = [&](const MaterialRange& r, std::vector<double>& out) {
+        readPerNode(v[r.name], out, r.low, r.high, r.unit);
+    };
+    if (v[range.mass.name].exists() && v["totalMass"].exists())
+        v["totalMass"].problem(std::string("give either ") + range.mass.name + " (per node) or totalMass, not both");
+    readField(range.mass, m.mass);
+    if (v[range.mass.name].exists())
         totalMass.reset();
     if (auto t = v["totalMass"].number(1e-9, 1e15, "kg"))
         totalMass = *t;
-    readPerNode(v[key.stiffness], m.stiffness, range.stiffness.low, range.stiffness.high, range.stiffness.unit);
-    readPerNode(v[key.damping], m.damping, range.damping.low, range.damping.high, range.damping.unit);
-    if (auto x = v[key.nodeDamping].number(range.airDamping.low, range.airDamping.high, range.airDamping.unit))
+    readField(range.stiffness, m.stiffness);
+    readField(range.damping, m.damping);
+    if (auto x = v[range.airDamping.name].number(range.airDamping.low, range.airDamping.high, range.airDamping.unit))
         m.airDamping = *x;
     if (const JsonValue k = v["springKindScale"]; k.expectObject()) {
         k.checkKeys({"edge", "face", "body"});
@@ -961,15 +952,15 @@ void writeClipLibrary(const ClipLibrary& lib, json& doc) {
 
 /// The material, anchors and voids of a lattice as a project object writes them.
 void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& object) {
-    const MaterialKeys& key = materialKeys(m.model);
-    object["material"] = {{"model", m.model == MaterialModel::Continuum ? "continuum" : "lattice-springs"},
-                          {key.mass, perNode(m.mass)},
-                          {key.stiffness, perNode(m.stiffness)},
-                          {key.damping, perNode(m.damping)},
+    const MaterialRanges& key = materialRanges(m.model);
+    object["material"] = {{"model", key.model},
+                          {key.mass.name, perNode(m.mass)},
+                          {key.stiffness.name, perNode(m.stiffness)},
+                          {key.damping.name, perNode(m.damping)},
                           {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
                           {"anisotropy", vec(m.anisotropy)},
                           {"heavyAnchorRatio", m.heavyAnchorRatio},
-                          {key.nodeDamping, m.airDamping}};
+                          {key.airDamping.name, m.airDamping}};
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -1075,19 +1066,19 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
     if (count == 0)
         return Status::error(path.string() + ": the material has no simulated node to take values from");
     const bool continuum = material.model == MaterialModel::Continuum;
-    const MaterialKeys& key = materialKeys(material.model);
-    json values = {{"model", continuum ? "continuum" : "lattice-springs"},
-                   {key.stiffness, stiffness / count},
-                   {key.damping, damping / count},
+    const MaterialRanges& key = materialRanges(material.model);
+    json values = {{"model", key.model},
+                   {key.stiffness.name, stiffness / count},
+                   {key.damping.name, damping / count},
                    {"springKindScale",
                     {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
                    {"anisotropy", vec(material.anisotropy)},
                    {"heavyAnchorRatio", material.heavyAnchorRatio},
-                   {key.nodeDamping, material.airDamping}};
+                   {key.airDamping.name, material.airDamping}};
     // A lattice-springs preset keeps the body's total mass; a continuum one its (mean) density, which
     // means the same on every object.
     if (continuum)
-        values["density"] = total / count;
+        values[key.mass.name] = total / count;
     else
         values["totalMass"] = total;
     const json doc = {{"format", kPresetFormat},

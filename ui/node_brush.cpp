@@ -18,25 +18,21 @@ const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintFie
     return fieldValues(const_cast<LatticeMaterial&>(material), field);
 }
 
-const char* fieldName(PaintField field, MaterialModel model) {
-    const bool continuum = model == MaterialModel::Continuum;
-    switch (field) {
-    case PaintField::Mass: return continuum ? "density" : "mass";
-    case PaintField::Stiffness: return continuum ? "modulus" : "stiffness";
-    case PaintField::Damping: return continuum ? "viscosity" : "damping";
-    }
-    return "";
-}
-
-const char* fieldUnit(PaintField field, MaterialModel model) {
+namespace {
+const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     const MaterialRanges& range = materialRanges(model);
     switch (field) {
-    case PaintField::Mass: return range.mass.unit;
-    case PaintField::Stiffness: return range.stiffness.unit;
-    case PaintField::Damping: return range.damping.unit;
+    case PaintField::Mass: return range.mass;
+    case PaintField::Stiffness: return range.stiffness;
+    case PaintField::Damping: return range.damping;
     }
-    return "";
+    return range.stiffness;
 }
+}  // namespace
+
+const char* fieldName(PaintField field, MaterialModel model) { return fieldRange(field, model).name; }
+
+const char* fieldUnit(PaintField field, MaterialModel model) { return fieldRange(field, model).unit; }
 
 double brushWeight(double distancePixels, const BrushSettings& brush) {
     if (!(distancePixels < brush.radiusPixels))
