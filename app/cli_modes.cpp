@@ -6,6 +6,7 @@
 
 #include "core/mode_accuracy.h"
 #include "core/modes.h"
+#include "core/network_elasticity.h"
 #include "io/project_file.h"
 
 #include <cstdio>
@@ -19,7 +20,9 @@ Print the lowest vibration modes of each object of SCENE about its rest state: n
 damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
 and what the scene's integrator at its time step does to each mode: amplitude kept per period against
 what the material alone keeps, and the frequency error. Anchors and voids are as in the scene; the
-analysis is linear, so it describes small wobbles (docs/lattice.md).
+analysis is linear, so it describes small wobbles (docs/lattice.md). Last, the solid the springs make:
+Young's modulus along each box axis and the shear moduli under a uniform strain, beside the painted
+modulus (they differ on flat or long cells: docs/lattice.md, "What solid the springs make").
 
 Options:
   --count N       Modes per object, 1..20 (default 3).
@@ -94,6 +97,16 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (!summary.empty())
             std::printf("  %s\n", summary.c_str());
+        const NetworkElasticity e = networkElasticity(object.lattice, object.material);
+        if (e.resistsEveryStrain) {
+            std::printf("  springs act as: E_u %.4g  E_v %.4g  E_w %.4g Pa, G_vw %.4g  G_uw %.4g  G_uv %.4g Pa", e.youngsModulus.x(),
+                        e.youngsModulus.y(), e.youngsModulus.z(), e.shearModulus.x(), e.shearModulus.y(), e.shearModulus.z());
+            if (object.material.model == MaterialModel::Continuum)
+                std::printf(" (painted modulus, mean %.4g Pa)", solidMean(object.material.stiffness, object.material));
+            std::printf("\n");
+        } else {
+            std::printf("  springs act as: no resistance to some uniform strain (a spring kind scaled to 0)\n");
+        }
     }
     if (!found)
         return fail(scenePath + ": no object named '" + objectName + "'");
