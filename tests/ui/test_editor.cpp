@@ -866,6 +866,28 @@ void TestEditor::modeViewAnimatesTheShapeWithoutEditing() {
     QVERIFY(w.simulation()->simulation()->simulator(0).state().position == stateBefore);
     QCOMPARE(w.simulation()->simulation()->stepCount(), stepsBefore);
 
+    // A painted edit changes the shape; the view follows it (same mode, same clock).
+    LatticeMaterial stiffTail = fish.material;
+    for (std::size_t n = 0; n < stiffTail.stiffness.size(); ++n)
+        if (fish.lattice.coords(int(n))[0] == 0)
+            stiffTail.stiffness[n] *= 4.0;
+    w.document()->undoStack()->push(new MaterialEditCommand(w.document(), 0, fish.material, stiffTail, "stiff tail"));
+    QCOMPARE(view->shownMode(), 2);
+    auto stiffBody = buildLatticeBody(fish.lattice, stiffTail);
+    QVERIFY(stiffBody.ok());
+    const auto stiffModes = analyseModes(*stiffBody.value(), 3);
+    QVERIFY(stiffModes.ok());
+    double shapeChange = 0.0, followError = 0.0;
+    const std::vector<Vec3> followed = view->displayedNodes(0);
+    for (std::size_t n = 0; n < rest.size(); ++n) {
+        shapeChange = std::max(shapeChange, std::min((stiffModes->modes[1].shape[n] - modes->modes[1].shape[n]).norm(),
+                                                     (stiffModes->modes[1].shape[n] + modes->modes[1].shape[n]).norm()));
+        followError = std::max(followError, (followed[n] - (rest[n] + amplitude * stiffModes->modes[1].shape[n])).norm());
+    }
+    QVERIFY2(shapeChange > 0.01, qPrintable(QString::number(shapeChange)));
+    QVERIFY2(followError < 1e-12, qPrintable(QString::number(followError)));
+    w.document()->undoStack()->undo();
+
     // Play ends it, and the simulation's pose is drawn again.
     w.simulation()->play();
     QCOMPARE(view->shownMode(), 0);
