@@ -1,6 +1,6 @@
 // `softtouch-cli modes`: the lowest vibration modes of each object of a scene, with what the scene's
-// integrator and step do to them (core/modes.h, core/mode_accuracy.h). The editor's Properties show
-// the same figures.
+// integrator and step do to them (core/modes.h, core/mode_accuracy.h), and pictures of their shapes
+// (render/mode_pictures.h). The editor's Properties show the same figures and animate the shapes.
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
 
@@ -8,13 +8,14 @@
 #include "core/modes.h"
 #include "core/network_elasticity.h"
 #include "io/project_file.h"
+#include "render/mode_pictures.h"
 
 #include <cstdio>
 
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME]
+constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]
 
 Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
 damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
@@ -27,6 +28,14 @@ modulus (they differ on flat or long cells: docs/lattice.md, "What solid the spr
 Options:
   --count N       Modes per object, 1..20 (default 3).
   --object NAME   Only this object.
+  --pictures PREFIX
+                  Also draw each mode of the object (the first, or --object) headless on the GPU (EGL,
+                  no X server): the mesh deformed by +A x shape over a grey ghost of the rest pose, with
+                  the lattice (springs coloured by strain, anchors black), seen across the motion.
+                  Writes PREFIX-1.png ... PREFIX-N.png and PREFIX-modes.png, all side by side.
+  --size WxH      Size of each picture in pixels (default 640x400; 16..8192).
+  --amplitude F   A as a fraction of the lattice box's largest side (default 0.12, as the editor's
+                  mode view; 0 draws the rest pose), [0, 1].
 
 Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad usage.
 )";
@@ -34,7 +43,8 @@ Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad u
 }  // namespace
 
 int runModes(const std::vector<std::string>& args) {
-    std::string scenePath, objectName;
+    std::string scenePath, objectName, picturePrefix;
+    render::ModePictureOptions pictureOptions;
     int count = 3;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -42,12 +52,31 @@ int runModes(const std::vector<std::string>& args) {
             std::fputs(kModesUsage, stdout);
             return 0;
         }
-        if (a == "--count" || a == "--object") {
+        if (a == "--count" || a == "--object" || a == "--pictures" || a == "--size" || a == "--amplitude") {
             if (i + 1 == args.size())
                 return usageError(a + " needs a value", "modes");
             const std::string& value = args[++i];
             if (a == "--object") {
                 objectName = value;
+                continue;
+            }
+            if (a == "--pictures") {
+                picturePrefix = value;
+                continue;
+            }
+            if (a == "--size") {
+                const auto size = parseSize(value);
+                if (!size)
+                    return usageError("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + value + "'", "modes");
+                pictureOptions.width = size->first;
+                pictureOptions.height = size->second;
+                continue;
+            }
+            if (a == "--amplitude") {
+                const auto f = parseNumber(value);
+                if (!f || *f < 0.0 || *f > 1.0)
+                    return usageError("--amplitude must be a fraction in [0, 1], got '" + value + "'", "modes");
+                pictureOptions.amplitudeFraction = *f;
                 continue;
             }
             const auto n = parseNumber(value);
@@ -70,6 +99,7 @@ int runModes(const std::vector<std::string>& args) {
     const Scene& scene = project->scene;
     const SimulationSettings& settings = scene.world.simulation;
     bool found = false;
+    bool pictured = false;
     for (const SceneObject& object : scene.objects) {
         if (!objectName.empty() && object.name != objectName)
             continue;
@@ -106,6 +136,16 @@ int runModes(const std::vector<std::string>& args) {
             std::printf("\n");
         } else {
             std::printf("  springs act as: no resistance to some uniform strain (a spring kind scaled to 0)\n");
+        }
+        if (!picturePrefix.empty() && !pictured) {
+            pictured = true;
+            auto written = render::writeModePictures(object, modes->modes, pictureOptions, picturePrefix);
+            if (!written)
+                return fail(scenePath + ": object '" + object.name + "': pictures: " + written.message());
+            for (const std::string& file : written->files)
+                std::printf("  wrote %s\n", file.c_str());
+            std::printf("  (%dx%d, largest node displacement %.3g of the box's largest side; %s)\n", pictureOptions.width,
+                        pictureOptions.height, pictureOptions.amplitudeFraction, written->context.c_str());
         }
     }
     if (!found)

@@ -6,7 +6,6 @@
 #include "io/video_encoder.h"
 #include "render/video_render.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -33,22 +32,6 @@ Options:
 )";
 
 int usage(const std::string& message) { return usageError(message, "render"); }
-
-/// "WxH" with whole numbers in [16, 8192].
-std::optional<std::pair<int, int>> parseSize(const std::string& text) {
-    const std::size_t x = text.find('x');
-    if (x == std::string::npos)
-        return std::nullopt;
-    int w = 0, h = 0;
-    const char* begin = text.data();
-    const auto a = std::from_chars(begin, begin + x, w);
-    const auto b = std::from_chars(begin + x + 1, begin + text.size(), h);
-    if (a.ec != std::errc() || a.ptr != begin + x || b.ec != std::errc() || b.ptr != begin + text.size())
-        return std::nullopt;
-    if (w < 16 || h < 16 || w > 8192 || h > 8192)
-        return std::nullopt;
-    return std::pair{w, h};
-}
 
 }  // namespace
 

@@ -14,7 +14,7 @@ Usage:
   softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|vat|lattice] [--threads N]
   softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
   softtouch-cli validate FILE...
-  softtouch-cli modes SCENE [--count N] [--object NAME]
+  softtouch-cli modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]
   softtouch-cli upgrade SCENE --out NEW.softtouch
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick] [--only KEY]
@@ -29,7 +29,8 @@ Commands:
   render     Simulate SCENE and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU
              (EGL; no X server needed). 'softtouch-cli render --help' for details.
   modes      The lowest vibration modes of each object (frequency, damping ratio, shape) and what the
-             scene's integrator and step do to them. 'softtouch-cli modes --help'.
+             scene's integrator and step do to them; --pictures draws the shapes headless.
+             'softtouch-cli modes --help'.
   upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
              every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
   validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.

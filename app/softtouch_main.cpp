@@ -1,6 +1,6 @@
 // softtouch: the editor. Parses the command line and opens the main window on a project (the bundled
 // default scene when none is given). `--screenshot FILE.png` renders one frame of the window, writes
-// it and exits (docs and tests).
+// it and exits (docs and tests); `--show-mode N` presses the Properties' "Show" of mode N first.
 #include "app/editor_paths.h"
 #include "ui/main_window.h"
 
@@ -9,11 +9,13 @@
 #include <QDir>
 #include <QDockWidget>
 #include <QMouseEvent>
+#include <QPushButton>
 #include <QSurfaceFormat>
 #include <QTimer>
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace {
 
@@ -52,6 +54,19 @@ void dragTail(softtouch::ui::MainWindow& window, const QPointF& offset, double s
     window.simulation()->stopRecording();
 }
 
+/// Presses the Properties' "Show" toggle of mode `n` (1-3), as a person would; false when the body has
+/// no such mode. With `hold`, the view is frozen at the mode's largest displacement (a quarter cycle).
+bool showMode(softtouch::ui::MainWindow& window, int n, bool hold) {
+    auto* button = window.findChild<QPushButton*>(QStringLiteral("showMode%1").arg(n));
+    if (!button || button->isHidden())
+        return false;
+    if (!button->isChecked())
+        button->click();
+    if (hold)
+        window.viewport()->holdModeView(0.25 / softtouch::kModeDisplayHz);
+    return window.viewport()->shownMode() == n;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -78,10 +93,15 @@ int main(int argc, char** argv) {
     const QCommandLineOption drag("drag", "Record a take in which the mouse pulls the object's tail "
                                           "(lattice point u=0.15) by DX,DY pixels, held for --seconds.", "DX,DY");
     const QCommandLineOption dock("dock", "Bring a dock to the front: properties, presets, study.", "NAME");
+    const QCommandLineOption cameraOption("camera", "With --screenshot: look from YAW,PITCH degrees (yaw about +y, 0 "
+                                                    "looks along -z; negative pitch looks down), framing everything.",
+                                          "YAW,PITCH");
+    const QCommandLineOption showModeOption("show-mode", "Animate vibration mode N (1-3) of the object in the viewport "
+                                                         "(with --screenshot: at its largest displacement).", "N");
     const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
     const QCommandLineOption autosaveSeconds("autosave-seconds", "Seconds between autosaves (default 60).", "S", "60");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    parser.addOptions({screenshot, mode, seconds, drag, dock, autosaveFolder, autosaveSeconds, noRecovery});
+    parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, autosaveFolder, autosaveSeconds, noRecovery});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -123,6 +143,19 @@ int main(int argc, char** argv) {
             return 1;
         }
         window.simulation()->pause();
+        if (parser.isSet(cameraOption)) {
+            const QStringList c = parser.value(cameraOption).split(',');
+            bool yawOk = false, pitchOk = false;
+            const double yaw = c.value(0).toDouble(&yawOk), pitch = c.value(1).toDouble(&pitchOk);
+            if (c.size() != 2 || !yawOk || !pitchOk || std::abs(pitch) >= 89.0) {
+                std::fprintf(stderr, "softtouch: error: --camera expects YAW,PITCH in degrees (|pitch| < 89), got '%s'\n",
+                             qPrintable(parser.value(cameraOption)));
+                return 2;
+            }
+            window.viewport()->camera().yaw = yaw * std::numbers::pi / 180.0;
+            window.viewport()->camera().pitch = pitch * std::numbers::pi / 180.0;
+            window.viewport()->frameAll();
+        }
         if (parser.isSet(drag)) {
             const QStringList d = parser.value(drag).split(',');
             if (d.size() != 2) {
@@ -133,6 +166,12 @@ int main(int argc, char** argv) {
             dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), parser.value(seconds).toDouble());
         } else {
             window.simulation()->advance(parser.value(seconds).toDouble());
+        }
+        QApplication::processEvents();
+        if (parser.isSet(showModeOption) && !showMode(window, parser.value(showModeOption).toInt(), true)) {
+            std::fprintf(stderr, "softtouch: error: the object has no mode '%s' to show (1-3)\n",
+                         qPrintable(parser.value(showModeOption)));
+            return 2;
         }
         QApplication::processEvents();
         window.refreshStatus();
@@ -157,6 +196,8 @@ int main(int argc, char** argv) {
                 window.simulation()->play();
             }
         }
+        if (parser.isSet(showModeOption))
+            showMode(window, parser.value(showModeOption).toInt(), false);  // pauses the simulation
     }
     return QApplication::exec();
 }

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -110,6 +111,14 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count) {
         result.modes.push_back(std::move(mode));
     }
     return result;
+}
+
+std::vector<Vec3> modePose(std::span<const Vec3> rest, const VibrationMode& mode, double amplitude) {
+    assert(rest.size() == mode.shape.size());
+    std::vector<Vec3> pose(rest.begin(), rest.end());
+    for (std::size_t i = 0; i < pose.size() && i < mode.shape.size(); ++i)
+        pose[i] += amplitude * mode.shape[i];
+    return pose;
 }
 
 }  // namespace softtouch

@@ -14,6 +14,7 @@
 #include "core/body_model.h"
 #include "core/result.h"
 
+#include <span>
 #include <vector>
 
 namespace softtouch {
@@ -43,5 +44,17 @@ inline constexpr int kMaxModalUnknowns = 3000;
 /// The `count` lowest elastic modes of a body at rest. Fails, saying why, when no node is free or the
 /// problem exceeds kMaxModalUnknowns.
 Result<ModalAnalysis> analyseModes(const BodyModel& model, int count = 3);
+
+/// How large the editor's mode view and `softtouch-cli modes --pictures` draw a mode: its largest node
+/// displacement as a fraction of the lattice box's largest side. A linear mode has no amplitude of its
+/// own; this one is large enough to read and small enough to stay a small wobble.
+inline constexpr double kModeDisplayFraction = 0.12;
+/// Rate the editor animates every mode at, Hz: the true frequency is shown as a number beside it, so a
+/// 40 Hz mode is still a shape one can follow.
+inline constexpr double kModeDisplayHz = 1.0;
+
+/// Node positions displaced along a mode: rest_i + amplitude · φ_i (amplitude in metres, since max |φ_i|
+/// = 1 it is the largest node displacement). `rest` has one entry per node of the mode's body.
+std::vector<Vec3> modePose(std::span<const Vec3> rest, const VibrationMode& mode, double amplitude);
 
 }  // namespace softtouch

@@ -54,4 +54,11 @@ Camera frameBounds(const Bounds& bounds, const Eigen::Vector3f& viewDirection, f
     return camera;
 }
 
+Eigen::Vector3d toPixels(const Camera& camera, const Vec3& world, int width, int height) {
+    const Eigen::Vector4d clip =
+        (camera.projection * camera.view).cast<double>() * Eigen::Vector4d(world.x(), world.y(), world.z(), 1.0);
+    const Eigen::Vector3d ndc = clip.head<3>() / clip.w();
+    return {0.5 * (ndc.x() + 1.0) * width, 0.5 * (1.0 - ndc.y()) * height, ndc.z()};
+}
+
 }  // namespace softtouch::render

@@ -30,4 +30,8 @@ constexpr float kDefaultFovY = 0.6108652f;
 /// with +y up (or +z when looking along y).
 Camera frameBounds(const Bounds& bounds, const Eigen::Vector3f& viewDirection, float aspect);
 
+/// Where a world point lands in a picture of the given size drawn with `camera`: pixels from the top-left
+/// corner (x right, y down) and the normalised depth in [-1, 1] (outside: clipped).
+Eigen::Vector3d toPixels(const Camera& camera, const Vec3& world, int width, int height);
+
 }  // namespace softtouch::render

@@ -21,7 +21,11 @@ shot "$out/guide-paint.png" --seconds 1.0 presets/scenes/angelfish-painted.softt
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
 # 5. The speed/accuracy dock: the study with the current settings marked.
 shot "$out/guide-study.png" --dock study "$scene"
-# 6. The exported swim cycle, rendered headless: first frame of the PNG sequence.
+# 6. A vibration mode shown on the body (Properties' Show beside mode 1), seen from above, at its
+#    largest displacement; and the three lowest modes drawn headless (docs/lattice.md, "Modes").
+shot "$out/guide-modes.png" --show-mode 1 --camera 20,-55 "$scene"
+./build/bin/softtouch-cli modes "$scene" --pictures "$out/modes-angelfish" --size 480x300 >/dev/null
+# 7. The exported swim cycle, rendered headless: first frame of the PNG sequence.
 ./build/bin/softtouch-cli render "$scene" --clip swim --out "$tmp/frames/" --size 640x360 --frames 1 --quiet >/dev/null
 cp "$tmp/frames/"*0000.png "$out/guide-render.png"
-echo "wrote $(ls "$out"/guide-*.png | wc -l) pictures to $out"
+echo "wrote $(ls "$out"/guide-*.png "$out"/modes-*.png | wc -l) pictures to $out"

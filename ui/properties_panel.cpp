@@ -9,6 +9,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QGridLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -135,13 +136,54 @@ QWidget* PropertiesPanel::buildMaterial() {
     m_dampingRatio->setToolTip(tr("How quickly the lowest mode settles: 0 rings forever, 1 settles without overshoot. "
                                   "Typing a value scales node and spring damping together."));
     form->addRow(tr("Damping ratio"), m_dampingRatio);
+    // The three lowest modes, each with a toggle that animates its shape in the viewport.
+    auto* modeGrid = new QGridLayout;
+    modeGrid->setContentsMargins(0, 0, 0, 0);
+    modeGrid->setColumnStretch(0, 1);
+    for (int m = 0; m < 3; ++m) {
+        auto* row = new QLabel;
+        row->setObjectName(QStringLiteral("mode%1").arg(m + 1));
+        row->setWordWrap(true);
+        row->setTextInteractionFlags(Qt::TextSelectableByMouse);
+        // A word-wrapped label in a layout gets one line's height unless told otherwise.
+        row->setMinimumHeight(row->fontMetrics().lineSpacing() * 2);
+        auto* show = new QPushButton(tr("Show"));
+        show->setObjectName(QStringLiteral("showMode%1").arg(m + 1));
+        show->setCheckable(true);
+        show->setToolTip(tr("Animate this mode's shape on the body in the viewport (at 1 Hz, whatever its "
+                            "frequency). Display only: nothing is changed; Play or choosing another object stops it."));
+        modeGrid->addWidget(row, m, 0);
+        modeGrid->addWidget(show, m, 1, Qt::AlignTop);
+        m_modeRows[std::size_t(m)] = row;
+        m_modeShow[std::size_t(m)] = show;
+        connect(show, &QPushButton::toggled, this, [this, m](bool on) {
+            if (m_refreshing)
+                return;
+            if (on && std::size_t(m) < m_analysedModes.size())
+                m_viewport->showMode(object(), m + 1, m_analysedModes[std::size_t(m)]);
+            else if (!on && m_viewport->shownMode() == m + 1)
+                m_viewport->stopModeView();
+            if (on && m_viewport->shownMode() != m + 1) {  // nothing to show (no simulation)
+                const QSignalBlocker block(m_modeShow[std::size_t(m)]);
+                m_modeShow[std::size_t(m)]->setChecked(false);
+            }
+        });
+    }
+    form->addRow(modeGrid);
+    // The toggles follow the viewport: one mode at a time, off when the view stops.
+    connect(m_viewport, &Viewport::modeViewChanged, this, [this](int, int index) {
+        for (int m = 0; m < 3; ++m) {
+            const QSignalBlocker block(m_modeShow[std::size_t(m)]);
+            m_modeShow[std::size_t(m)]->setChecked(index == m + 1);
+            m_modeShow[std::size_t(m)]->setText(index == m + 1 ? tr("Stop") : tr("Show"));
+        }
+    });
     m_modes = new QLabel;
     m_modes->setObjectName("modes");
     m_modes->setWordWrap(true);
     m_modes->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    // A word-wrapped label in a form layout gets one line's height unless told otherwise: room for the
-    // three modes, a rigid-mode note and the integrator's effect, which wraps once or twice.
-    m_modes->setMinimumHeight(m_modes->fontMetrics().lineSpacing() * 7);
+    // Room for a rigid-mode note and the integrator's effect, which wraps once or twice.
+    m_modes->setMinimumHeight(m_modes->fontMetrics().lineSpacing() * 4);
     form->addRow(m_modes);
     m_totalMass = spin(1e-6, 1e6, 4, tr(" kg"), 0.1);
     form->addRow(tr("Total mass"), m_totalMass);
@@ -162,6 +204,9 @@ QWidget* PropertiesPanel::buildMaterial() {
     for (int a = 0; a < 3; ++a) {
         m_anisotropy[std::size_t(a)] = spin(1e-6, 1e6, 3, QString(), 0.1);
         m_anisotropy[std::size_t(a)]->setPrefix(QString(axes[a]) + " ");
+        // Sized for the values shown, not for the range's widest (1e6 with three decimals): three of
+        // those made the Material group wider than the dock and pushed its right column out of view.
+        m_anisotropy[std::size_t(a)]->setMinimumWidth(80);
         aniso->addWidget(m_anisotropy[std::size_t(a)]);
         connect(m_anisotropy[std::size_t(a)], &QDoubleSpinBox::valueChanged, this, [this, a](double s) {
             if (!m_refreshing)
@@ -522,16 +567,19 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     m_frequency->setEnabled(false);
     m_dampingRatio->setEnabled(false);
     if (!body) {
+        showModeRows({});
         m_modes->setText(tr("No modes: %1").arg(QString::fromStdString(body.message())));
         return;
     }
     if (3 * freeNodes > kLiveModalUnknowns) {
+        showModeRows({});
         m_modes->setText(tr("This lattice is too fine to analyse on every edit (%1 unknowns): run "
                             "'softtouch-cli modes' on the saved scene.").arg(3 * freeNodes));
         return;
     }
     auto modes = analyseModes(*body.value(), 3);
     if (!modes || modes->modes.empty()) {
+        showModeRows({});
         m_modes->setText(modes ? tr("No elastic mode: every node moves rigidly.")
                                : tr("No modes: %1").arg(QString::fromStdString(modes.message())));
         return;
@@ -541,20 +589,36 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     const VibrationMode& lowest = modes->modes.front();
     setQuietly(m_frequency, lowest.frequencyHz);
     setQuietly(m_dampingRatio, lowest.dampingRatio);
+    showModeRows(modes->modes);
     QStringList lines;
-    for (std::size_t m = 0; m < modes->modes.size(); ++m) {
-        const VibrationMode& mode = modes->modes[m];
-        lines << tr("Mode %1: %2 Hz, ζ %3 (node %4, spring %5)")
-                     .arg(m + 1)
-                     .arg(mode.frequencyHz, 0, 'f', 3)
-                     .arg(mode.dampingRatio, 0, 'f', 3)
-                     .arg(mode.nodeDampingRatio, 0, 'f', 3)
-                     .arg(mode.springDampingRatio, 0, 'f', 3);
-    }
     if (modes->rigidModes > 0)
         lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
     lines << QString::fromStdString(describeModeAccuracy(settings, lowest, schemeAccuracy(body.value(), settings, lowest)));
     m_modes->setText(lines.join('\n'));
+}
+
+void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {
+    m_analysedModes = modes;
+    for (std::size_t m = 0; m < m_modeRows.size(); ++m) {
+        const bool present = m < modes.size();
+        m_modeRows[m]->setVisible(present);
+        m_modeShow[m]->setVisible(present);
+        if (!present)
+            continue;
+        const VibrationMode& mode = modes[m];
+        m_modeRows[m]->setText(tr("Mode %1: %2 Hz, ζ %3 (node %4, spring %5)")
+                                   .arg(m + 1)
+                                   .arg(mode.frequencyHz, 0, 'f', 3)
+                                   .arg(mode.dampingRatio, 0, 'f', 3)
+                                   .arg(mode.nodeDampingRatio, 0, 'f', 3)
+                                   .arg(mode.springDampingRatio, 0, 'f', 3));
+    }
+    // A mode being shown follows its new shape (a painted edit changes it), or stops when it is gone.
+    const int shown = m_viewport->shownMode();
+    if (shown > 0 && std::size_t(shown) <= modes.size())
+        m_viewport->showMode(object(), shown, modes[std::size_t(shown - 1)]);
+    else if (shown > 0)
+        m_viewport->stopModeView();
 }
 
 void PropertiesPanel::refreshLive() {

@@ -16,6 +16,7 @@ class QDoubleSpinBox;
 class QSpinBox;
 class QCheckBox;
 class QLabel;
+class QPushButton;
 
 namespace softtouch::ui {
 
@@ -35,8 +36,11 @@ private:
     QWidget* buildTools();
     QWidget* buildSelection();
     void refresh();
-    /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one.
+    /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one; a mode
+    /// the viewport is showing follows the new shape (or stops when it is gone).
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
+    /// Shows `modes` in the rows (none: rows hidden).
+    void showModeRows(const std::vector<VibrationMode>& modes);
     /// The current object's lattice (a copy, for edits that need its geometry).
     Lattice currentLattice() const;
     /// What the current object's material values mean.
@@ -66,7 +70,10 @@ private:
 
     QDoubleSpinBox* m_frequency = nullptr;
     QDoubleSpinBox* m_dampingRatio = nullptr;
-    QLabel* m_modes = nullptr;             ///< The three lowest modes and what the integrator does to them.
+    QLabel* m_modes = nullptr;             ///< Rigid modes and what the integrator does to the lowest mode.
+    std::array<QLabel*, 3> m_modeRows{};   ///< The three lowest modes: frequency and ζ (node + spring).
+    std::array<QPushButton*, 3> m_modeShow{}; ///< "Show": animates that mode in the viewport (Viewport::showMode).
+    std::vector<VibrationMode> m_analysedModes; ///< The modes the rows show (current object).
     QDoubleSpinBox* m_nodeDamping = nullptr;
     QDoubleSpinBox* m_totalMass = nullptr;
     QDoubleSpinBox* m_stiffness = nullptr;

@@ -4,6 +4,7 @@
 #include "ui/surface_pick.h"
 
 #include <QKeyEvent>
+#include <QLabel>
 #include <QMouseEvent>
 #include <QLinearGradient>
 #include <QPainter>
@@ -11,8 +12,10 @@
 #include <QWheelEvent>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 
 namespace softtouch::ui {
 
@@ -115,6 +118,26 @@ Viewport::Viewport(Document* document, SimulationController* simulation, QWidget
         m_selection.clear();
         emit selectionChanged();
     });
+
+    // The mode view is display only: anything that moves the simulation or replaces the lattice ends it.
+    m_modeCaption = new QLabel(this);
+    m_modeCaption->setObjectName("modeCaption");
+    m_modeCaption->setAttribute(Qt::WA_TransparentForMouseEvents);
+    m_modeCaption->setStyleSheet("QLabel { background: rgba(0, 0, 0, 110); color: white; padding: 5px; }");
+    m_modeCaption->hide();
+    m_modeTimer.setInterval(16);
+    connect(&m_modeTimer, &QTimer::timeout, this, qOverload<>(&QWidget::update));
+    connect(simulation, &SimulationController::playingChanged, this, [this](bool playing) {
+        if (playing)
+            stopModeView();
+    });
+    connect(simulation, &SimulationController::stepped, this, [this] {
+        const SceneSimulation* sim = m_simulation->simulation();
+        if (m_modeView && (!sim || sim->stepCount() != m_modeView->step))
+            stopModeView();
+    });
+    connect(document, &Document::sceneReplaced, this, &Viewport::stopModeView);
+    connect(document, &Document::latticeChanged, this, &Viewport::stopModeView);
     frameAll();
 }
 
@@ -158,12 +181,11 @@ void Viewport::uploadScene() {
     m_sceneDirty = false;
 }
 
-void Viewport::updateOverlay(int object) {
+void Viewport::updateOverlay(int object, const std::vector<Vec3>& x) {
     const SceneSimulation* sim = m_simulation->simulation();
     const Simulator& simulator = sim->simulator(std::size_t(object));
     const BodyModel& model = simulator.model();
     const LatticeMaterial& material = m_document->scene().objects[std::size_t(object)].material;
-    const std::vector<Vec3>& x = simulator.state().position;
     render::LatticeOverlay overlay;
     const std::vector<double>& values = fieldValues(material, m_brush.field);
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
@@ -192,11 +214,14 @@ void Viewport::paintGL() {
         if (m_sceneDirty)
             uploadScene();
         for (std::size_t i = 0; i < sim->objectCount() && int(i) < m_renderer.objectCount(); ++i) {
-            m_renderer.setNodes(int(i), sim->simulator(i).state().position);
+            const bool inMode = m_modeView && m_modeView->object == int(i);
+            const std::vector<Vec3> pose = inMode ? displayedNodes(int(i)) : std::vector<Vec3>{};
+            const std::vector<Vec3>& nodes = inMode ? pose : sim->simulator(i).state().position;
+            m_renderer.setNodes(int(i), nodes);
             render::MeshStyle style;
             style.mode = m_shadeMode;
             m_renderer.setStyle(int(i), style);
-            updateOverlay(int(i));
+            updateOverlay(int(i), nodes);
         }
         const qreal dpr = devicePixelRatioF();
         const int w = int(width() * dpr), h = int(height() * dpr);
@@ -244,6 +269,77 @@ std::vector<Vec3f> Viewport::deformedPositions(int object) const {
     std::vector<Vec3f> positions(sim->object(std::size_t(object)).mesh.positions.size());
     sim->evaluate(std::size_t(object), positions, {});
     return positions;
+}
+
+std::vector<Vec3> Viewport::displayedNodes(int object) const {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim || object < 0 || std::size_t(object) >= sim->objectCount())
+        return {};
+    if (m_modeView && m_modeView->object == object)
+        return modePose(m_modeView->rest, m_modeView->mode, modeDisplacement());
+    return sim->simulator(std::size_t(object)).state().position;
+}
+
+void Viewport::showMode(int object, int index, const VibrationMode& mode) {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim || object < 0 || std::size_t(object) >= sim->objectCount())
+        return;
+    const Lattice& lattice = sim->object(std::size_t(object)).lattice;
+    if (mode.shape.size() != std::size_t(lattice.nodeCount()))
+        return;
+    if (m_simulation->isPlaying())
+        m_simulation->pause();  // the view shows the body at rest: the simulation waits meanwhile
+    const bool same = m_modeView && m_modeView->object == object && m_modeView->index == index;
+    ModeView view;
+    view.object = object;
+    view.index = index;
+    view.mode = mode;
+    view.rest = lattice.restNodes();
+    view.amplitude = kModeDisplayFraction * lattice.box().size.maxCoeff();
+    view.step = sim->stepCount();
+    m_modeView = std::move(view);
+    if (!same)
+        m_modeClock.start();
+    m_modeTimer.start();
+    m_modeCaption->setText(tr("Mode %1 of %2: %3 Hz, ζ %4 — shown at %5 Hz, ±%6% of the box (display only)")
+                               .arg(index)
+                               .arg(QString::fromStdString(sim->object(std::size_t(object)).name))
+                               .arg(mode.frequencyHz, 0, 'f', 3)
+                               .arg(mode.dampingRatio, 0, 'f', 3)
+                               .arg(kModeDisplayHz, 0, 'g', 3)
+                               .arg(100.0 * kModeDisplayFraction, 0, 'g', 3));
+    m_modeCaption->adjustSize();
+    m_modeCaption->move(12, 12);
+    m_modeCaption->show();
+    if (!same)
+        emit modeViewChanged(object, index);
+    update();
+}
+
+void Viewport::stopModeView() {
+    if (!m_modeView)
+        return;
+    const int object = m_modeView->object;
+    m_modeView.reset();
+    m_modeTimer.stop();
+    m_modeCaption->hide();
+    emit modeViewChanged(object, 0);
+    update();
+}
+
+double Viewport::modeSeconds() const {
+    return m_modeHeldSeconds >= 0.0 ? m_modeHeldSeconds : double(m_modeClock.elapsed()) * 1e-3;
+}
+
+double Viewport::modeDisplacement() const {
+    if (!m_modeView)
+        return 0.0;
+    return m_modeView->amplitude * std::sin(2.0 * std::numbers::pi * kModeDisplayHz * modeSeconds());
+}
+
+void Viewport::holdModeView(double seconds) {
+    m_modeHeldSeconds = seconds >= 0.0 ? seconds : -1.0;
+    update();
 }
 
 std::vector<Eigen::Vector2d> Viewport::nodeScreenPositions(int object) const {
@@ -563,6 +659,8 @@ void Viewport::setOverlayVisible(bool visible) {
 void Viewport::setAnchorMode(AnchorMode mode) { m_anchorMode = mode; }
 
 void Viewport::setCurrentObject(int object) {
+    if (m_modeView && m_modeView->object != object)
+        stopModeView();
     m_object = object;
     updateLegend();
     m_selection.clear();

@@ -4,8 +4,10 @@
 /// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
 /// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
 /// (click or box), select (for numeric entry, fill and smooth), lattice (move the box in the view
-/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step).
+/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step). The mode
+/// view animates one object's lattice in one of its vibration modes, for display only.
 
+#include "core/modes.h"
 #include "render/mesh_renderer.h"
 #include "ui/node_brush.h"
 #include "ui/orbit_camera.h"
@@ -13,8 +15,12 @@
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
+#include <QTimer>
 
+#include <optional>
 #include <set>
+
+class QLabel;
 
 namespace softtouch::ui {
 
@@ -65,6 +71,27 @@ public:
     QPointF toWidget(const Vec3& world) const;
     /// Deformed positions of object i's mesh right now (CPU evaluation: picking, tests).
     std::vector<Vec3f> deformedPositions(int object) const;
+    /// Lattice node positions drawn for object i now: the simulation's, or the mode view's pose.
+    std::vector<Vec3> displayedNodes(int object) const;
+
+    /// The mode view: animates `object`'s lattice in `mode` about its rest pose, nodes at
+    /// rest + a(t)·φ with a(t) = A·sin(2π·kModeDisplayHz·t) and A = kModeDisplayFraction of the box's
+    /// largest side (core/modes.h); the mesh follows through the usual lattice map. Display only: the
+    /// document, its undo stack and the simulation's state are untouched (playback pauses while the
+    /// view shows the body about rest). `index` (1-based) names the mode in
+    /// the caption. Showing the same object and index again (the shape after a material edit) keeps
+    /// the clock. Stops when playback starts, the simulation steps, the current object changes, or
+    /// the scene or the lattice is replaced.
+    void showMode(int object, int index, const VibrationMode& mode);
+    /// Stops the mode view (the simulation's pose is drawn again).
+    void stopModeView();
+    /// Index (1-based) of the mode shown, 0 when the mode view is off.
+    int shownMode() const { return m_modeView ? m_modeView->index : 0; }
+    /// a(t) of the pose drawn now, metres (the nodes are rest + a·φ); 0 when the mode view is off.
+    double modeDisplacement() const;
+    /// Freezes the mode view `seconds` into its cycle (0.25 s at 1 Hz: the largest displacement), for
+    /// screenshots and tests; a negative value lets it run on the clock again.
+    void holdModeView(double seconds);
 
 public slots:
     void setTool(softtouch::ui::Tool tool);
@@ -84,6 +111,8 @@ public slots:
 
 signals:
     void toolChanged(softtouch::ui::Tool tool);
+    /// The mode view started, changed or stopped (index 0).
+    void modeViewChanged(int object, int index);
     void selectionChanged();
     /// A one-line hint for the status bar (what the tool would do, what was picked).
     void hint(const QString& text);
@@ -107,7 +136,9 @@ public slots:
     void updateLegend();
 
 private:
-    void updateOverlay(int object);
+    void updateOverlay(int object, const std::vector<Vec3>& nodes);
+    /// Seconds into the mode view's cycle.
+    double modeSeconds() const;
     Gesture navigationFor(const QMouseEvent* event) const;
     std::vector<Eigen::Vector2d> nodeScreenPositions(int object) const;
     int nodeAt(const QPointF& pos, double radiusPixels = 14.0) const;
@@ -150,6 +181,21 @@ private:
     double m_frameMs = 0.0;
     ValueLegend* m_legend = nullptr;
     GrabIndicator* m_grabIndicator = nullptr;
+
+    /// What the mode view shows (see showMode()).
+    struct ModeView {
+        int object = 0;             ///< Object index.
+        int index = 1;              ///< 1-based mode number, for the caption.
+        VibrationMode mode;         ///< Frequency, ζ and shape φ (max |φ_i| = 1).
+        std::vector<Vec3> rest;     ///< The lattice's rest nodes, metres.
+        double amplitude = 0.0;     ///< A, metres.
+        long long step = 0;         ///< The simulation's step count when shown: a step ends the view.
+    };
+    std::optional<ModeView> m_modeView;
+    QElapsedTimer m_modeClock;       ///< Time since the mode view started.
+    double m_modeHeldSeconds = -1.0; ///< >= 0: frozen at this time into the cycle.
+    QTimer m_modeTimer;              ///< Redraws the mode view at ~60 Hz.
+    QLabel* m_modeCaption = nullptr; ///< Which mode is shown, its true frequency and ζ.
 };
 
 }  // namespace softtouch::ui

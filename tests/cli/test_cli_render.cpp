@@ -1,10 +1,15 @@
 // End to end: 'softtouch-cli render' writes MP4, GIF and PNG sequences headless (no DISPLAY), and fails
-// cleanly on bad input without touching existing files.
+// cleanly on bad input without touching existing files; 'softtouch-cli modes --pictures' draws the
+// mode shapes headless.
+#include "core/lattice_body.h"
+#include "io/project_file.h"
 #include "io/video_encoder.h"
+#include "render/mode_pictures.h"
 
 #include "cli_run.h"
 
 #include <QDir>
+#include <QImage>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -43,6 +48,7 @@ private slots:
     void pngSequenceHasFramesOfSize();
     void badInputFailsWithoutPartialFiles_data();
     void badInputFailsWithoutPartialFiles();
+    void modePicturesShowEachShape();
 };
 
 void TestCliRender::mp4HasCodecSizeFpsAndFrames() {
@@ -114,6 +120,110 @@ void TestCliRender::badInputFailsWithoutPartialFiles() {
     QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::NoDotAndDotDot), QStringList{"old.mp4"});
     QVERIFY(old.open(QIODevice::ReadOnly));
     QCOMPARE(old.readAll(), QByteArray("previous render"));
+}
+
+namespace {
+
+/// Largest summed RGB difference between two pictures over the 3x3 patch around `at` (inside a node disc).
+int patchDifference(const QImage& a, const QImage& b, const QPointF& at) {
+    int worst = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const QPoint p(int(std::lround(at.x())) + dx, int(std::lround(at.y())) + dy);
+            if (!a.rect().contains(p))
+                continue;
+            const QColor x = a.pixelColor(p), y = b.pixelColor(p);
+            worst = std::max(worst, std::abs(x.red() - y.red()) + std::abs(x.green() - y.green()) +
+                                        std::abs(x.blue() - y.blue()));
+        }
+    return worst;
+}
+
+/// Fraction of the pixels within `radius` of `centre` whose summed RGB difference exceeds 30.
+double changedFraction(const QImage& a, const QImage& b, const QPointF& centre, double radius) {
+    int changed = 0, total = 0;
+    for (int y = int(centre.y() - radius); y <= int(centre.y() + radius); ++y)
+        for (int x = int(centre.x() - radius); x <= int(centre.x() + radius); ++x) {
+            if (!a.rect().contains(x, y) || QLineF(centre, QPointF(x, y)).length() > radius)
+                continue;
+            const QColor p = a.pixelColor(x, y), q = b.pixelColor(x, y);
+            changed += std::abs(p.red() - q.red()) + std::abs(p.green() - q.green()) + std::abs(p.blue() - q.blue()) > 30;
+            ++total;
+        }
+    return total > 0 ? double(changed) / total : 0.0;
+}
+
+}  // namespace
+
+// The three lowest modes of the angelfish drawn headless: one picture per mode and a strip of them,
+// of the asked size; against the same pictures at amplitude 0 (the rest pose, same camera), the free
+// end has left its place and the pinned head has not.
+void TestCliRender::modePicturesShowEachShape() {
+    QTemporaryDir dir;
+    const int W = 400, H = 260;
+    const Run run = runCli({"modes", kScene, "--pictures", dir.filePath("fish"), "--size", "400x260"});
+    QVERIFY2(run.exitCode == 0, qPrintable(run.err));
+    QVERIFY2(run.out.contains("wrote " + dir.filePath("fish-modes.png")), qPrintable(run.out));
+    const Run still = runCli({"modes", kScene, "--pictures", dir.filePath("rest"), "--size", "400x260", "--amplitude", "0"});
+    QVERIFY2(still.exitCode == 0, qPrintable(still.err));
+    QCOMPARE(pngSize(dir.filePath("fish-modes.png")), (std::pair{3 * W, H}));
+
+    auto project = io::loadProject(kScene.toStdString());
+    QVERIFY2(project.ok(), project.message().c_str());
+    const SceneObject& fish = project->scene.objects[0];
+    auto body = buildLatticeBody(fish.lattice, fish.material);
+    QVERIFY(body.ok());
+    const auto modes = analyseModes(*body.value(), 3);
+    QVERIFY(modes.ok() && modes->modes.size() == 3);
+    const std::vector<Vec3>& rest = body.value()->restPositions;
+    const double amplitude = kModeDisplayFraction * fish.lattice.box().size.maxCoeff();
+    for (int m = 1; m <= 3; ++m) {
+        const QString name = QString("fish-%1.png").arg(m);
+        QCOMPARE(pngSize(dir.filePath(name)), (std::pair{W, H}));
+        const QImage shape(dir.filePath(name)), at0(dir.filePath(QString("rest-%1.png").arg(m)));
+        QVERIFY(!shape.isNull() && !at0.isNull());
+        const VibrationMode& mode = modes->modes[std::size_t(m - 1)];
+        const render::Camera camera = render::modeCamera(fish, mode, amplitude, W, H);
+        auto pixel = [&](const Vec3& x) {
+            const Eigen::Vector3d p = render::toPixels(camera, x, W, H);
+            return QPointF(p.x(), p.y());
+        };
+        // The nodes that travel furthest on screen (the free end): around where they were at rest, the
+        // picture changed. The pinned head: its discs are where they were, pixel for pixel (apart from
+        // those a moving node's disc may cover in either picture).
+        auto travel = [&](std::size_t n) { return QLineF(pixel(rest[n]), pixel(rest[n] + amplitude * mode.shape[n])).length(); };
+        double farthest = 0.0;
+        for (std::size_t n = 0; n < rest.size(); ++n)
+            farthest = std::max(farthest, travel(n));
+        QVERIFY2(farthest > 12.0, qPrintable(QString("%1: the mode moves a node %2 px").arg(name).arg(farthest)));
+        double changed = 0.0;
+        int moving = 0, pinned = 0;
+        for (std::size_t n = 0; n < rest.size(); ++n) {
+            const QPointF p = pixel(rest[n]);
+            if (travel(n) > 0.8 * farthest) {
+                changed += changedFraction(shape, at0, p, 10.0);
+                ++moving;
+            }
+            if (fish.material.anchor[n] != AnchorMode::Pinned)
+                continue;
+            bool covered = false;
+            for (std::size_t k = 0; k < rest.size(); ++k)
+                covered = covered || (fish.material.anchor[k] != AnchorMode::Pinned &&
+                                      (QLineF(p, pixel(rest[k])).length() < 8.0 ||
+                                       QLineF(p, pixel(rest[k] + amplitude * mode.shape[k])).length() < 8.0));
+            if (covered)
+                continue;
+            ++pinned;
+            QVERIFY2(patchDifference(shape, at0, p) < 30, qPrintable(QString("%1: pinned node %2 moved").arg(name).arg(n)));
+        }
+        QVERIFY2(moving >= 1 && pinned >= 4, qPrintable(QString("%1: %2 moving, %3 pinned nodes to compare").arg(name).arg(moving).arg(pinned)));
+        QVERIFY2(changed / moving > 0.3, qPrintable(QString("%1: only %2 changed where the free end was").arg(name).arg(changed / moving)));
+    }
+    // Usage errors are refused before anything is drawn.
+    const Run bad = runCli({"modes", kScene, "--pictures", dir.filePath("bad"), "--amplitude", "2"});
+    QCOMPARE(bad.exitCode, 2);
+    QVERIFY(bad.err.contains("--amplitude"));
+    QVERIFY(!QFile::exists(dir.filePath("bad-1.png")));
 }
 
 QTEST_GUILESS_MAIN(TestCliRender)

@@ -31,6 +31,7 @@
 #include <QtTest/QtTest>
 
 #include <memory>
+#include <numbers>
 
 #include "../cli/cli_run.h"
 #include "core/modes.h"
@@ -125,6 +126,7 @@ private slots:
     void scriptedDeviceDrivesTheFishAtHapticRate();
     void studyDockMarksCurrentSettingsAndSuggests();
     void propertiesShowTheBodysModes();
+    void modeViewAnimatesTheShapeWithoutEditing();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -766,9 +768,10 @@ void TestEditor::propertiesShowTheBodysModes() {
     auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
     auto* ratio = w.findChild<QDoubleSpinBox*>("dampingRatio");
     auto* modes = w.findChild<QLabel*>("modes");
-    QVERIFY(frequency && ratio && modes);
+    auto* mode3 = w.findChild<QLabel*>("mode3");
+    QVERIFY(frequency && ratio && modes && mode3);
     QVERIFY(frequency->isEnabled());
-    QVERIFY2(modes->text().contains("Mode 3"), qPrintable(modes->text()));
+    QVERIFY2(mode3->text().startsWith("Mode 3: "), qPrintable(mode3->text()));
     const Run cli = runCli({"modes", kDefaultScene});
     QCOMPARE(cli.exitCode, 0);
     const QRegularExpression row(R"(^\s+1\s+([0-9.]+)\s+([0-9.]+))", QRegularExpression::MultilineOption);
@@ -790,6 +793,116 @@ void TestEditor::propertiesShowTheBodysModes() {
     QVERIFY(std::abs(after->modes[0].dampingRatio - match.captured(2).toDouble()) < 1e-4);  // ratio kept
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// "Show" beside a mode animates its shape in the viewport: the lattice nodes drawn are rest + a·φ with
+// a = A·sin(2π·1 Hz·t), A = 12% of the box's largest side, and the mesh follows; nothing in the
+// document, its undo stack or the simulation changes; Play or a step ends it.
+void TestEditor::modeViewAnimatesTheShapeWithoutEditing() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    view->setOverlayVisible(false);
+    auto* show1 = w.findChild<QPushButton*>("showMode1");
+    auto* show2 = w.findChild<QPushButton*>("showMode2");
+    auto* caption = w.findChild<QLabel*>("modeCaption");
+    QVERIFY(show1 && show2 && caption);
+    const SceneObject fish = w.document()->scene().objects[0];
+    auto body = buildLatticeBody(fish.lattice, fish.material);
+    QVERIFY(body.ok());
+    const auto modes = analyseModes(*body.value(), 3);
+    QVERIFY(modes.ok() && modes->modes.size() == 3);
+    const std::vector<Vec3> rest = fish.lattice.restNodes();
+    const double amplitude = kModeDisplayFraction * fish.lattice.box().size.maxCoeff();
+    const std::vector<Vec3> stateBefore = w.simulation()->simulation()->simulator(0).state().position;
+    const long long stepsBefore = w.simulation()->simulation()->stepCount();
+    const int undoBefore = w.document()->undoStack()->count();
+    const QImage still = view->grabFramebuffer();
+
+    show1->click();
+    QCOMPARE(view->shownMode(), 1);
+    QVERIFY(show1->isChecked());
+    QVERIFY(caption->isVisible());
+    QVERIFY2(caption->text().contains(QString::number(modes->modes[0].frequencyHz, 'f', 3)), qPrintable(caption->text()));
+    // An eighth of a cycle in: a = A·sin(π/4), and every node sits at rest + a·φ.
+    for (const double seconds : {0.125, 0.25, 0.6}) {
+        view->holdModeView(seconds);
+        const double a = view->modeDisplacement();
+        QVERIFY(std::abs(a - amplitude * std::sin(2.0 * std::numbers::pi * seconds)) < 1e-12);
+        const std::vector<Vec3> drawn = view->displayedNodes(0);
+        QCOMPARE(drawn.size(), rest.size());
+        double error = 0.0, largest = 0.0;
+        for (std::size_t n = 0; n < rest.size(); ++n) {
+            error = std::max(error, (drawn[n] - (rest[n] + a * modes->modes[0].shape[n])).norm());
+            largest = std::max(largest, (drawn[n] - rest[n]).norm());
+        }
+        QVERIFY2(error < 1e-12, qPrintable(QString::number(error)));
+        QVERIFY(std::abs(largest - std::abs(a)) < 1e-12);  // max |φ| = 1: the largest node moves by |a|
+    }
+    // The mesh on screen moves with it: at the largest displacement the picture differs from rest.
+    view->holdModeView(0.25);
+    const QImage swung = view->grabFramebuffer();
+    QCOMPARE(swung.size(), still.size());
+    int changed = 0;
+    for (int y = 0; y < still.height(); y += 2)
+        for (int x = 0; x < still.width(); x += 2)
+            changed += still.pixel(x, y) != swung.pixel(x, y) ? 1 : 0;
+    QVERIFY2(changed > still.width() * still.height() / 4 / 100, qPrintable(QString::number(changed)));
+    // On the clock it keeps moving.
+    view->holdModeView(-1.0);
+    const double a0 = view->modeDisplacement();
+    QTest::qWait(150);
+    QVERIFY(view->modeDisplacement() != a0);
+    // One mode at a time.
+    show2->click();
+    QCOMPARE(view->shownMode(), 2);
+    QVERIFY(!show1->isChecked() && show2->isChecked());
+    view->holdModeView(0.25);
+    QVERIFY((view->displayedNodes(0)[0] - (rest[0] + amplitude * modes->modes[1].shape[0])).norm() < 1e-12);
+
+    // Display only: the document, its undo stack and the simulation are as they were.
+    QCOMPARE(w.document()->undoStack()->count(), undoBefore);
+    QVERIFY(!w.document()->isModified());
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, fish.material));
+    QVERIFY(w.simulation()->simulation()->simulator(0).state().position == stateBefore);
+    QCOMPARE(w.simulation()->simulation()->stepCount(), stepsBefore);
+
+    // A painted edit changes the shape; the view follows it (same mode, same clock).
+    LatticeMaterial stiffTail = fish.material;
+    for (std::size_t n = 0; n < stiffTail.stiffness.size(); ++n)
+        if (fish.lattice.coords(int(n))[0] == 0)
+            stiffTail.stiffness[n] *= 4.0;
+    w.document()->undoStack()->push(new MaterialEditCommand(w.document(), 0, fish.material, stiffTail, "stiff tail"));
+    QCOMPARE(view->shownMode(), 2);
+    auto stiffBody = buildLatticeBody(fish.lattice, stiffTail);
+    QVERIFY(stiffBody.ok());
+    const auto stiffModes = analyseModes(*stiffBody.value(), 3);
+    QVERIFY(stiffModes.ok());
+    double shapeChange = 0.0, followError = 0.0;
+    const std::vector<Vec3> followed = view->displayedNodes(0);
+    for (std::size_t n = 0; n < rest.size(); ++n) {
+        shapeChange = std::max(shapeChange, std::min((stiffModes->modes[1].shape[n] - modes->modes[1].shape[n]).norm(),
+                                                     (stiffModes->modes[1].shape[n] + modes->modes[1].shape[n]).norm()));
+        followError = std::max(followError, (followed[n] - (rest[n] + amplitude * stiffModes->modes[1].shape[n])).norm());
+    }
+    QVERIFY2(shapeChange > 0.01, qPrintable(QString::number(shapeChange)));
+    QVERIFY2(followError < 1e-12, qPrintable(QString::number(followError)));
+    w.document()->undoStack()->undo();
+
+    // Play ends it, and the simulation's pose is drawn again.
+    w.simulation()->play();
+    QCOMPARE(view->shownMode(), 0);
+    QVERIFY(!show2->isChecked() && !caption->isVisible());
+    w.simulation()->pause();
+    QVERIFY(view->displayedNodes(0) == w.simulation()->simulation()->simulator(0).state().position);
+    // So does a step, and the toggle turns it off too.
+    show1->click();
+    QCOMPARE(view->shownMode(), 1);
+    w.simulation()->stepOnce();
+    QCOMPARE(view->shownMode(), 0);
+    show1->click();
+    show1->click();
+    QCOMPARE(view->shownMode(), 0);
+    view->holdModeView(-1.0);
 }
 
 void TestEditor::viewportDrawsTheFish_data() {
