@@ -980,7 +980,9 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
 
 Status saveProject(const Project& project, const fs::path& path) {
     // Mesh references are relative to the project file: rebase them when saving somewhere else.
-    const fs::path from = fs::absolute(project.path).parent_path();
+    // A project not yet saved (an imported mesh) has no path: its references are kept as they are
+    // (fs::absolute of an empty path throws).
+    const fs::path from = project.path.empty() ? fs::path() : fs::absolute(project.path).parent_path();
     const fs::path to = fs::absolute(path).parent_path();
     auto rebased = [&](const std::string& ref) {
         if (ref.empty() || fs::path(ref).is_absolute() || project.path.empty())
