@@ -1,4 +1,6 @@
 // Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
+#include "core/mode_accuracy.h"
+#include "core/modes.h"
 #include "io/mesh_import.h"
 #include "io/project_file.h"
 
@@ -55,6 +57,8 @@ private slots:
     void paintedNodeDampingRoundTrips();
     void scalarNodeDampingIsAUniformMap_data();
     void scalarNodeDampingIsAUniformMap();
+    void newProjectKeepsItsWobble();
+    void projectWithoutIntegratorKeepsImplicitEuler();
     void badInputNamesFileFieldAndProblem_data();
     void badInputNamesFileFieldAndProblem();
     void validateListsEveryProblem();
@@ -205,6 +209,50 @@ void TestProject::scalarNodeDampingIsAUniformMap() {
     std::ifstream in(saved);
     const nlohmann::json doc = nlohmann::json::parse(in);
     QCOMPARE(doc["objects"][0]["material"][key.toStdString()].get<double>(), value);
+}
+
+// A new scene from the angelfish mesh (what the editor's Import Mesh makes) starts on Verlet, whose
+// lowest mode keeps >= 99% of the material's per-period amplitude at 240 steps/s, and its file names
+// the integrator so it reloads on it.
+void TestProject::newProjectKeepsItsWobble() {
+    QTemporaryDir dir;
+    auto mesh = importMesh(kPresets / "meshes/angelfish.obj");
+    QVERIFY(mesh.ok());
+    auto scene = newScene("angelfish", std::move(mesh.value()));
+    QVERIFY2(scene.ok(), scene.message().c_str());
+    const SimulationSettings& settings = scene->world.simulation;
+    QCOMPARE(settings.integrator, IntegratorKind::Verlet);
+    QCOMPARE(settings.dt, 1.0 / 240.0);
+    auto body = buildLatticeBody(scene->objects[0].lattice, scene->objects[0].material);
+    QVERIFY(body.ok());
+    const VibrationMode mode = analyseModes(*body.value(), 1).value().modes.front();
+    const ModeAccuracy a = schemeAccuracy(body.value(), settings, mode);
+    qInfo("new angelfish scene: %s keeps %.1f%% per period of the %.3f Hz mode, the material alone %.1f%%",
+          std::string(integratorName(settings.integrator)).c_str(), 100.0 * a.amplitudePerPeriod, mode.frequencyHz,
+          100.0 * a.exactAmplitudePerPeriod);
+    QVERIFY(a.amplitudePerPeriod >= 0.99 * a.exactAmplitudePerPeriod);
+
+    Project project;
+    project.scene = std::move(scene.value());
+    project.meshReferences.push_back((kPresets / "meshes/angelfish.obj").string());
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "new.softtouch";
+    QVERIFY(saveProject(project, saved).ok());
+    std::ifstream in(saved);
+    QCOMPARE(nlohmann::json::parse(in)["simulation"]["integrator"].get<std::string>(), std::string("verlet"));
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.world.simulation.integrator, IntegratorKind::Verlet);
+}
+
+// A project that does not name its integrator (any file written by hand or before new scenes chose
+// one) still runs implicit Euler, so it moves as it always did.
+void TestProject::projectWithoutIntegratorKeepsImplicitEuler() {
+    QTemporaryDir dir;
+    for (const std::string& simulation : {std::string(), std::string(R"(, "simulation": {"dt": 0.01})")}) {
+        auto project = loadProject(writeFile(dir, "old.softtouch", projectText("", simulation)));
+        QVERIFY2(project.ok(), project.message().c_str());
+        QCOMPARE(project->scene.world.simulation.integrator, IntegratorKind::ImplicitEuler);
+    }
 }
 
 void TestProject::badInputNamesFileFieldAndProblem_data() {

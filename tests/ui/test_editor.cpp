@@ -127,6 +127,7 @@ private slots:
     void scriptedDeviceDrivesTheFishAtHapticRate();
     void studyDockMarksCurrentSettingsAndSuggests();
     void propertiesShowTheBodysModes();
+    void importedMeshStartsOnVerletAndSavesIt();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -856,6 +857,29 @@ void TestEditor::propertiesShowTheBodysModes() {
     QVERIFY(std::abs(after->modes[0].dampingRatio - match.captured(2).toDouble()) < 1e-4);  // ratio kept
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// Import Mesh makes a new scene on Verlet (it keeps the wobble the material gives; implicit Euler at the
+// same step would lose part of it), shows it in Properties, and Save As writes it into the file, so the
+// project reopens on it (a file that names no integrator still opens on implicit Euler).
+void TestEditor::importedMeshStartsOnVerletAndSavesIt() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.document()->importMesh(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
+    const Scene& scene = w.document()->scene();
+    QCOMPARE(scene.world.simulation.integrator, IntegratorKind::Verlet);
+    auto* integrator = w.findChild<QComboBox*>("integrator");
+    QVERIFY(integrator);
+    QCOMPARE(IntegratorKind(integrator->currentData().toInt()), IntegratorKind::Verlet);
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY2(modes->text().contains("verlet at 240 steps/s"), qPrintable(modes->text()));
+    const QString path = m_dir->filePath("imported.softtouch");
+    QVERIFY(w.document()->saveAs(path).ok());
+    auto saved = io::loadProject(path.toStdString());
+    QVERIFY2(saved.ok(), saved.message().c_str());
+    QCOMPARE(saved->scene.world.simulation.integrator, IntegratorKind::Verlet);
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    QVERIFY(file.readAll().contains("\"integrator\": \"verlet\""));
 }
 
 void TestEditor::viewportDrawsTheFish_data() {
