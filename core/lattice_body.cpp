@@ -240,7 +240,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     auto check = [&](double x, const MaterialRange& r, const std::string& node) -> Status {
         if (std::isfinite(x) && x >= r.low && x <= r.high)
             return Status::success();
-        const std::string field = std::string(r.label) == r.name ? r.name : std::string(r.label) + " (" + r.name + ")";
+        const std::string label = r.label;
+        const std::string field = label == r.name ? label : label + " (" + r.name + ")";
         return Status::error(node + " " + field + " " + formatNumber(x) + " " + r.unit + " is outside [" +
                              formatNumber(r.low) + ", " + formatNumber(r.high) + "]");
     };
@@ -277,7 +278,8 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     d.springs = latticeSprings(lattice, material);
     d.heavyAnchorRatio = material.heavyAnchorRatio;
     if (material.model == MaterialModel::Continuum) {
-        d.nodeDamping = d.mass;  // each node's rate times its mass: mass-proportional, the same ζ at every resolution
+        // Each node's rate times its mass: mass-proportional, the same ζ at every resolution.
+        d.nodeDamping = d.mass;
         for (std::size_t i = 0; i < d.nodeDamping.size(); ++i)
             d.nodeDamping[i] *= material.nodeDamping[i];
     } else {
@@ -353,7 +355,7 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
         out.mass[k] = material.mass[source] * (keepContinuum ? volume : 1.0);
         out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
         out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
-        out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // like mass: N·s/m per node
+        out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
         out.anchor[k] = material.anchor[source];
         out.isVoid[k] = material.isVoid[source];
     }

@@ -109,8 +109,10 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     }
     const MaterialRanges& range = materialRanges(m.model);
     const MaterialRanges& other = m.model == MaterialModel::Continuum ? springs : continuum;
-    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name}, {range.stiffness.name, other.stiffness.name},
-                                {range.damping.name, other.damping.name}, {range.nodeDamping.name, other.nodeDamping.name}}) {
+    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name},
+                                {range.stiffness.name, other.stiffness.name},
+                                {range.damping.name, other.damping.name},
+                                {range.nodeDamping.name, other.nodeDamping.name}}) {
         if (v[theirs].exists())
             v[theirs].problem(std::string("a ") + range.model + " material gives \"" + mine + "\", not \"" + theirs +
                               "\" (set \"model\" to change what the values mean)");
@@ -772,8 +774,8 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
                 LatticeMaterial m = uniformMaterial(probe, 1.0, 1.0, 0.0);
                 std::optional<double> total;
                 const JsonValue material = root["material"];
-                for (const char* field : {"mass", "stiffness", "damping", "airDamping", "density", "modulus", "viscosity",
-                                          "dampingRate"}) {
+                for (const char* field :
+                     {"mass", "stiffness", "damping", "airDamping", "density", "modulus", "viscosity", "dampingRate"}) {
                     if (material[field].isArray())
                         material[field].problem("a preset holds one value for every node, not an array");
                 }

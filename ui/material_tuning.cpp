@@ -69,8 +69,8 @@ bool setDampingRatio(const Lattice& lattice, LatticeMaterial& material, double r
         if (ratio == 0.0)
             return true;
         // Nothing to scale: start from the paper's node damping at a unit rate (1/s).
-        material.nodeDamping.assign(material.nodeDamping.size(),
-                                    material.model == MaterialModel::Continuum ? 1.0 : summarise(lattice, material).meanMass);
+        const double start = material.model == MaterialModel::Continuum ? 1.0 : summarise(lattice, material).meanMass;
+        material.nodeDamping.assign(material.nodeDamping.size(), start);
         mode = lowestMode(lattice, material);
         if (!mode || mode->dampingRatio <= 0.0)
             return false;

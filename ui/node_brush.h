@@ -1,6 +1,6 @@
 #pragma once
-/// Painting per-node values (mass, stiffness, spring and node damping) with a screen-space brush, plus the bulk edits
-/// of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
+/// Painting per-node values (mass, stiffness, spring and node damping) with a screen-space brush, plus
+/// the bulk edits of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
 /// properties panel and the tests share one implementation.
 
 #include "core/lattice_body.h"

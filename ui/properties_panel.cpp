@@ -200,7 +200,8 @@ QWidget* PropertiesPanel::buildMaterial() {
     });
     connect(m_nodeDamping, &QDoubleSpinBox::valueChanged, this, [this](double d) {
         if (!m_refreshing)
-            editMaterial(tr("Set node damping"), kMergeDamping, [d](LatticeMaterial& m) { setMean(m.nodeDamping, m, d); });
+            editMaterial(tr("Set node damping"), kMergeDamping,
+                         [d](LatticeMaterial& m) { setMean(m.nodeDamping, m, d); });
     });
     return box;
 }

@@ -107,7 +107,8 @@ void TestPhysics::momentumConserved() {
 
 void TestPhysics::dampedEnergyDecays() {
     QFETCH(int, integrator);
-    auto body = latticeBody({3, 3, 3}, 0.02, 200, 0.5, [](const Lattice&, LatticeMaterial& m) { m.nodeDamping.assign(m.mass.size(), 0.01); });
+    auto body = latticeBody({3, 3, 3}, 0.02, 200, 0.5,
+                            [](const Lattice&, LatticeMaterial& m) { m.nodeDamping.assign(m.mass.size(), 0.01); });
     Simulator sim(body, settingsFor(IntegratorKind(integrator), 1.0 / 240.0));
     BodyState s = sim.saveState();
     for (std::size_t i = 0; i < s.position.size(); ++i)
