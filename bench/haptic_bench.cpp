@@ -25,7 +25,7 @@ Scene millionTriangleScene() {
     object.mesh = makeUvEllipsoid(501, 1000, Vec3(0.5, 0.4, 0.3));
     object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
     object.material = uniformMaterial(object.lattice, 0.0002, 80.0, 0.3);
-    object.material.airDamping = 0.004;
+    object.material.nodeDamping.assign(object.material.mass.size(), 0.004);
     for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 4; ++i) object.material.anchor[std::size_t(object.lattice.index(i, 0, k))] = AnchorMode::Heavy;
     scene.objects.push_back(std::move(object));

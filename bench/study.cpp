@@ -95,7 +95,7 @@ struct FreeRun {
 FreeRun runFree(const SceneObject& object, IntegratorKind integrator, double dt, double seconds) {
     LatticeMaterial m = object.material;
     m.damping.assign(m.damping.size(), 0.0);
-    m.airDamping = 0.0;
+    m.nodeDamping.assign(m.mass.size(), 0.0);
     const auto model = buildLatticeBody(object.lattice, m).value();
     SimulationSettings settings;
     settings.integrator = integrator;

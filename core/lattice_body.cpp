@@ -18,22 +18,24 @@ LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, doub
     m.mass.assign(n, massPerNode);
     m.stiffness.assign(n, stiffness);
     m.damping.assign(n, damping);
+    m.nodeDamping.assign(n, 0.0);
     m.anchor.assign(n, AnchorMode::Free);
     m.isVoid.assign(n, 0);
     return m;
 }
 
 const MaterialRanges& materialRanges(MaterialModel model) {
+    // File keys kept from earlier versions ("damping", "airDamping"); the labels say what each term is.
     static const MaterialRanges springs{"lattice-springs",
-                                       {"mass", 1e-12, 1e12, "kg"},
-                                       {"stiffness", 0.0, 1e9, "N/m"},
-                                       {"damping", 0.0, 1e6, "N·s/m"},
-                                       {"airDamping", 0.0, 1e6, "N·s/m"}};
+                                       {"mass", "mass", 1e-12, 1e12, "kg"},
+                                       {"stiffness", "stiffness", 0.0, 1e9, "N/m"},
+                                       {"damping", "spring damping", 0.0, 1e6, "N·s/m"},
+                                       {"airDamping", "node damping", 0.0, 1e6, "N·s/m"}};
     static const MaterialRanges continuum{"continuum",
-                                          {"density", 1e-3, 1e6, "kg/m³"},
-                                          {"modulus", 0.0, 1e12, "Pa"},
-                                          {"viscosity", 0.0, 1e9, "Pa·s"},
-                                          {"dampingRate", 0.0, 1e4, "1/s"}};
+                                          {"density", "density", 1e-3, 1e6, "kg/m³"},
+                                          {"modulus", "Young's modulus", 0.0, 1e12, "Pa"},
+                                          {"viscosity", "spring viscosity", 0.0, 1e9, "Pa·s"},
+                                          {"dampingRate", "node damping rate", 0.0, 1e4, "1/s"}};
     return model == MaterialModel::Continuum ? continuum : springs;
 }
 
@@ -49,7 +51,7 @@ LatticeMaterial defaultMaterial(const Lattice& lattice, MaterialModel model) {
     const DefaultMaterialValues& d = defaultMaterialValues(model);
     LatticeMaterial m = uniformMaterial(lattice, d.mass, d.stiffness, d.damping);
     m.model = model;
-    m.airDamping = d.airDamping;
+    m.nodeDamping.assign(m.mass.size(), d.nodeDamping);
     return m;
 }
 
@@ -225,30 +227,33 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     if (Status s = sized(m.mass.size(), "mass"); !s) return s;
     if (Status s = sized(m.stiffness.size(), "stiffness"); !s) return s;
     if (Status s = sized(m.damping.size(), "damping"); !s) return s;
+    if (Status s = sized(m.nodeDamping.size(), "node damping"); !s) return s;
     if (Status s = sized(m.anchor.size(), "anchor"); !s) return s;
     if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
     const MaterialRanges& range = materialRanges(m.model);
-    const bool continuum = m.model == MaterialModel::Continuum;
     auto formatNumber = [](double x) {
         std::ostringstream out;
         out << x;
         return out.str();
     };
-    auto check = [&](double x, const MaterialRange& r, const std::string& what) -> Status {
+    // "node (1,2,0) node damping (airDamping) -1 N·s/m is outside [0, 1e+06]": what it is and the file's key.
+    auto check = [&](double x, const MaterialRange& r, const std::string& node) -> Status {
         if (std::isfinite(x) && x >= r.low && x <= r.high)
             return Status::success();
-        return Status::error(what + " " + std::to_string(x) + " " + r.unit + " is outside [" + formatNumber(r.low) +
-                             ", " + formatNumber(r.high) + "]");
+        const std::string label = r.label;
+        const std::string field = label == r.name ? label : label + " (" + r.name + ")";
+        return Status::error(node + " " + field + " " + formatNumber(x) + " " + r.unit + " is outside [" +
+                             formatNumber(r.low) + ", " + formatNumber(r.high) + "]");
     };
     for (std::size_t i = 0; i < n; ++i) {
         const auto c = lattice.coords(int(i));
         const std::string node = "node (" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
         if (!m.isVoid[i])
-            if (Status s = check(m.mass[i], range.mass, node + " " + range.mass.name); !s) return s;
-        if (Status s = check(m.stiffness[i], range.stiffness, node + " " + range.stiffness.name); !s) return s;
-        if (Status s = check(m.damping[i], range.damping, node + " " + range.damping.name); !s) return s;
+            if (Status s = check(m.mass[i], range.mass, node); !s) return s;
+        if (Status s = check(m.stiffness[i], range.stiffness, node); !s) return s;
+        if (Status s = check(m.damping[i], range.damping, node); !s) return s;
+        if (Status s = check(m.nodeDamping[i], range.nodeDamping, node); !s) return s;
     }
-    if (Status s = check(m.airDamping, range.airDamping, continuum ? "node damping rate" : "node damping"); !s) return s;
     for (int a = 0; a < 3; ++a) {
         const double s = m.kindScale[std::size_t(a)];
         if (!(std::isfinite(s) && s >= 0.0 && s <= 1e3))
@@ -273,11 +278,12 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     d.springs = latticeSprings(lattice, material);
     d.heavyAnchorRatio = material.heavyAnchorRatio;
     if (material.model == MaterialModel::Continuum) {
-        d.nodeDamping = d.mass;  // the rate times each node's mass: mass-proportional, the same ζ at every resolution
-        for (double& x : d.nodeDamping)
-            x *= material.airDamping;
+        // Each node's rate times its mass: mass-proportional, the same ζ at every resolution.
+        d.nodeDamping = d.mass;
+        for (std::size_t i = 0; i < d.nodeDamping.size(); ++i)
+            d.nodeDamping[i] *= material.nodeDamping[i];
     } else {
-        d.nodeDamping.assign(d.restPositions.size(), material.airDamping);
+        d.nodeDamping = material.nodeDamping;
     }
     // Void nodes follow already-resolved 26-neighbours, resolved ring by ring outward from the body.
     const int n = lattice.nodeCount();
@@ -322,6 +328,7 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     out.mass.assign(n, 0.0);
     out.stiffness.assign(n, 0.0);
     out.damping.assign(n, 0.0);
+    out.nodeDamping.assign(n, 0.0);
     out.anchor.assign(n, AnchorMode::Free);
     out.isVoid.assign(n, 0);
     auto nearestIndex = [&](int axis, double t) {
@@ -348,11 +355,10 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
         out.mass[k] = material.mass[source] * (keepContinuum ? volume : 1.0);
         out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
         out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
+        out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
         out.anchor[k] = material.anchor[source];
         out.isVoid[k] = material.isVoid[source];
     }
-    if (keepContinuum)
-        out.airDamping = material.airDamping * volume;
     return out;
 }
 

@@ -21,24 +21,30 @@ namespace softtouch {
 /// What a material's per-node values mean.
 enum class MaterialModel : std::uint8_t {
     /// The paper's: the values belong to this lattice's nodes and springs (kg per node, N/m and N·s/m
-    /// per spring, node damping N·s/m). The same values on another resolution are another material.
+    /// per spring, node damping N·s/m per node). The same values on another resolution are another material.
     /// Projects written before version 3 use it and keep their motion exactly.
     LatticeSprings,
     /// A solid filling the lattice box whose values do not depend on the lattice: density kg/m³,
     /// Young's modulus Pa, viscosity Pa·s, node damping rate 1/s. buildLatticeBody() turns them into
-    /// node masses (density × the node's share of the box) and springs (docs/lattice.md, "Material").
+    /// node masses (density × the node's share of the box), node damping (rate × node mass) and springs
+    /// (docs/lattice.md, "Material").
     Continuum,
 };
 
 /// Per-node painted values and global material settings of a lattice body. The units of mass,
-/// stiffness, damping and airDamping depend on `model`; ranges are those of materialRanges(model).
+/// stiffness, damping and nodeDamping depend on `model`; ranges are those of materialRanges(model).
+/// The two damping terms (docs/lattice.md, "Two damping terms"): `damping` acts on the relative
+/// velocity along each spring, `nodeDamping` on each node's absolute velocity (the paper's D).
 struct LatticeMaterial {
     MaterialModel model = MaterialModel::LatticeSprings; ///< What the values below mean.
     std::vector<double> mass;            ///< kg per node, or density kg/m³ (Continuum). > 0.
     std::vector<double> stiffness;       ///< N/m per node, or Young's modulus Pa (Continuum); a spring gets
                                          ///< the mean of its two nodes. >= 0.
-    std::vector<double> damping;         ///< N·s/m per node, or viscosity Pa·s (Continuum); a spring gets the
-                                         ///< mean of its two nodes. >= 0.
+    std::vector<double> damping;         ///< Spring damping: N·s/m per node, or viscosity Pa·s (Continuum); a
+                                         ///< spring gets the mean of its two nodes. >= 0.
+    std::vector<double> nodeDamping;     ///< Node damping on each node's absolute velocity (the paper's d_i):
+                                         ///< N·s/m per node, or the rate d_i / m_i in 1/s (Continuum). >= 0.
+                                         ///< Files call it "airDamping" / "dampingRate".
     std::vector<AnchorMode> anchor;      ///< Per node; Free by default.
     std::vector<std::uint8_t> isVoid;    ///< Per node; 1 removes the node and its springs.
     std::array<double, 3> kindScale{1.0, 1.0, 1.0}; ///< Stiffness multiplier for edge, face-, body-diagonal springs. [0, 1e3].
@@ -46,27 +52,26 @@ struct LatticeMaterial {
                                          ///< direction d (box frame) gets Σ d_a² s_a. Paper's transversely
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
-    double airDamping = 0.0;             ///< Absolute-velocity damping per node (the paper's d_i): N·s/m, or
-                                         ///< the rate d_i / m_i in 1/s (Continuum). >= 0.
 };
 
 /// Name, valid range and unit of each field under a model: one table for validation, the project
 /// files' keys and the editor's labels.
 struct MaterialRange {
-    const char* name = "";  ///< As files and the editor call it ("density", "modulus", …).
+    const char* name = "";  ///< As files call it ("density", "modulus", "airDamping", …).
+    const char* label = ""; ///< What it is, as the editor and messages say it ("node damping", …).
     double low = 0.0;
     double high = 0.0;
     const char* unit = "";
 };
 struct MaterialRanges {
     const char* model = "";  ///< The model's name in files: "lattice-springs" or "continuum".
-    MaterialRange mass, stiffness, damping, airDamping;
+    MaterialRange mass, stiffness, damping, nodeDamping;
 };
 const MaterialRanges& materialRanges(MaterialModel model);
 
 /// The values a new material starts with, per model (uniform over the nodes).
 struct DefaultMaterialValues {
-    double mass, stiffness, damping, airDamping;
+    double mass, stiffness, damping, nodeDamping;
 };
 const DefaultMaterialValues& defaultMaterialValues(MaterialModel model);
 /// A new object's material: defaultMaterialValues(model) on every node.
@@ -86,7 +91,7 @@ std::vector<double> nodeVolumes(const Lattice& lattice);
 /// not multiplied, voids included).
 std::vector<double> nodeMasses(const Lattice& lattice, const LatticeMaterial& material);
 
-/// A material with the same values on every node of a lattice.
+/// A material with the same values on every node of a lattice (and no node damping).
 LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, double stiffness, double damping);
 
 /// Spring counts by kind.
@@ -111,7 +116,7 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
 /// every node of `to` takes the painted values, anchor and void state of the node of `from` nearest in
 /// lattice parameters. A Continuum material's values are intensive and carried as they are. For a
 /// LatticeSprings material with `keepContinuum`, values are rescaled so the body stays roughly the same
-/// material rather than the same springs: node mass and air damping scale with the node's share of the
+/// material rather than the same springs: node mass and node damping scale with the node's share of the
 /// volume, spring stiffness and damping with the lattice spacing.
 LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& material, const Lattice& to,
                                  bool keepContinuum);

@@ -56,7 +56,10 @@ Result<MaterialConversion> continuumEquivalent(const Lattice& lattice, const Lat
     m.stiffness = relative(springs.stiffness, springs);
     const bool springDamping = solidMean(springs.damping, springs) > 0.0;
     m.damping = springDamping ? relative(springs.damping, springs) : std::vector<double>(m.mass.size(), 0.0);
-    m.airDamping = springs.airDamping > 0.0 ? 1.0 : 0.0;
+    // Node damping: the painted map's ratios become the rates' ratios (a uniform map, every project
+    // before node damping was painted, stays a uniform rate), scaled below to keep the node ζ.
+    const bool nodeDamping = solidMean(springs.nodeDamping, springs) > 0.0;
+    m.nodeDamping = nodeDamping ? relative(springs.nodeDamping, springs) : std::vector<double>(m.mass.size(), 0.0);
     const VibrationMode& target = out.before.front();
     for (int pass = 0; pass < 2; ++pass) {  // the second pass only checks the scale landed (linear)
         auto now = modesOf(lattice, m);
@@ -67,8 +70,9 @@ Result<MaterialConversion> continuumEquivalent(const Lattice& lattice, const Lat
         for (double& e : m.stiffness)
             e *= ratio * ratio;
         // For fixed damping ζ scales as 1/ω: the new ω is ratio times the old.
-        if (m.airDamping > 0.0 && mode.nodeDampingRatio > 0.0)
-            m.airDamping *= target.nodeDampingRatio * ratio / mode.nodeDampingRatio;
+        if (nodeDamping && mode.nodeDampingRatio > 0.0)
+            for (double& gamma : m.nodeDamping)
+                gamma *= target.nodeDampingRatio * ratio / mode.nodeDampingRatio;
         if (springDamping && mode.springDampingRatio > 0.0)
             for (double& c : m.damping)
                 c *= target.springDampingRatio * ratio / mode.springDampingRatio;

@@ -1,5 +1,7 @@
 #include "core/scene.h"
 
+#include "core/oriented_box.h"
+
 #include <cassert>
 #include <cmath>
 
@@ -26,6 +28,41 @@ Status WorldSettings::validate() {
             return Status::error(name + ": friction must be in [0, 10]");
     }
     return Status::success();
+}
+
+SimulationSettings newSceneSimulation(const Scene& scene) {
+    SimulationSettings settings;
+    settings.integrator = IntegratorKind::Verlet;
+    for (const SceneObject& object : scene.objects) {
+        auto model = buildLatticeBody(object.lattice, object.material);
+        if (!model)
+            continue;  // the scene does not build at all; SceneSimulation::create says why
+        if (Simulator(model.value(), settings).substepsFor({}) > kNewSceneMaxSubsteps) {
+            settings.integrator = IntegratorKind::ImplicitEuler;
+            break;
+        }
+    }
+    return settings;
+}
+
+Result<Scene> newScene(std::string name, Mesh mesh) {
+    SceneObject object;
+    object.name = std::move(name);
+    object.mesh = std::move(mesh);
+    if (object.mesh.normals.empty())
+        object.mesh.computeNormals();
+    auto box = fitBox(object.mesh.positions);
+    if (!box)
+        return Status::error(box.message());
+    auto lattice = Lattice::create(LatticeShape{}, box.value());
+    if (!lattice)
+        return Status::error(lattice.message());
+    object.lattice = lattice.value();
+    object.material = defaultMaterial(object.lattice);
+    Scene scene;
+    scene.objects.push_back(std::move(object));
+    scene.world.simulation = newSceneSimulation(scene);
+    return scene;
 }
 
 Result<SceneSimulation> SceneSimulation::create(const Scene& input) {

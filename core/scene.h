@@ -39,6 +39,23 @@ struct Scene {
     WorldSettings world;              ///< Shared settings.
 };
 
+/// Most explicit substeps per step a new scene accepts at its default step: a body that needs more
+/// (very stiff or very light for its size) starts on implicit Euler instead, which is stable at any step.
+inline constexpr int kNewSceneMaxSubsteps = 32;
+
+/// The simulation settings a newly created scene starts with (docs/lattice.md, "The integrator of a new
+/// scene"): Verlet at 240 steps/s, which substeps below its stability bound and so keeps the material's
+/// own decay per period (≥ 99% of it; implicit Euler at the same step keeps 92% of the angelfish's), unless
+/// some object's body would need more than kNewSceneMaxSubsteps substeps per step: then implicit Euler.
+/// Projects that do not name an integrator keep SimulationSettings' default (implicit Euler), so old
+/// files move as they did; a saved new scene names its integrator.
+SimulationSettings newSceneSimulation(const Scene& scene);
+
+/// A new scene of one object made from a mesh (the editor's Import Mesh): a 4x4x4 Bezier lattice fitted
+/// to it, the default material (defaultMaterial(): a Continuum fish body, the same on any lattice), no
+/// gravity, and newSceneSimulation(). Fails, saying why, when no box fits the mesh.
+Result<Scene> newScene(std::string name, Mesh mesh);
+
 /// Runtime of a scene: bodies, bindings and simulators built once, stepped together.
 class SceneSimulation {
 public:

@@ -80,7 +80,7 @@ void resetMaterialValues(LatticeMaterial& m, MaterialModel model) {
     m.mass.assign(m.mass.size(), d.mass);
     m.stiffness.assign(m.stiffness.size(), d.stiffness);
     m.damping.assign(m.damping.size(), d.damping);
-    m.airDamping = d.airDamping;
+    m.nodeDamping.assign(m.nodeDamping.size(), d.nodeDamping);
 }
 
 void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, bool allowPreset,
@@ -109,8 +109,10 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     }
     const MaterialRanges& range = materialRanges(m.model);
     const MaterialRanges& other = m.model == MaterialModel::Continuum ? springs : continuum;
-    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name}, {range.stiffness.name, other.stiffness.name},
-                                {range.damping.name, other.damping.name}, {range.airDamping.name, other.airDamping.name}}) {
+    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name},
+                                {range.stiffness.name, other.stiffness.name},
+                                {range.damping.name, other.damping.name},
+                                {range.nodeDamping.name, other.nodeDamping.name}}) {
         if (v[theirs].exists())
             v[theirs].problem(std::string("a ") + range.model + " material gives \"" + mine + "\", not \"" + theirs +
                               "\" (set \"model\" to change what the values mean)");
@@ -127,8 +129,7 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
         totalMass = *t;
     readField(range.stiffness, m.stiffness);
     readField(range.damping, m.damping);
-    if (auto x = v[range.airDamping.name].number(range.airDamping.low, range.airDamping.high, range.airDamping.unit))
-        m.airDamping = *x;
+    readField(range.nodeDamping, m.nodeDamping);  // one number (every file before version 4) or a painted map
     if (const JsonValue k = v["springKindScale"]; k.expectObject()) {
         k.checkKeys({"edge", "face", "body"});
         const char* names[3] = {"edge", "face", "body"};
@@ -773,7 +774,8 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
                 LatticeMaterial m = uniformMaterial(probe, 1.0, 1.0, 0.0);
                 std::optional<double> total;
                 const JsonValue material = root["material"];
-                for (const char* field : {"mass", "stiffness", "damping", "density", "modulus", "viscosity"}) {
+                for (const char* field :
+                     {"mass", "stiffness", "damping", "airDamping", "density", "modulus", "viscosity", "dampingRate"}) {
                     if (material[field].isArray())
                         material[field].problem("a preset holds one value for every node, not an array");
                 }
@@ -960,7 +962,7 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
                           {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
                           {"anisotropy", vec(m.anisotropy)},
                           {"heavyAnchorRatio", m.heavyAnchorRatio},
-                          {key.airDamping.name, m.airDamping}};
+                          {key.nodeDamping.name, perNode(m.nodeDamping)}};
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -980,7 +982,9 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
 
 Status saveProject(const Project& project, const fs::path& path) {
     // Mesh references are relative to the project file: rebase them when saving somewhere else.
-    const fs::path from = fs::absolute(project.path).parent_path();
+    // A project not yet saved (an imported mesh) has no path: its references are kept as they are
+    // (fs::absolute of an empty path throws).
+    const fs::path from = project.path.empty() ? fs::path() : fs::absolute(project.path).parent_path();
     const fs::path to = fs::absolute(path).parent_path();
     auto rebased = [&](const std::string& ref) {
         if (ref.empty() || fs::path(ref).is_absolute() || project.path.empty())
@@ -1047,20 +1051,26 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
         material.mass[std::size_t(n)] = m.mass[std::size_t(n)];
         material.stiffness[std::size_t(n)] = m.stiffness[std::size_t(n)];
         material.damping[std::size_t(n)] = m.damping[std::size_t(n)];
+        material.nodeDamping[std::size_t(n)] = m.nodeDamping[std::size_t(n)];
     }
     return Status::success();
 }
 
 Status saveMaterialPreset(const std::string& name, const std::string& description, const LatticeMaterial& material,
                           const fs::path& path) {
-    double total = 0.0, stiffness = 0.0, damping = 0.0;
+    double total = 0.0, stiffness = 0.0, damping = 0.0, nodeDamping = 0.0;
     int count = 0;
+    std::optional<double> sameNodeDamping;  // every solid node's, when uniform: written exactly, not as a mean
+    bool uniformNodeDamping = true;
     for (std::size_t n = 0; n < material.mass.size(); ++n) {
         if (material.isVoid[n])
             continue;
         total += material.mass[n];
         stiffness += material.stiffness[n];
         damping += material.damping[n];
+        nodeDamping += material.nodeDamping[n];
+        uniformNodeDamping = uniformNodeDamping && (!sameNodeDamping || *sameNodeDamping == material.nodeDamping[n]);
+        sameNodeDamping = material.nodeDamping[n];
         ++count;
     }
     if (count == 0)
@@ -1074,7 +1084,7 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
                     {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
                    {"anisotropy", vec(material.anisotropy)},
                    {"heavyAnchorRatio", material.heavyAnchorRatio},
-                   {key.airDamping.name, material.airDamping}};
+                   {key.nodeDamping.name, uniformNodeDamping ? *sameNodeDamping : nodeDamping / count}};
     // A lattice-springs preset keeps the body's total mass; a continuum one its (mean) density, which
     // means the same on every object.
     if (continuum)

@@ -14,9 +14,11 @@
 namespace softtouch::io {
 
 /// Version written by this build; older versions are read, newer ones refused. Version 2 adds the
-/// clip library (clips, sessions, keyframes); version 1 files read as projects without clips.
-constexpr int kProjectVersion = 3;
-constexpr int kPresetVersion = 2;
+/// clip library (clips, sessions, keyframes); version 1 files read as projects without clips. Version 3
+/// adds the material model. Version 4 (preset 3) lets node damping be painted: "airDamping" /
+/// "dampingRate" may be one value per node; the single number of older files is a uniform map.
+constexpr int kProjectVersion = 4;
+constexpr int kPresetVersion = 3;
 
 /// A loaded project: the scene plus what is needed to write it back.
 struct Project {
@@ -54,10 +56,10 @@ std::vector<std::string> validateFile(const std::filesystem::path& path);
 Status saveProject(const Project& project, const std::filesystem::path& path);
 /// Loads a material preset.
 Result<MaterialPreset> loadMaterialPreset(const std::filesystem::path& path);
-/// Applies a preset onto `material` (of `lattice`): to the listed nodes' mass, stiffness and damping,
-/// or, when `nodes` is empty, to every node and to the global fields (kind scales, anisotropy, heavy
-/// anchor ratio, air damping) too. A preset's totalMass becomes the same per-node mass it would give
-/// spread over the whole lattice's non-void nodes. Anchors and voids are kept.
+/// Applies a preset onto `material` (of `lattice`): to the listed nodes' mass, stiffness, spring and
+/// node damping, or, when `nodes` is empty, to every node and to the global fields (kind scales,
+/// anisotropy, heavy anchor ratio) too. A preset's totalMass becomes the same per-node mass it would
+/// give spread over the whole lattice's non-void nodes. Anchors and voids are kept.
 Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice, LatticeMaterial& material,
                            const std::vector<int>& nodes = {});
 /// Writes `material` as a shareable preset (single values: means over non-void nodes, total mass),

@@ -32,8 +32,9 @@ public:
     /// Makes `path` the document's file without writing it (recovering an autosave of that file): mesh
     /// references are rebased onto it and the document counts as modified. Empty: not yet saved.
     void adoptPath(const QString& path);
-    /// Replaces the scene by a single object made from a mesh file: a 4x4x4 Bezier lattice fitted to
-    /// it and the paper's default material (0.02 kg, 80 N/m, 0.9 N·s/m per node).
+    /// Replaces the scene by a single object made from a mesh file (core newScene()): a 4x4x4 Bezier
+    /// lattice fitted to it, the default Continuum material and the new-scene integrator (Verlet unless
+    /// the body is too stiff for it at 240 steps/s), written explicitly when saved.
     Status importMesh(const QString& path);
 
     const io::Project& project() const { return m_project; }

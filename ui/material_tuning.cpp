@@ -15,7 +15,8 @@ std::optional<VibrationMode> lowestMode(const Lattice& lattice, const LatticeMat
 void scaleDamping(LatticeMaterial& material, double factor) {
     for (double& c : material.damping)
         c *= factor;
-    material.airDamping *= factor;
+    for (double& d : material.nodeDamping)
+        d *= factor;
 }
 }  // namespace
 
@@ -24,6 +25,7 @@ MaterialSummary summarise(const Lattice& lattice, const LatticeMaterial& materia
     s.meanMass = solidMean(material.mass, material);
     s.meanStiffness = solidMean(material.stiffness, material);
     s.meanDamping = solidMean(material.damping, material);
+    s.meanNodeDamping = solidMean(material.nodeDamping, material);
     const std::vector<double> kg = nodeMasses(lattice, material);
     for (std::size_t n = 0; n < kg.size(); ++n)
         s.totalMass += material.isVoid[n] ? 0.0 : kg[n];
@@ -67,7 +69,8 @@ bool setDampingRatio(const Lattice& lattice, LatticeMaterial& material, double r
         if (ratio == 0.0)
             return true;
         // Nothing to scale: start from the paper's node damping at a unit rate (1/s).
-        material.airDamping = material.model == MaterialModel::Continuum ? 1.0 : summarise(lattice, material).meanMass;
+        const double start = material.model == MaterialModel::Continuum ? 1.0 : summarise(lattice, material).meanMass;
+        material.nodeDamping.assign(material.nodeDamping.size(), start);
         mode = lowestMode(lattice, material);
         if (!mode || mode->dampingRatio <= 0.0)
             return false;

@@ -20,7 +20,8 @@ struct MaterialSummary {
     double meanMass = 0.0;       ///< kg per node, or kg/m³.
     double totalMass = 0.0;      ///< kg, non-void nodes (anchors at their own mass, not multiplied).
     double meanStiffness = 0.0;  ///< N/m, or Pa.
-    double meanDamping = 0.0;    ///< N·s/m, or Pa·s.
+    double meanDamping = 0.0;    ///< Spring damping, N·s/m, or viscosity Pa·s.
+    double meanNodeDamping = 0.0; ///< Node damping, N·s/m, or rate 1/s.
 };
 
 /// Summarises a material's painted values.

@@ -10,6 +10,7 @@ std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
     case PaintField::Mass: return material.mass;
     case PaintField::Stiffness: return material.stiffness;
     case PaintField::Damping: return material.damping;
+    case PaintField::NodeDamping: return material.nodeDamping;
     }
     return material.stiffness;
 }
@@ -25,12 +26,13 @@ const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     case PaintField::Mass: return range.mass;
     case PaintField::Stiffness: return range.stiffness;
     case PaintField::Damping: return range.damping;
+    case PaintField::NodeDamping: return range.nodeDamping;
     }
     return range.stiffness;
 }
 }  // namespace
 
-const char* fieldName(PaintField field, MaterialModel model) { return fieldRange(field, model).name; }
+const char* fieldName(PaintField field, MaterialModel model) { return fieldRange(field, model).label; }
 
 const char* fieldUnit(PaintField field, MaterialModel model) { return fieldRange(field, model).unit; }
 

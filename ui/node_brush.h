@@ -1,6 +1,6 @@
 #pragma once
-/// Painting per-node values (mass, stiffness, damping) with a screen-space brush, plus the bulk edits
-/// of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
+/// Painting per-node values (mass, stiffness, spring and node damping) with a screen-space brush, plus
+/// the bulk edits of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
 /// properties panel and the tests share one implementation.
 
 #include "core/lattice_body.h"
@@ -12,7 +12,12 @@
 namespace softtouch::ui {
 
 /// Which painted value a brush changes.
-enum class PaintField { Mass, Stiffness, Damping };
+enum class PaintField {
+    Mass,
+    Stiffness,
+    Damping,     ///< Spring damping (relative velocity along a spring).
+    NodeDamping, ///< Node damping (each node's absolute velocity: the paper's D).
+};
 
 /// How a dab's effect fades from its centre to its rim.
 enum class BrushFalloff { Constant, Linear, Smooth };
@@ -20,7 +25,7 @@ enum class BrushFalloff { Constant, Linear, Smooth };
 /// The painting brush.
 struct BrushSettings {
     PaintField field = PaintField::Stiffness; ///< Value painted.
-    double value = 160.0;                    ///< Target value in the field's unit (kg, N/m, N·s/m). > 0 for mass.
+    double value = 160.0;                    ///< Target value in the field's unit (materialRanges()). > 0 for mass.
     double radiusPixels = 60.0;              ///< Screen radius, pixels. [1, 2000].
     double strength = 0.5;                   ///< Fraction of the way to the target per dab at the centre. [0, 1].
     BrushFalloff falloff = BrushFalloff::Smooth; ///< Fade towards the rim.
@@ -29,7 +34,8 @@ struct BrushSettings {
 /// The per-node array of a field.
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
-/// Human name and unit of a field under a material model ("stiffness", "N/m"; "modulus", "Pa").
+/// Human name and unit of a field under a material model ("stiffness", "N/m"; "Young's modulus", "Pa";
+/// "node damping rate", "1/s").
 const char* fieldName(PaintField field, MaterialModel model);
 const char* fieldUnit(PaintField field, MaterialModel model);
 

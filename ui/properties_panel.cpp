@@ -198,7 +198,7 @@ QWidget* PropertiesPanel::buildMaterial() {
     m_nodeDamping->setObjectName("nodeDamping");
     m_nodeDamping->setToolTip(tr("Node damping (the paper's D, its 'damper'): resists each node's absolute velocity, "
                                  "like moving through water, so a released body comes to rest. Stronger on slower modes."));
-    form->addRow(tr("Node damping"), m_nodeDamping);
+    form->addRow(tr("Node damping (mean)"), m_nodeDamping);
     auto* aniso = new QHBoxLayout;
     const char* axes[] = {"u", "v", "w"};
     for (int a = 0; a < 3; ++a) {
@@ -245,7 +245,8 @@ QWidget* PropertiesPanel::buildMaterial() {
     });
     connect(m_nodeDamping, &QDoubleSpinBox::valueChanged, this, [this](double d) {
         if (!m_refreshing)
-            editMaterial(tr("Set node damping"), kMergeDamping, [d](LatticeMaterial& m) { m.airDamping = d; });
+            editMaterial(tr("Set node damping"), kMergeDamping,
+                         [d](LatticeMaterial& m) { setMean(m.nodeDamping, m, d); });
     });
     return box;
 }
@@ -304,9 +305,11 @@ QWidget* PropertiesPanel::buildTools() {
     auto* box = new QGroupBox(tr("Tools"));
     auto* form = new QFormLayout(box);
     m_brushField = new QComboBox;
+    m_brushField->setObjectName("brushField");
     m_brushField->addItem(tr("Stiffness"), int(PaintField::Stiffness));
     m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
-    m_brushField->addItem(tr("Damping"), int(PaintField::Damping));
+    m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
+    m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
     form->addRow(tr("Paint"), m_brushField);
     m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
     m_brushValue->setValue(m_viewport->brush().value);
@@ -501,7 +504,7 @@ void PropertiesPanel::refresh() {
         setQuietly(m_totalMass, s.totalMass);
         setQuietly(m_stiffness, s.meanStiffness);
         setQuietly(m_damping, s.meanDamping);
-        setQuietly(m_nodeDamping, o.material.airDamping);
+        setQuietly(m_nodeDamping, s.meanNodeDamping);
         for (int a = 0; a < 3; ++a)
             setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
         m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
@@ -541,7 +544,7 @@ void PropertiesPanel::showMaterialUnits(MaterialModel model) {
     const MaterialRanges& range = materialRanges(model);
     m_stiffness->setSuffix(QString(" ") + QString::fromUtf8(range.stiffness.unit));
     m_damping->setSuffix(QString(" ") + QString::fromUtf8(range.damping.unit));
-    m_nodeDamping->setSuffix(QString(" ") + QString::fromUtf8(range.airDamping.unit));
+    m_nodeDamping->setSuffix(QString(" ") + QString::fromUtf8(range.nodeDamping.unit));
     m_stiffness->setSingleStep(continuum ? 100.0 : 5.0);
     if (auto* form = qobject_cast<QFormLayout*>(m_stiffness->parentWidget()->layout())) {
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_stiffness)))
@@ -549,7 +552,7 @@ void PropertiesPanel::showMaterialUnits(MaterialModel model) {
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_damping)))
             label->setText(continuum ? tr("Spring viscosity (mean)") : tr("Spring damping (mean)"));
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_nodeDamping)))
-            label->setText(continuum ? tr("Node damping rate") : tr("Node damping"));
+            label->setText(continuum ? tr("Node damping rate (mean)") : tr("Node damping (mean)"));
     }
 }
 

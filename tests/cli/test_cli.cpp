@@ -217,31 +217,44 @@ void TestCli::upgradeKeepsMassLowestModeAndDamping() {
                mesh + R"(", "lattice": {"kind": "bezier", "nodes": [4, 4, 4], "padding": 0.02}, "material": )" + material +
                R"(, "anchors": [{"mode": "pinned", "region": {"min": [0.9, 0, 0], "max": [1, 1, 1]}}]}]})";
     };
+    // Node damping as one number (every file before version 4), then painted: heavier towards u = 0.
+    QString painted = "[";
+    for (int n = 0; n < 64; ++n)
+        painted += QString(n ? ", %1" : "%1").arg(0.01 + 0.01 * (3 - n % 4));
+    painted += "]";
     const QString old = dir.filePath("old.softtouch"), upgraded = dir.filePath("new.softtouch");
-    {
-        QFile f(old);
-        QVERIFY(f.open(QIODevice::WriteOnly));
-        f.write(project(R"({"totalMass": 1.0, "stiffness": 60, "damping": 0.15, "airDamping": 0.02})").toUtf8());
+    for (const QString& nodeDamping : {QString("0.02"), painted}) {
+        {
+            QFile f(old);
+            QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Truncate));
+            f.write(project(R"({"totalMass": 1.0, "stiffness": 60, "damping": 0.15, "airDamping": )" + nodeDamping +
+                            "}")
+                        .toUtf8());
+        }
+        const Run run = runCli({"upgrade", old, "--out", upgraded});
+        QVERIFY2(run.exitCode == 0, qPrintable(run.err));
+        QVERIFY(run.out.contains("before Hz"));
+        auto before = io::loadProject(old.toStdString());
+        auto after = io::loadProject(upgraded.toStdString());
+        QVERIFY2(before && after, after ? before.message().c_str() : after.message().c_str());
+        const SceneObject& a = before->scene.objects[0];
+        const SceneObject& b = after->scene.objects[0];
+        QCOMPARE(a.material.model, MaterialModel::LatticeSprings);
+        QCOMPARE(b.material.model, MaterialModel::Continuum);
+        double massA = 0.0, massB = 0.0;
+        for (double kg : nodeMasses(a.lattice, a.material)) massA += kg;
+        for (double kg : nodeMasses(b.lattice, b.material)) massB += kg;
+        QVERIFY(std::abs(massB / massA - 1.0) < 1e-9);
+        const VibrationMode modeA = analyseModes(*buildLatticeBody(a.lattice, a.material).value(), 1)->modes.front();
+        const VibrationMode modeB = analyseModes(*buildLatticeBody(b.lattice, b.material).value(), 1)->modes.front();
+        QVERIFY(std::abs(modeB.frequencyHz / modeA.frequencyHz - 1.0) < 1e-6);
+        QVERIFY(std::abs(modeB.nodeDampingRatio - modeA.nodeDampingRatio) < 1e-6);
+        QVERIFY(std::abs(modeB.springDampingRatio - modeA.springDampingRatio) < 1e-6);
+        // The painted node damping map keeps its ratios as the continuum's rates.
+        for (std::size_t n = 0; n < a.material.nodeDamping.size(); ++n)
+            QVERIFY(std::abs(b.material.nodeDamping[n] / b.material.nodeDamping[0] -
+                             a.material.nodeDamping[n] / a.material.nodeDamping[0]) < 1e-9);
     }
-    const Run run = runCli({"upgrade", old, "--out", upgraded});
-    QVERIFY2(run.exitCode == 0, qPrintable(run.err));
-    QVERIFY(run.out.contains("before Hz"));
-    auto before = io::loadProject(old.toStdString());
-    auto after = io::loadProject(upgraded.toStdString());
-    QVERIFY2(before && after, after ? before.message().c_str() : after.message().c_str());
-    const SceneObject& a = before->scene.objects[0];
-    const SceneObject& b = after->scene.objects[0];
-    QCOMPARE(a.material.model, MaterialModel::LatticeSprings);
-    QCOMPARE(b.material.model, MaterialModel::Continuum);
-    double massA = 0.0, massB = 0.0;
-    for (double kg : nodeMasses(a.lattice, a.material)) massA += kg;
-    for (double kg : nodeMasses(b.lattice, b.material)) massB += kg;
-    QVERIFY(std::abs(massB / massA - 1.0) < 1e-9);
-    const VibrationMode modeA = analyseModes(*buildLatticeBody(a.lattice, a.material).value(), 1)->modes.front();
-    const VibrationMode modeB = analyseModes(*buildLatticeBody(b.lattice, b.material).value(), 1)->modes.front();
-    QVERIFY(std::abs(modeB.frequencyHz / modeA.frequencyHz - 1.0) < 1e-6);
-    QVERIFY(std::abs(modeB.nodeDampingRatio - modeA.nodeDampingRatio) < 1e-6);
-    QVERIFY(std::abs(modeB.springDampingRatio - modeA.springDampingRatio) < 1e-6);
 
     const QString mixed = dir.filePath("mixed.softtouch");
     {

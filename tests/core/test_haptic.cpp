@@ -31,7 +31,7 @@ Jelly makeJelly() {
     box.size = Vec3::Constant(0.1);
     Jelly jelly{Lattice::create(LatticeShape{}, box).value(), nullptr};
     LatticeMaterial material = uniformMaterial(jelly.lattice, 0.002, 80.0, 0.3);
-    material.airDamping = 0.002;
+    material.nodeDamping.assign(material.mass.size(), 0.002);
     for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 4; ++i) material.anchor[std::size_t(jelly.lattice.index(i, 0, k))] = AnchorMode::Pinned;
     jelly.model = buildLatticeBody(jelly.lattice, material).value();

@@ -81,7 +81,7 @@ std::shared_ptr<const BodyModel> testBody(Lattice& lattice) {
             m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
     m.anchor[std::size_t(lattice.index(3, 3, 3))] = AnchorMode::Heavy;
     m.isVoid[std::size_t(lattice.index(2, 0, 3))] = 1;
-    m.airDamping = 0.01;
+    m.nodeDamping.assign(m.mass.size(), 0.01);
     return buildLatticeBody(lattice, m).value();
 }
 

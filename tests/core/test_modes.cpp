@@ -8,6 +8,9 @@
 
 #include <QtTest>
 
+#include <functional>
+#include <numbers>
+
 using namespace softtouch;
 using namespace softtouch::test;
 
@@ -19,7 +22,7 @@ std::shared_ptr<const BodyModel> pinnedBar() {
     box.size = Vec3(0.1, 0.1, 1.0);
     return latticeBody({2, 2, 7}, 0.01, 400.0, 0.02,
                        [](const Lattice& lattice, LatticeMaterial& m) {
-                           m.airDamping = 0.004;
+                           m.nodeDamping.assign(m.mass.size(), 0.004);
                            for (int j = 0; j < 2; ++j)
                                for (int i = 0; i < 2; ++i)
                                    m.anchor[std::size_t(lattice.index(i, j, 0))] = AnchorMode::Pinned;
@@ -31,7 +34,8 @@ std::shared_ptr<const BodyModel> pinnedBar() {
 std::shared_ptr<const BodyModel> freeCube() {
     OrientedBox box;
     box.size = Vec3::Constant(0.5);
-    return latticeBody({4, 4, 4}, 0.02, 20.0, 0.01, [](const Lattice&, LatticeMaterial& m) { m.airDamping = 0.01; }, box);
+    return latticeBody({4, 4, 4}, 0.02, 20.0, 0.01,
+                       [](const Lattice&, LatticeMaterial& m) { m.nodeDamping.assign(m.mass.size(), 0.01); }, box);
 }
 
 }  // namespace
@@ -49,6 +53,48 @@ private slots:
         const auto pinned = analyseModes(*pinnedBar(), 3);
         QVERIFY2(pinned.ok(), pinned.message().c_str());
         QCOMPARE(pinned->rigidModes, 0);
+    }
+
+    // A painted node damping map reaches the modes' split: ζ_node = Σ d_i |φ_i|² / (2ω Σ m_i |φ_i|²) with
+    // each node's own d_i, the spring part untouched. Damping painted on the bar's free tip calms its
+    // lowest (bending) mode more than the same mean spread evenly; painted at the root, less.
+    void paintedNodeDampingReachesTheModes() {
+        OrientedBox box;
+        box.size = Vec3(0.1, 0.1, 1.0);
+        auto bar = [&](const std::function<double(double)>& alongW) {
+            return latticeBody({2, 2, 7}, 0.01, 400.0, 0.02,
+                               [&](const Lattice& lattice, LatticeMaterial& m) {
+                                   for (int n = 0; n < lattice.nodeCount(); ++n)
+                                       m.nodeDamping[std::size_t(n)] = alongW(lattice.restNodeParameters(n).z());
+                                   for (int j = 0; j < 2; ++j)
+                                       for (int i = 0; i < 2; ++i)
+                                           m.anchor[std::size_t(lattice.index(i, j, 0))] = AnchorMode::Pinned;
+                               },
+                               box);
+        };
+        // The three maps have the same mean: the layers' w (Greville points) are symmetric about 1/2.
+        const auto tip = bar([](double w) { return 0.008 * w; });
+        const auto root = bar([](double w) { return 0.008 * (1.0 - w); });
+        const auto even = bar([](double) { return 0.004; });
+        auto lowest = [](const std::shared_ptr<const BodyModel>& model) { return analyseModes(*model, 1).value().modes.front(); };
+        const VibrationMode t = lowest(tip), r = lowest(root), e = lowest(even);
+        for (const auto& [model, mode] : {std::pair{tip, t}, {root, r}, {even, e}}) {
+            double damped = 0.0, inertia = 0.0;
+            for (std::size_t i = 0; i < model->nodeCount(); ++i) {
+                if (model->inverseMass[i] <= 0.0)
+                    continue;
+                damped += model->nodeDamping[i] * mode.shape[i].squaredNorm();
+                inertia += model->mass[i] * mode.shape[i].squaredNorm();
+            }
+            const double expected = damped / (2.0 * 2.0 * std::numbers::pi * mode.frequencyHz * inertia);
+            QVERIFY2(std::abs(mode.nodeDampingRatio / expected - 1.0) < 1e-9,
+                     qPrintable(QString("ζ_node %1, projection of the painted map %2").arg(mode.nodeDampingRatio).arg(expected)));
+            QVERIFY(std::abs(mode.springDampingRatio / e.springDampingRatio - 1.0) < 1e-9);
+        }
+        qInfo("lowest mode ζ_node: painted at the tip %.4f, even %.4f, at the root %.4f", t.nodeDampingRatio,
+              e.nodeDampingRatio, r.nodeDampingRatio);
+        QVERIFY(t.nodeDampingRatio > 1.3 * e.nodeDampingRatio);
+        QVERIFY(r.nodeDampingRatio < 0.7 * e.nodeDampingRatio);
     }
 
     void displayedModeMatchesBakedVibration_data() {

@@ -1,4 +1,8 @@
-// SceneSimulation as the editor and replays use it: interactive drags, snapshots, reset.
+// SceneSimulation as the editor and replays use it: interactive drags, snapshots, reset; and the
+// settings a new scene starts with.
+#include "core/mode_accuracy.h"
+#include "core/modes.h"
+#include "core/primitives.h"
 #include "core/scene.h"
 #include "test_support.h"
 
@@ -30,6 +34,8 @@ private slots:
     void interactiveDragMovesAndReleaseSwingsBack();
     void snapshotRestoreReplaysBitExactly();
     void resetReturnsToRest();
+    void newSceneKeepsItsWobble_data();
+    void newSceneKeepsItsWobble();
 };
 
 void TestScene::interactiveDragMovesAndReleaseSwingsBack() {
@@ -84,6 +90,59 @@ void TestScene::resetReturnsToRest() {
     QCOMPARE(sim.stepCount(), 0LL);
     QVERIFY(sim.interactiveDrags(0).empty());
     QVERIFY(sim.simulator(0).state().position == rest);
+}
+
+void TestScene::newSceneKeepsItsWobble_data() {
+    QTest::addColumn<Vec3>("radii");  // of the imported mesh, an ellipsoid, metres
+    QTest::addColumn<int>("integrator");
+    QTest::addColumn<double>("minKept");  // of the material's own per-period amplitude
+    QTest::newRow("fish-sized, 30 cm") << Vec3(0.15, 0.10, 0.03) << int(IntegratorKind::Verlet) << 0.99;
+    QTest::newRow("1 m ball") << Vec3(0.5, 0.5, 0.5) << int(IntegratorKind::Verlet) << 0.99;
+    // Small bodies of the same material are heavily damped (spring viscosity's ζ grows with ω): the
+    // 10 cm ball's lowest mode (ζ 0.57) keeps only 1.2% a period itself, and Verlet, whose spring damping
+    // takes the backward velocity (first order in h), keeps 85% of that; implicit Euler 55%.
+    QTest::newRow("10 cm ball") << Vec3(0.05, 0.05, 0.05) << int(IntegratorKind::Verlet) << 0.8;
+    // Stability demands otherwise: a 2 cm pebble would need more than kNewSceneMaxSubsteps Verlet
+    // substeps a step (its lowest mode is overdamped anyway).
+    QTest::newRow("2 cm pebble") << Vec3(0.01, 0.008, 0.006) << int(IntegratorKind::ImplicitEuler) << 0.0;
+}
+
+// A new scene (the editor's Import Mesh) starts on the scheme that keeps its wobble: at its default step
+// the lowest mode keeps >= 99% of what the material alone keeps per period (core/mode_accuracy), where
+// implicit Euler at the same step keeps visibly less; only a body too stiff for an explicit step falls
+// back to implicit Euler. (test_io_project newProjectKeepsItsWobble does the same on the angelfish mesh.)
+void TestScene::newSceneKeepsItsWobble() {
+    QFETCH(Vec3, radii);
+    QFETCH(int, integrator);
+    QFETCH(double, minKept);
+    auto scene = newScene("blob", makeUvEllipsoid(12, 24, radii));
+    QVERIFY2(scene.ok(), scene.message().c_str());
+    const SimulationSettings& settings = scene->world.simulation;
+    QCOMPARE(settings.dt, 1.0 / 240.0);
+    auto body = buildLatticeBody(scene->objects[0].lattice, scene->objects[0].material);
+    QVERIFY(body.ok());
+    const VibrationMode mode = analyseModes(*body.value(), 1).value().modes.front();
+    const ModeAccuracy accuracy = schemeAccuracy(body.value(), settings, mode);
+    SimulationSettings implicit = settings;
+    implicit.integrator = IntegratorKind::ImplicitEuler;
+    const ModeAccuracy implicitAccuracy = schemeAccuracy(body.value(), implicit, mode);
+    const double kept = accuracy.amplitudePerPeriod / accuracy.exactAmplitudePerPeriod;
+    const double implicitKept = implicitAccuracy.amplitudePerPeriod / implicitAccuracy.exactAmplitudePerPeriod;
+    SimulationSettings verlet = settings;
+    verlet.integrator = IntegratorKind::Verlet;
+    const int substeps = Simulator(body.value(), verlet).substepsFor({});
+    qInfo("%s: %s; Verlet takes %d substeps a step; the lowest mode (%.3f Hz, ζ %.3f) keeps %.2f%% of the "
+          "material's per-period amplitude (%.1f%% of %.1f%%), implicit Euler would keep %.2f%%",
+          QTest::currentDataTag(), std::string(integratorName(settings.integrator)).c_str(), substeps,
+          mode.frequencyHz, mode.dampingRatio, 100.0 * kept, 100.0 * accuracy.amplitudePerPeriod,
+          100.0 * accuracy.exactAmplitudePerPeriod, 100.0 * implicitKept);
+    QCOMPARE(int(settings.integrator), integrator);
+    QCOMPARE(substeps > kNewSceneMaxSubsteps, settings.integrator == IntegratorKind::ImplicitEuler);
+    if (settings.integrator == IntegratorKind::Verlet) {
+        QVERIFY(kept >= minKept);
+        QVERIFY(implicitKept < kept - 0.05);
+        QVERIFY(kept <= 1.0 + 1e-3);  // and adds no energy
+    }
 }
 
 QTEST_APPLESS_MAIN(TestScene)

@@ -23,7 +23,8 @@ std::filesystem::path inDir(const QTemporaryDir& dir, const std::string& name) {
     return std::filesystem::path(dir.path().toStdString()) / name;
 }
 
-/// The angelfish with painted maps: stiffness rising from tail to head, heavier belly nodes.
+/// The angelfish with painted maps: stiffness rising from tail to head, heavier belly nodes, node
+/// damping (the rate, 1/s) strongest at the tail.
 Project paintedAngelfish() {
     auto project = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
     if (!project)
@@ -33,6 +34,7 @@ Project paintedAngelfish() {
         const Vec3 uvw = o.lattice.restNodeParameters(n);
         o.material.stiffness[std::size_t(n)] = 30.0 + 60.0 * uvw.x();
         o.material.mass[std::size_t(n)] = uvw.y() < 0.5 ? 0.03 : 0.01;
+        o.material.nodeDamping[std::size_t(n)] = 0.5 + 2.0 * (1.0 - uvw.x());
     }
     return project.value();
 }
@@ -60,6 +62,7 @@ void TestPresets::exportThenApplyOnTheSameMeshIsIdentical() {
     auto loaded = loadSetupPreset(inDir(dir, "fish.stpreset"));
     QVERIFY2(loaded.ok(), loaded.message().c_str());
     QCOMPARE(loaded->material.stiffness, source.scene.objects[0].material.stiffness);
+    QCOMPARE(loaded->material.nodeDamping, source.scene.objects[0].material.nodeDamping);
 
     // Onto the plain angelfish scene (uniform material, its own drivers): the painted scene again.
     auto plain = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
@@ -100,6 +103,8 @@ void TestPresets::applyOntoAnotherFishRemapsAndSimulates() {
     // The stiffness gradient survives the remap: the head side is stiffer than the tail side.
     QVERIFY(g.material.stiffness[std::size_t(g.lattice.index(5, 1, 1))] >
             g.material.stiffness[std::size_t(g.lattice.index(0, 1, 1))]);
+    QVERIFY(g.material.nodeDamping[std::size_t(g.lattice.index(5, 1, 1))] <
+            g.material.nodeDamping[std::size_t(g.lattice.index(0, 1, 1))]);
     QCOMPARE(g.drivers.size(), std::size_t(1));
 
     // It saves, reloads and bakes its swim cycle: finite, moving, seamless.
@@ -139,6 +144,12 @@ void TestPresets::badPresetsNameTheProblem_data() {
     QTest::newRow("no lattice") << head + R"("material": {}})" << "/lattice";
     QTest::newRow("map of the wrong size") << head + R"("lattice": {"nodes": [2, 2, 2]}, "material": {"stiffness": [1, 2, 3]}})"
                                            << "/material/stiffness: expected one value per lattice node (8), got 3";
+    QTest::newRow("node damping map of the wrong size")
+        << head + R"("lattice": {"nodes": [2, 2, 2]}, "material": {"airDamping": [0.1, 0.2]}})"
+        << "/material/airDamping: expected one value per lattice node (8), got 2";
+    QTest::newRow("negative node damping on a node")
+        << head + R"("lattice": {"nodes": [2, 2, 2]}, "material": {"airDamping": [0, 0, 0, 0, 0, 0, 0, -1]}})"
+        << "/material/airDamping/7: expected a number in [0, 1e+06] (N·s/m), got -1";
     QTest::newRow("node out of range") << head + R"("lattice": {"nodes": [2, 2, 2]}, "anchors": [{"nodes": [[2, 0, 0]]}]})"
                                        << "/anchors/0/nodes/0: node index out of range";
     QTest::newRow("session clip") << head + R"("lattice": {"nodes": [2, 2, 2]}, "clips": [{"name": "a", "source": "session", "of": "s"}]})"

@@ -1,4 +1,6 @@
 // Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
+#include "core/mode_accuracy.h"
+#include "core/modes.h"
 #include "io/mesh_import.h"
 #include "io/project_file.h"
 
@@ -52,6 +54,11 @@ private slots:
     void presetsValidate();
     void saveAndReloadGivesTheSameScene();
     void saveRebasesMeshPaths();
+    void paintedNodeDampingRoundTrips();
+    void scalarNodeDampingIsAUniformMap_data();
+    void scalarNodeDampingIsAUniformMap();
+    void newProjectKeepsItsWobble();
+    void projectWithoutIntegratorKeepsImplicitEuler();
     void badInputNamesFileFieldAndProblem_data();
     void badInputNamesFileFieldAndProblem();
     void validateListsEveryProblem();
@@ -143,6 +150,111 @@ void TestProject::saveRebasesMeshPaths() {
     QCOMPARE(reloaded->scene.objects[0].mesh.positions.size(), project->scene.objects[0].mesh.positions.size());
 }
 
+// A painted node damping map is saved per node (version 4) and reads back to the same map and motion.
+void TestProject::paintedNodeDampingRoundTrips() {
+    QTemporaryDir dir;
+    auto project = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY(project.ok());
+    SceneObject& o = project->scene.objects[0];
+    for (int n = 0; n < o.lattice.nodeCount(); ++n)
+        o.material.nodeDamping[std::size_t(n)] = 0.25 + 3.0 * o.lattice.restNodeParameters(n).y();  // 1/s
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "painted.softtouch";
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream in(saved);
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    QCOMPARE(doc["version"].get<int>(), kProjectVersion);
+    QVERIFY(kProjectVersion >= 4);
+    QVERIFY(doc["objects"][0]["material"]["dampingRate"].is_array());
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.objects[0].material.nodeDamping, o.material.nodeDamping);
+    QVERIFY(simulate(project->scene, 0.5) == simulate(reloaded->scene, 0.5));
+    QVERIFY(simulate(project->scene, 0.5) != simulate(loadProject(kPresets / "scenes/angelfish-swim.softtouch")->scene, 0.5));
+}
+
+// Files before version 4 give node damping as one number: it becomes the same value on every node
+// and the motion is bit for bit that of the same map written per node (and, through the golden bake
+// in test_cli, that of earlier builds). Saving a uniform map writes one number again.
+void TestProject::scalarNodeDampingIsAUniformMap_data() {
+    QTest::addColumn<QString>("material");
+    QTest::addColumn<QString>("key");
+    QTest::addColumn<double>("value");
+    QTest::newRow("lattice-springs, version 1") << R"("totalMass": 1.0, "airDamping": 0.02)" << "airDamping" << 0.02;
+    QTest::newRow("continuum") << R"("model": "continuum", "density": 2.64, "modulus": 1733, "dampingRate": 1.28)"
+                               << "dampingRate" << 1.28;
+}
+
+void TestProject::scalarNodeDampingIsAUniformMap() {
+    QFETCH(QString, material);
+    QFETCH(QString, key);
+    QFETCH(double, value);
+    QTemporaryDir dir;
+    const auto scalar = writeFile(dir, "scalar.softtouch", projectText(", \"material\": {" + material.toStdString() + "}"));
+    auto project = loadProject(scalar);
+    QVERIFY2(project.ok(), project.message().c_str());
+    const LatticeMaterial& m = project->scene.objects[0].material;
+    QCOMPARE(m.nodeDamping, std::vector<double>(m.mass.size(), value));
+    std::string perNode = "[";
+    for (int n = 0; n < 64; ++n)
+        perNode += (n ? ", " : "") + nlohmann::json(value).dump();
+    perNode += "]";
+    QString mapped = material;
+    mapped.replace(QString::number(value), QString::fromStdString(perNode));
+    QVERIFY(mapped != material);
+    auto painted = loadProject(writeFile(dir, "map.softtouch", projectText(", \"material\": {" + mapped.toStdString() + "}")));
+    QVERIFY2(painted.ok(), painted.message().c_str());
+    QVERIFY(simulate(project->scene, 0.5) == simulate(painted->scene, 0.5));
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "saved.softtouch";
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream in(saved);
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    QCOMPARE(doc["objects"][0]["material"][key.toStdString()].get<double>(), value);
+}
+
+// A new scene from the angelfish mesh (what the editor's Import Mesh makes) starts on Verlet, whose
+// lowest mode keeps >= 99% of the material's per-period amplitude at 240 steps/s, and its file names
+// the integrator so it reloads on it.
+void TestProject::newProjectKeepsItsWobble() {
+    QTemporaryDir dir;
+    auto mesh = importMesh(kPresets / "meshes/angelfish.obj");
+    QVERIFY(mesh.ok());
+    auto scene = newScene("angelfish", std::move(mesh.value()));
+    QVERIFY2(scene.ok(), scene.message().c_str());
+    const SimulationSettings& settings = scene->world.simulation;
+    QCOMPARE(settings.integrator, IntegratorKind::Verlet);
+    QCOMPARE(settings.dt, 1.0 / 240.0);
+    auto body = buildLatticeBody(scene->objects[0].lattice, scene->objects[0].material);
+    QVERIFY(body.ok());
+    const VibrationMode mode = analyseModes(*body.value(), 1).value().modes.front();
+    const ModeAccuracy a = schemeAccuracy(body.value(), settings, mode);
+    qInfo("new angelfish scene: %s keeps %.1f%% per period of the %.3f Hz mode, the material alone %.1f%%",
+          std::string(integratorName(settings.integrator)).c_str(), 100.0 * a.amplitudePerPeriod, mode.frequencyHz,
+          100.0 * a.exactAmplitudePerPeriod);
+    QVERIFY(a.amplitudePerPeriod >= 0.99 * a.exactAmplitudePerPeriod);
+
+    Project project;
+    project.scene = std::move(scene.value());
+    project.meshReferences.push_back((kPresets / "meshes/angelfish.obj").string());
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "new.softtouch";
+    QVERIFY(saveProject(project, saved).ok());
+    std::ifstream in(saved);
+    QCOMPARE(nlohmann::json::parse(in)["simulation"]["integrator"].get<std::string>(), std::string("verlet"));
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.world.simulation.integrator, IntegratorKind::Verlet);
+}
+
+// A project that does not name its integrator (any file written by hand or before new scenes chose
+// one) still runs implicit Euler, so it moves as it always did.
+void TestProject::projectWithoutIntegratorKeepsImplicitEuler() {
+    QTemporaryDir dir;
+    for (const std::string& simulation : {std::string(), std::string(R"(, "simulation": {"dt": 0.01})")}) {
+        auto project = loadProject(writeFile(dir, "old.softtouch", projectText("", simulation)));
+        QVERIFY2(project.ok(), project.message().c_str());
+        QCOMPARE(project->scene.world.simulation.integrator, IntegratorKind::ImplicitEuler);
+    }
+}
+
 void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::addColumn<QString>("text");
     QTest::addColumn<QString>("expected");  // substrings, '|' separated, all must appear
@@ -152,6 +264,11 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
                                     << "invalid JSON|line";
     QTest::newRow("negative mass") << QString::fromStdString(projectText(R"(, "material": {"mass": -1})"))
                                    << "/objects/0/material/mass|expected a number|got -1";
+    QTest::newRow("negative node damping") << QString::fromStdString(projectText(R"(, "material": {"airDamping": -0.1})"))
+                                           << "/objects/0/material/airDamping|expected a number in [0, 1e+06] (N·s/m)|got -0.1";
+    QTest::newRow("node damping map too short")
+        << QString::fromStdString(projectText(R"(, "material": {"airDamping": [0.1, 0.2, 0.3]})"))
+        << "/objects/0/material/airDamping|one value per lattice node (64), got 3";
     QTest::newRow("zero fps") << QString::fromStdString(projectText("", R"(, "clip": {"fps": 0})"))
                               << "/clip/fps|expected a number";
     QTest::newRow("missing mesh") << QString::fromStdString(R"({"format": "softtouch-project", "version": 1,

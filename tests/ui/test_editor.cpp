@@ -36,6 +36,7 @@
 #include "../cli/cli_run.h"
 #include "core/modes.h"
 
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QRegularExpression>
@@ -80,8 +81,8 @@ double maxDistance(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b) {
 }
 
 bool sameMaterial(const LatticeMaterial& a, const LatticeMaterial& b) {
-    return a.mass == b.mass && a.stiffness == b.stiffness && a.damping == b.damping && a.anchor == b.anchor &&
-           a.isVoid == b.isVoid && a.anisotropy == b.anisotropy && a.kindScale == b.kindScale;
+    return a.mass == b.mass && a.stiffness == b.stiffness && a.damping == b.damping && a.nodeDamping == b.nodeDamping &&
+           a.anchor == b.anchor && a.isVoid == b.isVoid && a.anisotropy == b.anisotropy && a.kindScale == b.kindScale;
 }
 
 /// Fraction of pixels inside `region` that differ from the background of their row (the background
@@ -111,6 +112,7 @@ private slots:
     void cleanup();
     void opensDefaultScene();
     void paintStrokeIsOneUndoStep();
+    void paintsNodeDamping();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -127,6 +129,7 @@ private slots:
     void studyDockMarksCurrentSettingsAndSuggests();
     void propertiesShowTheBodysModes();
     void modeViewAnimatesTheShapeWithoutEditing();
+    void importedMeshStartsOnVerletAndSavesIt();
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
@@ -245,6 +248,70 @@ void TestEditor::paintStrokeIsOneUndoStep() {
     QVERIFY(!w.document()->isModified());
     w.document()->undoStack()->redo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, after));
+}
+
+// Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
+// step, the legend and the Properties' mean follow; typing the mean scales the painted map.
+void TestEditor::paintsNodeDamping() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    auto* field = w.findChild<QComboBox*>("brushField");
+    auto* mean = w.findChild<QDoubleSpinBox*>("nodeDamping");
+    QVERIFY(field && mean);
+    field->setCurrentIndex(field->findData(int(PaintField::NodeDamping)));
+    QCOMPARE(view->brush().field, PaintField::NodeDamping);
+    QCOMPARE(QString::fromUtf8(fieldName(PaintField::NodeDamping, MaterialModel::Continuum)), QString("node damping rate"));
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    const double uniform = before.nodeDamping.front();  // the fish body's 1.28 1/s on every node
+    QVERIFY(uniform > 0.0);
+    QCOMPARE(before.nodeDamping, std::vector<double>(before.nodeDamping.size(), uniform));
+    QVERIFY(std::abs(mean->value() - uniform) < 1e-3);
+    view->brush().value = 4.0 * uniform;
+    view->brush().strength = 0.8;
+    view->brush().radiusPixels = 80.0;
+    const int undoBefore = w.document()->undoStack()->index();
+    const QPoint start = view->rect().center() - QPoint(60, 0);
+    QTest::mousePress(view, Qt::LeftButton, {}, start);
+    for (int i = 1; i <= 6; ++i)
+        QTest::mouseMove(view, start + QPoint(20 * i, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
+
+    const LatticeMaterial after = w.document()->scene().objects[0].material;
+    int raised = 0;
+    for (std::size_t n = 0; n < after.nodeDamping.size(); ++n) {
+        QVERIFY(after.nodeDamping[n] >= before.nodeDamping[n]);
+        raised += after.nodeDamping[n] > before.nodeDamping[n] ? 1 : 0;
+    }
+    QVERIFY2(raised > 0 && raised < int(after.nodeDamping.size()), qPrintable(QString("%1 nodes raised").arg(raised)));
+    QVERIFY(after.stiffness == before.stiffness && after.damping == before.damping && after.mass == before.mass);
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
+    QCOMPARE(w.document()->undoStack()->undoText(), QString("Paint node damping rate"));
+    double sum = 0.0;
+    for (double d : after.nodeDamping)
+        sum += d / double(after.nodeDamping.size());  // no void nodes on the angelfish
+    QVERIFY2(std::abs(mean->value() - sum) < 1e-3, qPrintable(QString("mean shown %1, map's %2").arg(mean->value()).arg(sum)));
+    // It reaches the body: the lowest mode's node damping ratio rose.
+    auto zetaNode = [](const SceneObject& o) {
+        return analyseModes(*buildLatticeBody(o.lattice, o.material).value(), 1)->modes.front().nodeDampingRatio;
+    };
+    SceneObject was = w.document()->scene().objects[0];
+    was.material = before;
+    QVERIFY(zetaNode(w.document()->scene().objects[0]) > zetaNode(was));
+
+    // Typing the mean scales the painted map: its ratios stay, one undo step.
+    mean->setValue(2.0 * sum);
+    const LatticeMaterial scaled = w.document()->scene().objects[0].material;
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 2);
+    const double factor = scaled.nodeDamping[0] / after.nodeDamping[0];  // 2, up to the box's 4 decimals
+    QVERIFY(std::abs(factor - 2.0) < 1e-3);
+    for (std::size_t n = 0; n < scaled.nodeDamping.size(); ++n)
+        QVERIFY(std::abs(scaled.nodeDamping[n] / after.nodeDamping[n] / factor - 1.0) < 1e-12);
+
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+    QVERIFY(!w.document()->isModified());
 }
 
 void TestEditor::anchorToolPinsAClickedNode() {
@@ -903,6 +970,29 @@ void TestEditor::modeViewAnimatesTheShapeWithoutEditing() {
     show1->click();
     QCOMPARE(view->shownMode(), 0);
     view->holdModeView(-1.0);
+}
+
+// Import Mesh makes a new scene on Verlet (it keeps the wobble the material gives; implicit Euler at the
+// same step would lose part of it), shows it in Properties, and Save As writes it into the file, so the
+// project reopens on it (a file that names no integrator still opens on implicit Euler).
+void TestEditor::importedMeshStartsOnVerletAndSavesIt() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.document()->importMesh(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
+    const Scene& scene = w.document()->scene();
+    QCOMPARE(scene.world.simulation.integrator, IntegratorKind::Verlet);
+    auto* integrator = w.findChild<QComboBox*>("integrator");
+    QVERIFY(integrator);
+    QCOMPARE(IntegratorKind(integrator->currentData().toInt()), IntegratorKind::Verlet);
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY2(modes->text().contains("verlet at 240 steps/s"), qPrintable(modes->text()));
+    const QString path = m_dir->filePath("imported.softtouch");
+    QVERIFY(w.document()->saveAs(path).ok());
+    auto saved = io::loadProject(path.toStdString());
+    QVERIFY2(saved.ok(), saved.message().c_str());
+    QCOMPARE(saved->scene.world.simulation.integrator, IntegratorKind::Verlet);
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    QVERIFY(file.readAll().contains("\"integrator\": \"verlet\""));
 }
 
 void TestEditor::viewportDrawsTheFish_data() {
