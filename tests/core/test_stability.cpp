@@ -61,6 +61,8 @@ private slots:
     void undampedLargeDeformationKeepsItsEnergy();
     void energyGrowthIsRolledBackReportedAndSubstepped_data();
     void energyGrowthIsRolledBackReportedAndSubstepped();
+    void accountBalancesDampingDragsAndContacts_data();
+    void accountBalancesDampingDragsAndContacts();
     void yankedBarPeaksLikeItsFineStepReference_data();
     void yankedBarPeaksLikeItsFineStepReference();
     void implicitEulerStiffAndLight_data();
@@ -264,6 +266,50 @@ void TestStability::energyGrowthIsRolledBackReportedAndSubstepped() {
     const double h = settings.dt / sim.substepsFor({});
     QVERIFY2(std::abs(modifiedEnergy(*body, sim.state(), h) / e0 - 1.0) < settings.energyTolerance,
              qPrintable(QString::number(modifiedEnergy(*body, sim.state(), h) / e0)));
+}
+
+void TestStability::accountBalancesDampingDragsAndContacts_data() {
+    QTest::addColumn<int>("integrator");
+    for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet})
+        QTest::newRow(integratorName(kind).data()) << int(kind);
+}
+
+// The account's terms against the energy itself: a body with node and spring damping, under gravity,
+// dropped onto a floor it bounces on, while a moving drag (as a driver makes one) pulls it about. After
+// two seconds H̃ must equal the account's start plus the drags' work minus the dissipation plus the
+// contacts' change, to a small fraction of what flowed; and the guard, checking all along, reports nothing.
+void TestStability::accountBalancesDampingDragsAndContacts() {
+    QFETCH(int, integrator);
+    auto body = latticeBody({4, 4, 4}, 0.02, 80, 0.3, [](const Lattice&, LatticeMaterial& m) { m.airDamping = 0.01; });
+    Simulator sim(body, settingsFor(IntegratorKind(integrator), 1.0 / 240.0));
+    ExternalForces f;
+    f.gravity = Vec3(0, -9.81, 0);
+    CollisionPlane floor;
+    floor.point = Vec3(0, -0.3, 0);
+    floor.restitution = 0.5;
+    f.planes.push_back(floor);
+    DragSpring drag;
+    const auto corner = std::uint32_t(body->nodeCount() - 1);
+    drag.support = {{corner, 0.5}, {corner - 1, 0.5}};
+    drag.stiffness = 20.0;
+    drag.damping = 0.2;
+    for (int i = 0; i < 480; ++i) {
+        const double t = sim.time();
+        drag.target = body->restPositions[corner] + Vec3(0.3 * std::sin(6.0 * t), 0.2 * std::cos(4.0 * t), 0.0);
+        drag.targetVelocity = Vec3(1.8 * std::cos(6.0 * t), -0.8 * std::sin(4.0 * t), 0.0);
+        f.drags.assign(1, drag);
+        const StepReport r = sim.step(f);
+        QVERIFY2(r.problem.empty(), r.problem.c_str());
+    }
+    const Simulator::EnergyAccount& a = sim.energyAccount();
+    const double residual = sim.accountedEnergy(f) - a.expected();
+    const double flowed = std::max({std::abs(a.work), a.dissipated, std::abs(a.contacts)});
+    qInfo("%s: H̃ %.5g J from %.5g J; drags %.4g J, damping %.4g J, contacts %.4g J; residual %.3g J",
+          QTest::currentDataTag(), sim.accountedEnergy(f), a.start, a.work, a.dissipated, a.contacts, residual);
+    QVERIFY(a.dissipated > 0.0);
+    QVERIFY(a.contacts != 0.0);  // the body reached the floor since the account last started
+    QVERIFY(a.work != 0.0);
+    QVERIFY2(std::abs(residual) < 0.01 * flowed, qPrintable(QString::number(residual / flowed)));
 }
 
 void TestStability::yankedBarPeaksLikeItsFineStepReference_data() {
