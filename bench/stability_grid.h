@@ -33,6 +33,8 @@ struct StabilityCell {
     double massRatio = 1.0;     ///< heavyAnchorRatio of the u = 1 face (1: no heavy anchors). Grid: [1, 1e6].
     double nodeMass = 0.0;      ///< Per-node mass, kg. Grid: [1e-6, 1e3].
     double damping = 0.0;       ///< Per-node spring damping, N·s/m; also the drag's Kd. Grid: [0, 1e3].
+    double perturbation = 0.01; ///< Largest start displacement of a node per component, m: 0.01, or 0.05
+                                ///< (5% of the body: large deformation, undamped runs only).
     double stableStep = 0.0;    ///< The explicit bound of this body and drag (Simulator::stableStep with
                                 ///< stabilitySafety 1), seconds; the "x bound" steps are multiples of it.
     double dt = 0.0;            ///< The step actually run, seconds, (0, 0.1].
@@ -46,6 +48,9 @@ struct StabilityCell {
     int refusedSteps = 0;       ///< Steps refused for needing more than SimulationSettings::maxSubsteps.
     int rolledBackSteps = 0;    ///< Steps rolled back because the state became non-finite.
     double energyGrowth = 1.0;  ///< max E / E0 over the run (E: kinetic + springs + drag), >= 1.
+    double energyDrift = 0.0;   ///< (Ẽ_end − E0) / E0, Ẽ the energy the scheme conserves: E for implicit Euler
+                                ///< and XPBD, E + (h/2) vᵀf for the explicit schemes (h their last substep).
+                                ///< Undamped runs: pure numerical drift. Infinite if the output was not finite.
     std::string note;           ///< Empty, or what is unusual (clamped dt, first problem reported).
 };
 

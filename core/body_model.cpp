@@ -121,6 +121,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         if (!model->simulated[s.a] || !model->simulated[s.b])
             continue;  // a void node takes its springs with it
         model->springs.push_back(s);
+        model->anySpringDamping = model->anySpringDamping || s.damping > 0.0;
         if (s.stiffness > 0.0)
             model->maxDampingRatio = std::max(model->maxDampingRatio, s.damping / s.stiffness);
     }

@@ -63,6 +63,7 @@ struct BodyModel {
     std::vector<VoidFollower> voidFollowers; ///< See VoidFollower.
     std::vector<double> nodeDamping;     ///< d_i, N·s/m on absolute velocity (the paper's D); 0 for void nodes.
     bool anyNodeDamping = false;         ///< Some d_i > 0 (otherwise the force pass skips the term).
+    bool anySpringDamping = false;       ///< Some spring has c > 0 (otherwise the energy account skips it); filled by build.
     double maxNodeDampingRate = 0.0;     ///< Largest d_i / m_i over free nodes (1/s); filled by build.
     double maxStiffnessOverMass = 0.0;   ///< Largest eigenvalue of M^-1 K at rest (1/s^2); filled by build.
     double maxDampingRatio = 0.0;        ///< Largest c/k over springs (s); filled by build.

@@ -4,6 +4,52 @@
 namespace softtouch {
 namespace {
 
+/// Measures a substep's StepWork for the energy account: each drag's pull and the share-weighted
+/// velocity of the free nodes it pulls, before and after the update (work h g·(v + v')/2), and the
+/// springs' damping from the force pass's scratch. Node damping is scheme-specific: the caller adds it.
+class WorkMeter {
+public:
+    bool on = false;   ///< Measure at all (Integrator::setMeasuresWork).
+    StepWork work;     ///< The last substep's.
+
+    /// Where accumulateForces() writes each drag's pull (empty when not measuring).
+    std::span<Vec3> pulls(const ExternalForces& external) {
+        if (!on)
+            return {};
+        m_pull.resize(external.drags.size());  // grows once: no allocation per step
+        return m_pull;
+    }
+    /// After the force pass, before the update.
+    void begin(const BodyModel& model, const ExternalForces& external, const BodyState& state) {
+        work = {};
+        if (!on)
+            return;
+        m_sharedVelocity.resize(external.drags.size());
+        for (std::size_t d = 0; d < external.drags.size(); ++d)
+            m_sharedVelocity[d] = sharedVelocity(model, external.drags[d], state);
+    }
+    void end(const BodyModel& model, const ExternalForces& external, const BodyState& state,
+             const SpringScratch& scratch, double h) {
+        if (!on)
+            return;
+        for (std::size_t d = 0; d < external.drags.size(); ++d) {
+            const Vec3 after = sharedVelocity(model, external.drags[d], state);
+            work.external += 0.5 * h * m_pull[d].dot(m_sharedVelocity[d] + after);
+        }
+        if (model.anySpringDamping)
+            work.dissipated += springDampingLoss(model.springTable, scratch, state.velocity, h);
+    }
+
+private:
+    static Vec3 sharedVelocity(const BodyModel& model, const DragSpring& drag, const BodyState& state) {
+        Vec3 v = Vec3::Zero();
+        forEachDragShare(model, drag, [&](std::uint32_t node, double share) { v += share * state.velocity[node]; });
+        return v;
+    }
+    std::vector<Vec3> m_pull;            ///< N per drag, held over the substep.
+    std::vector<Vec3> m_sharedVelocity;  ///< m/s per drag, Σ share · v over the free support at the start.
+};
+
 /// Semi-implicit (symplectic) Euler: velocities first, then positions with the new velocities.
 /// Conserves momentum exactly and energy on average; stable for h < 2/omega_max.
 class SymplecticEuler final : public Integrator {
@@ -12,18 +58,29 @@ public:
     bool isExplicit() const override { return true; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
         m_force.resize(model.nodeCount());
-        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch);
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, {}, m_meter.pulls(external));
+        m_meter.begin(model, external, state);
+        const bool nodeDamping = m_meter.on && model.anyNodeDamping;
+        double nodeLoss = 0.0;
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
+            const Vec3 before = state.velocity[i];
             state.velocity[i] += h * model.inverseMass[i] * m_force[i];
             state.position[i] += h * state.velocity[i];
+            if (nodeDamping)  // −d v held over the substep: works −h d v·(v + v')/2
+                nodeLoss += 0.5 * h * model.nodeDamping[i] * before.dot(before + state.velocity[i]);
         }
+        m_meter.end(model, external, state, m_scratch, h);
+        m_meter.work.dissipated += nodeLoss;
     }
+    void setMeasuresWork(bool measure) override { m_meter.on = measure; }
+    StepWork lastWork() const override { return m_meter.work; }
 
 private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
+    WorkMeter m_meter;
 };
 
 /// Central differences, as in the paper: M (x+ − 2x + x−)/h² + D (x+ − x−)/2h + f_int(x) = F.
@@ -40,22 +97,34 @@ public:
         // Node damping is handled implicitly below, so it stays out of the explicit forces.
         ForceTerms terms;
         terms.nodeDamping = false;
-        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms);
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms, m_meter.pulls(external));
+        m_meter.begin(model, external, state);
+        const bool nodeDamping = m_meter.on && model.anyNodeDamping;
+        double nodeLoss = 0.0;
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
             const Vec3 x = state.position[i];
-            const Vec3 previous = x - h * state.velocity[i];
+            const Vec3 before = state.velocity[i];
+            const Vec3 previous = x - h * before;
             const double c = 0.5 * h * model.nodeDamping[i] * model.inverseMass[i];
             const Vec3 next = (2.0 * x - previous + h * h * model.inverseMass[i] * m_force[i] + c * previous) / (1.0 + c);
             state.velocity[i] = (next - x) / h;
             state.position[i] = next;
+            // Central node damping is v' = v + h/m (f − d v̄), v̄ = (v + v')/2: it works −h d |v̄|².
+            if (nodeDamping)
+                nodeLoss += 0.25 * h * model.nodeDamping[i] * (before + state.velocity[i]).squaredNorm();
         }
+        m_meter.end(model, external, state, m_scratch, h);
+        m_meter.work.dissipated += nodeLoss;
     }
+    void setMeasuresWork(bool measure) override { m_meter.on = measure; }
+    StepWork lastWork() const override { return m_meter.work; }
 
 private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
+    WorkMeter m_meter;
 };
 
 }  // namespace

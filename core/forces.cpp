@@ -52,7 +52,8 @@ void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std:
 }
 
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> x,
-                      std::span<const Vec3> v, std::span<Vec3> f, SpringScratch& scratch, ForceTerms terms) {
+                      std::span<const Vec3> v, std::span<Vec3> f, SpringScratch& scratch, ForceTerms terms,
+                      std::span<Vec3> dragPulls) {
     const std::size_t n = model.nodeCount();
     const bool gravity = !external.gravity.isZero();
     for (std::size_t i = 0; i < n; ++i) {
@@ -62,43 +63,47 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
     }
     if (terms.springs)
         addSpringForces(model.springTable, x, v, f, scratch);
-    for (const DragSpring& drag : external.drags) {
+    for (std::size_t d = 0; d < external.drags.size(); ++d) {
+        const DragSpring& drag = external.drags[d];
         Vec3 p, pv;
         dragPointState(drag, x, v, p, pv);
         const Vec3 pull = drag.stiffness * (drag.target - p) + drag.damping * (drag.targetVelocity - pv);
         forEachDragShare(model, drag, [&](std::uint32_t node, double share) { f[node] += share * pull; });
+        if (!dragPulls.empty())
+            dragPulls[d] = pull;
     }
+}
+
+bool resolvePlaneContact(const CollisionPlane& plane, const Vec3& stepStart, double restingSpeed, Vec3& x, Vec3& v) {
+    const double depth = (x - plane.point).dot(plane.normal);
+    if (depth > 0.0)
+        return false;
+    x -= depth * plane.normal;  // penetration: back onto the plane
+    const double vn = v.dot(plane.normal);
+    if (vn >= 0.0)
+        return true;  // leaving the plane
+    const Vec3 normalPart = vn * plane.normal;
+    Vec3 tangent = v - normalPart;
+    const bool wasTouching = (stepStart - plane.point).dot(plane.normal) <= 0.0;
+    const double restitution = (wasTouching || -vn < restingSpeed) ? 0.0 : plane.restitution;
+    // Coulomb friction: the tangential speed drops by mu times the normal speed change.
+    const double tangentSpeed = tangent.norm();
+    if (tangentSpeed > 0.0) {
+        const double loss = plane.friction * (1.0 + restitution) * -vn;
+        tangent *= std::max(0.0, 1.0 - loss / tangentSpeed);
+    }
+    v = tangent - restitution * normalPart;
+    return true;
 }
 
 void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes,
                           std::span<const Vec3> stepStart, double h, const Vec3& gravity, BodyState& state) {
-    // Below this approach speed a contact is resting: no bounce, so bodies settle instead of
-    // jittering (about the speed gravity adds in two steps).
-    const double restingSpeed = 2.0 * gravity.norm() * h;
+    // Below this approach speed a contact is resting: no bounce, so bodies settle instead of jittering.
+    const double restingSpeed = restingContactSpeed(gravity, h);
     for (const CollisionPlane& plane : planes) {
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
-            if (model.inverseMass[i] == 0.0)
-                continue;
-            Vec3& x = state.position[i];
-            Vec3& v = state.velocity[i];
-            const double depth = (x - plane.point).dot(plane.normal);
-            if (depth > 0.0)
-                continue;
-            x -= depth * plane.normal;  // penetration: back onto the plane
-            const double vn = v.dot(plane.normal);
-            if (vn >= 0.0)
-                continue;  // leaving the plane
-            const Vec3 normalPart = vn * plane.normal;
-            Vec3 tangent = v - normalPart;
-            const bool wasTouching = (stepStart[i] - plane.point).dot(plane.normal) <= 0.0;
-            const double restitution = (wasTouching || -vn < restingSpeed) ? 0.0 : plane.restitution;
-            // Coulomb friction: the tangential speed drops by mu times the normal speed change.
-            const double tangentSpeed = tangent.norm();
-            if (tangentSpeed > 0.0) {
-                const double loss = plane.friction * (1.0 + restitution) * -vn;
-                tangent *= std::max(0.0, 1.0 - loss / tangentSpeed);
-            }
-            v = tangent - restitution * normalPart;
+            if (model.inverseMass[i] != 0.0)
+                (void)resolvePlaneContact(plane, stepStart[i], restingSpeed, state.position[i], state.velocity[i]);
         }
     }
 }

@@ -59,9 +59,10 @@ struct ForceTerms {
 /// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, node
 /// damping, gravity (m·g), drags. Only free nodes' forces are meaningful; pinned and void nodes get
 /// gravity and damping but no spring or drag force. `scratch` is the caller's, so nothing is allocated.
+/// When `dragPulls` is given (one entry per drag), it receives each drag's pull F = Ks·d + Kd·v, N.
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,
                       std::span<const Vec3> velocity, std::span<Vec3> force, SpringScratch& scratch,
-                      ForceTerms terms = {});
+                      ForceTerms terms = {}, std::span<Vec3> dragPulls = {});
 
 /// The current position and velocity of a drag's material point.
 void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std::span<const Vec3> velocity,
@@ -92,6 +93,12 @@ void forEachDragShare(const BodyModel& model, const DragSpring& drag, Share&& sh
 /// resting contact and gets Kr = 0, so bodies settle instead of chattering.
 void resolvePlaneContacts(const BodyModel& model, std::span<const CollisionPlane> planes,
                           std::span<const Vec3> stepStart, double stepSeconds, const Vec3& gravity, BodyState& state);
+/// Below this approach speed (m/s) a contact is resting and does not bounce: about the speed gravity
+/// adds in two steps of h seconds.
+inline double restingContactSpeed(const Vec3& gravity, double h) { return 2.0 * gravity.norm() * h; }
+/// One free node against one plane, as resolvePlaneContacts does it: returns false (and changes
+/// nothing) when the node at x is in front of the plane; `stepStart` is its position before the step.
+bool resolvePlaneContact(const CollisionPlane& plane, const Vec3& stepStart, double restingSpeed, Vec3& x, Vec3& v);
 
 /// Moves every void node by the mean displacement (and velocity) of its donors.
 void updateVoidNodes(const BodyModel& model, BodyState& state);

@@ -30,6 +30,15 @@ struct LinearSolveStats {
     bool direct = false;  ///< CG did not converge and the system was factorised and solved directly.
 };
 
+/// Energy that crossed the body's boundary during one step(), measured by the explicit schemes for
+/// the Simulator's energy account. Each force g that is not a spring's elastic pull is held over the
+/// substep and does the work h g·(v + v')/2 on the body: the exact change of the scheme's modified
+/// energy E + (h/2) vᵀf for linear springs (docs/lattice.md, "The energy guard").
+struct StepWork {
+    double external = 0.0;   ///< J, the drags' work on the body (drivers are drags), either sign.
+    double dissipated = 0.0; ///< J, what node damping and spring damping took out; >= 0 below the bound.
+};
+
 /// One time-integration scheme.
 class Integrator {
 public:
@@ -43,6 +52,11 @@ public:
     virtual void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) = 0;
     /// How the last step's linear system was solved; all zero for schemes that solve none.
     virtual LinearSolveStats lastSolve() const { return {}; }
+    /// Asks the scheme to measure each step's StepWork (off by default: it costs a pass over the
+    /// damped springs). Only the explicit schemes measure; the others ignore it.
+    virtual void setMeasuresWork(bool /*measure*/) {}
+    /// The last step's StepWork; zero unless measuring.
+    virtual StepWork lastWork() const { return {}; }
 };
 
 /// Creates an integrator of the given kind.

@@ -13,8 +13,8 @@ Status SimulationSettings::validate() const {
         return Status::error("time step dt must be in (0, 0.1] s, got " + std::to_string(dt));
     if (xpbdSubsteps < 1 || xpbdSubsteps > 10000)
         return Status::error("XPBD substeps must be in [1, 10000], got " + std::to_string(xpbdSubsteps));
-    if (!(std::isfinite(stabilitySafety) && stabilitySafety > 0.0 && stabilitySafety <= 1.0))
-        return Status::error("stability safety must be in (0, 1], got " + std::to_string(stabilitySafety));
+    if (!(std::isfinite(stabilitySafety) && stabilitySafety > 0.0 && stabilitySafety <= 2.0))
+        return Status::error("stability safety must be in (0, 2], got " + std::to_string(stabilitySafety));
     if (maxSubsteps < 1)
         return Status::error("max substeps must be at least 1");
     if (energyCheckSteps < 0 || energyCheckSteps > 1000000)
@@ -26,9 +26,25 @@ Status SimulationSettings::validate() const {
     return Status::success();
 }
 
+namespace {
+
+/// Power iterations of the current-state stiffness estimate: from a fresh vector (construction,
+/// restore, rollback) and, warm-started, at each energy check.
+constexpr int kFreshIterations = 24;
+constexpr int kCheckIterations = 1;
+/// Substeps after which the energy is checked even before energyCheckSteps steps have passed.
+constexpr int kCheckSubsteps = 256;
+
+}  // namespace
+
 Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSettings& settings)
     : m_model(std::move(model)), m_settings(settings), m_integrator(makeIntegrator(settings.integrator)) {
     m_state = restState(*m_model);
+    m_integrator->setMeasuresWork(accountsEnergy());
+    if (accountsEnergy()) {
+        m_tracker.reset(*m_model);
+        trackStiffness(kFreshIterations);
+    }
     resetEnergyAccount({});
 }
 
@@ -38,6 +54,7 @@ void Simulator::restoreState(const BodyState& state) {
     m_quietSteps = 0;
     m_guardFactor = 1;
     m_peakScale = 0.0;
+    trackStiffness(kFreshIterations);
     resetEnergyAccount({});
 }
 
@@ -48,11 +65,23 @@ void Simulator::restoreState(const BodyState& state, long long stepCount) {
     m_lastGoodStep = stepCount;
 }
 
-double Simulator::accountedEnergy(const ExternalForces& external, double* elasticAndKinetic) {
-    const double moving = kineticEnergy(*m_model, m_state) + springEnergy(*m_model, m_state);
-    if (elasticAndKinetic)
-        *elasticAndKinetic = moving;
-    double energy = external.gravity.isZero() ? moving : moving + gravityEnergy(*m_model, m_state, external.gravity);
+void Simulator::trackStiffness(int iterations) {
+    if (!accountsEnergy() || !m_state.isFinite())
+        return;
+    const double lambda = m_tracker.estimate(*m_model, m_state.position, iterations);
+    if (std::isfinite(lambda)) {
+        m_currentStiffness = lambda;
+    } else {  // a vector spoilt by an extreme state: start it afresh next time
+        m_tracker.reset(*m_model);
+        m_currentStiffness = 0.0;
+    }
+}
+
+Simulator::EnergyParts Simulator::energyParts(const ExternalForces& external, double h) {
+    EnergyParts parts;
+    parts.elastic = kineticEnergy(*m_model, m_state) + springEnergy(*m_model, m_state);
+    const bool gravity = !external.gravity.isZero();
+    const double energy = gravity ? parts.elastic + gravityEnergy(*m_model, m_state, external.gravity) : parts.elastic;
     // Symplectic Euler (and this Verlet, the same scheme with the velocity as a backward difference)
     // conserves not E but the modified energy H̃ = E + (h/2) vᵀ f(x), f the conservative forces
     // (exactly for a linear body: v² + ω²x² − hω²xv is invariant under v' = v − hω²x, x' = x + hv').
@@ -61,51 +90,70 @@ double Simulator::accountedEnergy(const ExternalForces& external, double* elasti
     const std::size_t n = m_model->nodeCount();
     m_zeroVelocity.assign(n, Vec3::Zero());
     m_conservativeForce.resize(n);
-    ExternalForces gravityOnly;
-    gravityOnly.gravity = external.gravity;
     ForceTerms terms;
     terms.nodeDamping = false;
-    accumulateForces(*m_model, gravityOnly, m_state.position, m_zeroVelocity, m_conservativeForce, m_scratch, terms);
-    const double h = m_settings.dt / std::max(1, substepsFor(external));
-    double correction = 0.0;
+    accumulateForces(*m_model, ExternalForces{}, m_state.position, m_zeroVelocity, m_conservativeForce, m_scratch, terms);
+    double springPower = 0.0, gravityPower = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-        if (m_model->inverseMass[i] > 0.0)
-            correction += m_state.velocity[i].dot(m_conservativeForce[i]);
+        if (m_model->inverseMass[i] > 0.0) {
+            springPower += m_state.velocity[i].dot(m_conservativeForce[i]);
+            if (gravity)
+                gravityPower += m_model->mass[i] * external.gravity.dot(m_state.velocity[i]);
+        }
     }
-    return energy + 0.5 * h * correction;
+    parts.springPower = springPower;
+    parts.conservativePower = springPower + gravityPower;
+    parts.modified = energy + 0.5 * h * parts.conservativePower;
+    return parts;
 }
 
-void Simulator::beginDragWork(const ExternalForces& external) {
-    m_dragStart.resize(external.drags.size());
-    for (std::size_t d = 0; d < external.drags.size(); ++d)
-        m_dragStart[d] = dragPull(external.drags[d]);
+double Simulator::accountedEnergy(const ExternalForces& external) {
+    return energyParts(external, m_settings.dt / std::max(1, substepsFor(external))).modified;
 }
 
-Simulator::DragPull Simulator::dragPull(const DragSpring& drag) const {
-    Vec3 point, velocity;
-    dragPointState(drag, m_state.position, m_state.velocity, point, velocity);
-    DragPull pull;
-    pull.force = drag.stiffness * (drag.target - point) + drag.damping * (drag.targetVelocity - velocity);
-    // The pull reaches the free nodes by their renormalised shares (forEachDragShare), so it works
-    // along their motion, not the point's (which pinned support nodes hold back).
-    pull.sharedPosition.setZero();
-    forEachDragShare(*m_model, drag, [&](std::uint32_t node, double share) { pull.sharedPosition += share * m_state.position[node]; });
-    return pull;
+double Simulator::nodeEnergy(std::size_t i, const Vec3& gravity, double h) const {
+    const BodyModel& m = *m_model;
+    const Vec3& x = m_state.position[i];
+    const Vec3& v = m_state.velocity[i];
+    double e = 0.5 * m.mass[i] * v.squaredNorm() - m.mass[i] * gravity.dot(x) + 0.5 * h * m.mass[i] * gravity.dot(v);
+    // A spring's share of H̃: ½ k (L − L₀)² and (h/2)(v_a·f_a + v_b·f_b) = −(h/2) k (L − L₀) r̂·(v_b − v_a).
+    const SpringTable& t = m.springTable;
+    auto spring = [&](std::uint32_t k) {
+        const Vec3 r = m_state.position[t.b[k]] - m_state.position[t.a[k]];
+        const double length = r.norm();
+        const double stretch = length - t.restLength[k];
+        double se = 0.5 * t.stiffness[k] * stretch * stretch;
+        if (length > 0.0)
+            se -= 0.5 * h * t.stiffness[k] * stretch * r.dot(m_state.velocity[t.b[k]] - m_state.velocity[t.a[k]]) / length;
+        return se;
+    };
+    for (std::uint32_t e2 = t.startOffset[i]; e2 < t.startOffset[i + 1]; ++e2)
+        e += spring(t.startSpring[e2]);
+    for (std::uint32_t e2 = t.endOffset[i]; e2 < t.endOffset[i + 1]; ++e2)
+        e += spring(t.endSpring[e2]);
+    return e;
 }
 
-double Simulator::dragWork(const ExternalForces& external) const {
-    double work = 0.0;
-    for (std::size_t d = 0; d < external.drags.size(); ++d) {
-        const DragPull end = dragPull(external.drags[d]);
-        work += 0.5 * (m_dragStart[d].force + end.force).dot(end.sharedPosition - m_dragStart[d].sharedPosition);
+void Simulator::resolveContactsAccounted(const ExternalForces& external, double h) {
+    // The same response as resolvePlaneContacts, node by node; a contact changes only its node's
+    // position and velocity, so H̃ changes by that node's share (applied in order: exact).
+    const double restingSpeed = restingContactSpeed(external.gravity, h);
+    for (const CollisionPlane& plane : external.planes) {
+        for (std::size_t i = 0; i < m_model->nodeCount(); ++i) {
+            if (m_model->inverseMass[i] == 0.0 || (m_state.position[i] - plane.point).dot(plane.normal) > 0.0)
+                continue;
+            const double before = nodeEnergy(i, external.gravity, h);
+            (void)resolvePlaneContact(plane, m_substepStart[i], restingSpeed, m_state.position[i], m_state.velocity[i]);
+            m_account.contacts += nodeEnergy(i, external.gravity, h) - before;
+        }
     }
-    return work;
 }
 
 void Simulator::checkpoint() {
     m_lastGood = m_state;
     m_lastGoodStep = m_stepCount;
     m_stepsSinceCheckpoint = 0;
+    m_substepsSinceCheckpoint = 0;
 }
 
 bool Simulator::accountsEnergy() const {
@@ -119,9 +167,20 @@ void Simulator::resetEnergyAccount(const ExternalForces& external) {
     if (!accountsEnergy())
         return;
     m_accountGravity = external.gravity;
-    m_accountEnergy = accountedEnergy(external, &m_accountScale);
+    m_accountStep = m_settings.dt / std::max(1, substepsFor(external));
+    const EnergyParts parts = energyParts(external, m_accountStep);
+    m_account = EnergyAccount{};
+    m_account.start = parts.modified;
+    m_accountScale = parts.elastic;
     m_peakScale = std::max(m_peakScale, m_accountScale);
-    m_accountWork = 0.0;
+}
+
+void Simulator::rebaseAccount(const ExternalForces& external, double h) {
+    // H̃ = E + (h/2) vᵀf: at a new h the same state has a different H̃, so the start moves by the
+    // difference (the account keeps what it has seen so far).
+    const EnergyParts parts = energyParts(external, m_accountStep);
+    m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower;
+    m_accountStep = h;
 }
 
 bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) {
@@ -129,15 +188,38 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
         resetEnergyAccount(external);
         return true;
     }
-    double scale = 0.0;
-    const double energy = accountedEnergy(external, &scale);
+    const EnergyParts parts = energyParts(external, m_accountStep);
     // Near rest the energy is round-off: growth is measured against a millionth of the largest energy
     // the body has held (and a picojoule), not against nothing.
-    m_peakScale = std::max(m_peakScale, scale);
-    scale = std::max({scale, m_accountScale, std::abs(m_accountWork), 1e-6 * m_peakScale, 1e-12});
-    const double growth = (energy - m_accountEnergy - m_accountWork) / scale;
-    if (!(growth > m_settings.energyTolerance)) {
+    m_peakScale = std::max(m_peakScale, parts.elastic);
+    const double floor = std::max(1e-6 * m_peakScale, 1e-12);
+    // Against the energy the account started with (or what the drags or contacts moved, if more): not
+    // the current kinetic + spring energy, which swings with the step in the stiffest modes.
+    const double scale = std::max({m_accountScale, std::abs(m_account.work), std::abs(m_account.contacts), floor});
+    const double growth = (parts.modified - m_account.expected()) / scale;
+    // |(h/2) vᵀf_springs| ≤ (hω/2)(kinetic + spring) for any state when hω < 2 (Cauchy-Schwarz in the
+    // energy norm), and a mode past its bound grows with H̃ = 0, where the two are equal: a share near
+    // 1 is a step at or past its bound, whatever H̃ says.
+    const double edgeShare = parts.elastic > floor ? std::abs(0.5 * m_accountStep * parts.springPower) / parts.elastic : 0.0;
+    const double edgeLimit = 0.5 * (1.0 + std::min(m_settings.stabilitySafety, 0.9));
+    const bool grew = growth > m_settings.energyTolerance || !std::isfinite(growth);
+    const bool unstable = edgeShare > edgeLimit;
+    if (!grew && !unstable) {
         checkpoint();
+        // The bound follows the state: a stiffer state takes more substeps from the next step on.
+        trackStiffness(kCheckIterations);
+        const double h = m_settings.dt / std::max(1, substepsFor(external));
+        if (parts.elastic < 0.5 * m_accountScale) {
+            // Damping (or work out) has taken half the energy: restart the account from here, so the
+            // tolerance follows the energy down and later growth is measured against what is left.
+            m_account = EnergyAccount{};
+            m_account.start = parts.modified + 0.5 * (h - m_accountStep) * parts.conservativePower;
+            m_accountScale = parts.elastic;
+            m_accountStep = h;
+        } else if (h != m_accountStep) {
+            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower;
+            m_accountStep = h;
+        }
         return true;
     }
     const long long lost = m_stepCount - m_lastGoodStep;
@@ -146,8 +228,12 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     report.energyGrowth = growth;
     std::ostringstream msg;
     msg.precision(3);
-    msg << "energy grew " << 100.0 * growth << "% in " << lost << " steps with nothing doing that work ("
-        << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step): rolled back "
+    if (grew)
+        msg << "energy grew " << 100.0 * growth << "% in " << lost << " steps with nothing doing that work (";
+    else
+        msg << "unstable motion in " << lost << " steps (the fastest motion outran the step: "
+            << 100.0 * edgeShare << "% of its energy in the step's (h/2)v·f term; ";
+    msg << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step): rolled back "
         << lost << " steps";
     if (m_guardFactor < kMaxGuardFactor) {
         m_guardFactor *= 2;  // the account below measures H̃ anew at the new substep
@@ -156,13 +242,14 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
         msg << "; substeps are already " << kMaxGuardFactor << "x: lower dt, add damping or use implicit-euler";
     }
     report.problem = msg.str();
+    trackStiffness(kFreshIterations);
     resetEnergyAccount(external);
     return false;
 }
 
 double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
-    double lambda = m.maxStiffnessOverMass;
+    double lambda = std::max(m.maxStiffnessOverMass, m_currentStiffness);
     double dampingRate = m.maxNodeDampingRate;  // largest d/m-like rate from node damping and drags
     // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks Σ ŵ²/m (Weyl's bound).
     for (const DragSpring& drag : external.drags) {
@@ -239,14 +326,23 @@ StepReport Simulator::step(const ExternalForces& external) {
     const double h = m_settings.dt / substeps;
     const bool contacts = !external.planes.empty();
     const bool accountEnergy = accountsEnergy();
-    if (accountEnergy && !external.drags.empty())
-        beginDragWork(external);
+    if (accountEnergy && h != m_accountStep)
+        rebaseAccount(external, h);  // the drags changed the bound since the last step
     for (int s = 0; s < substeps; ++s) {
         if (contacts)
             m_substepStart = m_state.position;
         m_integrator->step(*m_model, external, m_state, h);
-        if (contacts)
-            resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+        if (accountEnergy) {
+            const StepWork work = m_integrator->lastWork();
+            m_account.work += work.external;
+            m_account.dissipated += work.dissipated;
+        }
+        if (contacts) {
+            if (accountEnergy)
+                resolveContactsAccounted(external, h);
+            else
+                resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+        }
         updateVoidNodes(*m_model, m_state);
     }
     report.substeps = substeps;
@@ -254,9 +350,13 @@ StepReport Simulator::step(const ExternalForces& external) {
 
     if (!m_state.isFinite()) {
         m_state = m_lastGood;
+        const std::string input = external.firstNonFinite();
+        // The inputs were sane, so the explicit step itself blew up: replaying it at the same substep
+        // would blow up again, so the substeps double as after energy growth.
+        if (input.empty() && accountEnergy && m_guardFactor < kMaxGuardFactor)
+            m_guardFactor *= 2;
         resetEnergyAccount(external);
         report.rolledBack = true;
-        const std::string input = external.firstNonFinite();
         report.problem = !input.empty()
                              ? "non-finite input (" + input + "): the step was rolled back to the last good state"
                              : std::string("the state became non-finite with ") +
@@ -265,9 +365,11 @@ StepReport Simulator::step(const ExternalForces& external) {
         return report;
     }
     if (accountEnergy) {
-        if (!external.drags.empty())
-            m_accountWork += dragWork(external);
-        if (++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps && !checkEnergy(external, report))
+        // Every energyCheckSteps steps, or every step once steps take many substeps (a check costs
+        // about two substeps; thousands of substeps between checks would let an instability explode).
+        m_substepsSinceCheckpoint += substeps;
+        if ((++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps || m_substepsSinceCheckpoint >= kCheckSubsteps) &&
+            !checkEnergy(external, report))
             return report;
     } else {
         checkpoint();

@@ -1,19 +1,23 @@
 #pragma once
 /// Runs a body with a fixed time step and the guards that keep it sane: explicit schemes are
-/// substepped below their stability bound, energy that appears from nowhere (more than the drags put
-/// in) makes the simulator roll back to its last checked state and take finer substeps from then on,
-/// a non-finite result is rolled back the same way and reported with its cause, and a body at rest
-/// sleeps (costs nothing) until something changes.
+/// substepped below their stability bound (from the rest state and, as the body deforms, from the
+/// current one), energy that appears from nowhere makes the simulator roll back to its last checked
+/// state and take finer substeps from then on, a non-finite result is rolled back the same way and
+/// reported with its cause, and a body at rest sleeps (costs nothing) until something changes.
 ///
-/// The energy account: E = kinetic + spring + gravity may grow by the work the drags did (∫ F·dp, trapezoidal per step) since the account started (the last restore, rollback or
-/// gravity change) and otherwise only fall (damping, contacts), so slow growth adds up and is seen. For
-/// the explicit schemes E is their modified energy (see accountedEnergy). A growth of more than
-/// energyTolerance of the body's elastic and kinetic energy is "from nowhere". Checks run every
-/// energyCheckSteps steps, so a rollback loses at most that many steps, and the state rolled back to
-/// is always one that passed the check (never one that was already bad). Not accounted yet: the
-/// energy a plane contact's position correction adds (bodies on planes may see rare false reports).
+/// The energy account (explicit schemes; docs/lattice.md, "The energy guard"): the scheme's modified
+/// energy H̃ = kinetic + spring + gravity + (h/2) vᵀf may change only by what crossed the body's
+/// boundary since the account started: the drags' work (drivers are drags), minus what node and spring
+/// damping dissipated, plus what plane contacts changed (each measured per substep, exactly for linear
+/// springs). Growth beyond that by more than energyTolerance of the body's kinetic + elastic energy is
+/// energy from nowhere. H̃ cannot see a linear instability (a mode past its bound grows with H̃ = 0),
+/// so the check also rolls back when the springs' (h/2) vᵀf holds nearly all the elastic and kinetic
+/// energy, which only a step at or past the bound allows. Checks run every energyCheckSteps steps, so a
+/// rollback loses at most that many steps, and the state rolled back to is always one that passed the
+/// check (never one that was already bad).
 
 #include "core/body_model.h"
+#include "core/current_stiffness.h"
 #include "core/forces.h"
 #include "core/integrator.h"
 
@@ -27,12 +31,14 @@ struct SimulationSettings {
     IntegratorKind integrator = IntegratorKind::ImplicitEuler; ///< Scheme.
     double dt = 1.0 / 240.0;      ///< Fixed step, seconds. Range (0, 0.1].
     int xpbdSubsteps = 8;         ///< Substeps per step for XPBD. Range [1, 10000].
-    double stabilitySafety = 0.8; ///< Fraction of the explicit stability bound used. Range (0, 1]. Above
-                                  ///< ~0.85 undamped bodies can grow slowly without a report (docs/stability.md).
+    double stabilitySafety = 0.8; ///< Fraction of the explicit stability bound used. Range (0, 2]. Above
+                                  ///< ~0.85 undamped bodies can grow slowly; above 1 the explicit schemes
+                                  ///< are unstable and only the energy guard catches it (tests use that).
     int maxSubsteps = 200000;     ///< Cap on explicit substeps per step; beyond it the step is refused.
-    int energyCheckSteps = 8;     ///< Steps between energy checks (explicit schemes); 0 turns the guard off. [0, 1e6].
-    double energyTolerance = 0.05; ///< Growth beyond the drags' work, as a fraction of kinetic + spring energy,
-                                   ///< that counts as energy from nowhere. (0, 1].
+    int energyCheckSteps = 8;     ///< Steps between energy checks (explicit schemes; sooner once 256 substeps
+                                  ///< have run since the last); 0 turns the guard off. [0, 1e6].
+    double energyTolerance = 0.02; ///< Growth beyond what the account explains, as a fraction of kinetic +
+                                   ///< spring energy, that counts as energy from nowhere. (0, 1].
     bool sleep = true;            ///< Let a body at rest sleep.
     double sleepSpeed = 1e-4;     ///< Below this node speed (m/s) for sleepSteps steps, the body sleeps.
     int sleepSteps = 60;          ///< Consecutive quiet steps before sleeping.
@@ -45,7 +51,7 @@ struct StepReport {
     int substeps = 0;          ///< Integrator calls made (0 when asleep or refused).
     bool sleeping = false;     ///< The body was asleep: nothing was computed.
     bool rolledBack = false;   ///< The step produced a non-finite state or energy from nowhere and was undone.
-    double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the drags' work, fraction of the body's energy.
+    double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the account, fraction of the body's energy.
     std::string problem;       ///< Empty, or what went wrong and how to fix it.
 };
 
@@ -77,8 +83,25 @@ public:
     StepReport step(const ExternalForces& external);
 
     /// Largest stable explicit substep for these forces, seconds: safety × 2/ω_max × (√(1+ζ²) − ζ),
-    /// with ω_max² the largest eigenvalue of M⁻¹K (springs plus drags) and ζ its damping ratio.
+    /// with ω_max² the largest eigenvalue of M⁻¹K (springs plus drags) and ζ its damping ratio. K is
+    /// the rest stiffness, or the current state's tangent stiffness where that is stiffer (tracked
+    /// at each energy check; see current_stiffness.h).
     double stableStep(const ExternalForces& external) const;
+    /// λ_max(M⁻¹K) of the springs at the last energy check's state, 1/s² (0 before the first, or
+    /// with the guard off); stableStep() uses it where it exceeds the rest value.
+    double currentStiffnessOverMass() const { return m_currentStiffness; }
+
+    /// The energy account since it last started (explicit schemes with the guard on), joules.
+    struct EnergyAccount {
+        double start = 0.0;       ///< H̃ when the account started.
+        double work = 0.0;        ///< Drags' work on the body since.
+        double dissipated = 0.0;  ///< Taken out by node and spring damping since.
+        double contacts = 0.0;    ///< Changed by plane contacts since (position and velocity corrections).
+        double expected() const { return start + work - dissipated + contacts; }
+    };
+    const EnergyAccount& energyAccount() const { return m_account; }
+    /// The account's H̃ of the current state, J (what energyAccount().expected() is compared with).
+    double accountedEnergy(const ExternalForces& external);
     /// Substeps a step of dt takes with these forces (the energy guard may have multiplied them).
     int substepsFor(const ExternalForces& external) const;
     /// Factor the energy guard has multiplied the substeps by (1 until it first caught growth).
@@ -86,22 +109,24 @@ public:
 
 private:
     bool forcesChanged(const ExternalForces& external) const;
-    /// The energy the account compares (an explicit scheme's modified energy: kinetic + spring +
-    /// gravity + (h/2) vᵀf), and the kinetic + spring part.
-    double accountedEnergy(const ExternalForces& external, double* elasticAndKinetic);
-    /// A drag's pull and the share-weighted position of the free nodes it pulls.
-    struct DragPull {
-        Vec3 force = Vec3::Zero();
-        Vec3 sharedPosition = Vec3::Zero();
+    /// The current state's energies for the account at substep h.
+    struct EnergyParts {
+        double modified = 0.0;          ///< H̃ = kinetic + spring + gravity + (h/2) vᵀf_c, J.
+        double elastic = 0.0;           ///< Kinetic + spring, J.
+        double springPower = 0.0;       ///< vᵀ f of the springs' elastic forces, W.
+        double conservativePower = 0.0; ///< vᵀ f_c, springs plus gravity, W.
     };
-    DragPull dragPull(const DragSpring& drag) const;
-    /// Notes each drag's pull before a step.
-    void beginDragWork(const ExternalForces& external);
-    /// Work the drags did over the step since beginDragWork() (trapezoidal).
-    double dragWork(const ExternalForces& external) const;
-    /// Compares the energy with the account's start plus the drags' work since; on growth rolls back,
+    EnergyParts energyParts(const ExternalForces& external, double h);
+    /// H̃ of node i alone: its kinetic, gravity and (h/2) v·mg terms plus each of its springs' energy
+    /// and (h/2) vᵀf share. A contact moving node i changes H̃ by exactly the change of this.
+    double nodeEnergy(std::size_t i, const Vec3& gravity, double h) const;
+    /// resolvePlaneContacts, adding each moved node's energy change to the account.
+    void resolveContactsAccounted(const ExternalForces& external, double h);
+    /// Compares H̃ with the account and the springs' share; on growth or instability rolls back,
     /// raises the substep factor and fills the report. Returns false when it rolled back.
     bool checkEnergy(const ExternalForces& external, StepReport& report);
+    /// Moves the account to a new substep h (H̃ depends on it) without restarting it.
+    void rebaseAccount(const ExternalForces& external, double h);
     /// Takes the current state as the known-good checkpoint.
     void checkpoint();
     /// The energy guard runs: an explicit scheme with checks on.
@@ -109,6 +134,8 @@ private:
     /// Takes a checkpoint and starts the energy account afresh from the current state (restore,
     /// rollback, gravity change, sleep).
     void resetEnergyAccount(const ExternalForces& external);
+    /// Runs `iterations` power steps of the current-state stiffness estimate (guard on only).
+    void trackStiffness(int iterations);
 
     std::shared_ptr<const BodyModel> m_model;
     SimulationSettings m_settings;
@@ -116,14 +143,16 @@ private:
     BodyState m_state;
     BodyState m_lastGood;          ///< The last state that passed every check (finite, energy).
     long long m_lastGoodStep = 0;
-    std::vector<DragPull> m_dragStart; ///< Each drag's pull at the start of the current step.
-    double m_accountEnergy = 0.0;   ///< Energy when the account started, J.
+    EnergyAccount m_account;
+    double m_accountStep = 0.0;     ///< Substep h, s, the account's H̃ is measured with.
     Vec3 m_accountGravity = Vec3::Zero(); ///< Gravity the account's potential was measured with.
     double m_accountScale = 0.0;    ///< Kinetic + spring energy when the account started, J.
-    double m_accountWork = 0.0;     ///< Work the drags did since the account started, J.
     double m_peakScale = 0.0;       ///< Largest kinetic + spring energy since the last restore, J.
     int m_stepsSinceCheckpoint = 0;
+    long long m_substepsSinceCheckpoint = 0;
     int m_guardFactor = 1;
+    StiffnessTracker m_tracker;
+    double m_currentStiffness = 0.0; ///< See currentStiffnessOverMass().
     std::vector<Vec3> m_zeroVelocity;      ///< Scratch of the energy account (no allocation once warm).
     std::vector<Vec3> m_conservativeForce;
     SpringScratch m_scratch;

@@ -54,12 +54,15 @@ namespace {
 SOFTTOUCH_VECTOR_CLONES
 void springCoefficients(std::size_t count, const double* __restrict lengthSquared, const double* __restrict closingRate,
                         const double* __restrict stiffness, const double* __restrict restLength,
-                        const double* __restrict damping, double* __restrict coefficient) {
+                        const double* __restrict damping, double* __restrict coefficient,
+                        double* __restrict dampingPart) {
     for (std::size_t k = 0; k < count; ++k) {
         const double length = std::sqrt(lengthSquared[k]);
         const double inverse = length > 0.0 ? 1.0 / length : 0.0;  // zero length: no direction, no force
-        const double magnitude = stiffness[k] * (length - restLength[k]) + damping[k] * (inverse * closingRate[k]);
+        const double damped = damping[k] * (inverse * closingRate[k]);
+        const double magnitude = stiffness[k] * (length - restLength[k]) + damped;
         coefficient[k] = magnitude * inverse;
+        dampingPart[k] = damped * inverse;  // kept for the energy account (springDampingLoss)
     }
 }
 
@@ -73,6 +76,7 @@ void addSpringForces(const SpringTable& t, std::span<const Vec3> x, std::span<co
     scratch.lengthSquared.resize(count);
     scratch.closingRate.resize(count);
     scratch.coefficient.resize(count);
+    scratch.dampingPart.resize(count);
 
     // Raw pointers held in locals: Eigen's packet stores may alias anything, so through the vectors'
     // members the compiler would reload every base pointer after every store.
@@ -92,7 +96,7 @@ void addSpringForces(const SpringTable& t, std::span<const Vec3> x, std::span<co
     }
     // 2. Coefficients, vectorised.
     springCoefficients(count, lengthSquared, closingRate, t.stiffness.data(), t.restLength.data(), t.damping.data(),
-                       coefficient);
+                       coefficient, scratch.dampingPart.data());
     // 3. Each free node sums its own springs: no scatter, so no store-to-load chain between springs.
     const std::uint32_t* startOffset = t.startOffset.data();
     const std::uint32_t* startSpring = t.startSpring.data();
@@ -107,6 +111,29 @@ void addSpringForces(const SpringTable& t, std::span<const Vec3> x, std::span<co
             sum -= coefficient[endSpring[e]] * vector[endSpring[e]];
         f[i] += sum;
     }
+}
+
+double springDampingLoss(const SpringTable& t, const SpringScratch& scratch, std::span<const Vec3> v, double h) {
+    const std::size_t count = t.size();
+    assert(scratch.dampingPart.size() == count);
+    const std::uint32_t* a = t.a.data();
+    const std::uint32_t* b = t.b.data();
+    const Vec3* vector = scratch.vector.data();
+    const double* closingRate = scratch.closingRate.data();
+    const double* dampingPart = scratch.dampingPart.data();
+    // Four partial sums: one would chain every spring's add behind the last (latency-bound).
+    auto loss = [&](std::size_t k) { return dampingPart[k] * (closingRate[k] + vector[k].dot(v[b[k]] - v[a[k]])); };
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    std::size_t k = 0;
+    for (; k + 4 <= count; k += 4) {
+        s0 += loss(k);
+        s1 += loss(k + 1);
+        s2 += loss(k + 2);
+        s3 += loss(k + 3);
+    }
+    for (; k < count; ++k)
+        s0 += loss(k);
+    return 0.5 * h * ((s0 + s1) + (s2 + s3));
 }
 
 }  // namespace softtouch

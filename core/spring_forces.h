@@ -43,6 +43,7 @@ struct SpringScratch {
     std::vector<double> lengthSquared;   ///< |x_b − x_a|².
     std::vector<double> closingRate;     ///< (x_b − x_a)·(v_b − v_a).
     std::vector<double> coefficient;     ///< Force on a is coefficient × vector.
+    std::vector<double> dampingPart;     ///< The damping's share of coefficient, c (r·Δv)/|r|² (springDampingLoss).
 };
 
 /// Adds every spring's force, elastic k(|r| − L) r̂ plus damping c (r̂·(v_b − v_a)) r̂, to `force` on
@@ -50,5 +51,13 @@ struct SpringScratch {
 /// nothing. Non-finite positions give non-finite forces.
 void addSpringForces(const SpringTable& table, std::span<const Vec3> position, std::span<const Vec3> velocity,
                      std::span<Vec3> force, SpringScratch& scratch);
+
+/// Energy the springs' damping took out over one explicit substep of h seconds, J: the force
+/// c (r̂·Δv) r̂ of the pass that filled `scratch` (r and Δv at the substep's start), held over the
+/// substep, works h g·(v + v')/2, so each spring dissipates h c (r·Δv)(r·(Δv + Δv'))/(2|r|²) with Δv'
+/// from `velocityAfter`. Either sign per spring; positive overall below the stability bound. One
+/// gather of the new velocities per spring, no division (the force pass left c (r·Δv)/|r|²).
+double springDampingLoss(const SpringTable& table, const SpringScratch& scratch, std::span<const Vec3> velocityAfter,
+                         double h);
 
 }  // namespace softtouch
