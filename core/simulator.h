@@ -37,8 +37,12 @@ struct SimulationSettings {
     int maxSubsteps = 200000;     ///< Cap on explicit substeps per step; beyond it the step is refused.
     int energyCheckSteps = 8;     ///< Steps between energy checks (explicit schemes; sooner once 256 substeps
                                   ///< have run since the last); 0 turns the guard off. [0, 1e6].
-    double energyTolerance = 0.02; ///< Growth beyond what the account explains, as a fraction of kinetic +
-                                   ///< spring energy, that counts as energy from nowhere. (0, 1].
+    double energyTolerance = 0.05; ///< Growth beyond what the account explains, as a fraction of kinetic +
+                                   ///< spring energy, that counts as energy from nowhere. (0, 1]. H̃ is
+                                   ///< conserved exactly only for linear springs: under large deformation it
+                                   ///< wobbles by a few percent (a 3x4x3 body displaced by 5 cm per node:
+                                   ///< 3.1% in 8 steps, test_core_physics releasedFreeBody…), so 2% would
+                                   ///< report and substep ordinary cartoon squash; 5% does not.
     bool sleep = true;            ///< Let a body at rest sleep.
     double sleepSpeed = 1e-4;     ///< Below this node speed (m/s) for sleepSteps steps, the body sleeps.
     int sleepSteps = 60;          ///< Consecutive quiet steps before sleeping.

@@ -175,7 +175,10 @@ void TestStability::undampedLargeDeformationKeepsItsEnergy_data() {
 void TestStability::undampedLargeDeformationKeepsItsEnergy() {
     QFETCH(int, integrator);
     auto body = latticeBody({4, 4, 4}, 0.02, 80, 0.0);
-    const SimulationSettings settings = settingsFor(IntegratorKind(integrator), 1.0 / 240.0);
+    // The 2% is stricter than the default tolerance (5%, which leaves room for H̃'s wobble under
+    // large deformation): a user who asks for 2% gets it, reported and corrected.
+    SimulationSettings settings = settingsFor(IntegratorKind(integrator), 1.0 / 240.0);
+    settings.energyTolerance = 0.02;
     Simulator sim(body, settings);
     BodyState s = sim.saveState();
     unsigned seed = 7;
@@ -280,7 +283,7 @@ void TestStability::accountBalancesDampingDragsAndContacts_data() {
 // contacts' change, to a small fraction of what flowed; and the guard, checking all along, reports nothing.
 void TestStability::accountBalancesDampingDragsAndContacts() {
     QFETCH(int, integrator);
-    auto body = latticeBody({4, 4, 4}, 0.02, 80, 0.3, [](const Lattice&, LatticeMaterial& m) { m.airDamping = 0.01; });
+    auto body = latticeBody({4, 4, 4}, 0.02, 80, 0.3, [](const Lattice&, LatticeMaterial& m) { m.nodeDamping.assign(m.mass.size(), 0.01); });
     Simulator sim(body, settingsFor(IntegratorKind(integrator), 1.0 / 240.0));
     ExternalForces f;
     f.gravity = Vec3(0, -9.81, 0);
