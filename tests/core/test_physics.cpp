@@ -156,8 +156,10 @@ void TestPhysics::releasedFreeBodyComesToRestUnderNodeDamping() {
     const double e0 = kineticEnergy(*body, sim.state()) + springEnergy(*body, sim.state()), v0 = fastest();
     const ExternalForces none;
     // Amplitudes fall at least as exp(−γ_min t / 2) = exp(−10) in 10 s, energy as exp(−20).
-    for (int i = 0; i < 240 * 10; ++i)
-        { const auto r = sim.step(none); if (!r.problem.empty()) qWarning("step %d: %s", i, r.problem.c_str()); QVERIFY(r.problem.empty()); }
+    for (int i = 0; i < 240 * 10; ++i) {
+        const StepReport r = sim.step(none);
+        QVERIFY2(r.problem.empty(), r.problem.c_str());  // the guard must not take H̃'s wobble for growth
+    }
     const double e = kineticEnergy(*body, sim.state()) + springEnergy(*body, sim.state()), v = fastest();
     QVERIFY2(v < 1e-3 * v0 && e < 1e-6 * e0,
              qPrintable(QString("after 10 s: fastest node %1 of %2 m/s, energy %3 of %4 J").arg(v).arg(v0).arg(e).arg(e0)));
