@@ -102,6 +102,18 @@ double coverage(const QImage& image, const QRect& region) {
     return total > 0 ? double(differ) / total : 0.0;
 }
 
+/// One brush stroke across the middle of the viewport: press, six moves of 20 px, release, with the
+/// brush at strength 0.8 and an 80 px radius (the field and value are the caller's).
+void paintStroke(Viewport* view) {
+    view->brush().strength = 0.8;
+    view->brush().radiusPixels = 80.0;
+    const QPoint start = view->rect().center() - QPoint(60, 0);
+    QTest::mousePress(view, Qt::LeftButton, {}, start);
+    for (int i = 1; i <= 6; ++i)
+        QTest::mouseMove(view, start + QPoint(20 * i, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
+}
+
 }  // namespace
 
 class TestEditor : public QObject {
@@ -223,15 +235,8 @@ void TestEditor::paintStrokeIsOneUndoStep() {
     view->brush().field = PaintField::Stiffness;
     const LatticeMaterial before = w.document()->scene().objects[0].material;
     view->brush().value = 4.0 * *std::max_element(before.stiffness.begin(), before.stiffness.end());
-    view->brush().strength = 0.8;
-    view->brush().radiusPixels = 80.0;
     const int undoBefore = w.document()->undoStack()->index();
-
-    const QPoint start = view->rect().center() - QPoint(60, 0);
-    QTest::mousePress(view, Qt::LeftButton, {}, start);
-    for (int i = 1; i <= 6; ++i)
-        QTest::mouseMove(view, start + QPoint(20 * i, 0));
-    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
+    paintStroke(view);
 
     const LatticeMaterial after = w.document()->scene().objects[0].material;
     int raised = 0;
@@ -268,14 +273,8 @@ void TestEditor::paintsNodeDamping() {
     QCOMPARE(before.nodeDamping, std::vector<double>(before.nodeDamping.size(), uniform));
     QVERIFY(std::abs(mean->value() - uniform) < 1e-3);
     view->brush().value = 4.0 * uniform;
-    view->brush().strength = 0.8;
-    view->brush().radiusPixels = 80.0;
     const int undoBefore = w.document()->undoStack()->index();
-    const QPoint start = view->rect().center() - QPoint(60, 0);
-    QTest::mousePress(view, Qt::LeftButton, {}, start);
-    for (int i = 1; i <= 6; ++i)
-        QTest::mouseMove(view, start + QPoint(20 * i, 0));
-    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
+    paintStroke(view);
 
     const LatticeMaterial after = w.document()->scene().objects[0].material;
     int raised = 0;
