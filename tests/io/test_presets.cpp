@@ -1,10 +1,12 @@
 // Setup presets: export an object's setup, apply it to the same mesh (identical scene) and to another
 // fish on another lattice (remapped, valid, simulates); bad presets name the problem.
+#include "core/modes.h"
 #include "io/bake.h"
 #include "io/project_file.h"
 
 #include <QTemporaryDir>
 #include <QtTest>
+#include <filesystem>
 #include <fstream>
 
 using namespace softtouch;
@@ -47,6 +49,8 @@ private slots:
     void exportThenApplyOnTheSameMeshIsIdentical();
     void applyOntoAnotherFishRemapsAndSimulates();
     void shippedSetupAppliesToEveryFish();
+    void everyMaterialPresetWobblesAlikeOn4And8_data();
+    void everyMaterialPresetWobblesAlikeOn4And8();
     void badPresetsNameTheProblem_data();
     void badPresetsNameTheProblem();
 };
@@ -133,6 +137,41 @@ void TestPresets::shippedSetupAppliesToEveryFish() {
         sim->advanceTo(0.5);
         QVERIFY(sim->simulator(0).state().isFinite());
     }
+}
+
+void TestPresets::everyMaterialPresetWobblesAlikeOn4And8_data() {
+    QTest::addColumn<QString>("preset");
+    for (const auto& entry : std::filesystem::directory_iterator(kPresets / "materials"))
+        if (entry.path().extension() == ".stpreset")
+            QTest::newRow(entry.path().stem().string().c_str()) << QString::fromStdString(entry.path().string());
+}
+
+// A material preset means the same body on a coarse and a fine lattice: applied to the angelfish's box
+// (head pinned, u >= 0.9) on Bezier 4x4x4 and 8x8x8, the lowest mode moves by at most 5%.
+void TestPresets::everyMaterialPresetWobblesAlikeOn4And8() {
+    QFETCH(QString, preset);
+    auto loaded = loadMaterialPreset(preset.toStdString());
+    QVERIFY2(loaded.ok(), loaded.message().c_str());
+    auto project = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY2(project.ok(), project.message().c_str());
+    const OrientedBox box = project->scene.objects[0].lattice.box();
+    std::array<double, 2> hz{};
+    for (int n : {4, 8}) {
+        const Lattice lattice = Lattice::create({LatticeKind::Bezier, {n, n, n}}, box).value();
+        LatticeMaterial m = defaultMaterial(lattice);
+        for (int node = 0; node < lattice.nodeCount(); ++node)
+            if (lattice.restNodeParameters(node).x() >= 0.9)
+                m.anchor[std::size_t(node)] = AnchorMode::Pinned;
+        const Status applied = applyMaterialPreset(loaded.value(), lattice, m);
+        QVERIFY2(applied.ok(), applied.message().c_str());
+        auto body = buildLatticeBody(lattice, m);
+        QVERIFY2(body.ok(), body.message().c_str());
+        auto modes = analyseModes(*body.value(), 1);
+        QVERIFY2(modes.ok(), modes.message().c_str());
+        hz[n == 4 ? 0 : 1] = modes->modes.front().frequencyHz;
+    }
+    qInfo("lowest mode: %.4f Hz on 4x4x4, %.4f Hz on 8x8x8", hz[0], hz[1]);
+    QVERIFY2(std::abs(hz[1] / hz[0] - 1.0) <= 0.05, qPrintable(QString("%1 vs %2 Hz").arg(hz[0]).arg(hz[1])));
 }
 
 void TestPresets::badPresetsNameTheProblem_data() {
