@@ -4,6 +4,7 @@
 #include "ui/material_tuning.h"
 
 #include "core/mode_accuracy.h"
+#include "core/network_elasticity.h"
 
 #include <QCheckBox>
 #include <QComboBox>
@@ -597,6 +598,18 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     if (modes->rigidModes > 0)
         lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
     lines << QString::fromStdString(describeModeAccuracy(settings, lowest, schemeAccuracy(body.value(), settings, lowest)));
+    // The solid the springs make (it differs from the painted modulus on flat or long cells), as
+    // `softtouch-cli modes` prints it.
+    const NetworkElasticity e = networkElasticity(o.lattice, o.material);
+    if (e.resistsEveryStrain) {
+        auto g = [](double x) { return QString::number(x, 'g', 4); };
+        QString springs = tr("Springs act as: E %1 / %2 / %3 Pa along u / v / w, shear %4 / %5 / %6 Pa")
+                              .arg(g(e.youngsModulus.x()), g(e.youngsModulus.y()), g(e.youngsModulus.z()),
+                                   g(e.shearModulus.x()), g(e.shearModulus.y()), g(e.shearModulus.z()));
+        if (o.material.model == MaterialModel::Continuum)
+            springs += tr(" (painted modulus: %1 Pa)").arg(g(solidMean(o.material.stiffness, o.material)));
+        lines << springs;
+    }
     m_modes->setText(lines.join('\n'));
 }
 

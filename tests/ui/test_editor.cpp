@@ -845,6 +845,14 @@ void TestEditor::propertiesShowTheBodysModes() {
     QVERIFY2(match.hasMatch(), qPrintable(cli.out));
     QVERIFY(std::abs(frequency->value() - match.captured(1).toDouble()) < 1e-3);
     QVERIFY(std::abs(ratio->value() - match.captured(2).toDouble()) < 1e-4);
+    // The solid the springs make, as the CLI prints it.
+    const QRegularExpressionMatch springs =
+        QRegularExpression(R"(springs act as: E_u (\S+)  E_v (\S+)  E_w (\S+) Pa)").match(cli.out);
+    QVERIFY2(springs.hasMatch(), qPrintable(cli.out));
+    auto* summary = w.findChild<QLabel*>("modes");
+    QVERIFY(summary);
+    const QString shown = QString("E %1 / %2 / %3 Pa along u / v / w").arg(springs.captured(1), springs.captured(2), springs.captured(3));
+    QVERIFY2(summary->text().contains(shown), qPrintable(summary->text() + " | " + shown));
 
     const LatticeMaterial before = w.document()->scene().objects[0].material;
     const int undoBefore = w.document()->undoStack()->count();
