@@ -1,5 +1,7 @@
 #include "io/project_file.h"
 
+#include "core/mesh_volume.h"
+
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
 
@@ -88,8 +90,8 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     if (!v.expectObject())
         return;
     if (allowPreset)
-        v.checkKeys({"preset", "model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
-                     "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
+        v.checkKeys({"preset", "model", "mass", "totalMass", "massDistribution", "stiffness", "damping", "airDamping",
+                     "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
     else
         v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
                      "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
@@ -274,6 +276,38 @@ void spreadTotalMass(const Lattice& lattice, LatticeMaterial& material, const st
         material.mass.assign(material.mass.size(), *totalMass / solid);
 }
 
+/// An object's "totalMass" spread by its "massDistribution": "box" (the default, spreadTotalMass) or
+/// "mesh", by each node's share of the mesh's volume (core/mesh_volume.h), written as kg per node or, for
+/// a Continuum material, as the density map that gives those masses.
+void spreadObjectMass(const JsonValue& v, const Lattice& lattice, const Mesh& mesh, LatticeMaterial& material,
+                      const std::optional<double>& totalMass) {
+    const JsonValue distribution = v["massDistribution"];
+    const std::optional<std::string> by = distribution.string();
+    if (by && *by != "box" && *by != "mesh") {
+        distribution.problem("expected \"box\" or \"mesh\", got \"" + *by + "\"");
+        return;
+    }
+    if (by && !totalMass) {
+        distribution.problem("spreads a \"totalMass\", and this material gives none");
+        return;
+    }
+    if (by != "mesh") {
+        spreadTotalMass(lattice, material, totalMass);
+        return;
+    }
+    auto shares = meshVolumeShares(lattice, mesh);
+    if (!shares) {
+        distribution.problem(shares.message());
+        return;
+    }
+    const bool continuum = material.model == MaterialModel::Continuum;
+    const std::vector<double> volume = nodeVolumes(lattice);
+    const std::vector<double> kg = meshMassPerNode(shares.value(), material.isVoid, *totalMass);
+    for (std::size_t n = 0; n < material.mass.size(); ++n)
+        if (!material.isVoid[n])
+            material.mass[n] = continuum ? kg[n] / volume[n] : kg[n];  // a density gives that mass
+}
+
 /// A "drivers" array, each driver validated (problems reported at its pointer).
 void readDrivers(const JsonValue& drivers, std::vector<Driver>& out) {
     if (!drivers.exists())
@@ -388,7 +422,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
                 object.material.isVoid[std::size_t(node)] = 1;
         }
     }
-    spreadTotalMass(object.lattice, object.material, totalMass);
+    spreadObjectMass(v["material"], object.lattice, object.mesh, object.material, totalMass);
     readDrivers(v["drivers"], object.drivers);
     // The body itself validates combinations (every node void, …).
     if (issues.empty()) {

@@ -57,6 +57,7 @@ private slots:
     void paintedNodeDampingRoundTrips();
     void scalarNodeDampingIsAUniformMap_data();
     void scalarNodeDampingIsAUniformMap();
+    void massFromTheMeshSitsWhereTheFishIs();
     void newProjectKeepsItsWobble();
     void projectWithoutIntegratorKeepsImplicitEuler();
     void badInputNamesFileFieldAndProblem_data();
@@ -214,6 +215,29 @@ void TestProject::scalarNodeDampingIsAUniformMap() {
 // A new scene from the angelfish mesh (what the editor's Import Mesh makes) starts on Verlet, whose
 // lowest mode keeps >= 99% of the material's per-period amplitude at 240 steps/s, and its file names
 // the integrator so it reloads on it.
+// "massDistribution": "mesh" spreads the total mass by each node's share of the fish's volume: the body
+// weighs what was typed, under either model, and the nodes around the fish's middle carry more than
+// the box's empty corners (where "box" gives every node the same).
+void TestProject::massFromTheMeshSitsWhereTheFishIs() {
+    QTemporaryDir dir;
+    for (const char* model : {"continuum", "lattice-springs"}) {
+        const std::string material = std::string(R"(, "material": {"model": ")") + model + R"(", "totalMass": 1.5, "massDistribution": "mesh"})";
+        auto project = loadProject(writeFile(dir, std::string("mesh-") + model + ".softtouch", projectText(material)));
+        QVERIFY2(project.ok(), project.message().c_str());
+        const SceneObject& fish = project->scene.objects[0];
+        const std::vector<double> kg = nodeMasses(fish.lattice, fish.material);
+        double total = 0.0;
+        for (double m : kg)
+            total += m;
+        QVERIFY2(std::abs(total - 1.5) < 1e-9, qPrintable(QString::number(total)));
+        const double corner = kg[std::size_t(fish.lattice.index(0, 0, 0))];
+        const double middle = kg[std::size_t(fish.lattice.index(1, 1, 1))];
+        qInfo("%s: corner node %.4g kg, middle node %.4g kg", model, corner, middle);
+        QVERIFY(middle > 2.0 * corner);
+        QVERIFY(buildLatticeBody(fish.lattice, fish.material).ok());
+    }
+}
+
 void TestProject::newProjectKeepsItsWobble() {
     QTemporaryDir dir;
     auto mesh = importMesh(kPresets / "meshes/angelfish.obj");
@@ -269,6 +293,12 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::newRow("node damping map too short")
         << QString::fromStdString(projectText(R"(, "material": {"airDamping": [0.1, 0.2, 0.3]})"))
         << "/objects/0/material/airDamping|one value per lattice node (64), got 3";
+    QTest::newRow("unknown mass distribution")
+        << QString::fromStdString(projectText(R"(, "material": {"totalMass": 1, "massDistribution": "cloud"})"))
+        << "/objects/0/material/massDistribution|expected \"box\" or \"mesh\"|cloud";
+    QTest::newRow("mass distribution without a total")
+        << QString::fromStdString(projectText(R"(, "material": {"massDistribution": "mesh"})"))
+        << "/objects/0/material/massDistribution|totalMass";
     QTest::newRow("zero fps") << QString::fromStdString(projectText("", R"(, "clip": {"fps": 0})"))
                               << "/clip/fps|expected a number";
     QTest::newRow("missing mesh") << QString::fromStdString(R"({"format": "softtouch-project", "version": 1,
