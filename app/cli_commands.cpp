@@ -246,27 +246,48 @@ int runBench(const std::vector<std::string>& args) {
 }
 
 int runStudy(const std::vector<std::string>& args) {
-    std::string scenePath, outDir;
+    std::string scenePath, outDir, applyPath;
     std::optional<double> target;
     bench::StudyOptions options;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "--help" || a == "-h") {
-            std::puts("Usage: softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]\n\n"
-                      "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3 Bezier; 6^3, 8^3 B-spline):\n"
-                      "cost per simulated second, mesh error against a converged reference (RMS and max, relative to\n"
-                      "the box diagonal), energy drift, amplitude lost per period and frequency error in free vibration.\n"
+            std::puts("Usage: softtouch-cli study SCENE [--out DIR] [--quick] [--error KIND] [--repeats N]\n"
+                      "                           [--target ERROR [--apply OUT.softtouch]]\n\n"
+                      "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3, 6^3, 8^3 Bezier; 6^3, 8^3\n"
+                      "B-spline), on the scene's first object over the scene's clip (world frames / fps, as bake runs it):\n"
+                      "cost per simulated second (median of repeats), integration error (against the same lattice\n"
+                      "converged in time), model error (that converged run against the 8x8x8 Bezier converged) and the\n"
+                      "total error (against the reference), RMS relative to the box diagonal; energy drift, amplitude\n"
+                      "lost per period and frequency error in free vibration.\n"
                       "  --out DIR       write DIR/study.csv, DIR/study.md and DIR/study.png (error against cost, Pareto front)\n"
-                      "  --quick         fewer settings and a shorter run\n"
-                      "  --target ERROR  also print the cheapest setting whose RMS error is at most ERROR (e.g. 0.01)");
+                      "  --quick         fewer steps and lattices (3 x 3), the same clip\n"
+                      "  --error KIND    the error the Pareto front and --target use: total (default), integration, model\n"
+                      "  --repeats N     timed runs per setting, cost is their median (default 5)\n"
+                      "  --target ERROR  print the cheapest setting whose error is at most ERROR (e.g. 0.005)\n"
+                      "  --apply OUT     write SCENE with that setting (integrator, dt; the first object moved to its\n"
+                      "                  lattice, material carried over) to OUT, read it back and re-measure it as written");
             return 0;
         }
         if (a == "--quick") {
             options.quick = true;
-        } else if ((a == "--out" || a == "--target") && i + 1 < args.size()) {
+        } else if ((a == "--out" || a == "--target" || a == "--apply" || a == "--error" || a == "--repeats") &&
+                   i + 1 < args.size()) {
             const std::string v = args[++i];
             if (a == "--out") {
                 outDir = v;
+            } else if (a == "--apply") {
+                applyPath = v;
+            } else if (a == "--error") {
+                const auto kind = bench::parseStudyError(v);
+                if (!kind)
+                    return usage("--error expects total, integration or model, got '" + v + "'");
+                options.error = *kind;
+            } else if (a == "--repeats") {
+                const auto n = parseNumber(v);
+                if (!n || *n < 1 || *n > 100 || *n != std::floor(*n))
+                    return usage("--repeats expects a whole number from 1 to 100, got '" + v + "'");
+                options.repeats = int(*n);
             } else {
                 target = parseNumber(v);
                 if (!target || *target <= 0)
@@ -282,6 +303,8 @@ int runStudy(const std::vector<std::string>& args) {
     }
     if (scenePath.empty())
         return usage("study needs a SCENE file");
+    if (!applyPath.empty() && !target)
+        return usage("--apply needs --target: it writes the pick for that target");
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());
@@ -291,6 +314,8 @@ int runStudy(const std::vector<std::string>& args) {
         std::filesystem::create_directories(outDir, ec);
         const std::filesystem::path dir(outDir);
         std::string command = "softtouch-cli study " + scenePath + " --out " + outDir + (options.quick ? " --quick" : "");
+        if (options.error != bench::StudyError::Total)
+            command += " --error " + std::string(bench::studyErrorName(options.error));
         if (Status s = io::writeFileAtomically(dir / "study.csv", bench::studyCsv(result)); !s)
             return fail(s.message());
         if (Status s = io::writeFileAtomically(dir / "study.md", bench::studyMarkdown(result, command)); !s)
@@ -300,15 +325,45 @@ int runStudy(const std::vector<std::string>& args) {
         std::printf("wrote %s, %s and %s\n", (dir / "study.csv").c_str(), (dir / "study.md").c_str(),
                     (dir / "study.png").c_str());
     }
-    if (target) {
-        const bench::StudyRow* pick = bench::cheapestWithin(result, *target);
-        if (!pick)
-            return fail("no setting reaches an RMS error of " + std::to_string(*target) + " of the diagonal");
-        std::printf("cheapest setting within %g of the diagonal: %s, dt = 1/%d s, %s lattice (RMS error %.2e, %.2e s per "
-                    "simulated s)\n",
-                    *target, std::string(integratorName(pick->integrator)).c_str(), int(std::lround(1.0 / pick->dt)),
-                    pick->resolution.c_str(), pick->rmsError, pick->costPerSecond);
-    }
+    if (!target)
+        return 0;
+    const std::string errorName(bench::studyErrorName(result.error));
+    if (*target >= result.restError && result.error == bench::StudyError::Total)
+        std::printf("note: doing nothing at all (the rest pose) scores %.2e, within this target: the target asks for no "
+                    "motion; this clip moves up to %.2e of the diagonal\n",
+                    result.restError, result.motionAmplitude);
+    const bench::StudyRow* pick = bench::cheapestWithin(result, *target);
+    if (!pick)
+        return fail("no setting reaches a " + errorName + " error of " + std::to_string(*target) + " of the diagonal");
+    std::printf("cheapest setting within %g of the diagonal (%s error): %s, dt = 1/%d s, %s lattice (%s error %.2e; "
+                "%.2e s per simulated s)\n",
+                *target, errorName.c_str(), std::string(integratorName(pick->integrator)).c_str(), int(std::lround(1.0 / pick->dt)),
+                pick->resolution.c_str(), errorName.c_str(), pick->error(result.error), pick->costPerSecond);
+    if (applyPath.empty())
+        return 0;
+    auto applied = bench::applySetting(project->scene, pick->setting());
+    if (!applied)
+        return fail(applied.message());
+    io::Project out = project.value();
+    out.scene = std::move(applied.value());
+    if (Status s = out.clips.validate(out.scene); !s)
+        return fail("the pick puts '" + out.scene.objects.front().name + "' on a " + pick->resolution +
+                    " lattice, which the project's clips cannot follow: " + s.message());
+    if (Status s = io::saveProject(out, applyPath); !s)
+        return fail(s.message());
+    // Re-measure the project as written: read back from the file, run as a bake runs it.
+    auto written = io::loadProject(applyPath);
+    if (!written)
+        return fail(written.message());
+    auto measured = bench::remeasure(written->scene, result);
+    if (!measured)
+        return fail(applyPath + ": " + measured.message());
+    const double error = measured->error(result.error);
+    std::printf("wrote %s; re-measured as written: total error %.2e (integration %.2e, model %.2e)\n", applyPath.c_str(),
+                measured->total, measured->integration, measured->model);
+    if (error > *target)
+        return fail(applyPath + ": as written, the " + errorName + " error is " + std::to_string(error) + ", above the target " +
+                    std::to_string(*target));
     return 0;
 }
 

@@ -18,7 +18,7 @@ Usage:
   softtouch-cli upgrade SCENE --out NEW.softtouch
   softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
   softtouch-cli bench [--json FILE] [--quick] [--only KEY]
-  softtouch-cli study SCENE [--out DIR] [--quick] [--target ERROR]
+  softtouch-cli study SCENE [--out DIR] [--quick] [--error KIND] [--target ERROR [--apply OUT]]
   softtouch-cli stability [--out FILE.md] [--quick]
   softtouch-cli haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]
   softtouch-cli --help | --version

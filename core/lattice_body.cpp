@@ -1,6 +1,7 @@
 #include "core/lattice_body.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -321,6 +322,64 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     return buildBodyModel(d);
 }
 
+namespace {
+
+/// The node index along `axis` whose rest parameter is nearest to t.
+int nearest(const Lattice& lattice, int axis, double t) {
+    int best = 0;
+    for (int i = 1; i < lattice.count(axis); ++i) {
+        if (std::abs(lattice.axis(axis).greville(i) - t) < std::abs(lattice.axis(axis).greville(best) - t))
+            best = i;
+    }
+    return best;
+}
+
+/// Anchor and void flags carried to another lattice. A node of `to` takes a flag only where every node of
+/// `from` around it has one (the source nodes of the grid cell, face, edge or node its rest parameters lie
+/// in), so a flagged region keeps its extent in the material: the pinned face u = 1 of a 4x4x4 lattice
+/// pins the face u = 1 of an 8x8x8 one, not the slab of material whose nearest 4x4x4 node lies on it
+/// (which clamped a sixth of the body more on 7x7x7 and 8x8x8 and moved the modes). So that no flag is
+/// lost, each flagged node of `from` also flags the node of `to` nearest to it. The flag taken is that of
+/// the nearest flagged source node.
+template <typename Flag>
+void resampleNodeFlags(const Lattice& from, const std::vector<Flag>& source, const Lattice& to, std::vector<Flag>& out,
+                       Flag none) {
+    constexpr double kSame = 1e-9;
+    // The source nodes bracketing t along one axis: one where t sits on a node, else the two around it.
+    auto bracket = [&](int axis, double t) {
+        const int n = from.count(axis);
+        int i = 0;
+        while (i + 1 < n && from.axis(axis).greville(i + 1) <= t + kSame)
+            ++i;
+        if (std::abs(from.axis(axis).greville(i) - t) <= kSame || i + 1 == n)
+            return std::array<int, 2>{i, i};
+        return std::array<int, 2>{i, i + 1};
+    };
+    out.assign(std::size_t(to.nodeCount()), none);
+    for (int node = 0; node < to.nodeCount(); ++node) {
+        const Vec3 p = to.restNodeParameters(node);
+        const auto bu = bracket(0, p.x()), bv = bracket(1, p.y()), bw = bracket(2, p.z());
+        bool all = true;
+        for (int i : bu)
+            for (int j : bv)
+                for (int k : bw)
+                    all = all && source[std::size_t(from.index(i, j, k))] != none;
+        if (all)
+            out[std::size_t(node)] = source[std::size_t(from.index(nearest(from, 0, p.x()), nearest(from, 1, p.y()), nearest(from, 2, p.z())))];
+    }
+    for (int node = 0; node < from.nodeCount(); ++node) {
+        const Flag flag = source[std::size_t(node)];
+        if (flag == none)
+            continue;
+        const Vec3 p = from.restNodeParameters(node);
+        Flag& target = out[std::size_t(to.index(nearest(to, 0, p.x()), nearest(to, 1, p.y()), nearest(to, 2, p.z())))];
+        if (target == none)
+            target = flag;
+    }
+}
+
+}  // namespace
+
 LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& material, const Lattice& to,
                                  bool keepContinuum) {
     LatticeMaterial out = material;
@@ -331,14 +390,6 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     out.nodeDamping.assign(n, 0.0);
     out.anchor.assign(n, AnchorMode::Free);
     out.isVoid.assign(n, 0);
-    auto nearestIndex = [&](int axis, double t) {
-        int best = 0;
-        for (int i = 1; i < from.count(axis); ++i) {
-            if (std::abs(from.axis(axis).greville(i) - t) < std::abs(from.axis(axis).greville(best) - t))
-                best = i;
-        }
-        return best;
-    };
     // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
     // A continuum's values are per volume or per area already: nothing to rescale.
     keepContinuum = keepContinuum && material.model == MaterialModel::LatticeSprings;
@@ -350,15 +401,15 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     spacing = std::cbrt(spacing);
     for (int node = 0; node < to.nodeCount(); ++node) {
         const Vec3 p = to.restNodeParameters(node);
-        const auto source = std::size_t(from.index(nearestIndex(0, p.x()), nearestIndex(1, p.y()), nearestIndex(2, p.z())));
+        const auto source = std::size_t(from.index(nearest(from, 0, p.x()), nearest(from, 1, p.y()), nearest(from, 2, p.z())));
         const auto k = std::size_t(node);
         out.mass[k] = material.mass[source] * (keepContinuum ? volume : 1.0);
         out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
         out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
         out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
-        out.anchor[k] = material.anchor[source];
-        out.isVoid[k] = material.isVoid[source];
     }
+    resampleNodeFlags(from, material.anchor, to, out.anchor, AnchorMode::Free);
+    resampleNodeFlags(from, material.isVoid, to, out.isVoid, std::uint8_t(0));
     return out;
 }
 

@@ -113,8 +113,9 @@ SpringCounts countSprings(const std::vector<Spring>& springs);
 Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material);
 
 /// The material of `from` carried onto lattice `to` (another resolution or kind over the same object):
-/// every node of `to` takes the painted values, anchor and void state of the node of `from` nearest in
-/// lattice parameters. A Continuum material's values are intensive and carried as they are. For a
+/// every node of `to` takes the painted values of the node of `from` nearest in lattice parameters; anchors
+/// and voids keep their extent in the material (a node is flagged where all source nodes around it are, and
+/// each flagged source node flags its nearest node of `to`). A Continuum material's values are intensive and carried as they are. For a
 /// LatticeSprings material with `keepContinuum`, values are rescaled so the body stays roughly the same
 /// material rather than the same springs: node mass and node damping scale with the node's share of the
 /// volume, spring stiffness and damping with the lattice spacing.
