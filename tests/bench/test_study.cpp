@@ -18,10 +18,16 @@ private slots:
     void paretoFrontIsNotDominated();
     void targetPicksTheCheapestAccurateSetting();
     void csvAndMarkdownHoldEveryRow();
+    void totalErrorIsBoundedByItsTwoParts();
+    void doingNothingIsTheBaselineNoRealRunLosesTo();
+    void modelErrorFallsAsTheLatticeIsRefined();
+    void aPickRemeasuredAsAppliedKeepsItsError();
+    void theScenesOwnSettingIsMeasured();
 
 private:
     const StudyRow& row(IntegratorKind kind, double dt, const std::string& resolution) const;
     StudyResult m_result;
+    Scene m_scene;
 };
 
 void TestStudy::initTestCase() {
@@ -29,9 +35,12 @@ void TestStudy::initTestCase() {
     QVERIFY2(project.ok(), project.message().c_str());
     StudyOptions options;
     options.quick = true;
+    options.repeats = 2;  // the cost's median is not what these tests check
     std::ostringstream log;
-    m_result = runStudy(project->scene, options, log);
-    QCOMPARE(int(m_result.rows.size()), 4 * 3 * 3);  // integrators x dt x resolutions (quick)
+    m_scene = project->scene;
+    m_result = runStudy(m_scene, options, log);
+    // integrators x dt x resolutions (quick); the scene's own setting (implicit Euler, 1/240 s, 4x4x4) is among them
+    QCOMPARE(int(m_result.rows.size()), 4 * 3 * 3);
 }
 
 const StudyRow& TestStudy::row(IntegratorKind kind, double dt, const std::string& resolution) const {
@@ -48,6 +57,7 @@ void TestStudy::everyRowIsFiniteAndPriced() {
         QVERIFY(r.finite);
         QVERIFY(r.costPerSecond > 0.0);
         QVERIFY(r.rmsError > 0.0 && r.rmsError <= r.maxError);
+        QVERIFY(r.costSpread >= 0.0);
         QVERIFY(std::isfinite(r.energyDrift));
     }
 }
@@ -119,6 +129,95 @@ void TestStudy::csvAndMarkdownHoldEveryRow() {
     const std::string md = studyMarkdown(m_result, "softtouch-cli study X --quick");
     QVERIFY(md.find("softtouch-cli study X --quick") != std::string::npos);
     QVERIFY(md.find("## Pareto front") != std::string::npos);
+}
+
+void TestStudy::totalErrorIsBoundedByItsTwoParts() {
+    // RMS distances obey the triangle inequality: run→reference ≤ run→converged + converged→reference.
+    for (const StudyRow& r : m_result.rows) {
+        QVERIFY2(r.rmsError <= r.timeError + r.modelError + 1e-9,
+                 qPrintable(QString("%1: total %2 > time %3 + model %4").arg(QString::fromStdString(r.resolution)).arg(r.rmsError).arg(r.timeError).arg(r.modelError)));
+        QCOMPARE(r.error(StudyError::Model), r.modelError);
+        QCOMPARE(r.error(StudyError::Integration), r.timeError);
+    }
+    // The model error belongs to the lattice: the same for every integrator and step on it.
+    for (const StudyRow& a : m_result.rows)
+        for (const StudyRow& b : m_result.rows)
+            if (a.resolution == b.resolution)
+                QCOMPARE(a.modelError, b.modelError);
+}
+
+void TestStudy::doingNothingIsTheBaselineNoRealRunLosesTo() {
+    // The fish swims: doing nothing is far off, and every setting that simulates at 1/60 s or finer beats it
+    // several times over; a target below the rest pose's score is not met by the rest pose.
+    QVERIFY(m_result.motionAmplitude > m_result.restError && m_result.restError > 0.01);
+    for (const StudyRow& r : m_result.rows) {
+        if (r.dt <= 1.0 / 60 + 1e-12)
+            QVERIFY2(r.rmsError < 0.5 * m_result.restError,
+                     qPrintable(QString("%1 %2 1/%3: %4 against doing nothing %5").arg(QString::fromStdString(r.resolution))
+                                    .arg(QString::fromLatin1(integratorName(r.integrator).data())).arg(std::lround(1 / r.dt)).arg(r.rmsError).arg(m_result.restError)));
+    }
+    Scene still = m_scene;
+    still.objects.front().drivers.clear();  // the rest pose, run the way a bake runs it
+    const auto measured = remeasure(still, m_result);
+    QVERIFY2(measured.ok(), measured.message().c_str());
+    QVERIFY(std::abs(measured->total - m_result.restError) < 1e-6 * m_result.restError);
+    QVERIFY(measured->total > 0.99 * m_result.restError);
+}
+
+void TestStudy::modelErrorFallsAsTheLatticeIsRefined() {
+    // Same material, Bezier 2x2x2 .. 8x8x8: each finer lattice converged in time is closer to the finest.
+    StudyOptions options;
+    options.repeats = 1;
+    options.includeCurrent = false;
+    options.integrators = {IntegratorKind::Verlet};
+    options.steps = {1.0 / 240};
+    for (int n = 2; n <= 8; ++n)
+        options.lattices.push_back({LatticeKind::Bezier, {n, n, n}});
+    for (const char* name : {"angelfish-swim", "guppy-swim"}) {
+        auto project = io::loadProject(std::string(SOFTTOUCH_SOURCE_DIR "/presets/scenes/") + name + ".softtouch");
+        QVERIFY(project.ok());
+        options.seconds = 1.0;
+        std::ostringstream log;
+        const StudyResult ladder = runStudy(project->scene, options, log);
+        QCOMPARE(int(ladder.rows.size()), 7);
+        for (std::size_t i = 1; i < ladder.rows.size(); ++i)
+            QVERIFY2(ladder.rows[i].modelError < ladder.rows[i - 1].modelError,
+                     qPrintable(QString("%1: %2 scores %3, coarser %4 scores %5").arg(name)
+                                    .arg(QString::fromStdString(ladder.rows[i].resolution)).arg(ladder.rows[i].modelError)
+                                    .arg(QString::fromStdString(ladder.rows[i - 1].resolution)).arg(ladder.rows[i - 1].modelError)));
+        QVERIFY(ladder.rows.back().modelError < 1e-9);  // the reference lattice itself
+        QVERIFY(ladder.rows.front().modelError < ladder.restError);
+    }
+}
+
+void TestStudy::aPickRemeasuredAsAppliedKeepsItsError() {
+    // What --apply writes runs to the error the study printed for it (the CLI test re-bakes it from the file).
+    for (double target : {0.004, 0.006, 0.012}) {
+        const StudyRow* pick = cheapestWithin(m_result, target);
+        QVERIFY(pick != nullptr);
+        const auto applied = applySetting(m_scene, pick->setting());
+        QVERIFY2(applied.ok(), applied.message().c_str());
+        QCOMPARE(applied->world.simulation.integrator, pick->integrator);
+        QCOMPARE(applied->objects.front().lattice.shape().nodes, pick->lattice.nodes);
+        const auto measured = remeasure(applied.value(), m_result);
+        QVERIFY2(measured.ok(), measured.message().c_str());
+        QVERIFY(std::abs(measured->total - pick->rmsError) <= 1e-9 * pick->rmsError);
+        QVERIFY(std::abs(measured->integration - pick->timeError) <= 1e-9 * pick->timeError);
+        QVERIFY(measured->total <= target);
+    }
+}
+
+void TestStudy::theScenesOwnSettingIsMeasured() {
+    int current = 0;
+    for (const StudyRow& r : m_result.rows) {
+        if (!r.current)
+            continue;
+        ++current;
+        QCOMPARE(r.integrator, m_scene.world.simulation.integrator);
+        QCOMPARE(r.dt, m_scene.world.simulation.dt);
+        QCOMPARE(r.resolution, std::string("4x4x4 bezier"));
+    }
+    QCOMPARE(current, 1);
 }
 
 QTEST_GUILESS_MAIN(TestStudy)

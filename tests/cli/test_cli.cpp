@@ -1,5 +1,6 @@
 // End to end: run softtouch-cli on the bundled scenes and on bad input, check what it wrote.
 #include "core/lattice_body.h"
+#include "core/scene.h"
 #include "core/modes.h"
 #include "io/mesh_import.h"
 #include "io/project_file.h"
@@ -67,6 +68,8 @@ private slots:
     void bakeIsDeterministic();
     void goldenHash();
     void upgradeKeepsMassLowestModeAndDamping();
+    void studyPicksHoldWhenRebaked_data();
+    void studyPicksHoldWhenRebaked();
     void badInputFailsCleanly_data();
     void badInputFailsCleanly();
     void failedBakeKeepsPreviousFile();
@@ -266,6 +269,67 @@ void TestCli::upgradeKeepsMassLowestModeAndDamping() {
     QCOMPARE(refused.exitCode, 1);
     QVERIFY2(refused.err.contains("modulus") || refused.out.contains("modulus"), qPrintable(refused.err + refused.out));
     QCOMPARE(runCli({"upgrade", old}).exitCode, 2);
+}
+
+void TestCli::studyPicksHoldWhenRebaked_data() {
+    QTest::addColumn<QString>("scene");
+    QTest::addColumn<QList<double>>("targets");  // reachable, from loose to tight, between the scene's best and doing nothing
+    QTest::newRow("angelfish") << "angelfish-swim" << QList<double>{0.012, 0.006, 0.0045};
+    QTest::newRow("guppy") << "guppy-swim" << QList<double>{0.05, 0.03, 0.02};
+    QTest::newRow("demekin") << "demekin-swim" << QList<double>{0.003, 0.001, 0.0006};
+}
+
+// study --target --apply writes a project; baked through the CLI as a user would, it meets the target
+// against a converged reference this test bakes itself (the 8x8x8 Bezier lattice, Verlet at 1/4000 s).
+void TestCli::studyPicksHoldWhenRebaked() {
+    QFETCH(QString, scene);
+    QFETCH(QList<double>, targets);
+    const QString path = kScenes + scene + ".softtouch";
+    auto project = io::loadProject(path.toStdString());
+    QVERIFY2(project.ok(), project.message().c_str());
+    Scene reference = project->scene;
+    SceneObject& object = reference.objects.front();
+    const Lattice fine = Lattice::create({LatticeKind::Bezier, {8, 8, 8}}, object.lattice.box()).value();
+    object.material = resampleMaterial(object.lattice, object.material, fine, true);
+    object.lattice = fine;
+    reference.world.simulation.integrator = IntegratorKind::Verlet;
+    reference.world.simulation.dt = 1.0 / 4000;
+    auto sim = SceneSimulation::create(reference);
+    QVERIFY2(sim.ok(), sim.message().c_str());
+    const int frames = reference.world.frames;
+    std::vector<std::vector<Vec3f>> expected;
+    for (int f = 0; f < frames; ++f) {
+        sim->advanceTo(f / reference.world.fps);
+        expected.emplace_back(object.mesh.positions.size());
+        sim->evaluate(0, expected.back(), {}, 0);
+    }
+    const double diagonal = object.lattice.box().diagonal();
+
+    QTemporaryDir dir;
+    QStringList picks;
+    for (double target : targets) {
+        const QString applied = dir.filePath(QString("pick-%1.softtouch").arg(target));
+        const Run study = runCli({"study", path, "--quick", "--repeats", "1", "--target", QString::number(target), "--apply", applied});
+        QVERIFY2(study.exitCode == 0, qPrintable(study.out.right(600) + study.err));
+        QVERIFY(study.out.contains("re-measured as written"));
+        const QString cache = dir.filePath(QString("pick-%1.pc2").arg(target));
+        const Run bake = runCli({"bake", applied, "--out", cache, "--quiet"});
+        QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
+        auto baked = io::readPc2(cache.toStdString());
+        QVERIFY2(baked.ok(), baked.message().c_str());
+        QCOMPARE(int(baked->frames.size()), frames);
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (int f = 0; f < frames; ++f) {
+            QCOMPARE(baked->frames[std::size_t(f)].size(), expected[std::size_t(f)].size());
+            for (std::size_t v = 0; v < expected[std::size_t(f)].size(); ++v, ++count)
+                sum += double((baked->frames[std::size_t(f)][v] - expected[std::size_t(f)][v]).squaredNorm());
+        }
+        const double error = std::sqrt(sum / double(count)) / diagonal;
+        QVERIFY2(error <= target, qPrintable(QString("%1 at target %2: re-baked error %3\n%4").arg(scene).arg(target).arg(error).arg(study.out.right(400))));
+        picks << study.out.section("cheapest setting", 1).section('\n', 0, 0);
+    }
+    qInfo("%s picks: %s", qPrintable(scene), qPrintable(picks.join(" | ")));
 }
 
 void TestCli::badInputFailsCleanly_data() {

@@ -223,6 +223,36 @@ private slots:
         }
     }
 
+    // Anchors keep their extent in the material on another lattice: a pinned face stays that face (nearest-node
+    // carrying pinned a sixth of the body more on 7x7x7 and 8x8x8, whose second layer lies nearer the face),
+    // a single anchored node inside keeps one anchored node, and both come back on the original lattice.
+    void anchorsKeepTheirExtentOnAnotherLattice() {
+        const Lattice four = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, flatBox()).value();
+        LatticeMaterial m = continuumMaterial(four, 1000.0, 2e4, 5.0);
+        for (int n = 0; n < four.nodeCount(); ++n)
+            if (four.restNodeParameters(n).x() == 1.0)
+                m.anchor[std::size_t(n)] = AnchorMode::Pinned;
+        const std::size_t inside = std::size_t(four.index(1, 2, 1));
+        m.anchor[inside] = AnchorMode::Heavy;
+        for (LatticeShape shape : {LatticeShape{LatticeKind::Bezier, {7, 7, 7}}, LatticeShape{LatticeKind::Bezier, {8, 8, 8}},
+                                   LatticeShape{LatticeKind::BSpline, {8, 6, 6}}}) {
+            const Lattice other = Lattice::create(shape, flatBox()).value();
+            const LatticeMaterial there = resampleMaterial(four, m, other, true);
+            int pinned = 0, heavy = 0;
+            for (int n = 0; n < other.nodeCount(); ++n) {
+                const AnchorMode a = there.anchor[std::size_t(n)];
+                QCOMPARE(a == AnchorMode::Pinned, other.restNodeParameters(n).x() == 1.0);
+                pinned += a == AnchorMode::Pinned;
+                heavy += a == AnchorMode::Heavy;
+            }
+            QCOMPARE(pinned, other.count(1) * other.count(2));
+            QCOMPARE(heavy, 1);
+            const LatticeMaterial back = resampleMaterial(other, there, four, true);
+            for (std::size_t n = 0; n < m.anchor.size(); ++n)
+                QVERIFY2(back.anchor[n] == m.anchor[n], qPrintable(QString("%1 nodes along u: node %2").arg(shape.nodes[0]).arg(n)));
+        }
+    }
+
     // A painted node damping map goes 4 -> 6 -> 4 and comes back exactly (nearest-node carrying; a
     // Continuum rate is intensive and carried as it is, a lattice-springs map in N·s/m per node scales
     // with each node's share of the volume, like mass). On 6x6x6 the Continuum body's lowest mode keeps

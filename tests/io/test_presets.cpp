@@ -95,15 +95,16 @@ void TestPresets::applyOntoAnotherFishRemapsAndSimulates() {
     QVERIFY2(applied.ok(), applied.message().c_str());
     const SceneObject& g = applied->scene.objects[0];
     QCOMPARE(g.material.stiffness.size(), std::size_t(96));
-    // Nodes take the anchor of the nearest preset node in lattice parameters: the preset pins its
-    // head layer (u = 1), so every guppy node with u > 5/6 is pinned (two layers here) and no other.
+    // Anchors keep their extent in the material: the preset pins its head face (u = 1), so the guppy's
+    // head face is pinned and nothing behind it, though its next layer (u = 8/9) is nearest to a preset
+    // head node.
     int pinned = 0;
     for (int n = 0; n < 96; ++n) {
-        const bool head = g.lattice.restNodeParameters(n).x() > 5.0 / 6.0;
+        const bool head = g.lattice.restNodeParameters(n).x() == 1.0;
         QCOMPARE(g.material.anchor[std::size_t(n)] == AnchorMode::Pinned, head);
         pinned += head;
     }
-    QCOMPARE(pinned, 32);
+    QCOMPARE(pinned, 16);
     // The stiffness gradient survives the remap: the head side is stiffer than the tail side.
     QVERIFY(g.material.stiffness[std::size_t(g.lattice.index(5, 1, 1))] >
             g.material.stiffness[std::size_t(g.lattice.index(0, 1, 1))]);
