@@ -264,6 +264,9 @@ int runStudy(const std::vector<std::string>& args) {
                       "  --quick         fewer steps and lattices (3 x 3), the same clip\n"
                       "  --error KIND    the error the Pareto front and --target use: total (default), integration, model\n"
                       "  --repeats N     timed runs per setting, cost is their median (default 5)\n"
+                      "  --lattices L    the lattices instead of the grid's: e.g. bezier2,bezier4,bspline10 (n^3 nodes)\n"
+                      "  --integrators I the integrators instead of all four: e.g. verlet,xpbd\n"
+                      "  --steps S       the steps per second instead of the grid's: e.g. 24,240\n"
                       "  --target ERROR  print the cheapest setting whose error is at most ERROR (e.g. 0.005)\n"
                       "  --apply OUT     write SCENE with that setting (integrator, dt; the first object moved to its\n"
                       "                  lattice, material carried over) to OUT, read it back and re-measure it as written");
@@ -271,10 +274,40 @@ int runStudy(const std::vector<std::string>& args) {
         }
         if (a == "--quick") {
             options.quick = true;
-        } else if ((a == "--out" || a == "--target" || a == "--apply" || a == "--error" || a == "--repeats") &&
+        } else if ((a == "--out" || a == "--target" || a == "--apply" || a == "--error" || a == "--repeats" ||
+                    a == "--lattices" || a == "--integrators" || a == "--steps") &&
                    i + 1 < args.size()) {
             const std::string v = args[++i];
-            if (a == "--out") {
+            std::vector<std::string> items;
+            for (std::size_t start = 0; start <= v.size();) {
+                const std::size_t comma = std::min(v.find(',', start), v.size());
+                items.push_back(v.substr(start, comma - start));
+                start = comma + 1;
+            }
+            if (a == "--lattices") {
+                for (const std::string& item : items) {
+                    const bool bezier = item.rfind("bezier", 0) == 0, bspline = item.rfind("bspline", 0) == 0;
+                    const auto n = bezier || bspline ? parseNumber(item.substr(bezier ? 6 : 7)) : std::nullopt;
+                    const LatticeShape shape{bezier ? LatticeKind::Bezier : LatticeKind::BSpline, {int(n.value_or(0)), int(n.value_or(0)), int(n.value_or(0))}};
+                    if (!n || *n != std::floor(*n) || !shape.validate())
+                        return usage("--lattices expects bezierN or bsplineN (N nodes per axis) separated by commas, got '" + item + "'");
+                    options.lattices.push_back(shape);
+                }
+            } else if (a == "--integrators") {
+                for (const std::string& item : items) {
+                    const auto kind = parseIntegratorKind(item);
+                    if (!kind)
+                        return usage("--integrators expects integrator names separated by commas, got '" + item + "'");
+                    options.integrators.push_back(*kind);
+                }
+            } else if (a == "--steps") {
+                for (const std::string& item : items) {
+                    const auto rate = parseNumber(item);
+                    if (!rate || *rate < 1 || *rate > 1e5)
+                        return usage("--steps expects steps per second from 1 to 100000, got '" + item + "'");
+                    options.steps.push_back(1.0 / *rate);
+                }
+            } else if (a == "--out") {
                 outDir = v;
             } else if (a == "--apply") {
                 applyPath = v;

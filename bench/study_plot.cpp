@@ -19,15 +19,20 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
     QPainter p(&image);
     p.setRenderHint(QPainter::Antialiasing);
 
+    // The error the study picks by (total, integration or model); rows without one (the reference lattice's
+    // model error is 0) have no place on a log axis.
+    auto error = [&](const StudyRow& r) { return r.error(result.error); };
     double xmin = 1e300, xmax = 0, ymin = 1e300, ymax = 0;
     for (const auto& r : result.rows) {
-        if (!r.finite || r.costPerSecond <= 0 || r.rmsError <= 0)
+        if (!r.finite || r.costPerSecond <= 0 || error(r) <= 0)
             continue;
         xmin = std::min(xmin, r.costPerSecond);
         xmax = std::max(xmax, r.costPerSecond);
-        ymin = std::min(ymin, r.rmsError);
-        ymax = std::max(ymax, r.rmsError);
+        ymin = std::min(ymin, error(r));
+        ymax = std::max(ymax, error(r));
     }
+    if (result.restError > 0)
+        ymax = std::max(ymax, result.restError);  // doing nothing: the line every setting must stay well below
     if (marker && marker->costPerSecond > 0 && marker->rmsError > 0) {
         xmin = std::min(xmin, marker->costPerSecond);
         xmax = std::max(xmax, marker->costPerSecond);
@@ -63,7 +68,8 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
     p.save();
     p.translate(22, (H - bottom + top) / 2.0);
     p.rotate(-90);
-    p.drawText(QRectF(-200, -12, 400, 24), Qt::AlignCenter, "RMS vertex error / box diagonal (log)");
+    p.drawText(QRectF(-250, -12, 500, 24), Qt::AlignCenter,
+               QString("%1 error: RMS vertex distance / box diagonal (log)").arg(QString::fromLatin1(studyErrorName(result.error).data())));
     p.restore();
     font.setPixelSize(16);
     font.setBold(true);
@@ -77,21 +83,28 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
     const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                     IntegratorKind::Xpbd};
     std::vector<const StudyRow*> front;
+    if (result.restError > 0) {
+        p.setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DotLine));
+        p.drawLine(QPointF(left, Y(result.restError)), QPointF(W - right, Y(result.restError)));
+        p.setPen(QColor(90, 90, 90));
+        p.drawText(QRectF(left + 6, Y(result.restError) - 20, 400, 18), Qt::AlignLeft,
+                   QString("doing nothing (the rest pose): %1").arg(result.restError, 0, 'g', 3));
+    }
     for (const auto& r : result.rows) {
-        if (!r.finite || r.costPerSecond <= 0 || r.rmsError <= 0)
+        if (!r.finite || r.costPerSecond <= 0 || error(r) <= 0)
             continue;
         const int k = int(std::find(std::begin(kinds), std::end(kinds), r.integrator) - std::begin(kinds));
         p.setPen(Qt::NoPen);
         p.setBrush(colours[k % 4]);
-        p.drawEllipse(QPointF(X(r.costPerSecond), Y(r.rmsError)), 4.5, 4.5);
+        p.drawEllipse(QPointF(X(r.costPerSecond), Y(error(r))), 4.5, 4.5);
         if (r.pareto)
             front.push_back(&r);
     }
     std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->costPerSecond < b->costPerSecond; });
     if (front.size() > 1) {
-        QPainterPath line(QPointF(X(front[0]->costPerSecond), Y(front[0]->rmsError)));
+        QPainterPath line(QPointF(X(front[0]->costPerSecond), Y(error(*front[0]))));
         for (auto* r : front)
-            line.lineTo(X(r->costPerSecond), Y(r->rmsError));
+            line.lineTo(X(r->costPerSecond), Y(error(*r)));
         p.setBrush(Qt::NoBrush);
         p.setPen(QPen(Qt::black, 2, Qt::DashLine));
         p.drawPath(line);
@@ -99,7 +112,7 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
     for (auto* r : front) {
         p.setPen(QPen(Qt::black, 1.5));
         p.setBrush(Qt::NoBrush);
-        p.drawEllipse(QPointF(X(r->costPerSecond), Y(r->rmsError)), 7.5, 7.5);
+        p.drawEllipse(QPointF(X(r->costPerSecond), Y(error(*r))), 7.5, 7.5);
     }
     for (int k = 0; k < 4; ++k) {
         p.setPen(Qt::NoPen);

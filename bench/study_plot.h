@@ -15,7 +15,7 @@ namespace softtouch::bench {
 /// A point to mark on the plot (the editor's current settings).
 struct PlotMarker {
     double costPerSecond = 0.0;  ///< Wall seconds per simulated second.
-    double rmsError = 0.0;       ///< Relative to the box diagonal.
+    double rmsError = 0.0;       ///< The study's error (StudyResult::error), relative to the box diagonal.
     std::string label;           ///< Shown beside the mark.
 };
 
