@@ -639,7 +639,7 @@ void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {
 
 void PropertiesPanel::refreshLive() {
     const SimulationStats& s = m_simulation->stats();
-    QString text = tr("%1 µs per step · stable explicit step %2 ms").arg(s.stepMicros, 0, 'f', 1).arg(s.stableStepSeconds * 1e3, 0, 'f', 3);
+    QString text = tr("%1 µs per step · stable explicit step %2 ms").arg(s.stepMicros, 0, 'f', 1).arg(s.stableStepSeconds * 1e3, 0, 'g', 3);
     if (s.substeps > 1)
         text += tr(" · %1 substeps").arg(s.substeps);
     if (!m_simulation->problem().isEmpty())
