@@ -19,14 +19,6 @@ inline QString presetRoot() {
 /// The bundled default scene: the angelfish swim.
 inline QString defaultScenePath() { return presetRoot() + "/scenes/angelfish-swim.softtouch"; }
 
-/// The speed/accuracy study the editor plots (made by `softtouch-cli study`).
-inline QString studyCsvPath() {
-    const QString installed = QCoreApplication::applicationDirPath() + "/../share/softtouch/docs/study.csv";
-    if (QFileInfo::exists(installed))
-        return QDir(installed).absolutePath();
-    return QStringLiteral(SOFTTOUCH_SOURCE_DIR "/docs/study.csv");
-}
-
 /// The shipped material presets.
 inline QString presetFolder() { return presetRoot() + "/materials"; }
 

@@ -1,13 +1,16 @@
 // softtouch: the editor. Parses the command line and opens the main window on a project (the bundled
 // default scene when none is given). `--screenshot FILE.png` renders one frame of the window, writes
-// it and exits (docs and tests); `--show-mode N` presses the Properties' "Show" of mode N first.
+// it and exits (docs and tests); `--show-mode N` presses the Properties' "Show" of mode N first;
+// `--measure-study` presses the Speed vs accuracy dock's "Measure this scene" and waits for it.
 #include "app/editor_paths.h"
 #include "ui/main_window.h"
+#include "ui/study_panel.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
 #include <QDockWidget>
+#include <QEventLoop>
 #include <QMouseEvent>
 #include <QPushButton>
 #include <QSurfaceFormat>
@@ -98,16 +101,18 @@ int main(int argc, char** argv) {
                                           "YAW,PITCH");
     const QCommandLineOption showModeOption("show-mode", "Animate vibration mode N (1-3) of the object in the viewport "
                                                          "(with --screenshot: at its largest displacement).", "N");
+    const QCommandLineOption measureStudy("measure-study", "With --screenshot: measure the scene in the Speed vs accuracy "
+                                                           "dock first (add --dock study to see it).");
     const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
     const QCommandLineOption autosaveSeconds("autosave-seconds", "Seconds between autosaves (default 60).", "S", "60");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, autosaveFolder, autosaveSeconds, noRecovery});
+    parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
+                       autosaveSeconds, noRecovery});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;
     options.presetFolder = softtouch::app::presetFolder();
-    options.studyCsv = softtouch::app::studyCsvPath();
     options.autosaveFolder = parser.value(autosaveFolder);
     const double autosaveS = parser.value(autosaveSeconds).toDouble();
     if (!(autosaveS >= 0.05 && autosaveS <= 86400)) {
@@ -172,6 +177,13 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "softtouch: error: the object has no mode '%s' to show (1-3)\n",
                          qPrintable(parser.value(showModeOption)));
             return 2;
+        }
+        if (parser.isSet(measureStudy)) {
+            QEventLoop loop;
+            QObject::connect(window.study(), &softtouch::ui::StudyPanel::finished, &loop, &QEventLoop::quit);
+            window.study()->measure();
+            if (window.study()->isMeasuring())
+                loop.exec();
         }
         QApplication::processEvents();
         window.refreshStatus();

@@ -105,8 +105,13 @@ void MainWindow::buildDocks() {
     m_presets = new PresetsPanel(m_document, m_viewport, m_options.presetFolder);
     auto* presetsDock = dock(tr("Presets"), "presetsDock", m_presets, Qt::RightDockWidgetArea);
     tabifyDockWidget(propertiesDock, presetsDock);
-    m_study = new StudyPanel(m_document, m_options.studyCsv);
-    auto* studyDock = dock(tr("Speed vs accuracy"), "studyDock", m_study, Qt::RightDockWidgetArea);
+    m_study = new StudyPanel(m_document);
+    // Scrolls rather than squeezes: its text grows with what was measured (a squeezed layout overlaps).
+    auto* studyScroll = new QScrollArea;
+    studyScroll->setWidget(m_study);
+    studyScroll->setWidgetResizable(true);
+    studyScroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    auto* studyDock = dock(tr("Speed vs accuracy"), "studyDock", studyScroll, Qt::RightDockWidgetArea);
     tabifyDockWidget(presetsDock, studyDock);
     propertiesDock->raise();
 
@@ -428,6 +433,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
         return;
     }
     m_autosave->discard();
+    m_study->cancel();  // a measurement in flight stops now, not when the window is destroyed
     QSettings settings;
     settings.setValue("window/geometry", saveGeometry());
     settings.setValue("window/state", saveState());

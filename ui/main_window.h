@@ -27,7 +27,6 @@ struct MainWindowOptions {
     QString autosaveFolder;          ///< Empty: <AppDataLocation>/autosave.
     int autosaveMilliseconds = 60000;///< Autosave interval.
     QString presetFolder;            ///< Shipped presets (presets/materials); empty: found next to the binary.
-    QString studyCsv;                ///< The speed/accuracy study shown in its dock (docs/study.csv).
 };
 
 /// The editor window.

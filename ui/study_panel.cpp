@@ -3,138 +3,408 @@
 #include "bench/study_plot.h"
 #include "ui/edit_commands.h"
 
+#include <QComboBox>
 #include <QDoubleSpinBox>
-#include <QFile>
+#include <QEvent>
 #include <QFormLayout>
+#include <QHBoxLayout>
 #include <QLabel>
+#include <QProgressBar>
 #include <QPushButton>
-#include <QTimer>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace softtouch::ui {
+namespace {
 
-std::string studyResolutionName(const Lattice& lattice) {
-    return std::to_string(lattice.count(0)) + "x" + std::to_string(lattice.count(1)) + "x" + std::to_string(lattice.count(2)) +
-           (lattice.shape().kind == LatticeKind::Bezier ? " bezier" : " bspline");
+/// The plot's margins, legend and fonts have fixed pixel sizes (bench/study_plot.cpp): below about this
+/// size its title and axis labels run off the image. A smaller label gets it drawn at this size and
+/// scaled down, smaller text rather than cut text.
+constexpr QSize kPlotMinSize(640, 320);
+/// The plot's title sits in its top 40 px at a fixed 16 px bold, clipped to the axes' width: in a dock it
+/// shows cut. The dock's own title names the plot, so that band is cropped off (study_plot.cpp: title
+/// rect y 10..40, axes from y 50).
+constexpr int kPlotTitleBand = 40;
+
+/// "0.42 %", never broken across lines.
+QString percent(double fraction) { return QString::number(100.0 * fraction, 'g', 2) + QChar(0x00A0) + QLatin1Char('%'); }
+
+QString cost(double secondsPerSecond) {
+    return QObject::tr("%1 ms per simulated second").arg(QString::number(1000.0 * secondsPerSecond, 'g', 3));
 }
 
-StudyPanel::StudyPanel(Document* document, const QString& csvPath, QWidget* parent) : QWidget(parent), m_document(document) {
+/// "verlet, 1/240 s, 4x4x4 bezier".
+QString settingName(const bench::StudySetting& setting) {
+    return QObject::tr("%1, 1/%2 s, %3")
+        .arg(QString::fromLatin1(integratorName(setting.integrator).data()))
+        .arg(std::lround(1.0 / setting.dt))
+        .arg(QString::fromStdString(bench::latticeShapeName(setting.lattice)));
+}
+
+/// The scene's own setting: the world's integrator and step, the first object's lattice.
+bench::StudySetting sceneSetting(const Scene& scene) {
+    return {scene.world.simulation.integrator, scene.world.simulation.dt, scene.objects.front().lattice.shape()};
+}
+
+/// Whether a row measured `setting` (runStudy's own test for the current row: the step within rounding).
+bool measures(const bench::StudyRow& row, const bench::StudySetting& setting) {
+    return row.integrator == setting.integrator && std::abs(row.dt - setting.dt) <= 1e-12 * setting.dt &&
+           row.lattice.kind == setting.lattice.kind && row.lattice.nodes == setting.lattice.nodes;
+}
+
+QString errorName(bench::StudyError kind) { return QString::fromLatin1(bench::studyErrorName(kind).data()); }
+
+}  // namespace
+
+StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m_document(document) {
     auto* layout = new QVBoxLayout(this);
     m_plot = new QLabel;
+    m_plot->setObjectName("studyPlot");
     m_plot->setMinimumSize(320, 220);
     // The pixmap follows the label's size, never the other way round (that would grow the dock).
     m_plot->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
     m_plot->setAlignment(Qt::AlignCenter);
+    m_plot->setWordWrap(true);
+    m_plot->installEventFilter(this);
     layout->addWidget(m_plot, 1);
+
     m_text = new QLabel;
-    m_text->setWordWrap(true);
     m_text->setObjectName("studyText");
+    m_text->setWordWrap(true);
+    m_text->setTextFormat(Qt::RichText);
     layout->addWidget(m_text);
+
     auto* form = new QFormLayout;
     m_target = new QDoubleSpinBox;
+    m_target->setObjectName("studyTarget");
     m_target->setRange(0.01, 50.0);
     m_target->setDecimals(2);
+    m_target->setSingleStep(0.1);
     m_target->setSuffix(tr(" % of the diagonal"));
     m_target->setValue(0.5);
+    m_target->setToolTip(tr("Largest RMS vertex error over the clip, in % of the object's box diagonal."));
     form->addRow(tr("Error target"), m_target);
-    m_apply = new QPushButton(tr("Use the cheapest setting within the target"));
-    form->addRow(m_apply);
+    m_errorKind = new QComboBox;
+    m_errorKind->setObjectName("studyErrorKind");
+    m_errorKind->addItem(tr("total"), int(bench::StudyError::Total));
+    m_errorKind->addItem(tr("integration"), int(bench::StudyError::Integration));
+    m_errorKind->addItem(tr("model"), int(bench::StudyError::Model));
+    m_errorKind->setToolTip(tr("total: against the finest lattice converged in time (what you see);\n"
+                               "integration: what the integrator and time step cost on this lattice;\n"
+                               "model: what the lattice resolution costs, the step aside."));
+    form->addRow(tr("Error used"), m_errorKind);
     layout->addLayout(form);
 
-    QFile file(csvPath);
-    if (!file.open(QIODevice::ReadOnly)) {
-        m_problem = tr("No study at %1: run softtouch-cli study SCENE --out docs.").arg(csvPath);
-    } else if (auto parsed = bench::parseStudyCsv(file.readAll().toStdString())) {
-        m_study = std::move(parsed.value());
-    } else {
-        m_problem = tr("%1: %2").arg(csvPath, QString::fromStdString(parsed.message()));
-    }
-    connect(document, &Document::worldChanged, this, &StudyPanel::refresh);
-    connect(document, &Document::latticeChanged, this, &StudyPanel::refresh);
-    connect(document, &Document::sceneReplaced, this, &StudyPanel::refresh);
+    auto* run = new QHBoxLayout;
+    m_measure = new QPushButton(tr("Measure this scene"));
+    m_measure->setObjectName("studyMeasure");
+    m_cancelButton = new QPushButton(tr("Cancel"));
+    m_cancelButton->setObjectName("studyCancel");
+    run->addWidget(m_measure, 1);
+    run->addWidget(m_cancelButton);
+    layout->addLayout(run);
+    m_progress = new QProgressBar;
+    m_progress->setObjectName("studyProgress");
+    m_progress->hide();
+    layout->addWidget(m_progress);
+    m_apply = new QPushButton(tr("Use the cheapest setting within the target"));
+    m_apply->setObjectName("studyApply");
+    layout->addWidget(m_apply);
+    m_check = new QLabel;
+    m_check->setObjectName("studyCheck");
+    m_check->setWordWrap(true);
+    m_check->setTextFormat(Qt::RichText);
+    layout->addWidget(m_check);
+
+    // Only the first object is measured (bench::runStudy): edits of others leave the study valid.
+    connect(document, &Document::worldChanged, this, &StudyPanel::sceneChanged);
+    connect(document, &Document::sceneReplaced, this, &StudyPanel::sceneChanged);
+    connect(document, &Document::latticeChanged, this, [this](int object) {
+        if (object == 0)
+            sceneChanged();
+    });
+    connect(document, &Document::materialChanged, this, [this](int object) {
+        if (object == 0)
+            sceneChanged();
+    });
     connect(m_target, &QDoubleSpinBox::valueChanged, this, &StudyPanel::refresh);
+    connect(m_errorKind, &QComboBox::currentIndexChanged, this, [this] {
+        // The pick follows the chosen kind (cheapestWithin reads it); the plot's axis stays the total
+        // error, so the front drawn on it stays the one runStudy found for the total error.
+        m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
+        refresh();
+    });
+    connect(m_measure, &QPushButton::clicked, this, &StudyPanel::measure);
+    connect(m_cancelButton, &QPushButton::clicked, this, &StudyPanel::cancel);
     connect(m_apply, &QPushButton::clicked, this, &StudyPanel::applySuggestion);
     refresh();
 }
 
+StudyPanel::~StudyPanel() {
+    // The worker reads a copy of the scene but posts to this panel: it must end before the panel does.
+    // Its posted calls not yet run are dropped with the panel (~QObject removes them).
+    m_cancel = true;
+    if (m_worker.joinable())
+        m_worker.join();
+}
+
 const bench::StudyRow* StudyPanel::currentRow() const {
-    const Scene& scene = m_document->scene();
-    if (scene.objects.empty())
-        return nullptr;
-    return bench::nearestRow(m_study, scene.world.simulation.integrator, scene.world.simulation.dt,
-                             studyResolutionName(scene.objects.front().lattice));
+    const auto it = std::find_if(m_study.rows.begin(), m_study.rows.end(), [](const bench::StudyRow& r) { return r.current; });
+    return it == m_study.rows.end() ? nullptr : &*it;
 }
 
-const bench::StudyRow* StudyPanel::suggestion() const {
-    // Only settings of the current lattice: changing the resolution changes the model, not just its accuracy.
-    const Scene& scene = m_document->scene();
-    if (scene.objects.empty())
-        return nullptr;
-    const std::string resolution = studyResolutionName(scene.objects.front().lattice);
-    const bench::StudyRow* best = nullptr;
-    for (const bench::StudyRow& r : m_study.rows) {
-        if (r.resolution == resolution && r.finite && r.timeError <= m_target->value() / 100.0 &&
-            (!best || r.costPerSecond < best->costPerSecond))
-            best = &r;
-    }
-    return best;
+const bench::StudyRow* StudyPanel::suggestion() const { return bench::cheapestWithin(m_study, target()); }
+
+double StudyPanel::target() const { return m_target->value() / 100.0; }
+
+void StudyPanel::startWorker(std::function<void()> job) {
+    m_cancel = false;
+    m_runEdits = m_edits;
+    m_notice.clear();
+    m_worker = std::thread(std::move(job));
+    refresh();
 }
 
-void StudyPanel::refresh() {
-    if (!hasStudy()) {
-        m_plot->setText(m_problem);
-        m_apply->setEnabled(false);
+void StudyPanel::post(std::function<void()> call) {
+    QMetaObject::invokeMethod(this, std::move(call), Qt::QueuedConnection);
+}
+
+void StudyPanel::measure() {
+    if (isMeasuring() || m_document->scene().objects.empty())
         return;
+    m_remeasuring = false;
+    m_progress->setRange(0, 0);  // busy until the reference runs are done and the grid starts
+    m_progress->setFormat(tr("Measuring… %p%"));
+    startWorker([this, scene = m_document->scene()] {
+        bench::StudyOptions options;
+        options.quick = true;
+        options.error = bench::StudyError::Total;  // the plot's axis; picks follow the dock's choice
+        options.progress = [this](double fraction) {
+            post([this, fraction] {
+                m_progress->setRange(0, 1000);
+                m_progress->setValue(int(std::lround(1000.0 * fraction)));
+            });
+            return !m_cancel.load();
+        };
+        std::ostringstream log;  // the dock shows the result; the CLI's study prints this log
+        bench::StudyResult result = bench::runStudy(scene, options, log);
+        post([this, result = std::move(result)]() mutable { studyDone(std::move(result)); });
+    });
+}
+
+void StudyPanel::cancel() {
+    if (!isMeasuring() || m_remeasuring)
+        return;
+    m_cancel = true;
+    m_cancelButton->setEnabled(false);
+    m_progress->setFormat(tr("Cancelling after the current run…"));
+}
+
+void StudyPanel::studyDone(bench::StudyResult result) {
+    m_worker.join();  // it has posted this as its last act
+    if (result.cancelled) {
+        m_notice = hasStudy() ? tr("Measurement cancelled: the previous measurement is still shown.")
+                              : tr("Measurement cancelled: nothing was kept. Press <i>Measure this scene</i> to start again.");
+    } else if (result.rows.empty()) {
+        m_notice = tr("The measurement gave no result: check that the scene plays (press Play) and measure again.");
+    } else {
+        m_study = std::move(result);
+        m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
+        m_studyEdits = m_runEdits;
+        m_remeasured.reset();
+        markCurrent();  // the scene may have changed while it ran
     }
-    const bench::StudyRow* current = currentRow();
-    std::optional<bench::PlotMarker> marker;
-    const Scene& scene = m_document->scene();
-    const QString settings = scene.objects.empty()
-                                 ? QString()
-                                 : tr("%1, 1/%2 s, %3")
-                                       .arg(QString::fromLatin1(integratorName(scene.world.simulation.integrator).data()))
-                                       .arg(std::lround(1.0 / scene.world.simulation.dt))
-                                       .arg(QString::fromStdString(studyResolutionName(scene.objects.front().lattice)));
-    if (current)
-        marker = bench::PlotMarker{current->costPerSecond, current->rmsError, "current"};
-    const QImage image = bench::renderStudyPlot(m_study, std::max(m_plot->width(), 320) * 2, std::max(m_plot->height(), 220) * 2, marker);
-    m_plot->setPixmap(QPixmap::fromImage(image).scaled(m_plot->size(), Qt::KeepAspectRatio, Qt::SmoothTransformation));
-    QString text = current ? tr("Current (%1): %2 s of physics per simulated second, RMS error %3 % of the diagonal, "
-                                "of which %4 % from the time step.")
-                                 .arg(settings)
-                                 .arg(current->costPerSecond, 0, 'g', 3)
-                                 .arg(100.0 * current->rmsError, 0, 'g', 3)
-                                 .arg(100.0 * current->timeError, 0, 'g', 3)
-                           : tr("The study did not measure the current settings (%1).").arg(settings);
-    const bench::StudyRow* suggested = suggestion();
-    if (suggested)
-        text += tr("\nCheapest on this lattice within %1 % time error: %2 at 1/%3 s (%4 s per simulated second).")
-                    .arg(m_target->value())
-                    .arg(QString::fromLatin1(integratorName(suggested->integrator).data()))
-                    .arg(std::lround(1.0 / suggested->dt))
-                    .arg(suggested->costPerSecond, 0, 'g', 3);
-    m_text->setText(text + tr("\nMeasured on the angelfish by softtouch-cli study (docs/study.md)."));
-    m_apply->setEnabled(suggested != nullptr);
+    refresh();
+    emit finished();
 }
 
 void StudyPanel::applySuggestion() {
-    const bench::StudyRow* s = suggestion();
-    if (!s)
+    if (!applyBlocker().isEmpty())
         return;
-    WorldSettings before = m_document->scene().world;
-    WorldSettings after = before;
-    after.simulation.integrator = s->integrator;
-    after.simulation.dt = s->dt;
-    m_document->undoStack()->push(new WorldEditCommand(m_document, std::move(before), std::move(after),
-                                                       tr("Use the cheapest setting within the error target")));
+    const bench::StudyRow* pick = suggestion();
+    const Scene& scene = m_document->scene();
+    auto next = bench::applySetting(scene, pick->setting());
+    if (!next) {
+        m_check->setText(tr("Not applied: %1").arg(QString::fromStdString(next.message()).toHtmlEscaped()));
+        return;
+    }
+    // Copies: each command's redo() changes the scene these would otherwise point into.
+    const WorldSettings worldBefore = scene.world;
+    const Lattice latticeBefore = scene.objects.front().lattice;
+    const LatticeMaterial materialBefore = scene.objects.front().material;
+    const LatticeShape shape = latticeBefore.shape();
+    const bool newStep = worldBefore.simulation.integrator != pick->integrator || worldBefore.simulation.dt != pick->dt;
+    const bool newLattice = shape.kind != pick->lattice.kind || shape.nodes != pick->lattice.nodes;
+    const SceneObject& moved = next->objects.front();
+
+    m_applying = true;
+    QUndoStack* undo = m_document->undoStack();
+    undo->beginMacro(tr("Use the cheapest setting within the error target"));
+    if (newStep)
+        undo->push(new WorldEditCommand(m_document, worldBefore, next->world, tr("Integrator and time step")));
+    if (newLattice)
+        undo->push(new LatticeEditCommand(m_document, 0, latticeBefore, materialBefore, moved.lattice, moved.material,
+                                          tr("Lattice resolution")));
+    undo->endMacro();
+    m_applying = false;
+
+    // The must-show: the scene as it now stands, run again against the study's reference.
+    m_remeasuring = true;
+    m_remeasured.reset();
+    m_progress->setRange(0, 0);
+    m_progress->setFormat(tr("Re-measuring…"));
+    startWorker([this, scene = m_document->scene(), study = m_study] {
+        Result<bench::Remeasured> result = bench::remeasure(scene, study);
+        post([this, result = std::move(result)] { remeasureDone(result); });
+    });
 }
 
-void StudyPanel::resizeEvent(QResizeEvent* event) {
-    QWidget::resizeEvent(event);
-    // Redraw once the layout has given the plot label its new size.
-    QTimer::singleShot(0, this, &StudyPanel::refresh);
+void StudyPanel::remeasureDone(Result<bench::Remeasured> result) {
+    m_worker.join();  // it has posted this as its last act
+    m_remeasuring = false;
+    if (result) {
+        m_remeasured = result.value();
+        m_remeasuredEdits = m_runEdits;
+    } else {
+        m_notice = tr("Re-measuring failed: %1").arg(QString::fromStdString(result.message()).toHtmlEscaped());
+    }
+    refresh();
+    emit finished();
+}
+
+void StudyPanel::sceneChanged() {
+    markCurrent();
+    if (!m_applying)
+        ++m_edits;
+    refresh();
+}
+
+void StudyPanel::markCurrent() {
+    // The mark follows the scene's setting (after a pick, after undo); isOutOfDate() says whether the
+    // numbers still describe the scene.
+    const Scene& scene = m_document->scene();
+    for (bench::StudyRow& r : m_study.rows)
+        r.current = !scene.objects.empty() && measures(r, sceneSetting(scene));
+}
+
+QString StudyPanel::applyBlocker() const {
+    if (isMeasuring())
+        return m_remeasuring ? tr("Re-measuring the scene with the new setting…") : tr("Wait for the measurement to finish.");
+    if (!hasStudy())
+        return tr("Measure this scene first.");
+    if (isOutOfDate())
+        return tr("The scene changed since it was measured: press <i>Measure again</i> first.");
+    const bench::StudyRow* pick = suggestion();
+    if (!pick)
+        return tr("No measured setting is within the target: raise the target or choose another error.");
+    if (pick->current)
+        return tr("The current setting is already the cheapest within the target.");
+    return {};
+}
+
+void StudyPanel::refresh() {
+    const Scene& scene = m_document->scene();
+    const bool busy = isMeasuring();
+    m_measure->setEnabled(!busy && !scene.objects.empty());
+    m_measure->setText(hasStudy() ? tr("Measure again") : tr("Measure this scene"));
+    m_cancelButton->setVisible(busy);
+    m_cancelButton->setEnabled(busy && !m_remeasuring && !m_cancel);
+    m_progress->setVisible(busy);
+
+    QStringList text;
+    if (scene.objects.empty()) {
+        text << tr("Open or import a scene to measure it.");
+    } else if (!hasStudy()) {
+        text << (busy ? tr("<b>Measuring this scene</b>: its clip with every integrator × time step × lattice of a quick grid "
+                           "(seconds to a minute).")
+                      : tr("<b>Not measured yet.</b> The study plays the scene's clip with every integrator × time "
+                           "step × lattice of a quick grid (seconds to a minute) and finds the cheapest setting within "
+                           "your error target."));
+    }
+    if (!m_notice.isEmpty())
+        text << m_notice;
+    if (hasStudy()) {
+        if (isOutOfDate())
+            text << tr("<b style='color:#b00000'>Out of date:</b> the scene changed since it was measured. Press "
+                       "<i>Measure again</i>.");
+        text << tr("Errors are RMS vertex distances over the %1 s clip, in % of the box diagonal. The mesh moves up to %2; "
+                   "doing nothing (the rest pose) would score %3.")
+                    .arg(m_study.seconds, 0, 'g', 3)
+                    .arg(percent(m_study.motionAmplitude), percent(m_study.restError));
+        if (const bench::StudyRow* current = currentRow())
+            text << tr("<b>Current</b> (%1): %2; error %3 total, %4 integration, %5 model.")
+                        .arg(settingName(current->setting()), cost(current->costPerSecond), percent(current->rmsError),
+                             percent(current->timeError), percent(current->modelError));
+        else if (!scene.objects.empty())
+            text << tr("<b>Current</b> (%1): not measured; press <i>Measure again</i>.").arg(settingName(sceneSetting(scene)));
+        const QString within = tr("within %1 (%2 error)").arg(percent(target()), errorName(m_study.error));
+        const bench::StudyRow* pick = suggestion();
+        if (pick && pick->current) {
+            text << tr("<b>Cheapest %1</b>: the current setting.").arg(within);
+        } else if (pick) {
+            const bench::StudyRow* current = currentRow();
+            const double faster = current ? current->costPerSecond / pick->costPerSecond : 1.0;
+            text << tr("<b>Cheapest %1</b>: %2; error %3, %4%5.")
+                        .arg(within, settingName(pick->setting()), percent(pick->error(m_study.error)), cost(pick->costPerSecond),
+                             faster >= 1.1 ? tr(" (%1× cheaper than the current one)").arg(QString::number(faster, 'g', 2))
+                                           : QString());
+        } else {
+            // The lowest error measured, so the person knows how far to raise the target.
+            const bench::StudyRow* best = nullptr;
+            for (const bench::StudyRow& r : m_study.rows)
+                if (r.finite && (!best || r.error(m_study.error) < best->error(m_study.error)))
+                    best = &r;
+            text << (best ? tr("<b>No measured setting is %1</b>: the lowest is %2 (%3).")
+                                .arg(within, percent(best->error(m_study.error)), settingName(best->setting()))
+                          : tr("<b>No measured setting ran without blowing up.</b>"));
+        }
+    }
+    m_text->setText(text.join(QStringLiteral("<br><br>")));
+
+    const QString blocker = applyBlocker();
+    m_apply->setEnabled(blocker.isEmpty());
+    m_apply->setToolTip(blocker);
+    if (m_remeasured && !busy && m_remeasuredEdits == m_edits) {
+        const double error = m_remeasured->error(m_study.error);
+        m_check->setText(tr("<b>Re-measured</b> as the scene now stands: %1 of the diagonal (target %2, %3 error)%4.")
+                             .arg(percent(error), percent(target()), errorName(m_study.error),
+                                  error <= target() ? QString() : tr(": <b>above the target</b>, measure again")));
+    } else {
+        // Never greyed out without saying why and what to do.
+        m_check->setText(blocker);
+    }
+    refreshPlot();
+}
+
+void StudyPanel::refreshPlot() {
+    if (!hasStudy()) {
+        m_plot->setPixmap({});
+        m_plot->setText(tr("Error against cost, with the current setting marked, appears here once the scene is measured."));
+        return;
+    }
+    std::optional<bench::PlotMarker> marker;
+    if (const bench::StudyRow* current = currentRow())
+        marker = bench::PlotMarker{current->costPerSecond, current->rmsError, "current"};
+    const QSize size = m_plot->size();
+    const double enlarge = std::max({1.0, double(kPlotMinSize.width()) / std::max(1, size.width()),
+                                     double(kPlotMinSize.height()) / std::max(1, size.height())});
+    const int width = int(size.width() * enlarge), height = int(size.height() * enlarge);
+    const QImage image = bench::renderStudyPlot(m_study, width, height + kPlotTitleBand, marker);
+    if (image.isNull()) {
+        m_plot->setPixmap({});
+        m_plot->setText(tr("Nothing to plot: no measured setting ran without blowing up."));
+        return;
+    }
+    m_plot->setPixmap(QPixmap::fromImage(image.copy(0, kPlotTitleBand, width, height)).scaled(size, Qt::KeepAspectRatio, Qt::SmoothTransformation));
+}
+
+bool StudyPanel::eventFilter(QObject* watched, QEvent* event) {
+    if (watched == m_plot && event->type() == QEvent::Resize)
+        refreshPlot();
+    return QWidget::eventFilter(watched, event);
 }
 
 }  // namespace softtouch::ui

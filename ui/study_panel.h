@@ -1,50 +1,108 @@
 #pragma once
-/// The speed/accuracy dock: the study's error-against-cost plot (docs/study.csv, made by
-/// `softtouch-cli study`) with the current integrator, time step and lattice marked on it, and the
-/// cheapest measured setting within the user's error target, so the trade is chosen by measurement.
+/// The speed/accuracy dock: measures the open scene (bench::runStudy, quick grid, on a worker thread with
+/// progress and Cancel), plots error against cost with the scene's own setting marked, names the
+/// cheapest measured setting within the user's error target, applies it as one undo step and re-measures
+/// the scene as it then stands, so the trade is chosen, and checked, by measurement on this scene.
 
 #include "bench/study.h"
 #include "ui/document.h"
 
 #include <QWidget>
 
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <thread>
+
+class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
+class QProgressBar;
 class QPushButton;
 
 namespace softtouch::ui {
 
-/// Plot of the study with the current settings.
+/// Measures the open scene's speed/accuracy trade and applies a pick.
 class StudyPanel : public QWidget {
     Q_OBJECT
 public:
-    /// `csvPath`: the study to show (docs/study.csv).
-    StudyPanel(Document* document, const QString& csvPath, QWidget* parent = nullptr);
+    explicit StudyPanel(Document* document, QWidget* parent = nullptr);
+    /// Cancels a running measurement and waits for its thread (the run in progress finishes first).
+    ~StudyPanel() override;
 
-    /// The study row matching the current settings, or nullptr (settings the study did not measure).
-    const bench::StudyRow* currentRow() const;
-    /// The cheapest measured setting whose RMS error is within the target, or nullptr.
-    const bench::StudyRow* suggestion() const;
-    /// Whether the study file was read.
+    /// Whether a measurement of the scene finished (a cancelled one is not kept).
     bool hasStudy() const { return !m_study.rows.empty(); }
+    /// The last finished measurement; its `error` is the kind chosen in the dock.
+    const bench::StudyResult& study() const { return m_study; }
+    /// The measured row of the scene's own setting (integrator, step, lattice of its first object), or
+    /// nullptr (not measured yet, or a setting the study did not measure).
+    const bench::StudyRow* currentRow() const;
+    /// The cheapest measured setting whose error (the chosen kind) is within the target, or nullptr.
+    const bench::StudyRow* suggestion() const;
+    /// The error target as a fraction of the box diagonal (the dock shows it in %).
+    double target() const;
+    /// A measurement or a re-measurement is running.
+    bool isMeasuring() const { return m_worker.joinable(); }
+    /// The scene changed (not by this dock's own pick) since it was measured.
+    bool isOutOfDate() const { return hasStudy() && m_edits != m_studyEdits; }
+    /// The scene's errors re-measured after the last pick was applied, against the study's reference.
+    std::optional<bench::Remeasured> remeasured() const { return m_remeasured; }
+
+public slots:
+    /// Measures a copy of the scene on a worker thread ("Measure this scene"); emits finished().
+    void measure();
+    /// Asks a running measurement to stop after the run in progress; emits finished() when it has. A
+    /// re-measure (two runs) is not cancelled.
+    void cancel();
+    /// Applies suggestion() as one undo step, then re-measures the scene (emits finished() after).
+    void applySuggestion();
+
+signals:
+    /// A measurement or re-measurement ended: finished, cancelled or failed (the dock says which).
+    void finished();
 
 protected:
-    void resizeEvent(QResizeEvent* event) override;
+    /// Redraws the plot whenever its label changes size (the text below it grows and shrinks too).
+    bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
+    /// Runs `job` on the worker thread; the job hands its result to the GUI thread with post().
+    void startWorker(std::function<void()> job);
+    /// Queues `call` on the GUI thread (the worker's only way to touch the dock).
+    void post(std::function<void()> call);
+    void studyDone(bench::StudyResult result);
+    void remeasureDone(Result<bench::Remeasured> result);
+    void sceneChanged();
+    /// Flags the row that measured the scene's own setting as current (none when none did).
+    void markCurrent();
     void refresh();
-    void applySuggestion();
+    void refreshPlot();
+    /// Why "Use the cheapest…" cannot be pressed now and what to do; empty when it can.
+    QString applyBlocker() const;
 
     Document* m_document;
     bench::StudyResult m_study;
-    QString m_problem;
+    std::thread m_worker;
+    std::atomic<bool> m_cancel{false};  ///< Read by the worker's progress callback.
+    // Staleness by counting the scene's changes: a result is current while the count is the one its
+    // run started from. Our own pick does not count (the study measured it; the re-measure checks it).
+    int m_edits = 0;                  ///< Changes to the scene seen so far.
+    int m_runEdits = 0;               ///< m_edits when the running job started.
+    int m_studyEdits = 0;             ///< m_edits when m_study's run started.
+    int m_remeasuredEdits = 0;        ///< m_edits when m_remeasured's run started.
+    bool m_applying = false;          ///< Our own pick is being pushed: its change signals are expected.
+    bool m_remeasuring = false;       ///< The running job is a re-measure (it cannot be cancelled).
+    QString m_notice;                 ///< The last job's outcome when it gave nothing (cancelled, failed).
+    std::optional<bench::Remeasured> m_remeasured;
     QLabel* m_plot = nullptr;
     QLabel* m_text = nullptr;
     QDoubleSpinBox* m_target = nullptr;
+    QComboBox* m_errorKind = nullptr;
+    QPushButton* m_measure = nullptr;
+    QPushButton* m_cancelButton = nullptr;
+    QProgressBar* m_progress = nullptr;
     QPushButton* m_apply = nullptr;
+    QLabel* m_check = nullptr;
 };
-
-/// "4x4x4 bezier": how the study names a lattice.
-std::string studyResolutionName(const Lattice& lattice);
 
 }  // namespace softtouch::ui
