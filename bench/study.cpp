@@ -207,6 +207,8 @@ Result<Scene> applySetting(const Scene& scene, const StudySetting& setting) {
 StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostream& log) {
     StudyResult result;
     result.error = options.error;
+    if (scene.objects.empty())
+        return result;  // nothing to measure: no rows
     const SceneObject& source = scene.objects.front();
     result.fps = scene.world.fps;
     result.seconds = options.seconds > 0.0 ? options.seconds : double(scene.world.frames) / scene.world.fps;
@@ -249,8 +251,18 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     const LatticeShape referenceShape{LatticeKind::Bezier, {8, 8, 8}};
     result.referenceDt = 1.0 / 4000;
     const SceneObject referenceObject = onLattice(source, referenceShape).value();
+    // The reference runs are the longest of the study: a cancel is honoured between them too.
+    auto cancelled = [&] { return options.progress && !options.progress(0.0); };
+    if (cancelled()) {
+        result.cancelled = true;
+        return result;
+    }
     const DrivenRun reference =
         runDriven(withSetting(scene, referenceObject, IntegratorKind::Verlet, result.referenceDt), seconds, fps);
+    if (cancelled()) {
+        result.cancelled = true;
+        return result;
+    }
     const DrivenRun finer =
         runDriven(withSetting(scene, referenceObject, IntegratorKind::Verlet, result.referenceDt / 2), seconds, fps);
     const double diagonal = source.lattice.box().diagonal();
@@ -343,6 +355,11 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     }
     if (options.progress && !result.cancelled)
         options.progress(1.0);
+    markPareto(result);
+    return result;
+}
+
+void markPareto(StudyResult& result) {
     for (StudyRow& a : result.rows) {
         a.pareto = a.finite && std::none_of(result.rows.begin(), result.rows.end(), [&](const StudyRow& b) {
                        const double ea = a.error(result.error), eb = b.error(result.error);
@@ -350,7 +367,6 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
                               (b.costPerSecond < a.costPerSecond || eb < ea);
                    });
     }
-    return result;
 }
 
 const StudyRow* cheapestWithin(const StudyResult& result, double target) {

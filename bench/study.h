@@ -100,6 +100,10 @@ std::string latticeShapeName(const LatticeShape& shape);
 /// simulation settings (only the integrator and step change), through the same SceneSimulation a bake uses.
 StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostream& log);
 
+/// Flags the Pareto front (no other finite row both cheaper and more accurate) in the study's error kind:
+/// run again after changing `result.error`.
+void markPareto(StudyResult& result);
+
 /// The cheapest finite row whose error (the study's kind) is at most `target`; nullptr if none.
 const StudyRow* cheapestWithin(const StudyResult& result, double target);
 

@@ -132,9 +132,9 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     });
     connect(m_target, &QDoubleSpinBox::valueChanged, this, &StudyPanel::refresh);
     connect(m_errorKind, &QComboBox::currentIndexChanged, this, [this] {
-        // The pick follows the chosen kind (cheapestWithin reads it); the plot's axis stays the total
-        // error, so the front drawn on it stays the one runStudy found for the total error.
+        // The pick, the plot's axis and its front follow the chosen kind (cheapestWithin and the plot read it).
         m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
+        bench::markPareto(m_study);
         refresh();
     });
     connect(m_measure, &QPushButton::clicked, this, &StudyPanel::measure);
@@ -213,6 +213,7 @@ void StudyPanel::studyDone(bench::StudyResult result) {
     } else {
         m_study = std::move(result);
         m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
+        bench::markPareto(m_study);
         m_studyEdits = m_runEdits;
         m_remeasured.reset();
         markCurrent();  // the scene may have changed while it ran
@@ -387,7 +388,7 @@ void StudyPanel::refreshPlot() {
     }
     std::optional<bench::PlotMarker> marker;
     if (const bench::StudyRow* current = currentRow())
-        marker = bench::PlotMarker{current->costPerSecond, current->rmsError, "current"};
+        marker = bench::PlotMarker{current->costPerSecond, current->error(m_study.error), "current"};
     const QSize size = m_plot->size();
     const double enlarge = std::max({1.0, double(kPlotMinSize.width()) / std::max(1, size.width()),
                                      double(kPlotMinSize.height()) / std::max(1, size.height())});
