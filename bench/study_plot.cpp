@@ -69,7 +69,7 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
     p.translate(22, (H - bottom + top) / 2.0);
     p.rotate(-90);
     p.drawText(QRectF(-250, -12, 500, 24), Qt::AlignCenter,
-               QString("%1 error: RMS vertex distance / box diagonal (log)").arg(QString::fromLatin1(studyErrorName(result.error).data())));
+               QString("%1 error / box diagonal (RMS, log)").arg(QString::fromLatin1(studyErrorName(result.error).data())));
     p.restore();
     font.setPixelSize(16);
     font.setBold(true);

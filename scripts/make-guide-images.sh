@@ -19,8 +19,8 @@ shot "$out/guide-drag.png" --drag=-150,-130 --seconds 1.0 "$scene"
 shot "$out/guide-paint.png" --seconds 1.0 presets/scenes/angelfish-painted.softtouch
 # 4. Wireframe.
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
-# 5. The speed/accuracy dock: the study with the current settings marked.
-shot "$out/guide-study.png" --dock study "$scene"
+# 5. The speed/accuracy dock after measuring the open scene (its own settings marked on the plot).
+shot "$out/guide-study.png" --dock study --measure-study "$scene"
 # 6. A vibration mode shown on the body (Properties' Show beside mode 1), seen from above, at its
 #    largest displacement; and the three lowest modes drawn headless (docs/lattice.md, "Modes").
 shot "$out/guide-modes.png" --show-mode 1 --camera 20,-55 "$scene"
