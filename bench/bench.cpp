@@ -1,8 +1,8 @@
 #include "bench/bench.h"
 
 #include "bench/bullet_peer.h"
-#include "bench/contenders.h"
 #include "bench/reference_deform.h"
+#include "bench/table1_report.h"
 #include "bench/timer.h"
 #include "core/binding.h"
 #include "core/lattice_body.h"
@@ -144,39 +144,6 @@ json deformation(const BenchOptions& options, std::ostream& out) {
     return rows;
 }
 
-json table1(const BenchOptions& options, std::ostream& out) {
-    json rows = json::array();
-    std::vector<int> sizes = {208, 832, 2160, 8640, 11660, 24928};
-    if (options.quick)
-        sizes = {208, 832, 2160};
-    out << "\nTable 1 redone: one second of dragging (dt 1/240 s, mesh needed at 60 Hz, one thread), seconds\n"
-        << "  lattice = ours (4x4x4, implicit Euler); global = mass-spring on every vertex (implicit Euler);\n"
-        << "  local = mass-spring within 25% of the diagonal of the drag (implicit Euler); bullet = btSoftBody\n";
-    out << "  triangles   lattice_s   global_s    local_s   bullet_s   global/lattice  bullet/lattice\n";
-    for (int triangles : sizes) {
-        const InteractionScenario scenario = makeScenario(makeEllipsoid(triangles));
-        const double radius = 0.25 * scenario.mesh.bounds().diagonal();
-        const TimingResult lattice = timeLattice(scenario, IntegratorKind::ImplicitEuler);
-        const TimingResult global = timeMeshSpring(scenario, IntegratorKind::ImplicitEuler);
-        const TimingResult local = timeMeshSpring(scenario, IntegratorKind::ImplicitEuler, radius);
-        const std::optional<TimingResult> bullet = timeBulletSoftBody(scenario);
-        json row = {{"triangles", triangles}, {"lattice_s", lattice.seconds}, {"global_s", global.seconds},
-                    {"local_s", local.seconds}, {"bullet_s", bullet ? json(bullet->seconds) : json(nullptr)},
-                    {"finite", lattice.finite && global.finite && local.finite && (!bullet || bullet->finite)}};
-        rows.push_back(row);
-        char bulletSeconds[32] = "n/a", bulletRatio[32] = "n/a";
-        if (bullet) {
-            std::snprintf(bulletSeconds, sizeof bulletSeconds, "%.4f", bullet->seconds);
-            std::snprintf(bulletRatio, sizeof bulletRatio, "%.2fx", bullet->seconds / lattice.seconds);
-        }
-        char line[200];
-        std::snprintf(line, sizeof line, "  %9d  %10.4f  %9.4f  %9.4f  %9s  %14.0fx  %13s\n", triangles, lattice.seconds,
-                      global.seconds, local.seconds, bulletSeconds, global.seconds / lattice.seconds, bulletRatio);
-        out << line << std::flush;
-    }
-    return rows;
-}
-
 /// Microseconds per 60 Hz frame of a 4x4x4 DraggedBody (symplectic Euler) deforming 100,000 scattered
 /// vertices (positions and normals, one thread): four steps of 1/240 s, then the mesh, unless the
 /// nodes did not move.
@@ -244,7 +211,7 @@ json runBench(const BenchOptions& options, std::ostream& out) {
         doc["lattice_step_us_8x4x4"] = latticeSteps({LatticeKind::BSpline, {8, 4, 4}}, "8x4x4 B-spline", minSeconds, out);
     if (wanted("features")) doc["features"] = features(minSeconds, out);
     if (wanted("deform")) doc["deform"] = deformation(options, out);
-    if (wanted("table1")) doc["table1"] = table1(options, out);
+    if (wanted("table1")) doc["table1"] = table1Section(options.quick, out);
     if (wanted("haptic")) doc["haptic"] = hapticBench(options.hapticScenes, options.quick ? 2.0 : 5.0, options.hapticPriority, out);
     return doc;
 }

@@ -24,6 +24,19 @@ namespace {
 /// the index overflows.
 constexpr std::size_t kMaxTriMeshVertices = 46340;
 
+/// Settling (settleBullet()): windows of this many steps (half a second) ...
+constexpr int kSettleWindow = 120;
+/// ... until one in which the dragged vertex moved less than this fraction of its displacement (its
+/// range over the window, and its mean against the window before: a ringing body passes neither) ...
+constexpr double kSettleTolerance = 1e-4;
+/// ... or this many steps (50 simulated seconds).
+constexpr int kMaxSettleSteps = 12000;
+/// kDP while settling. The equilibrium of a position solver does not depend on kDP (at rest Δx = 0
+/// whatever scales it into a velocity), but how soon it is reached does: the run's 0.0037 leaves the
+/// membrane ringing, 0.1 and above make it creep (the last 1% takes thousands of steps). 0.01 settled
+/// fastest at 24,928 triangles.
+constexpr double kSettleDamping = 0.01;
+
 /// A soft-rigid world holding one soft body, torn down in the order Bullet needs (body out of the
 /// world before either is deleted, the world before what it points to).
 class BulletWorld {
@@ -68,22 +81,30 @@ private:
     std::unique_ptr<btSoftBody> m_body;  // destroyed first, after ~BulletWorld took it out of the world
 };
 
-/// Bullet's link stiffness kLST for a spring of `stiffnessNPerM` between two nodes of `nodeMass` kg.
+/// Bullet's per-iteration link stiffness kLST for a spring of `stiffnessNPerM` whose two ends have
+/// inverse masses summing to `inverseMass` (1/kg), at step `dt`, solved by `iterations` iterations.
 ///
 /// kLST is not in N/m: a btSoftBody link is a position-based distance constraint, and kLST in [0, 1]
-/// is the fraction of its length error removed per solver iteration (Bullet's PSolve_Links moves each
-/// end by kLST·C/2 for equal masses). There is no exact mapping to a spring constant. We use the
-/// XPBD equivalence (Macklin et al. 2016) for one iteration of one constraint: a spring k is the
-/// compliance α = 1/k, and XPBD removes the fraction
-///     kLST = w / (w + α/dt²) = k·w·dt² / (1 + k·w·dt²),   w = 1/m_a + 1/m_b = 2/m.
-/// It is approximate (Bullet sweeps all links Gauss-Seidel, once per step by default), but it keeps
-/// what matters for a fair comparison: the same 80 N/m is a soft spring on the heavy nodes of a
-/// coarse mesh (kLST ≈ 0.23 at 208 triangles, 1 kg, 240 Hz) and nearly rigid on the light nodes of a
-/// fine one (kLST ≈ 0.97 at 24928 triangles), just as it is for the mass-spring contenders. A stiff
-/// spring therefore maps to kLST → 1, Bullet's stiffest (inextensible) link.
-btScalar linearStiffness(double stiffnessNPerM, double nodeMass, double dt) {
-    const double kwdt2 = stiffnessNPerM * (2.0 / nodeMass) * dt * dt;
-    return btScalar(std::clamp(kwdt2 / (1.0 + kwdt2), 0.0, 1.0));
+/// is the fraction of its length error removed per solver iteration (PSolve_Links moves the ends by
+/// kLST·C in proportion to their inverse masses). We use the XPBD equivalence (Macklin et al. 2016):
+/// a spring k is the compliance α = 1/k, and one XPBD projection of a lone constraint removes the fraction
+///     f = w / (w + α/dt²) = a / (1 + a),   a = k·w·dt².
+/// Held still, that fraction makes the lone spring's equilibrium exactly F/k. n iterations of kLST
+/// remove 1 − (1 − kLST)ⁿ; matching f gives
+///     kLST = 1 − (1 + a)^(−1/n),
+/// so a spring stays the same spring at any iteration count. (With one kLST for every count, as Bullet
+/// users usually do, each extra iteration stiffens the body, and as iterations grow it tends to
+/// inextensible links, which on a closed convex mesh held at 5% of its vertices barely moves: no count
+/// would converge.) The same 80 N/m is a soft spring on the heavy nodes of a coarse mesh (one-iteration
+/// kLST ≈ 0.23 at 208 triangles, 1 kg, 240 Hz) and nearly rigid on the light nodes of a fine one
+/// (≈ 0.97 at 24,928 triangles), just as it is for the mass-spring contenders. The price of a position
+/// solver: once a ≫ 1 a link is nearly fully projected and a stiffer spring barely changes it (in the
+/// limit of many iterations the link behaves as a spring of stiffness ∝ ln(1 + a), not a), so at 240 Hz
+/// Bullet cannot hold the dragged vertex of the finest meshes much closer than 18% of the diagonal and
+/// its calibration saturates there (equal_response.h).
+btScalar linearStiffness(double stiffnessNPerM, double inverseMass, double dt, int iterations) {
+    const double a = stiffnessNPerM * inverseMass * dt * dt;
+    return btScalar(std::clamp(-std::expm1(-std::log1p(a) / iterations), 0.0, 1.0));
 }
 
 /// Bullet's damping kDP for the scenario's per-spring damping `dampingNsPerM` on a body of
@@ -95,13 +116,119 @@ btScalar linearStiffness(double stiffnessNPerM, double nodeMass, double dt) {
 /// the scenario allows: the per-step decay that the scenario's damping coefficient would give the
 /// whole body, 1 − exp(−c·dt/M) (0.0037 at 0.9 N·s/m, 1 kg, 240 Hz). It does not depend on the mesh
 /// resolution, and the position solve dissipates on its own (it discards the velocity a constraint
-/// correction would need to overshoot). A larger kDP (0.01–0.1 is common in Bullet's demos) would act as an ether drag of
-/// kDP·M/dt = 2.4–24 N·s/m on a 1 kg body, against a drag spring of 0.5 N·s/m.
+/// correction would need to overshoot). A larger kDP (0.01–0.1 is common in Bullet's demos) would act
+/// as an ether drag of kDP·M/dt = 2.4–24 N·s/m on a 1 kg body, against a drag spring of 0.5 N·s/m.
 btScalar dampingCoefficient(double dampingNsPerM, double totalMass, double dt) {
     return btScalar(std::clamp(1.0 - std::exp(-dampingNsPerM * dt / totalMass), 0.0, 1.0));
 }
 
-bool allFinite(const std::vector<Vec3f>& positions) {
+/// The scenario's body as a btSoftBody in its own world, with the user's drag.
+///
+/// The drag is a link of rest length zero from the dragged node to a massless (kinematic) node that
+/// we move along the target, its kLST mapped from Ks like the springs'. Bullet has no compliant
+/// constraint, and a node force does not do: Bullet integrates forces explicitly, so the plain
+/// F = Ks·(target − x) − Kd·v is unstable once h·Kd/m > 2 (26 on the light nodes of 24,928 triangles),
+/// and the force of implicit Euler on the node alone, F = m·Δv/h with (m + h·Kd + h²·Ks)·Δv =
+/// h·(Ks·(target − x − h·v) − Kd·v), is stable but pulls a held node with Ks·d·m/(m + h·Kd + h²·Ks):
+/// 1/38 of the drag at 24,928 triangles, not the pull the other contenders get. The link pulls a held
+/// node with Ks·d, as theirs does (for a lone link exactly, see linearStiffness()). Bullet's links have
+/// no damper, so the drag's Kd (0.5 N·s/m) has no counterpart here.
+class BulletBody {
+public:
+    /// False when CreateFromTriMesh cannot take the mesh.
+    bool build(const InteractionScenario& s, const BulletSetting& setting) {
+        const Mesh& mesh = s.mesh;
+        m_vertexCount = mesh.positions.size();
+        if (mesh.triangles.empty() || m_vertexCount > kMaxTriMeshVertices)
+            return false;
+        // Nodes per vertex, links along triangle edges: the topology of the global mass-spring contender.
+        std::vector<btScalar> vertices;
+        vertices.reserve(3 * m_vertexCount);
+        for (const Vec3f& p : mesh.positions) {
+            vertices.push_back(btScalar(p.x()));
+            vertices.push_back(btScalar(p.y()));
+            vertices.push_back(btScalar(p.z()));
+        }
+        std::vector<int> triangles;
+        triangles.reserve(3 * mesh.triangles.size());
+        for (const auto& t : mesh.triangles) {
+            for (std::uint32_t index : t)
+                triangles.push_back(int(index));
+        }
+        // randomizeConstraints = true is Bullet's default: the links are shuffled once, so a
+        // Gauss-Seidel sweep has no directional bias from the mesh's vertex order.
+        btSoftBody& body = m_world.adopt(btSoftBodyHelpers::CreateFromTriMesh(
+            m_world.worldInfo(), vertices.data(), triangles.data(), int(mesh.triangles.size()), true));
+        m_body = &body;
+        // CreateFromTriMesh makes as many nodes as the largest index used: an unreferenced last vertex
+        // would be missing.
+        if (std::size_t(body.m_nodes.size()) != m_vertexCount)
+            return false;
+        // No generateBendingConstraints(): bending links would join vertices two edges apart, which the
+        // mass-spring contenders do not have. The closed surface holds its shape through its edges only,
+        // exactly as theirs does, and every contender solves the same number of springs.
+
+        const double nodeMass = s.totalMass / double(m_vertexCount);
+        body.m_materials[0]->m_kLST =
+            linearStiffness(setting.stiffnessScale * s.stiffness, 2.0 / nodeMass, s.dt, setting.iterations);
+        body.m_cfg.kDP = dampingCoefficient(s.damping, s.totalMass, s.dt);
+        body.m_cfg.piterations = setting.iterations;
+        // setTotalMass spreads the mass evenly over the nodes (the mass-spring contenders' per-vertex
+        // mass); zero mass then makes the held vertices static.
+        body.setTotalMass(btScalar(s.totalMass), false);
+        for (std::uint32_t a : s.anchors)
+            body.setMass(int(a), 0);
+        // Self-collision is off by default (fCollision::Default = rigid-soft only) and there are no rigid
+        // bodies: no contender pays for collisions.
+
+        // The drag: a massless node at the target and a zero-length link to it.
+        const Vec3f rest = mesh.positions[s.dragVertex];
+        body.appendNode(btVector3(rest.x(), rest.y(), rest.z()), 0);
+        m_target = body.m_nodes.size() - 1;
+        btSoftBody::Material* drag = body.appendMaterial();
+        drag->m_kLST = linearStiffness(s.dragStiffness, 1.0 / nodeMass, s.dt, setting.iterations);
+        body.appendLink(int(s.dragVertex), m_target, drag);
+        // Shuffled in with the springs, as Bullet shuffles all links: solved last in every sweep, a stiff drag
+        // link would leave the vertex where it put it (one iteration at 24,928 triangles then holds it at 99% of
+        // the way to the target, whatever the springs' stiffness).
+        body.randomizeConstraints();
+        // Rest lengths now, while the target sits on the dragged vertex (Bullet would take them at the
+        // first step, wherever the target is by then).
+        body.updateConstants();
+        body.m_bUpdateRtCst = false;
+        m_dragged = int(s.dragVertex);
+        m_rest = rest.cast<double>();
+        return true;
+    }
+
+    /// One step of s.dt with the drag target at `target`. maxSubSteps = 0: exactly dt, no
+    /// interpolation, a fixed step like ours.
+    void step(const Vec3& target, double dt) {
+        m_body->m_nodes[m_target].m_x = btVector3(btScalar(target.x()), btScalar(target.y()), btScalar(target.z()));
+        m_world.world().stepSimulation(btScalar(dt), 0);
+    }
+    void meshPositions(std::span<Vec3f> out) const {
+        for (std::size_t n = 0; n < m_vertexCount; ++n) {
+            const btVector3& p = m_body->m_nodes[int(n)].m_x;
+            out[n] = Vec3f(float(p.x()), float(p.y()), float(p.z()));
+        }
+    }
+    double displacement() const {
+        const btVector3& p = m_body->m_nodes[m_dragged].m_x;
+        return (Vec3(p.x(), p.y(), p.z()) - m_rest).norm();
+    }
+    btSoftBody& body() { return *m_body; }
+
+private:
+    BulletWorld m_world;
+    btSoftBody* m_body = nullptr;
+    std::size_t m_vertexCount = 0;
+    int m_target = 0;
+    int m_dragged = 0;
+    Vec3 m_rest = Vec3::Zero();
+};
+
+bool allFinite(std::span<const Vec3f> positions) {
     return std::all_of(positions.begin(), positions.end(), [](const Vec3f& p) { return p.allFinite(); });
 }
 
@@ -109,94 +236,60 @@ bool allFinite(const std::vector<Vec3f>& positions) {
 
 bool bulletAvailable() { return true; }
 
-std::optional<TimingResult> timeBulletSoftBody(const InteractionScenario& s) {
-    const Mesh& mesh = s.mesh;
-    const std::size_t vertexCount = mesh.positions.size();
-    if (mesh.triangles.empty() || vertexCount > kMaxTriMeshVertices)
+std::optional<ContenderRun> runBullet(const InteractionScenario& s, const BulletSetting& setting) {
+    BulletBody bullet;
+    if (!bullet.build(s, setting))
         return std::nullopt;
-
-    BulletWorld bullet;
-
-    // Nodes per vertex, links along triangle edges: the topology of the global mass-spring contender.
-    std::vector<btScalar> vertices;
-    vertices.reserve(3 * vertexCount);
-    for (const Vec3f& p : mesh.positions) {
-        vertices.push_back(btScalar(p.x()));
-        vertices.push_back(btScalar(p.y()));
-        vertices.push_back(btScalar(p.z()));
-    }
-    std::vector<int> triangles;
-    triangles.reserve(3 * mesh.triangles.size());
-    for (const auto& t : mesh.triangles) {
-        for (std::uint32_t index : t)
-            triangles.push_back(int(index));
-    }
-    // randomizeConstraints = true is Bullet's default: the links are shuffled once, so the one
-    // Gauss-Seidel sweep per step has no directional bias from the mesh's vertex order.
-    btSoftBody& body = bullet.adopt(btSoftBodyHelpers::CreateFromTriMesh(
-        bullet.worldInfo(), vertices.data(), triangles.data(), int(mesh.triangles.size()), true));
-    // CreateFromTriMesh makes as many nodes as the largest index used: an unreferenced last vertex
-    // would be missing.
-    if (std::size_t(body.m_nodes.size()) != vertexCount)
-        return std::nullopt;
-    // No generateBendingConstraints(): bending links would join vertices two edges apart, which the
-    // mass-spring contenders do not have. The closed surface holds its shape through its edges only,
-    // exactly as theirs does, and every contender solves the same number of springs.
-
-    const double nodeMass = s.totalMass / double(vertexCount);
-    btSoftBody::Material& material = *body.m_materials[0];
-    material.m_kLST = linearStiffness(s.stiffness, nodeMass, s.dt);
-    body.m_cfg.kDP = dampingCoefficient(s.damping, s.totalMass, s.dt);
-    // Solver iterations stay at Bullet's defaults (one position iteration, no velocity or drift
-    // iterations): what a game developer gets, and the cheapest setting, so Bullet is never
-    // handicapped in time. setTotalMass spreads the mass evenly over the nodes (same per-vertex mass
-    // as the mass-spring contenders); zero mass then makes the held vertices static.
-    body.setTotalMass(btScalar(s.totalMass), false);
-    for (std::uint32_t a : s.anchors)
-        body.setMass(int(a), 0);
-    // Self-collision is off by default (fCollision::Default = rigid-soft only) and there are no rigid
-    // bodies: no contender pays for collisions.
-
-    const btSoftBody::Node& dragged = body.m_nodes[int(s.dragVertex)];
-    const Vec3 restPoint = mesh.positions[s.dragVertex].cast<double>();
-    std::vector<Vec3f> positions(vertexCount);
-    const int steps = int(std::lround(s.seconds / s.dt));
-    const int perFrame = std::max(1, int(std::lround(1.0 / (s.frameRate * s.dt))));
+    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
+    const std::size_t vertices = s.mesh.positions.size();
+    ContenderRun run;
+    run.frames.resize(std::size_t(s.frames()) * vertices);  // allocated before the clock starts
+    const int perFrame = s.stepsPerFrame();
+    run.totalSteps = s.steps();
 
     // Timed: the stepping and the position reads the screen needs, as for every contender. Not timed:
     // creating the world and the soft body (CreateFromTriMesh fills a vertices² table, a one-off cost
     // that says nothing about interaction).
-    TimingResult result;
     Stopwatch watch;
-    for (int i = 0; i < steps; ++i) {
-        // The user's drag spring. Bullet integrates node forces explicitly (v += h·f/m in
-        // predictMotion), and the plain F = Ks·(target − x) − Kd·v is unstable once h·Kd/m > 2: on the
-        // 12466 light nodes of 24928 triangles h·Kd/m = 26 and the dragged vertex flies off (lowering
-        // kLST makes it worse, not better). So the force is the one that gives the node, alone, the
-        // velocity of implicit Euler on its drag spring (Baraff & Witkin 1998):
-        //   (m + h·Kd + h²·Ks)·Δv = h·(Ks·(target − x − h·v) − Kd·v),   F = m·Δv/h,
-        // unconditionally stable, and F → Ks·(target − x) − Kd·v as h → 0. The mass-spring
-        // contenders treat the drag implicitly too.
-        const Vec3 target = restPoint + s.dragOffsetAt(i * s.dt);
-        const Vec3 x(dragged.m_x.x(), dragged.m_x.y(), dragged.m_x.z());
-        const Vec3 v(dragged.m_v.x(), dragged.m_v.y(), dragged.m_v.z());
-        const double h = s.dt;
-        const Vec3 force = (s.dragStiffness * (target - x - h * v) - s.dragDamping * v) /
-                           (1.0 + (h * s.dragDamping + h * h * s.dragStiffness) / nodeMass);
-        body.addForce(btVector3(btScalar(force.x()), btScalar(force.y()), btScalar(force.z())), int(s.dragVertex));
-        // maxSubSteps = 0: one step of exactly dt, no interpolation: a fixed step, like ours.
-        bullet.world().stepSimulation(btScalar(s.dt), 0);
-        if ((i + 1) % perFrame == 0) {
-            for (std::size_t n = 0; n < vertexCount; ++n) {
-                const btVector3& p = body.m_nodes[int(n)].m_x;
-                positions[n] = Vec3f(float(p.x()), float(p.y()), float(p.z()));
-            }
-            result.finite = result.finite && allFinite(positions);
-        }
+    for (; run.steps < run.totalSteps; ++run.steps) {
+        bullet.step(restPoint + s.dragOffsetAt(run.steps * s.dt), s.dt);
+        if ((run.steps + 1) % perFrame == 0)
+            bullet.meshPositions(std::span<Vec3f>(run.frames.data() + std::size_t(run.framesRun++) * vertices, vertices));
     }
-    result.seconds = watch.seconds();
-    result.dragVertexEnd = Vec3(dragged.m_x.x(), dragged.m_x.y(), dragged.m_x.z());
-    result.finite = result.finite && result.dragVertexEnd.allFinite();
+    run.seconds = watch.seconds();
+    run.finite = allFinite(run.frames);
+    return run;
+}
+
+std::optional<StaticResponse> settleBullet(const InteractionScenario& s, const BulletSetting& setting) {
+    BulletBody bullet;
+    if (!bullet.build(s, setting))
+        return std::nullopt;
+    bullet.body().m_cfg.kDP = btScalar(kSettleDamping);
+    const Vec3 target = s.mesh.positions[s.dragVertex].cast<double>() + s.dragOffset;
+    StaticResponse result;
+    double low = 1e300, high = 0.0, sum = 0.0, previousMean = -1.0;
+    while (result.steps < kMaxSettleSteps) {
+        bullet.step(target, s.dt);
+        ++result.steps;
+        const double d = bullet.displacement();
+        low = std::min(low, d);
+        high = std::max(high, d);
+        sum += d;
+        if (result.steps % kSettleWindow != 0)
+            continue;
+        const double mean = sum / kSettleWindow;
+        result.displacement = mean;
+        if (!std::isfinite(mean))
+            break;
+        if (high - low <= kSettleTolerance * mean && std::abs(mean - previousMean) <= kSettleTolerance * mean) {
+            result.converged = true;
+            break;
+        }
+        previousMean = mean;
+        low = 1e300;
+        high = sum = 0.0;
+    }
     return result;
 }
 
@@ -208,7 +301,13 @@ namespace softtouch::bench {
 
 bool bulletAvailable() { return false; }
 
-std::optional<TimingResult> timeBulletSoftBody(const InteractionScenario& /*scenario*/) { return std::nullopt; }
+std::optional<ContenderRun> runBullet(const InteractionScenario& /*scenario*/, const BulletSetting& /*setting*/) {
+    return std::nullopt;
+}
+
+std::optional<StaticResponse> settleBullet(const InteractionScenario& /*scenario*/, const BulletSetting& /*setting*/) {
+    return std::nullopt;
+}
 
 }  // namespace softtouch::bench
 

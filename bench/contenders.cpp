@@ -1,63 +1,18 @@
 #include "bench/contenders.h"
 
 #include "bench/timer.h"
-#include "core/binding.h"
 #include "core/lattice_body.h"
 #include "core/mesh_body.h"
 #include "core/simulator.h"
 
-#include <cmath>
+#include <algorithm>
+#include <cassert>
 
 namespace softtouch::bench {
 namespace {
 
-int stepsOf(const InteractionScenario& s) { return int(std::lround(s.seconds / s.dt)); }
-int stepsPerFrame(const InteractionScenario& s) { return std::max(1, int(std::lround(1.0 / (s.frameRate * s.dt)))); }
-
-SimulationSettings settingsFor(const InteractionScenario& s, IntegratorKind integrator) {
-    SimulationSettings settings;
-    settings.integrator = integrator;
-    settings.dt = s.dt;
-    settings.sleep = false;  // the body is being dragged; do not even test for sleep
-    return settings;
-}
-
-bool allFinite(const std::vector<Vec3f>& v) {
-    for (const Vec3f& p : v) {
-        if (!p.allFinite())
-            return false;
-    }
-    return true;
-}
-
-/// The timed part every contender shares: step with the drag target moving along the scenario, and
-/// hand the mesh positions to `frame` at the frame rate. Returns the wall time and finiteness.
-template <typename FrameFn>
-TimingResult runInteraction(const InteractionScenario& s, Simulator& sim, DragSpring drag, const Vec3& restPoint,
-                            std::vector<Vec3f>& positions, FrameFn&& frame) {
-    TimingResult result;
-    ExternalForces forces;
-    const int steps = stepsOf(s), perFrame = stepsPerFrame(s);
-    Stopwatch watch;
-    for (int i = 0; i < steps; ++i) {
-        drag.target = restPoint + s.dragOffsetAt(i * s.dt);
-        forces.drags.assign(1, drag);
-        (void)sim.step(forces);
-        if ((i + 1) % perFrame == 0) {
-            frame(positions);
-            result.finite = result.finite && allFinite(positions);
-        }
-    }
-    result.seconds = watch.seconds();
-    return result;
-}
-
-}  // namespace
-
-TimingResult timeLattice(const InteractionScenario& s, IntegratorKind integrator, const LatticeShape& shape) {
-    const Lattice lattice = Lattice::create(shape, fitBox(s.mesh.positions).value()).value();
-    const int nodes = lattice.nodeCount();
-    LatticeMaterial material = uniformMaterial(lattice, s.totalMass / nodes, s.stiffness, s.damping);
+std::shared_ptr<const BodyModel> latticeModel(const InteractionScenario& s, const Lattice& lattice, double scale) {
+    LatticeMaterial material = uniformMaterial(lattice, s.totalMass / lattice.nodeCount(), scale * s.stiffness, s.damping);
     // Each held vertex pins the lattice node that moves it most.
     for (std::uint32_t a : s.anchors) {
         const auto weights = lattice.weights(lattice.box().toParameters(s.mesh.positions[a].cast<double>()));
@@ -65,50 +20,106 @@ TimingResult timeLattice(const InteractionScenario& s, IntegratorKind integrator
                                                 [](const NodeWeight& x, const NodeWeight& y) { return x.weight < y.weight; });
         material.anchor[strongest->node] = AnchorMode::Pinned;
     }
-    const auto model = buildLatticeBody(lattice, material).value();
-    const Binding binding = Binding::create(lattice, s.mesh.positions, s.mesh.normals);
-    Simulator sim(model, settingsFor(s, integrator));
-    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
-    DragSpring drag;
-    drag.support = lattice.weights(lattice.box().toParameters(restPoint));
-    drag.stiffness = s.dragStiffness;
-    drag.damping = s.dragDamping;
-    std::vector<Vec3f> positions(s.mesh.positions.size());
-    TimingResult result = runInteraction(s, sim, drag, restPoint, positions, [&](std::vector<Vec3f>& out) {
-        binding.evaluate(sim.state().position, out, {}, 1);
-    });
-    binding.evaluate(sim.state().position, positions, {}, 1);
-    result.dragVertexEnd = positions[s.dragVertex].cast<double>();
-    return result;
+    return buildLatticeBody(lattice, material).value();
 }
 
-TimingResult timeMeshSpring(const InteractionScenario& s, IntegratorKind integrator, double localRadius) {
+std::shared_ptr<const BodyModel> meshModel(const InteractionScenario& s, bool local, double scale) {
     MeshBodySettings settings;
-    settings.stiffness = s.stiffness;
+    settings.stiffness = scale * s.stiffness;
     settings.damping = s.damping;
     settings.totalMass = s.totalMass;
     settings.anchors = s.anchors;
-    const Vec3f centre = s.mesh.positions[s.dragVertex];
-    if (localRadius > 0.0) {
+    if (local) {
+        const Vec3f centre = s.mesh.positions[s.dragVertex];
         settings.simulated.resize(s.mesh.positions.size());
         for (std::size_t i = 0; i < s.mesh.positions.size(); ++i)
-            settings.simulated[i] = (s.mesh.positions[i] - centre).norm() <= localRadius;
+            settings.simulated[i] = (s.mesh.positions[i] - centre).norm() <= s.localRadius;
     }
-    const auto model = buildBodyModel(describeMeshBody(s.mesh, settings)).value();
-    Simulator sim(model, settingsFor(s, integrator));
-    const Vec3 restPoint = centre.cast<double>();
+    return buildBodyModel(describeMeshBody(s.mesh, settings)).value();
+}
+
+bool allFinite(std::span<const Vec3f> v) {
+    return std::all_of(v.begin(), v.end(), [](const Vec3f& p) { return p.allFinite(); });
+}
+
+}  // namespace
+
+std::string_view contenderName(Contender contender) {
+    switch (contender) {
+    case Contender::Lattice: return "lattice";
+    case Contender::Global: return "global";
+    case Contender::Local: return "local";
+    case Contender::Bullet: return "bullet";
+    }
+    return "?";
+}
+
+OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiffnessScale) {
+    assert(contender != Contender::Bullet && stiffnessScale > 0.0);
+    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
+    if (contender == Contender::Lattice) {
+        const Lattice lattice = Lattice::create({}, fitBox(s.mesh.positions).value()).value();
+        m_model = latticeModel(s, lattice, stiffnessScale);
+        m_binding.emplace(Binding::create(lattice, s.mesh.positions, s.mesh.normals));
+        m_dragSupport = lattice.weights(lattice.box().toParameters(restPoint));
+    } else {
+        m_model = meshModel(s, contender == Contender::Local, stiffnessScale);
+        m_dragSupport = {{s.dragVertex, 1.0}};
+    }
+}
+
+Vec3 OurBody::dragVertex(const std::vector<Vec3>& nodes) const {
+    Vec3 p = Vec3::Zero();
+    for (const NodeWeight& w : m_dragSupport)
+        p += w.weight * nodes[w.node];
+    return p;
+}
+
+void OurBody::meshPositions(const std::vector<Vec3>& nodes, std::span<Vec3f> positions) const {
+    if (m_binding) {
+        m_binding->evaluate(nodes, positions, {}, 1);
+        return;
+    }
+    for (std::size_t v = 0; v < positions.size(); ++v)
+        positions[v] = nodes[v].cast<float>();
+}
+
+ContenderRun runContender(const InteractionScenario& s, const OurBody& body, const SolverSetting& setting,
+                          double budgetSeconds) {
+    SimulationSettings settings;
+    settings.integrator = setting.integrator;
+    settings.dt = s.dt / setting.stepDivision;
+    settings.xpbdSubsteps = setting.iterations;
+    settings.sleep = false;  // the body is being dragged; do not even test for sleep
+    Simulator sim(body.sharedModel(), settings);
+
+    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
     DragSpring drag;
-    drag.support = {{s.dragVertex, 1.0}};
+    drag.support = body.dragSupport();
     drag.stiffness = s.dragStiffness;
     drag.damping = s.dragDamping;
-    std::vector<Vec3f> positions(s.mesh.positions.size());
-    TimingResult result = runInteraction(s, sim, drag, restPoint, positions, [&](std::vector<Vec3f>& out) {
-        const auto& x = sim.state().position;
-        for (std::size_t v = 0; v < out.size(); ++v)
-            out[v] = x[v].cast<float>();
-    });
-    result.dragVertexEnd = sim.state().position[s.dragVertex];
-    return result;
+    ExternalForces forces;
+    const std::size_t vertices = s.mesh.positions.size();
+    ContenderRun run;
+    run.frames.resize(std::size_t(s.frames()) * vertices);  // allocated before the clock starts
+    const int perFrame = s.stepsPerFrame(setting.stepDivision);
+    run.totalSteps = s.steps(setting.stepDivision);
+
+    Stopwatch watch;
+    while (run.steps < run.totalSteps) {
+        drag.target = restPoint + s.dragOffsetAt(run.steps * settings.dt);
+        forces.drags.assign(1, drag);
+        (void)sim.step(forces);
+        if (++run.steps % perFrame == 0) {
+            const std::span<Vec3f> out(run.frames.data() + std::size_t(run.framesRun++) * vertices, vertices);
+            body.meshPositions(sim.state().position, out);
+            if (budgetSeconds > 0.0 && watch.seconds() > budgetSeconds)
+                break;
+        }
+    }
+    run.seconds = watch.seconds();
+    run.finite = allFinite(std::span<const Vec3f>(run.frames.data(), std::size_t(run.framesRun) * vertices));
+    return run;
 }
 
 }  // namespace softtouch::bench

@@ -1,20 +1,87 @@
 #pragma once
-/// The contenders of the paper's Table 1, each timing the same InteractionScenario.
+/// The contenders of the paper's Table 1 that run on our simulator, each on the same
+/// InteractionScenario: the lattice (ours), the global mass-spring and the local one. Bullet, the
+/// fourth, is in bullet_peer.h. A contender is built for one stiffness (the calibration's scale,
+/// equal_response.h) and run with one solver setting; a run hands out the mesh at every frame so
+/// that runs of the same body can be compared (trajectory_error.h).
 
 #include "bench/scenario.h"
+#include "core/binding.h"
+#include "core/body_model.h"
 #include "core/integrator.h"
 #include "core/lattice.h"
 
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
 namespace softtouch::bench {
 
-/// Our method: a lattice around the mesh is simulated, the mesh evaluated from it at the frame rate
-/// (one thread, like the others). Binding and lattice set-up are not timed (done once per asset).
-TimingResult timeLattice(const InteractionScenario& scenario, IntegratorKind integrator,
-                         const LatticeShape& shape = {});
+/// Which body simulates the scenario.
+enum class Contender : std::uint8_t {
+    Lattice, ///< Ours: a 4x4x4 Bezier lattice around the mesh; the mesh follows by free-form deformation.
+    Global,  ///< A mass-spring on the mesh: every vertex a node, every edge a spring (the paper's "global").
+    Local,   ///< The same, but only the vertices within scenario.localRadius of the drag move (the paper's
+             ///< "local mass-spring", its reference 32); the rest of the mesh is pinned.
+    Bullet,  ///< Bullet's btSoftBody (bullet_peer.h).
+};
 
-/// A mass-spring on the mesh: every vertex a node, every edge a spring (the paper's "global"). With
-/// `localRadius` > 0, only vertices within that distance of the dragged vertex are simulated and the
-/// rest of the mesh stays static (the paper's "local mass-spring", its reference 32).
-TimingResult timeMeshSpring(const InteractionScenario& scenario, IntegratorKind integrator, double localRadius = 0.0);
+/// Stable name for reports and JSON ("lattice", "global", "local", "bullet").
+std::string_view contenderName(Contender contender);
+
+/// How a contender is run.
+struct SolverSetting {
+    IntegratorKind integrator = IntegratorKind::ImplicitEuler; ///< Scheme on our simulator; ignored by Bullet.
+    int iterations = 1;    ///< XPBD substeps per step, or Bullet's position iterations per step; ignored by
+                           ///< implicit Euler and Verlet. [1, 4096].
+    int stepDivision = 1;  ///< Steps per scenario step: dt = scenario.dt / stepDivision (the converged
+                           ///< runs take finer steps). [1, 4096].
+};
+
+/// What one run of the scenario produced.
+struct ContenderRun {
+    double seconds = 0.0;      ///< Wall-clock time of the steps run (stepping and the frames' mesh).
+    bool finite = true;        ///< Every position handed out was finite.
+    std::vector<Vec3f> frames; ///< The mesh at every frame, frame after frame (scenario.frames() × vertices);
+                               ///< frames after a stopped run's last stay zero.
+    int steps = 0;             ///< Steps run.
+    int totalSteps = 0;        ///< Steps of the whole scenario.
+    int framesRun = 0;         ///< Frames filled.
+    /// Stopped at its time budget before the end of the scenario.
+    bool stopped() const { return steps < totalSteps; }
+    /// Wall time for the whole scenario: measured, or extrapolated from the steps run.
+    double scenarioSeconds() const { return steps > 0 ? seconds * totalSteps / steps : 0.0; }
+};
+
+/// A body of ours built for one scenario and stiffness, ready to run or settle. Set-up (fitting the
+/// lattice, binding, building the springs) happens here, once, and is never timed.
+class OurBody {
+public:
+    /// `stiffnessScale` multiplies scenario.stiffness on every spring (> 0). `contender` is not Bullet.
+    OurBody(const InteractionScenario& scenario, Contender contender, double stiffnessScale);
+
+    const BodyModel& model() const { return *m_model; }
+    std::shared_ptr<const BodyModel> sharedModel() const { return m_model; }
+    /// Weights of the dragged material point over the nodes (the drag spring's support).
+    const std::vector<NodeWeight>& dragSupport() const { return m_dragSupport; }
+    /// Where the dragged vertex is for these node positions (its mesh position: the FFD is linear in the
+    /// nodes, so it is the drag support's weighted sum for the lattice too).
+    Vec3 dragVertex(const std::vector<Vec3>& nodes) const;
+    /// The mesh for these node positions (the lattice evaluates its binding on one thread, like every
+    /// contender; a mesh body copies its nodes).
+    void meshPositions(const std::vector<Vec3>& nodes, std::span<Vec3f> positions) const;
+
+private:
+    std::shared_ptr<const BodyModel> m_model;
+    std::optional<Binding> m_binding;  ///< Lattice only.
+    std::vector<NodeWeight> m_dragSupport;
+};
+
+/// Runs the scenario on `body` with `setting` (timed: the steps and the mesh at every frame). With a
+/// `budgetSeconds` > 0 the run stops at the first frame after that much wall time (for a solver too
+/// slow to finish within the bench's time; ContenderRun::scenarioSeconds() extrapolates).
+ContenderRun runContender(const InteractionScenario& scenario, const OurBody& body, const SolverSetting& setting,
+                          double budgetSeconds = 0.0);
 
 }  // namespace softtouch::bench

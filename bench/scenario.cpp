@@ -41,6 +41,7 @@ InteractionScenario makeScenario(Mesh mesh) {
     const std::size_t anchors = std::max<std::size_t>(1, order.size() / 20);
     s.anchors.assign(order.begin(), order.begin() + std::ptrdiff_t(anchors));
     s.dragOffset = Vec3(0.6, 0.8, 0.0).normalized() * (0.2 * b.diagonal());
+    s.localRadius = 0.25 * b.diagonal();
     s.mesh = std::move(mesh);
     return s;
 }

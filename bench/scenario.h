@@ -6,6 +6,8 @@
 
 #include "core/mesh.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -26,24 +28,27 @@ struct InteractionScenario {
     double dragStiffness = 50.0;        ///< Ks of the drag spring, N/m.
     double dragDamping = 0.5;           ///< Kd of the drag spring, N·s/m.
     std::vector<std::uint32_t> anchors; ///< Vertices held fixed (the paper's anchors).
+    double localRadius = 0.0;           ///< The local mass-spring simulates the vertices within this distance
+                                        ///< of the dragged one, m (makeScenario(): 25% of the diagonal).
 
     /// Drag target offset at time t (seconds).
     Vec3 dragOffsetAt(double t) const { return dragOffset * std::min(1.0, t / (0.5 * seconds)); }
+    /// Steps of a run at dt / `stepDivision` (the converged runs take finer steps).
+    int steps(int stepDivision = 1) const { return int(std::lround(seconds / dt)) * stepDivision; }
+    /// Steps between two frames at dt / `stepDivision`.
+    int stepsPerFrame(int stepDivision = 1) const {
+        return std::max(1, int(std::lround(1.0 / (frameRate * dt)))) * stepDivision;
+    }
+    /// Frames a run hands out (60 for one second at 60 Hz).
+    int frames() const { return steps() / stepsPerFrame(); }
 };
 
 /// A scenario on `mesh`: drag the vertex of largest x outward by 20% of the diagonal, hold the 5% of
-/// vertices of smallest x.
+/// vertices of smallest x; the local mass-spring's region reaches 25% of the diagonal from the drag.
 InteractionScenario makeScenario(Mesh mesh);
 
 /// A closed ellipsoid with exactly `triangles` triangles (a UV sphere; `triangles` must be
 /// 2·segments·(rings−1) for some segments >= 3, rings >= 3 — every size of the paper's Table 1 is).
 Mesh makeEllipsoid(int triangles, const Vec3& radii = Vec3(0.5, 0.35, 0.25));
-
-/// What a contender reports.
-struct TimingResult {
-    double seconds = 0.0;   ///< Wall-clock time for the whole scenario.
-    bool finite = true;     ///< Every position it produced was finite.
-    Vec3 dragVertexEnd = Vec3::Zero(); ///< Final position of the dragged vertex (a sanity check that it moved).
-};
 
 }  // namespace softtouch::bench

@@ -1,0 +1,159 @@
+#include "bench/table1_report.h"
+
+#include <cstdio>
+
+namespace softtouch::bench {
+namespace {
+
+using nlohmann::json;
+
+constexpr Contender kContenders[] = {Contender::Lattice, Contender::Global, Contender::Local, Contender::Bullet};
+
+/// The global mass-spring's implicit Euler takes ~50 s at 8,640 triangles, ~70 s at 11,660 and over 4 min
+/// at 24,928: past this it is stopped and its time extrapolated, so that the whole bench stays near 10
+/// minutes. Only the largest size is stopped.
+constexpr double kImplicitBudgetSeconds = 90.0;
+
+json orNull(const Table1Run* run) { return run ? json(run->seconds) : json(nullptr); }
+
+void printSize(const Table1Size& size, std::ostream& out) {
+    char line[240];
+    out << "    contender  solver            iter     scale  static_m   seconds  error_%  \n";
+    for (const Table1Run& r : size.runs) {
+        if (r.role == "ladder")
+            continue;  // in the JSON; the table shows what was compared
+        std::snprintf(line, sizeof line, "    %-9s  %-16s %5d  %8.4g  %8.4f  %8.4f%s %7.3f  %s%s\n",
+                      std::string(contenderName(r.contender)).c_str(), r.solver.c_str(), r.iterations, r.scale,
+                      r.displacement, r.seconds, r.stopped ? "*" : " ", 100.0 * r.error, r.role.c_str(),
+                      r.best ? ", best" : "");
+        out << line;
+    }
+    const Table1Run* lattice = size.best(Contender::Lattice);
+    if (!lattice)
+        return;
+    out << "    ratios to the lattice:";
+    for (Contender c : {Contender::Global, Contender::Local, Contender::Bullet}) {
+        if (const Table1Run* r = size.best(c)) {
+            const Table1Contender* about = size.about(c);
+            std::snprintf(line, sizeof line, " %s %s%.1fx (%s)", std::string(contenderName(c)).c_str(),
+                          about && !about->accuracyMatched ? ">=" : "", r->seconds / lattice->seconds, r->solver.c_str());
+            out << line;
+        }
+    }
+    if (const Table1Run* r = size.find(Contender::Bullet, "default")) {
+        std::snprintf(line, sizeof line, ", bullet default %.1fx", r->seconds / lattice->seconds);
+        out << line;
+    }
+    out << "\n" << std::flush;
+}
+
+}  // namespace
+
+json table1Json(const Table1Size& size, const Table1Options& options) {
+    json contenders = json::object();
+    for (const Table1Contender& c : size.contenders) {
+        json evaluations = json::array();
+        for (const CalibrationStep& step : c.calibration.steps)
+            evaluations.push_back({{"scale", step.scale}, {"displacement_m", step.displacement}, {"steps", step.settleSteps}});
+        json entry = {{"scale", c.calibration.scale},
+                      {"displacement_m", c.calibration.displacement},
+                      {"calibrated", c.calibration.converged},
+                      {"saturated", c.calibration.saturated},
+                      {"calibration", evaluations},
+                      {"reference", c.reference}};
+        if (c.contender == Contender::Global || c.contender == Contender::Local) {
+            entry["accuracy_goal"] = c.accuracyGoal;
+            entry["accuracy_matched"] = c.accuracyMatched;
+        }
+        if (c.contender == Contender::Bullet) {
+            entry["iterations"] = c.bulletIterations;
+            json check = json::array();
+            for (const CalibrationStep& step : c.iterationCheck)
+                check.push_back({{"iterations", int(step.scale)}, {"displacement_m", step.displacement}, {"steps", step.settleSteps}});
+            entry["iteration_check"] = check;
+        }
+        contenders[std::string(contenderName(c.contender))] = entry;
+    }
+    json runs = json::array();
+    bool finite = true;
+    for (const Table1Run& r : size.runs) {
+        finite = finite && r.finite;
+        runs.push_back({{"contender", contenderName(r.contender)}, {"solver", r.solver}, {"iterations", r.iterations},
+                        {"seconds", r.seconds}, {"extrapolated", r.stopped}, {"scale", r.scale},
+                        {"displacement_m", r.displacement}, {"error", r.error}, {"finite", r.finite},
+                        {"role", r.role}, {"best", r.best}});
+    }
+    json row = {{"triangles", size.triangles}, {"vertices", size.vertices}, {"diagonal_m", size.diagonal},
+                {"target_m", size.target}, {"target_fraction", options.targetFraction}, {"contenders", contenders},
+                {"runs", runs}, {"finite", finite}};
+    const Table1Run* lattice = size.best(Contender::Lattice);
+    json ratios = json::object();
+    for (Contender c : kContenders) {
+        const Table1Run* best = size.best(c);
+        const std::string name(contenderName(c));
+        row[name + "_s"] = orNull(best);
+        if (best && c != Contender::Lattice) {
+            row[name + "_solver"] = best->solver;
+            row[name + "_iterations"] = best->iterations;
+            if (lattice)
+                ratios[name] = best->seconds / lattice->seconds;
+        }
+    }
+    const Table1Run* bulletDefault = size.find(Contender::Bullet, "default");
+    row["bullet_default_s"] = orNull(bulletDefault);
+    if (bulletDefault && lattice)
+        ratios["bullet_default"] = bulletDefault->seconds / lattice->seconds;
+    row["ratios"] = ratios;
+    return row;
+}
+
+json table1Section(bool quick, std::ostream& out) {
+    std::vector<int> sizes = {208, 832, 2160, 8640, 11660, 24928};
+    if (quick)
+        sizes = {208, 832, 2160};
+    Table1Options options;
+    options.implicitBudgetSeconds = quick ? 0.0 : kImplicitBudgetSeconds;
+    char header[400];
+    std::snprintf(header, sizeof header,
+                  "\nTable 1 at equal response: one second of dragging (dt 1/240 s, mesh at 60 Hz, one thread).\n"
+                  "  Every body's stiffness is scaled until its dragged vertex, held, settles %.0f%% of the diagonal\n"
+                  "  from rest. Seconds per simulated second; error = RMS against the same body's converged run,\n"
+                  "  %% of the diagonal%s. docs/performance.md says why.\n",
+                  100.0 * options.targetFraction, quick ? "" : " (*: stopped at the time budget, time extrapolated)");
+    out << header;
+    json rows = json::array();
+    std::vector<Table1Size> done;
+    for (int triangles : sizes) {
+        done.push_back(measureTable1Size(triangles, options, done.empty() ? nullptr : &done.back(), out));
+        printSize(done.back(), out);
+        rows.push_back(table1Json(done.back(), options));
+    }
+    out << "\n  triangles   lattice_s   global_s (solver)        local_s (solver)         bullet_s (iter)   bullet_1_s"
+           "   global/lattice  bullet/lattice\n  (>=: no XPBD tried was as accurate as implicit Euler; its most accurate"
+           " is shown, so the ratio is a lower bound)\n";
+    for (const Table1Size& size : done) {
+        const Table1Run* lattice = size.best(Contender::Lattice);
+        const Table1Run* global = size.best(Contender::Global);
+        const Table1Run* local = size.best(Contender::Local);
+        const Table1Run* bullet = size.best(Contender::Bullet);
+        const Table1Run* bulletDefault = size.find(Contender::Bullet, "default");
+        char line[260];
+        auto solver = [](const Table1Run* r) {
+            return r ? r->solver + (r->solver == "xpbd" ? " x" + std::to_string(r->iterations) : "") : std::string("n/a");
+        };
+        const Table1Contender* aboutGlobal = size.about(Contender::Global);
+        std::snprintf(line, sizeof line, "  %9d  %10.4f  %9.4f %-14s %9.4f %-14s %9.4f (%2d)  %10.4f  %2s%12.1fx  %13.1fx\n",
+                      size.triangles, lattice ? lattice->seconds : 0.0, global ? global->seconds : 0.0,
+                      ("(" + solver(global) + ")").c_str(), local ? local->seconds : 0.0, ("(" + solver(local) + ")").c_str(),
+                      bullet ? bullet->seconds : 0.0, bullet ? bullet->iterations : 0,
+                      bulletDefault ? bulletDefault->seconds : 0.0,
+                      aboutGlobal && !aboutGlobal->accuracyMatched ? ">=" : "",
+                      lattice && global ? global->seconds / lattice->seconds : 0.0,
+                      lattice && bullet ? bullet->seconds / lattice->seconds : 0.0);
+        out << line;
+    }
+    out << std::flush;
+    return rows;
+}
+
+}  // namespace softtouch::bench
