@@ -191,6 +191,14 @@ std::string latticeShapeName(const LatticeShape& s) {
            (s.kind == LatticeKind::Bezier ? " bezier" : " bspline");
 }
 
+StudySetting sceneSetting(const Scene& scene) {
+    return {scene.world.simulation.integrator, scene.world.simulation.dt, scene.objects.front().lattice.shape()};
+}
+
+bool sameSetting(const StudySetting& a, const StudySetting& b) {
+    return a.integrator == b.integrator && std::abs(a.dt - b.dt) <= 1e-12 * b.dt && a.lattice == b.lattice;
+}
+
 Result<Scene> applySetting(const Scene& scene, const StudySetting& setting) {
     if (scene.objects.empty())
         return Status::error("the scene has no object");
@@ -236,12 +244,9 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         for (IntegratorKind kind : kinds)
             for (double dt : steps)
                 settings.push_back({kind, dt, shape});
-    const StudySetting current{scene.world.simulation.integrator, scene.world.simulation.dt, source.lattice.shape()};
-    auto same = [](const StudySetting& a, const StudySetting& b) {
-        return a.integrator == b.integrator && std::abs(a.dt - b.dt) <= 1e-12 * b.dt && a.lattice.kind == b.lattice.kind &&
-               a.lattice.nodes == b.lattice.nodes;
-    };
-    if (options.includeCurrent && std::none_of(settings.begin(), settings.end(), [&](const StudySetting& s) { return same(s, current); }))
+    const StudySetting current = sceneSetting(scene);
+    if (options.includeCurrent &&
+        std::none_of(settings.begin(), settings.end(), [&](const StudySetting& s) { return sameSetting(s, current); }))
         settings.push_back(current);
 
     // Reference: the finest Bezier lattice SoftTouch builds (8x8x8, degree 7), central differences
@@ -290,7 +295,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     std::vector<std::pair<LatticeShape, std::shared_ptr<LatticeRuns>>> lattices;
     auto runsFor = [&](const LatticeShape& shape) -> std::shared_ptr<LatticeRuns> {
         for (auto& [s, runs] : lattices)
-            if (s.kind == shape.kind && s.nodes == shape.nodes)
+            if (s == shape)
                 return runs;
         auto runs = std::make_shared<LatticeRuns>();
         auto object = onLattice(source, shape);
@@ -320,7 +325,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         row.lattice = setting.lattice;
         row.resolution = latticeShapeName(setting.lattice);
         row.nodes = runs->object.lattice.nodeCount();
-        row.current = same(setting, current);
+        row.current = sameSetting(setting, current);
         const Scene run = withSetting(scene, runs->object, setting.integrator, setting.dt);
         const DrivenRun driven = runDriven(run, seconds, fps);
         std::vector<double> costs{driven.physicsSeconds / seconds};

@@ -35,6 +35,11 @@ struct StudySetting {
     LatticeShape lattice;      ///< Kind and nodes per axis, over the object's box.
 };
 
+/// The scene's own setting: the world's integrator and step, the first object's lattice (it must have one).
+StudySetting sceneSetting(const Scene& scene);
+/// Whether two settings are the same (the steps equal within rounding): how a row is found to be the scene's own.
+bool sameSetting(const StudySetting& a, const StudySetting& b);
+
 /// What to run.
 struct StudyOptions {
     bool quick = false;        ///< Fewer steps and resolutions (for tests and the editor); the same clip.

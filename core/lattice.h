@@ -34,6 +34,7 @@ struct LatticeShape {
     std::array<int, 3> nodes{4, 4, 4};      ///< Nodes per axis. Bezier: 2..8; B-spline: 2..64.
     /// Checks node counts against the kind's range.
     Status validate() const;
+    bool operator==(const LatticeShape&) const = default;
 };
 
 /// One node's share of a material point.

@@ -1253,7 +1253,7 @@ Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std
         return Status::error("the project has no object " + std::to_string(object));
     SceneObject& o = project.scene.objects[object];
     const LatticeShape& target = o.lattice.shape();
-    const bool sameShape = target.kind == preset.shape.kind && target.nodes == preset.shape.nodes;
+    const bool sameShape = target == preset.shape;
     if (sameShape) {
         o.material = preset.material;
     } else {

@@ -44,17 +44,6 @@ QString settingName(const bench::StudySetting& setting) {
         .arg(QString::fromStdString(bench::latticeShapeName(setting.lattice)));
 }
 
-/// The scene's own setting: the world's integrator and step, the first object's lattice.
-bench::StudySetting sceneSetting(const Scene& scene) {
-    return {scene.world.simulation.integrator, scene.world.simulation.dt, scene.objects.front().lattice.shape()};
-}
-
-/// Whether a row measured `setting` (runStudy's own test for the current row: the step within rounding).
-bool measures(const bench::StudyRow& row, const bench::StudySetting& setting) {
-    return row.integrator == setting.integrator && std::abs(row.dt - setting.dt) <= 1e-12 * setting.dt &&
-           row.lattice.kind == setting.lattice.kind && row.lattice.nodes == setting.lattice.nodes;
-}
-
 QString errorName(bench::StudyError kind) { return QString::fromLatin1(bench::studyErrorName(kind).data()); }
 
 }  // namespace
@@ -288,7 +277,7 @@ void StudyPanel::markCurrent() {
     // numbers still describe the scene.
     const Scene& scene = m_document->scene();
     for (bench::StudyRow& r : m_study.rows)
-        r.current = !scene.objects.empty() && measures(r, sceneSetting(scene));
+        r.current = !scene.objects.empty() && bench::sameSetting(r.setting(), bench::sceneSetting(scene));
 }
 
 QString StudyPanel::applyBlocker() const {
@@ -340,7 +329,7 @@ void StudyPanel::refresh() {
                         .arg(settingName(current->setting()), cost(current->costPerSecond), percent(current->rmsError),
                              percent(current->timeError), percent(current->modelError));
         else if (!scene.objects.empty())
-            text << tr("<b>Current</b> (%1): not measured; press <i>Measure again</i>.").arg(settingName(sceneSetting(scene)));
+            text << tr("<b>Current</b> (%1): not measured; press <i>Measure again</i>.").arg(settingName(bench::sceneSetting(scene)));
         const QString within = tr("within %1 (%2 error)").arg(percent(target()), errorName(m_study.error));
         const bench::StudyRow* pick = suggestion();
         if (pick && pick->current) {
