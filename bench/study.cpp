@@ -1,6 +1,7 @@
 #include "bench/study.h"
 
 #include "bench/timer.h"
+#include "bench/trajectory_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,7 @@
 namespace softtouch::bench {
 namespace {
 
-using Frames = std::vector<std::vector<Vec3f>>;
+using Frames = std::vector<Vec3f>;  ///< Mesh positions of every frame, one frame after another.
 
 /// The object rebuilt on another lattice over the same box, material carried over as a continuum.
 Result<SceneObject> onLattice(const SceneObject& source, const LatticeShape& shape) {
@@ -29,6 +30,7 @@ Result<SceneObject> onLattice(const SceneObject& source, const LatticeShape& sha
 /// Mesh frames at `fps` over `seconds` of driven simulation, and the wall time of the physics.
 struct DrivenRun {
     Frames frames;
+    int frameCount = 0;
     double physicsSeconds = 0.0;
     bool finite = true;
 };
@@ -42,20 +44,22 @@ DrivenRun runDriven(const Scene& scene, double seconds, double fps, bool keepFra
         run.finite = false;
         return run;
     }
-    const SceneObject& object = scene.objects.front();
+    const std::size_t vertices = scene.objects.front().mesh.positions.size();
     // Frame f at f / fps from f = 0 (the rest pose), as a bake writes them.
     const int frames = int(std::lround(seconds * fps));
+    if (keepFrames)
+        run.frames.resize(std::size_t(frames) * vertices);
     for (int f = 0; f < frames; ++f) {
         Stopwatch watch;
         sim->advanceTo(double(f) / fps);
         run.physicsSeconds += watch.seconds();
         if (!keepFrames)
             continue;
-        std::vector<Vec3f> positions(object.mesh.positions.size());
+        const std::span<Vec3f> positions(run.frames.data() + std::size_t(f) * vertices, vertices);
         sim->evaluate(0, positions, {}, 0);
         for (const Vec3f& p : positions)
             run.finite = run.finite && p.allFinite();
-        run.frames.push_back(std::move(positions));
+        ++run.frameCount;
     }
     return run;
 }
@@ -70,19 +74,12 @@ Scene withSetting(const Scene& scene, const SceneObject& object, IntegratorKind 
     return s;
 }
 
-/// RMS and max distance between two frame sequences.
-std::pair<double, double> frameError(const Frames& a, const Frames& b) {
-    double sum = 0.0, worst = 0.0;
-    std::size_t count = 0;
-    for (std::size_t f = 0; f < std::min(a.size(), b.size()); ++f) {
-        for (std::size_t v = 0; v < std::min(a[f].size(), b[f].size()); ++v) {
-            const double d = double((a[f][v] - b[f][v]).norm());
-            sum += d * d;
-            worst = std::max(worst, d);
-            ++count;
-        }
-    }
-    return {std::sqrt(sum / double(std::max<std::size_t>(1, count))), worst};
+/// RMS and largest distance between two runs / diagonal; NaN when they do not hold the same frames (a run
+/// that failed to start).
+TrajectoryDistance distance(const Frames& a, const Frames& b, double diagonal) {
+    if (a.size() != b.size())
+        return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+    return trajectoryDistance(a, b, diagonal);
 }
 
 double median(std::vector<double> v) {
@@ -271,12 +268,15 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     const DrivenRun finer =
         runDriven(withSetting(scene, referenceObject, IntegratorKind::Verlet, result.referenceDt / 2), seconds, fps);
     const double diagonal = source.lattice.box().diagonal();
-    result.referenceUncertainty = frameError(reference.frames, finer.frames).first / diagonal;
+    result.referenceUncertainty = distance(reference.frames, finer.frames, diagonal).rms;
     result.reference = latticeShapeName(referenceShape) + ", verlet, dt = 1/" + std::to_string(int(std::lround(1.0 / result.referenceDt))) + " s";
     result.referenceFrames = std::make_shared<const Frames>(reference.frames);
-    const Frames rest(reference.frames.size(), source.mesh.positions);
-    result.restError = frameError(rest, reference.frames).first / diagonal;
-    result.motionAmplitude = frameError(rest, reference.frames).second / diagonal;
+    Frames rest;
+    for (int f = 0; f < reference.frameCount; ++f)
+        rest.insert(rest.end(), source.mesh.positions.begin(), source.mesh.positions.end());
+    const TrajectoryDistance still = distance(rest, reference.frames, diagonal);
+    result.restError = still.rms;
+    result.motionAmplitude = still.max;
     log << "reference: " << result.reference << " (halving its dt changes it by " << result.referenceUncertainty
         << " of the diagonal, RMS)\n"
         << "clip: " << seconds << " s at " << fps << " fps; the mesh moves up to " << result.motionAmplitude
@@ -303,7 +303,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
             return nullptr;
         runs->object = std::move(object.value());
         runs->converged = runDriven(withSetting(scene, runs->object, IntegratorKind::Verlet, result.referenceDt), seconds, fps);
-        runs->modelError = frameError(runs->converged.frames, reference.frames).first / diagonal;
+        runs->modelError = distance(runs->converged.frames, reference.frames, diagonal).rms;
         runs->free = runFree(runs->object, IntegratorKind::Verlet, result.referenceDt, freeSeconds);
         lattices.emplace_back(shape, runs);
         log << "  " << latticeShapeName(shape) << ": model error " << runs->modelError << " (RMS / diagonal)\n";
@@ -336,10 +336,10 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
                              ? (*std::max_element(costs.begin(), costs.end()) - *std::min_element(costs.begin(), costs.end())) / row.costPerSecond
                              : 0.0;
         row.finite = driven.finite && driven.frames.size() == reference.frames.size();
-        const auto [rms, worst] = frameError(driven.frames, reference.frames);
-        row.rmsError = rms / diagonal;
-        row.maxError = worst / diagonal;
-        row.timeError = frameError(driven.frames, runs->converged.frames).first / diagonal;
+        const TrajectoryDistance total = distance(driven.frames, reference.frames, diagonal);
+        row.rmsError = total.rms;
+        row.maxError = total.max;
+        row.timeError = distance(driven.frames, runs->converged.frames, diagonal).rms;
         row.modelError = runs->modelError;
         const FreeRun free = runFree(runs->object, setting.integrator, setting.dt, freeSeconds);
         row.energyDrift = free.energyDrift;
@@ -390,13 +390,12 @@ Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study) {
     const DrivenRun run = runDriven(scene, study.seconds, study.fps);
     const DrivenRun converged =
         runDriven(withSetting(scene, scene.objects.front(), IntegratorKind::Verlet, study.referenceDt), study.seconds, study.fps);
-    if (!run.finite || run.frames.size() != study.referenceFrames->size() ||
-        run.frames.front().size() != study.referenceFrames->front().size())
+    if (!run.finite || run.frames.size() != study.referenceFrames->size() || converged.frames.size() != run.frames.size())
         return Status::error("the scene does not run to the study's clip with the study's mesh");
     Remeasured r;
-    r.total = frameError(run.frames, *study.referenceFrames).first / diagonal;
-    r.integration = frameError(run.frames, converged.frames).first / diagonal;
-    r.model = frameError(converged.frames, *study.referenceFrames).first / diagonal;
+    r.total = distance(run.frames, *study.referenceFrames, diagonal).rms;
+    r.integration = distance(run.frames, converged.frames, diagonal).rms;
+    r.model = distance(converged.frames, *study.referenceFrames, diagonal).rms;
     return r;
 }
 

@@ -92,8 +92,8 @@ struct StudyResult {
     double seconds = 0.0;              ///< Simulated time of each run, s.
     double fps = 24.0;                 ///< Frames compared per second.
     bool cancelled = false;            ///< The progress callback stopped it; rows are those measured so far.
-    /// The reference's mesh frames (kept to re-measure a pick as written).
-    std::shared_ptr<const std::vector<std::vector<Vec3f>>> referenceFrames;
+    /// The reference's mesh positions, every frame one after another (kept to re-measure a pick as written).
+    std::shared_ptr<const std::vector<Vec3f>> referenceFrames;
     double referenceDt = 0.0;          ///< Step of the converged runs, s.
 };
 
