@@ -1,4 +1,5 @@
 #include "app/cli_commands.h"
+#include "app/cli_offscreen_gui.h"
 #include "app/cli_support.h"
 
 #include "bench/study_plot.h"
@@ -353,6 +354,7 @@ int runStudy(const std::vector<std::string>& args) {
             return fail(s.message());
         if (Status s = io::writeFileAtomically(dir / "study.md", bench::studyMarkdown(result, command)); !s)
             return fail(s.message());
+        const auto gui = offscreenGuiApplication();
         if (const std::string error = bench::writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
             return fail(error);
         std::printf("wrote %s, %s and %s\n", (dir / "study.csv").c_str(), (dir / "study.md").c_str(),

@@ -2,6 +2,7 @@
 // integrator and step do to them (core/modes.h, core/mode_accuracy.h), and pictures of their shapes
 // (render/mode_pictures.h). The editor's Properties show the same figures and animate the shapes.
 #include "app/cli_commands.h"
+#include "app/cli_offscreen_gui.h"
 #include "app/cli_support.h"
 
 #include "core/mode_accuracy.h"
@@ -139,6 +140,7 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (!picturePrefix.empty() && !pictured) {
             pictured = true;
+            const auto gui = offscreenGuiApplication();
             auto written = render::writeModePictures(object, modes->modes, pictureOptions, picturePrefix);
             if (!written)
                 return fail(scenePath + ": object '" + object.name + "': pictures: " + written.message());

@@ -1,6 +1,5 @@
 #include "bench/study_plot.h"
 
-#include <QGuiApplication>
 #include <QImage>
 #include <QPainter>
 #include <QPainterPath>
@@ -8,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 
 namespace softtouch::bench {
 
@@ -143,15 +141,6 @@ QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optio
 }
 
 std::string writeStudyPlot(const StudyResult& result, const std::string& path) {
-    // Text needs a QGuiApplication; the offscreen platform gives one without any display.
-    std::unique_ptr<QGuiApplication> app;
-    if (!QGuiApplication::instance()) {
-        qputenv("QT_QPA_PLATFORM", "offscreen");
-        static int argc = 1;
-        static char name[] = "softtouch-cli";
-        static char* argv[] = {name, nullptr};
-        app = std::make_unique<QGuiApplication>(argc, argv);
-    }
     const QImage image = renderStudyPlot(result, 1000, 700);
     if (image.isNull())
         return "nothing finite to plot";
@@ -159,21 +148,6 @@ std::string writeStudyPlot(const StudyResult& result, const std::string& path) {
     if (!file.open(QIODevice::WriteOnly) || !image.save(&file, "PNG") || !file.commit())
         return "cannot write '" + path + "': " + file.errorString().toStdString();
     return {};
-}
-
-const StudyRow* nearestRow(const StudyResult& result, IntegratorKind integrator, double dt, const std::string& resolution) {
-    const StudyRow* best = nullptr;
-    double bestDistance = std::log(1.5);
-    for (const StudyRow& r : result.rows) {
-        if (r.integrator != integrator || r.resolution != resolution || r.dt <= 0 || dt <= 0)
-            continue;
-        const double d = std::abs(std::log(r.dt / dt));
-        if (d <= bestDistance) {
-            bestDistance = d;
-            best = &r;
-        }
-    }
-    return best;
 }
 
 }  // namespace softtouch::bench

@@ -23,12 +23,8 @@ struct PlotMarker {
 /// row is finite.
 QImage renderStudyPlot(const StudyResult& result, int width, int height, const std::optional<PlotMarker>& marker = {});
 
-/// Writes the 1000x700 plot as a PNG atomically (headless: creates an offscreen QGuiApplication when
-/// none exists); returns an empty string or the reason it failed.
+/// Writes the 1000x700 plot as a PNG atomically (needs a QGuiApplication; headless:
+/// app/cli_offscreen_gui.h); returns an empty string or the reason it failed.
 std::string writeStudyPlot(const StudyResult& result, const std::string& path);
-
-/// The study row closest to the given settings: same integrator and lattice resolution, nearest time
-/// step (in log scale, within a factor of 1.5); nullptr when the study has none.
-const StudyRow* nearestRow(const StudyResult& result, IntegratorKind integrator, double dt, const std::string& resolution);
 
 }  // namespace softtouch::bench

@@ -6,7 +6,6 @@
 
 #include <QFont>
 #include <QFontMetrics>
-#include <QGuiApplication>
 #include <QPainter>
 #include <QSaveFile>
 
@@ -14,7 +13,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 
 namespace softtouch::render {
 
@@ -214,15 +212,6 @@ Result<std::vector<ModePicture>> renderModePictures(const SceneObject& object, c
 
 Result<ModePicturesWritten> writeModePictures(const SceneObject& object, const std::vector<VibrationMode>& modes,
                                               const ModePictureOptions& options, const std::string& prefix) {
-    // Text needs a QGuiApplication; the offscreen platform gives one without any display.
-    std::unique_ptr<QGuiApplication> app;
-    if (!QGuiApplication::instance()) {
-        qputenv("QT_QPA_PLATFORM", "offscreen");
-        static int argc = 1;
-        static char name[] = "softtouch-cli";
-        static char* argv[] = {name, nullptr};
-        app = std::make_unique<QGuiApplication>(argc, argv);
-    }
     if (modes.empty())
         return Status::error("no mode to draw");
     ModePicturesWritten written;

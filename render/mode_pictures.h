@@ -53,7 +53,7 @@ struct ModePicturesWritten {
 };
 
 /// Renders the modes and writes PREFIX-1.png ... PREFIX-N.png and the strip PREFIX-modes.png, each
-/// atomically, none unless every picture was drawn. Creates an offscreen QGuiApplication when none exists.
+/// atomically, none unless every picture was drawn. Needs a QGuiApplication (headless: app/cli_offscreen_gui.h).
 Result<ModePicturesWritten> writeModePictures(const SceneObject& object, const std::vector<VibrationMode>& modes,
                                               const ModePictureOptions& options, const std::string& prefix);
 
