@@ -68,6 +68,7 @@ private slots:
     void bakeIsDeterministic();
     void goldenHash();
     void upgradeKeepsMassLowestModeAndDamping();
+    void studyWritesItsFilesAndAppliesAPick();
     void studyPicksHoldWhenRebaked_data();
     void studyPicksHoldWhenRebaked();
     void badInputFailsCleanly_data();
@@ -269,6 +270,44 @@ void TestCli::upgradeKeepsMassLowestModeAndDamping() {
     QCOMPARE(refused.exitCode, 1);
     QVERIFY2(refused.err.contains("modulus") || refused.out.contains("modulus"), qPrintable(refused.err + refused.out));
     QCOMPARE(runCli({"upgrade", old}).exitCode, 2);
+}
+
+// The study command end to end on a small grid (a few seconds, so it also runs under the sanitizers):
+// its three files, a pick written as a project that loads with the picked setting, and bad usage.
+void TestCli::studyWritesItsFilesAndAppliesAPick() {
+    const QString path = kScenes + "guppy-swim.softtouch";
+    QTemporaryDir dir;
+    const QString applied = dir.filePath("pick.softtouch");
+    const Run study = runCli({"study", path, "--lattices", "bezier2,bezier3", "--integrators", "verlet,implicit-euler",
+                              "--steps", "24,240", "--repeats", "1", "--target", "0.05", "--apply", applied, "--out", dir.path()});
+    QVERIFY2(study.exitCode == 0, qPrintable(study.out.right(600) + study.err));
+    for (const char* file : {"study.csv", "study.md", "study.png"})
+        QVERIFY2(QFileInfo(dir.filePath(file)).size() > 0, file);
+    // Every measured row is in the CSV: 2 lattices x 2 integrators x 2 steps, plus the scene's own setting.
+    QFile csv(dir.filePath("study.csv"));
+    QVERIFY(csv.open(QIODevice::ReadOnly));
+    QCOMPARE(QString(csv.readAll()).trimmed().split('\n').size(), 1 + 8 + 1);
+    QVERIFY(study.out.contains("re-measured as written"));
+
+    auto pick = io::loadProject(applied.toStdString());
+    QVERIFY2(pick.ok(), pick.message().c_str());
+    const SceneObject& object = pick->scene.objects.front();
+    QCOMPARE(object.lattice.shape().kind, LatticeKind::Bezier);
+    const int nodes = object.lattice.shape().nodes[0];
+    QVERIFY(nodes == 2 || nodes == 3);
+    const double dt = pick->scene.world.simulation.dt;
+    QVERIFY(std::abs(dt - 1.0 / 24) < 1e-12 || std::abs(dt - 1.0 / 240) < 1e-12);
+    // The line that names the pick names what the file holds.
+    const QString line = study.out.section("cheapest setting", 1).section('\n', 0, 0);
+    QVERIFY2(line.contains(QString("%1x%1x%1 bezier").arg(nodes)), qPrintable(line));
+    QVERIFY2(line.contains(QString("dt = 1/%1 s").arg(std::lround(1.0 / dt))), qPrintable(line));
+
+    const QStringList bad[] = {{"--error", "bogus"}, {"--apply", applied}, {"--lattices", "bezier1"}, {"--repeats", "0"}};
+    for (const QStringList& extra : bad) {
+        const Run r = runCli(QStringList{"study", path} + extra);
+        QVERIFY2(r.exitCode == 2, qPrintable(extra.join(' ') + ": " + r.err));
+        QVERIFY2(r.err.contains(extra.front()), qPrintable(r.err));
+    }
 }
 
 void TestCli::studyPicksHoldWhenRebaked_data() {
