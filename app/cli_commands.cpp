@@ -1,6 +1,7 @@
 #include "app/cli_commands.h"
 #include "app/cli_offscreen_gui.h"
 #include "app/cli_support.h"
+#include "core/ranges.h"
 
 #include "bench/study_plot.h"
 #include "bench/bench.h"
@@ -111,12 +112,12 @@ int runBake(const std::vector<std::string>& args) {
             return usage("cannot tell the format from '" + outPath + "'; use .pc2, .mdd, .obj, .gltf, .glb or --format");
         options.format = *f;
     }
-    if (frames && (*frames < 1 || *frames > 1e6 || std::floor(*frames) != *frames))
-        return fail("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
-    if (fps && (*fps <= 0 || *fps > 1000))
-        return fail("--fps must be in (0, 1000], got " + std::to_string(*fps));
+    if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
+        return usage("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+    if (fps && (*fps < ranges::kMinFps || *fps > ranges::kMaxFps))
+        return usage("--fps must be in [1, 1000], got " + std::to_string(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
-        return fail("--threads must be a whole number in [0, 1024]");
+        return usage("--threads must be a whole number in [0, 1024]");
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);
     options.threads = threads ? int(*threads) : 0;

@@ -1,6 +1,7 @@
 // softtouch-cli render: simulate a scene and write a video, headless (EGL, no X server).
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
+#include "core/ranges.h"
 
 #include "io/project_file.h"
 #include "io/video_encoder.h"
@@ -81,12 +82,12 @@ int runRender(const std::vector<std::string>& args) {
     const auto size = parseSize(sizeText);
     if (!size)
         return fail("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
-    if (frames && (*frames < 1 || *frames > 1e6 || std::floor(*frames) != *frames))
-        return fail("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
-    if (fps && (*fps <= 0 || *fps > 240))
-        return fail("--fps must be in (0, 240], got " + std::to_string(*fps));
+    if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
+        return usage("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+    if (fps && (*fps < ranges::kMinFps || *fps > 240))
+        return usage("--fps must be in [1, 240], got " + std::to_string(*fps));
     if (crf && (*crf < 0 || *crf > 51 || std::floor(*crf) != *crf))
-        return fail("--crf must be a whole number in [0, 51], got " + std::to_string(*crf));
+        return usage("--crf must be a whole number in [0, 51], got " + std::to_string(*crf));
 
     auto project = io::loadProject(scenePath);
     if (!project)

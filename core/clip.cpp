@@ -1,5 +1,7 @@
 #include "core/clip.h"
 
+#include "core/ranges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -72,12 +74,12 @@ Status Clip::validate() const {
     const std::string where = "clip '" + name + "': ";
     if (name.empty())
         return Status::error("a clip needs a name");
-    if (!finiteIn(startSeconds, 0.0, 1e6))
-        return Status::error(where + "start must be in [0, 1e6] s");
-    if (frames < 1 || frames > 1000000)
+    if (!finiteIn(startSeconds, 0.0, ranges::kMaxClipStart))
+        return Status::error(where + "start must be in [0, 3600] s");
+    if (frames < 1 || frames > ranges::kMaxFrames)
         return Status::error(where + "frames must be in [1, 1000000], got " + std::to_string(frames));
-    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
-        return Status::error(where + "fps must be in (0, 1000], got " + std::to_string(fps));
+    if (!finiteIn(fps, ranges::kMinFps, ranges::kMaxFps))
+        return Status::error(where + "fps must be in [1, 1000], got " + std::to_string(fps));
     if (blendFrames < 0 || blendFrames > frames)
         return Status::error(where + "blend window must be in [0, frames] (" + std::to_string(frames) + "), got " +
                              std::to_string(blendFrames));

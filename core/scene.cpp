@@ -1,6 +1,7 @@
 #include "core/scene.h"
 
 #include "core/oriented_box.h"
+#include "core/ranges.h"
 
 #include <cassert>
 #include <cmath>
@@ -12,10 +13,10 @@ Status WorldSettings::validate() {
         return Status::error("gravity must be finite");
     if (Status s = simulation.validate(); !s)
         return s;
-    if (frames < 1 || frames > 1000000)
+    if (frames < 1 || frames > ranges::kMaxFrames)
         return Status::error("frames must be in [1, 1000000], got " + std::to_string(frames));
-    if (!(std::isfinite(fps) && fps > 0.0 && fps <= 1000.0))
-        return Status::error("fps must be in (0, 1000], got " + std::to_string(fps));
+    if (!(std::isfinite(fps) && fps >= ranges::kMinFps && fps <= ranges::kMaxFps))
+        return Status::error("fps must be in [1, 1000], got " + std::to_string(fps));
     for (std::size_t i = 0; i < planes.size(); ++i) {
         CollisionPlane& p = planes[i];
         const std::string name = "plane " + std::to_string(i);
@@ -65,11 +66,24 @@ Result<Scene> newScene(std::string name, Mesh mesh) {
     return scene;
 }
 
+Status checkSceneLimits(const Scene& scene) {
+    for (const SceneObject& object : scene.objects) {
+        if (scene.world.simulation.integrator == IntegratorKind::ImplicitEuler &&
+            std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
+            return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
+                                 std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
+                                 std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
+    }
+    return Status::success();
+}
+
 Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
     auto scene = std::make_shared<Scene>(input);
     if (scene->objects.empty())
         return Status::error("the scene has no objects");
     if (Status s = scene->world.validate(); !s)
+        return s;
+    if (Status s = checkSceneLimits(*scene); !s)
         return s;
     SceneSimulation sim;
     sim.m_scene = scene;

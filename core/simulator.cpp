@@ -1,5 +1,7 @@
 #include "core/simulator.h"
 
+#include "core/ranges.h"
+
 #include <algorithm>
 #include <cassert>
 
@@ -9,8 +11,8 @@
 namespace softtouch {
 
 Status SimulationSettings::validate() const {
-    if (!(std::isfinite(dt) && dt > 0.0 && dt <= 0.1))
-        return Status::error("time step dt must be in (0, 0.1] s, got " + std::to_string(dt));
+    if (!(std::isfinite(dt) && dt >= ranges::kMinDt && dt <= ranges::kMaxDt))
+        return Status::error("time step dt must be in [1e-05, 0.1] s, got " + std::to_string(dt));
     if (xpbdSubsteps < 1 || xpbdSubsteps > 10000)
         return Status::error("XPBD substeps must be in [1, 10000], got " + std::to_string(xpbdSubsteps));
     if (!(std::isfinite(stabilitySafety) && stabilitySafety > 0.0 && stabilitySafety <= 2.0))

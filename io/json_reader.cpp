@@ -1,7 +1,10 @@
 #include "io/json_reader.h"
 
+#include "io/input_file.h"
+
 #include <cmath>
-#include <fstream>
+#include <memory>
+#include <set>
 #include <sstream>
 
 namespace softtouch::io {
@@ -18,6 +21,60 @@ std::string formatNumber(double x) {
     std::ostringstream out;
     out << x;
     return out.str();
+}
+
+/// Line and column (from 1) of a byte offset.
+std::pair<std::size_t, std::size_t> lineAndColumn(const std::string& text, std::size_t offset) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return {line, column};
+}
+
+/// The offset of the first bracket that opens level kMaxJsonDepth + 1, brackets inside strings aside.
+/// A scan, not a parse: it only has to be right for text the parser would accept.
+std::optional<std::size_t> firstTooDeep(const std::string& text) {
+    int depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                return i;
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return std::nullopt;
+}
+
+/// A parser callback that keeps every value and records keys that appear twice in one object (JSON
+/// allows it, nlohmann keeps the last; a hand-edited file that says "mass" twice means one of them).
+nlohmann::json::parser_callback_t duplicateKeyFinder(std::vector<std::string>& duplicates) {
+    auto open = std::make_shared<std::vector<std::set<std::string>>>();
+    return [open, &duplicates](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using Event = nlohmann::json::parse_event_t;
+        if (event == Event::object_start)
+            open->emplace_back();
+        else if (event == Event::object_end && !open->empty())
+            open->pop_back();
+        else if (event == Event::key && !open->empty() && !open->back().insert(parsed.get<std::string>()).second)
+            duplicates.push_back(parsed.get<std::string>());
+        return true;
+    };
 }
 
 }  // namespace
@@ -39,34 +96,42 @@ std::string JsonIssues::summary() const {
 }
 
 std::optional<nlohmann::json> parseJsonFile(const std::string& path, JsonIssues& issues) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        issues.addGeneral("cannot open the file");
+    auto read = readInputFile(path, kMaxJsonFileBytes);
+    if (!read) {
+        issues.addGeneral(read.message());
         return std::nullopt;
     }
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
+    const std::string& text = read.value();
+    if (const auto deep = firstTooDeep(text)) {
+        const auto [line, column] = lineAndColumn(text, *deep);
+        issues.addGeneral("at line " + std::to_string(line) + ", column " + std::to_string(column) +
+                          ": arrays and objects nest deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        return std::nullopt;
+    }
+    std::vector<std::string> duplicates;
     try {
-        return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        // Turn the byte offset into line and column for the message.
-        std::size_t line = 1, column = 1;
-        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
+        nlohmann::json doc = nlohmann::json::parse(text, duplicateKeyFinder(duplicates));
+        if (!duplicates.empty()) {
+            for (const std::string& key : duplicates)
+                issues.addGeneral("the key \"" + key + "\" appears twice in one object (the second would silently replace the first)");
+            return std::nullopt;
         }
+        return doc;
+    } catch (const nlohmann::json::parse_error& e) {
+        const auto [line, column] = lineAndColumn(text, e.byte > 0 ? e.byte - 1 : 0);
         std::string what = e.what();
         if (const auto pos = what.find("syntax error"); pos != std::string::npos)
             what = what.substr(pos);
         issues.addGeneral("invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
                           what);
-        return std::nullopt;
+    } catch (const nlohmann::json::exception& e) {
+        // out_of_range 406: a number beyond double's range ("1e400"), which has no position of its own.
+        std::string what = e.what();
+        if (const auto pos = what.find("] "); pos != std::string::npos)
+            what = what.substr(pos + 2);
+        issues.addGeneral("invalid JSON: " + what);
     }
+    return std::nullopt;
 }
 
 JsonValue JsonValue::operator[](const char* key) const {

@@ -1,5 +1,8 @@
 #include "io/mesh_import.h"
 
+#include "io/input_file.h"
+#include "io/mesh_file_check.h"
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -10,13 +13,13 @@ namespace softtouch::io {
 
 Result<Mesh> importMesh(const std::filesystem::path& path) {
     const std::string name = "'" + path.string() + "'";
+    if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
+        return Status::error("mesh file " + name + " " + s.message());
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        return Status::error("mesh file " + name + " does not exist");
-    if (!std::filesystem::is_regular_file(path, ec))
-        return Status::error("mesh file " + name + " is not a regular file");
     if (std::filesystem::file_size(path, ec) == 0)
         return Status::error("mesh file " + name + " is empty (0 bytes)");
+    if (Status s = checkMeshFileIsWhole(path); !s)
+        return Status::error("mesh file " + name + ": " + s.message());
 
     Assimp::Importer importer;
     // Points and lines are of no use to a deformer: drop them instead of failing on them.

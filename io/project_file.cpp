@@ -1,6 +1,7 @@
 #include "io/project_file.h"
 
 #include "core/mesh_volume.h"
+#include "core/ranges.h"
 
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
@@ -467,14 +468,14 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
                 sim["integrator"].problem("expected \"symplectic-euler\", \"verlet\", \"implicit-euler\" or \"xpbd\", got \"" +
                                           *name + "\"");
         }
-        if (auto x = sim["dt"].number(1e-7, 0.1, "s")) w.simulation.dt = *x;
+        if (auto x = sim["dt"].number(ranges::kMinDt, ranges::kMaxDt, "s")) w.simulation.dt = *x;
         if (auto x = sim["xpbdSubsteps"].integer(1, 10000)) w.simulation.xpbdSubsteps = *x;
         if (auto x = sim["sleep"].boolean()) w.simulation.sleep = *x;
     }
     if (const JsonValue clip = root["clip"]; clip.expectObject()) {
         clip.checkKeys({"frames", "fps"});
-        if (auto x = clip["frames"].integer(1, 1000000)) w.frames = *x;
-        if (auto x = clip["fps"].number(1e-3, 1000.0, "frames per second")) w.fps = *x;
+        if (auto x = clip["frames"].integer(1, ranges::kMaxFrames)) w.frames = *x;
+        if (auto x = clip["fps"].number(ranges::kMinFps, ranges::kMaxFps, "frames per second")) w.fps = *x;
     }
 }
 
@@ -551,7 +552,7 @@ std::optional<NamedSession> readSession(const JsonValue& v, const Scene& scene) 
     NamedSession named;
     named.name = v["name"].string(true).value_or("");
     Session& s = named.session;
-    const auto dt = v["dt"].number(1e-7, 0.1, "s", true);
+    const auto dt = v["dt"].number(ranges::kMinDt, ranges::kMaxDt, "s", true);
     if (!dt)
         return std::nullopt;
     s.dt = *dt;
@@ -699,9 +700,9 @@ std::optional<Clip> readClip(const JsonValue& v) {
             v["source"].problem("expected \"drivers\", \"session\" or \"keyframes\", got \"" + *src + "\"");
     }
     if (auto x = v["of"].string()) c.sourceName = *x;
-    if (auto x = v["start"].number(0.0, 1e6, "s")) c.startSeconds = *x;
-    if (auto x = v["frames"].integer(1, 1000000)) c.frames = *x;
-    if (auto x = v["fps"].number(1e-3, 1000.0, "frames per second")) c.fps = *x;
+    if (auto x = v["start"].number(0.0, ranges::kMaxClipStart, "s")) c.startSeconds = *x;
+    if (auto x = v["frames"].integer(1, ranges::kMaxFrames)) c.frames = *x;
+    if (auto x = v["fps"].number(ranges::kMinFps, ranges::kMaxFps, "frames per second")) c.fps = *x;
     if (auto x = v["loop"].boolean()) c.loop = *x;
     if (auto x = v["blend"].integer(0, 1000000)) c.blendFrames = *x;
     if (const JsonValue g = v["goals"]; g.expectObject()) {
@@ -777,6 +778,9 @@ std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     for (std::size_t i = 0; i < objects.size(); ++i)
         readObject(objects.at(i), baseDir, project, issues);
     readWorld(root, project.scene.world);
+    if (issues.empty())
+        if (Status s = checkSceneLimits(project.scene); !s)
+            issues.addGeneral(s.message());
     // The library refers to the objects' lattices: read it only onto a valid scene.
     if (!issues.empty())
         return std::nullopt;

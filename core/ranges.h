@@ -1,0 +1,29 @@
+#pragma once
+/// The accepted range of every setting that decides how much work a run is, in one place: core's
+/// validate(), the project reader and the CLI all check against these, and docs/reliability.md lists
+/// them. Together they bound the work of any accepted input by what it asks for: a frame is at most
+/// 1/kMinFps simulated seconds, a second at most 1/kMinDt steps, and a clip starts at most
+/// kMaxClipStart seconds in.
+
+#include <cstddef>
+
+namespace softtouch::ranges {
+
+/// Fixed step, seconds. Below 1e-5 s a one-second clip is over 100,000 steps (the study's converged
+/// reference runs at 1/4000 s); above 0.1 s no scheme follows a wobble.
+inline constexpr double kMinDt = 1e-5;
+inline constexpr double kMaxDt = 0.1;
+/// Frames per second of clips, bakes and renders. Below one frame a second each frame would be
+/// minutes of simulation for a picture no animation plays.
+inline constexpr double kMinFps = 1.0;
+inline constexpr double kMaxFps = 1000.0;
+/// Frames of a clip, a bake or a render.
+inline constexpr int kMaxFrames = 1000000;
+/// Where a clip starts on its take, seconds: the simulation runs up to it before the first frame.
+inline constexpr double kMaxClipStart = 3600.0;
+/// Lattice nodes implicit Euler factorises: its sparse LDLT fills in as the lattice grows (a 16x16x16
+/// B-spline's first step takes 4 s, 24x24x24 70 s and 0.6 GB; 64x64x64 ran out of memory). Larger
+/// lattices run with the explicit schemes or XPBD, whose cost is linear in the springs.
+inline constexpr std::size_t kMaxImplicitNodes = 4096;
+
+}  // namespace softtouch::ranges

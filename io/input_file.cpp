@@ -1,0 +1,60 @@
+#include "io/input_file.h"
+
+#include <fstream>
+#include <system_error>
+
+namespace softtouch::io {
+namespace {
+
+const char* kindOf(std::filesystem::file_type type) {
+    switch (type) {
+    case std::filesystem::file_type::directory: return "a directory";
+    case std::filesystem::file_type::fifo: return "a FIFO";
+    case std::filesystem::file_type::character: return "a character device";
+    case std::filesystem::file_type::block: return "a block device";
+    case std::filesystem::file_type::socket: return "a socket";
+    default: return "not a regular file";
+    }
+}
+
+std::string bytes(std::uintmax_t n) {
+    return n >= kMiB ? std::to_string(n / kMiB) + " MiB" : std::to_string(n) + " bytes";
+}
+
+}  // namespace
+
+Status checkInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);  // follows links: a link to a file is fine
+    if (ec || !std::filesystem::exists(status))
+        return Status::error("does not exist");
+    if (!std::filesystem::is_regular_file(status))
+        return Status::error(std::string("is not a regular file (") + kindOf(status.type()) + ")");
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec)
+        return Status::error("cannot be sized: " + ec.message());
+    if (size > maxBytes)
+        return Status::error("is " + bytes(size) + "; SoftTouch reads at most " + bytes(maxBytes) +
+                             " of this kind of file");
+    return Status::success();
+}
+
+Result<std::string> readInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes) {
+    if (Status s = checkInputFile(path, maxBytes); !s)
+        return s;
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        return Status::error("cannot be opened");
+    std::string text;
+    char chunk[1 << 16];
+    while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+        text.append(chunk, std::size_t(in.gcount()));
+        if (text.size() > maxBytes)
+            return Status::error("grew past " + bytes(maxBytes) + " while it was read");
+    }
+    if (in.bad())
+        return Status::error("could not be read to its end");
+    return text;
+}
+
+}  // namespace softtouch::io

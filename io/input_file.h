@@ -1,0 +1,32 @@
+#pragma once
+/// What SoftTouch agrees to read, checked before anything is allocated (docs/reliability.md, "Limits").
+/// Every file a reader opens goes through `checkInputFile` first: only regular files (a FIFO would block
+/// forever, /dev/zero never ends), none larger than the reader's limit.
+
+#include "core/result.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace softtouch::io {
+
+inline constexpr std::uintmax_t kMiB = std::uintmax_t(1) << 20;
+/// Projects, presets and recorded trajectories. The largest legitimate one is a project whose painted
+/// maps cover a 64x64x64 lattice: 4 maps x 262,144 numbers, about 20 MB.
+inline constexpr std::uintmax_t kMaxJsonFileBytes = 256 * kMiB;
+/// Arrays and objects nested deeper than this are refused before parsing: SoftTouch's own files nest
+/// at most 6 deep, and printing a 100,000-deep value overflowed the stack.
+inline constexpr int kMaxJsonDepth = 64;
+/// Mesh files handed to assimp (a 10-million-triangle binary PLY is about 250 MB).
+inline constexpr std::uintmax_t kMaxMeshFileBytes = 1024 * kMiB;
+
+/// Ok when `path` names a regular file of at most `maxBytes` bytes; otherwise what is wrong, worded to
+/// follow the file's name ("is not a regular file (a FIFO)", "does not exist").
+Status checkInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes);
+
+/// The whole file, after checkInputFile (a file that grows past the limit while read is refused too);
+/// errors are worded as checkInputFile's.
+Result<std::string> readInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes);
+
+}  // namespace softtouch::io
