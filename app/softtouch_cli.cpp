@@ -1,5 +1,6 @@
 // softtouch-cli: the headless front end of SoftTouch (bake, render, validate). Parses the subcommand only.
 #include "app/cli_commands.h"
+#include "io/atomic_file.h"
 
 #include <cstdio>
 #include <cstring>
@@ -47,6 +48,8 @@ Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad us
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Ctrl+C or a kill while a bake or render writes removes its temporaries before the process ends.
+    softtouch::io::removeTemporariesOnSignal();
     std::vector<std::string> args(argv + 1, argv + argc);
     if (args.empty()) {
         std::fputs(kUsage, stderr);

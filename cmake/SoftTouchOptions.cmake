@@ -20,6 +20,14 @@ if(SOFTTOUCH_SANITIZE)
   target_link_options(softtouch_build_options INTERFACE -fsanitize=address,undefined)
 endif()
 
+if(SOFTTOUCH_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang" OR NOT SOFTTOUCH_SANITIZE)
+    message(FATAL_ERROR "SOFTTOUCH_FUZZ needs clang and SOFTTOUCH_SANITIZE (use the fuzz preset)")
+  endif()
+  # Coverage for libFuzzer in every module the targets link; the targets add the fuzzer's main.
+  target_compile_options(softtouch_build_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()
+
 # softtouch_add_library(NAME ALIAS SOURCES ...) keeps each module's CMakeLists to a few lines.
 function(softtouch_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})

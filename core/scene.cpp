@@ -66,14 +66,12 @@ Result<Scene> newScene(std::string name, Mesh mesh) {
     return scene;
 }
 
-Status checkSceneLimits(const Scene& scene) {
-    for (const SceneObject& object : scene.objects) {
-        if (scene.world.simulation.integrator == IntegratorKind::ImplicitEuler &&
-            std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
-            return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
-                                 std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
-                                 std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
-    }
+Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
+    if (world.simulation.integrator == IntegratorKind::ImplicitEuler &&
+        std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
+        return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
+                             std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
+                             std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
     return Status::success();
 }
 
@@ -83,8 +81,9 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
         return Status::error("the scene has no objects");
     if (Status s = scene->world.validate(); !s)
         return s;
-    if (Status s = checkSceneLimits(*scene); !s)
-        return s;
+    for (const SceneObject& object : scene->objects)
+        if (Status s = checkObjectLimits(object, scene->world); !s)
+            return s;
     SceneSimulation sim;
     sim.m_scene = scene;
     for (SceneObject& object : scene->objects) {

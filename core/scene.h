@@ -56,10 +56,10 @@ SimulationSettings newSceneSimulation(const Scene& scene);
 /// gravity, and newSceneSimulation(). Fails, saying why, when no box fits the mesh.
 Result<Scene> newScene(std::string name, Mesh mesh);
 
-/// What a scene needs beyond each field's range before it can run: the solver's limits per object
-/// (ranges::kMaxImplicitNodes). SceneSimulation::create checks it and so does the project reader, so a
-/// file that validates also runs. Errors name the object.
-Status checkSceneLimits(const Scene& scene);
+/// What an object needs beyond each field's range before it can run in this world: the solver's limits
+/// (ranges::kMaxImplicitNodes). SceneSimulation::create checks it and so does the project reader (before
+/// it builds the body), so a file that validates also runs. Errors name the object.
+Status checkObjectLimits(const SceneObject& object, const WorldSettings& world);
 
 /// Runtime of a scene: bodies, bindings and simulators built once, stepped together.
 class SceneSimulation {

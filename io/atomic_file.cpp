@@ -4,6 +4,9 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <system_error>
 
@@ -23,19 +26,85 @@ Status writeError(const std::filesystem::path& target, const std::string& reason
     return Status::error("cannot write " + detail::quoted(target) + ": " + reason);
 }
 
+/// Live temporaries, for the signal handler: a fixed table of heap copies of their paths, so the
+/// handler only reads pointers and calls unlink() (both async-signal-safe). Best effort: a run with
+/// more live temporaries than slots (an OBJ sequence of thousands of frames) leaves the rest to
+/// removeStaleTemporaries on the next bake.
+constexpr std::size_t kLiveSlots = 4096;
+std::atomic<char*> g_live[kLiveSlots];
+
+void remember(const std::filesystem::path& temporary) {
+    char* copy = ::strdup(temporary.c_str());
+    if (copy == nullptr)
+        return;
+    for (auto& slot : g_live) {
+        char* expected = nullptr;
+        if (slot.compare_exchange_strong(expected, copy))
+            return;
+    }
+    std::free(copy);
+}
+
+extern "C" void removeLiveTemporaries(int signal) {
+    for (auto& slot : g_live)
+        if (const char* path = slot.load())
+            ::unlink(path);
+    ::signal(signal, SIG_DFL);
+    ::raise(signal);
+}
+
 }  // namespace
 
 namespace detail {
 
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target) {
-    // The pid keeps two processes apart, the counter two writers (or two staged OBJ frames) of one.
+    // The pid keeps two processes apart (and tells removeStaleTemporaries whose it is), the counter two
+    // writers (or two staged OBJ frames) of one.
     static std::atomic<std::uint64_t> counter{0};
     std::filesystem::path temporary = target;
     temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+    remember(temporary);
     return temporary;
 }
 
+void forgetTemporary(const std::filesystem::path& temporary) {
+    for (auto& slot : g_live) {
+        char* path = slot.load();
+        if (path != nullptr && temporary == path && slot.compare_exchange_strong(path, nullptr)) {
+            std::free(path);
+            return;
+        }
+    }
+}
+
 }  // namespace detail
+
+void removeTemporariesOnSignal() {
+    for (int signal : {SIGINT, SIGTERM, SIGHUP})
+        ::signal(signal, removeLiveTemporaries);
+}
+
+void removeStaleTemporaries(const std::filesystem::path& target) {
+    namespace fs = std::filesystem;
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    const std::string prefix = target.filename().string() + ".tmp-";
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind(prefix, 0) != 0)
+            continue;
+        // "<prefix><pid>-<n>…": remove it when that process is gone (kill(pid, 0) fails with ESRCH).
+        const std::string rest = name.substr(prefix.size());
+        const auto dash = rest.find('-');
+        if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash)
+            continue;
+        const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
+        if (pid > 0 && pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+            std::error_code ignored;
+            fs::remove(it->path(), ignored);
+        }
+    }
+}
 
 AtomicFile::AtomicFile(std::filesystem::path target) : m_target(std::move(target)) {}
 
@@ -51,6 +120,7 @@ Status AtomicFile::open() {
         const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0) {
             const int error = errno;
+            detail::forgetTemporary(temporary);
             if (error == EEXIST)
                 continue;
             return writeError(m_target, errnoText(error));
@@ -68,6 +138,7 @@ Status AtomicFile::open() {
             ::close(fd);
             std::error_code ignored;
             std::filesystem::remove(temporary, ignored);
+            detail::forgetTemporary(temporary);
             return writeError(m_target, errnoText(error));
         }
         m_temporary = temporary;
@@ -112,6 +183,7 @@ Status AtomicFile::commit() {
         discard();
         return Status::error("cannot replace " + detail::quoted(m_target) + ": " + renameError.message());
     }
+    detail::forgetTemporary(m_temporary);
     m_temporary.clear();
     return Status::success();
 }
@@ -124,6 +196,7 @@ void AtomicFile::discard() {
     if (!m_temporary.empty()) {
         std::error_code ignored;
         std::filesystem::remove(m_temporary, ignored);
+        detail::forgetTemporary(m_temporary);
         m_temporary.clear();
     }
 }

@@ -39,4 +39,13 @@ private:
 /// Writes `bytes` to `path` in one atomic step (open, write, commit).
 Status writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);
 
+/// Temporaries ("<target>.tmp-<pid>-<n>") live from creation to commit or discard; a process stopped in
+/// between would leave them. On SIGINT, SIGTERM or SIGHUP every live temporary is removed, then the
+/// process ends as the signal would have ended it. The CLI installs this at start.
+void removeTemporariesOnSignal();
+
+/// Removes the temporaries of `target` left by processes that no longer run (a kill -9, a power cut);
+/// a bake calls it for every file it is about to write.
+void removeStaleTemporaries(const std::filesystem::path& target);
+
 }  // namespace softtouch::io

@@ -2,6 +2,7 @@
 
 #include "core/node_change.h"
 
+#include "io/atomic_file.h"
 #include "io/frame_source.h"
 
 #include <cmath>
@@ -16,6 +17,23 @@ std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheForm
         return rest += ".obj";  // a base path: "out/fish.v2" must not lose ".v2"
     return rest.replace_extension(".obj");
 }
+
+namespace {
+
+/// A target may be absent or a regular file (replaced); anything else (a folder, a device such as
+/// /dev/full, a FIFO) is refused, because a rename would replace it or fail half-way.
+Status checkOutputTarget(const std::filesystem::path& target) {
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(target, ec);
+    if (ec || !std::filesystem::exists(status) || std::filesystem::is_regular_file(status))
+        return Status::success();
+    const char* kind = std::filesystem::is_directory(status) ? "a folder"
+                       : std::filesystem::is_symlink(status) ? "a symbolic link"
+                                                              : "not a regular file (a device, FIFO or socket)";
+    return Status::error("cannot write '" + target.string() + "': it exists and is " + kind + "; nothing was written");
+}
+
+}  // namespace
 
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     BakeResult result;
@@ -56,6 +74,20 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     result.cache = result.files.front();
     result.restMesh = restMeshPath(options.output, options.format);
     result.points = rest.positions.size();
+    // Every target is checked before anything is written: publishing is a rename per file, and a rename
+    // that fails half-way (onto a folder) would leave the files published before it replaced.
+    if (options.output.filename().empty() || options.output.stem().empty())
+        return Status::error("--out '" + options.output.string() + "' names a folder, not a file: add a file name");
+    std::vector<std::filesystem::path> targets = result.files;
+    targets.push_back(result.restMesh);
+    if (options.format == CacheFormat::ObjSequence)
+        for (int f = 1; f < frames; ++f)
+            targets.push_back(objSequenceFramePath(options.output, std::size_t(f)));
+    for (const std::filesystem::path& target : targets)
+        if (Status s = checkOutputTarget(target); !s)
+            return s;
+    for (const std::filesystem::path& target : targets)
+        removeStaleTemporaries(target);
 
     auto writer = makeClipWriter(options.format, options.exportOptions);
     setup.info.pointCount = rest.positions.size();

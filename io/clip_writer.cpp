@@ -163,6 +163,7 @@ Status StagedFile::publish() {
     std::filesystem::rename(m_temporary, m_target, renameError);
     if (renameError)
         return Status::error("cannot replace " + quoted(m_target) + ": " + renameError.message());
+    forgetTemporary(m_temporary);
     m_published = true;
     return Status::success();
 }
@@ -172,6 +173,7 @@ void StagedFile::discard() {
         return;
     std::error_code ignored;
     std::filesystem::remove(m_temporary, ignored);
+    forgetTemporary(m_temporary);
 }
 
 Status publishAll(std::vector<std::unique_ptr<StagedFile>>& files) {

@@ -65,8 +65,12 @@ Status checkPly(const std::filesystem::path& path) {
             break;
         }
     }
-    if (line != "end_header")
-        return Status::success();  // not a PLY header we understand; assimp reports it
+    if (line != "end_header") {
+        // A file that starts as a PLY but whose header never ends: assimp 5.2 reads past the buffer on it.
+        if (!elements.empty() || !format.empty())
+            return Status::error("its PLY header has no end_header line within its first 64 KiB: it is cut or corrupt");
+        return Status::success();  // not a PLY header at all; assimp reports it
+    }
     std::uint64_t announced = 0;
     for (const PlyElement& e : elements)
         announced += e.count;
@@ -155,12 +159,15 @@ std::string lowerExtension(const std::filesystem::path& path) {
 }  // namespace
 
 Status checkMeshFileIsWhole(const std::filesystem::path& path) {
-    const std::string ext = lowerExtension(path);
-    if (ext == ".ply")
+    // By content first: assimp tries every importer whose signature matches, whatever the extension
+    // (a PLY named .gltf is read as PLY).
+    char magic[4] = {};
+    std::ifstream(path, std::ios::binary).read(magic, sizeof magic);
+    if (std::string(magic, 3) == "ply")
         return checkPly(path);
-    if (ext == ".glb")
+    if (std::string(magic, 4) == "glTF")
         return checkGlb(path);
-    if (ext == ".obj")
+    if (lowerExtension(path) == ".obj")
         return checkObjEnd(path);
     return Status::success();
 }

@@ -7,20 +7,23 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <optional>
 #include <system_error>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace softtouch::io {
 
-Result<Mesh> importMesh(const std::filesystem::path& path) {
-    const std::string name = "'" + path.string() + "'";
-    if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
-        return Status::error("mesh file " + name + " " + s.message());
-    std::error_code ec;
-    if (std::filesystem::file_size(path, ec) == 0)
-        return Status::error("mesh file " + name + " is empty (0 bytes)");
-    if (Status s = checkMeshFileIsWhole(path); !s)
-        return Status::error("mesh file " + name + ": " + s.message());
+namespace {
 
+/// The import itself: assimp, then SoftTouch's clean-up of what it gives.
+Result<Mesh> readWithAssimp(const std::filesystem::path& path, const std::string& name) {
     Assimp::Importer importer;
     // Points and lines are of no use to a deformer: drop them instead of failing on them.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -78,6 +81,187 @@ Result<Mesh> importMesh(const std::filesystem::path& path) {
     if (Status s = mesh.validate(); !s)
         return Status::error("mesh file " + name + ": " + s.message());
     return mesh;
+}
+
+// The bytes a child process sends back: the message of a failure, or the mesh.
+template <typename T>
+void put(std::string& out, const T& value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+template <typename T>
+void putVector(std::string& out, const std::vector<T>& values) {
+    put(out, std::uint64_t(values.size()));
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+std::string encode(const Result<Mesh>& result) {
+    std::string out;
+    put(out, std::uint8_t(result.ok()));
+    if (!result.ok()) {
+        put(out, std::uint64_t(result.message().size()));
+        out += result.message();
+        return out;
+    }
+    const Mesh& mesh = result.value();
+    putVector(out, mesh.positions);
+    putVector(out, mesh.normals);
+    putVector(out, mesh.triangles);
+    put(out, std::uint64_t(mesh.parts.size()));
+    for (const MeshPart& part : mesh.parts) {
+        put(out, std::uint64_t(part.name.size()));
+        out += part.name;
+        put(out, part.firstVertex);
+        put(out, part.vertexCount);
+    }
+    return out;
+}
+
+/// Reads what encode() wrote; nullopt when the bytes are cut short.
+class Decoder {
+public:
+    explicit Decoder(const std::string& bytes) : m_bytes(bytes) {}
+    template <typename T>
+    bool get(T& value) {
+        if (m_bytes.size() - m_at < sizeof value)
+            return false;
+        std::memcpy(&value, m_bytes.data() + m_at, sizeof value);
+        m_at += sizeof value;
+        return true;
+    }
+    bool getBytes(std::string& out) {
+        std::uint64_t n = 0;
+        if (!get(n) || m_bytes.size() - m_at < n)
+            return false;
+        out.assign(m_bytes.data() + m_at, std::size_t(n));
+        m_at += std::size_t(n);
+        return true;
+    }
+    template <typename T>
+    bool getVector(std::vector<T>& values) {
+        std::uint64_t n = 0;
+        if (!get(n) || (m_bytes.size() - m_at) / sizeof(T) < n)
+            return false;
+        values.resize(std::size_t(n));
+        std::memcpy(static_cast<void*>(values.data()), m_bytes.data() + m_at, std::size_t(n) * sizeof(T));
+        m_at += std::size_t(n) * sizeof(T);
+        return true;
+    }
+
+private:
+    const std::string& m_bytes;
+    std::size_t m_at = 0;
+};
+
+std::optional<Result<Mesh>> decode(const std::string& bytes) {
+    Decoder in(bytes);
+    std::uint8_t ok = 0;
+    if (!in.get(ok))
+        return std::nullopt;
+    if (!ok) {
+        std::string message;
+        if (!in.getBytes(message))
+            return std::nullopt;
+        return Result<Mesh>(Status::error(message));
+    }
+    Mesh mesh;
+    std::uint64_t parts = 0;
+    if (!in.getVector(mesh.positions) || !in.getVector(mesh.normals) || !in.getVector(mesh.triangles) || !in.get(parts))
+        return std::nullopt;
+    for (std::uint64_t i = 0; i < parts; ++i) {
+        MeshPart part;
+        if (!in.getBytes(part.name) || !in.get(part.firstVertex) || !in.get(part.vertexCount))
+            return std::nullopt;
+        mesh.parts.push_back(std::move(part));
+    }
+    return Result<Mesh>(std::move(mesh));
+}
+
+/// Runs readWithAssimp in a child process. Debian's assimp 5.2 aborts, or reads past its buffers, on
+/// some corrupt files (fuzz_mesh found a PLY whose post-processing calls abort()); in a child, that
+/// crash becomes an error message instead of taking the editor, and the user's unsaved work, with it.
+Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& name) {
+    int fds[2], errs[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0)
+        return readWithAssimp(path, name);  // no pipe: read in this process rather than not at all
+    if (::pipe2(errs, O_CLOEXEC) != 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return readWithAssimp(path, name);
+    }
+    std::fflush(nullptr);
+    const pid_t child = ::fork();
+    if (child < 0) {
+        for (int fd : {fds[0], fds[1], errs[0], errs[1]})
+            ::close(fd);
+        return readWithAssimp(path, name);
+    }
+    if (child == 0) {
+        // What assimp prints before it aborts ("ai_assert failure in …") goes to the parent's message.
+        ::dup2(errs[1], STDERR_FILENO);
+        ::close(fds[0]);
+        ::close(errs[0]);
+        const std::string bytes = encode(readWithAssimp(path, name));
+        for (std::size_t done = 0; done < bytes.size();) {
+            const ssize_t n = ::write(fds[1], bytes.data() + done, bytes.size() - done);
+            if (n <= 0)
+                ::_exit(3);
+            done += std::size_t(n);
+        }
+        ::_exit(0);
+    }
+    ::close(fds[1]);
+    ::close(errs[1]);
+    // Both pipes at once: a child that fills one while the parent waits on the other would hang.
+    std::string bytes, errors;
+    char chunk[1 << 16];
+    pollfd open[2] = {{fds[0], POLLIN, 0}, {errs[0], POLLIN, 0}};
+    while (open[0].fd >= 0 || open[1].fd >= 0) {
+        if (::poll(open, 2, -1) < 0) {
+            if (errno == EINTR)
+                continue;
+            break;
+        }
+        for (int i = 0; i < 2; ++i) {
+            if (open[i].fd < 0 || open[i].revents == 0)
+                continue;
+            const ssize_t n = ::read(open[i].fd, chunk, sizeof chunk);
+            if (n > 0)
+                (i == 0 ? bytes : errors).append(chunk, std::size_t(n));
+            else if (n == 0 || errno != EINTR)
+                open[i].fd = -1;
+        }
+    }
+    ::close(fds[0]);
+    ::close(errs[0]);
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    const std::string said = errors.substr(0, std::min(errors.find('\n'), std::size_t(200)));
+    if (WIFSIGNALED(status))
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) crashed on it (signal " +
+                             std::to_string(WTERMSIG(status)) + (said.empty() ? "" : ": " + said) +
+                             "); the file is corrupt or in a form assimp cannot read");
+    auto decoded = WIFEXITED(status) && WEXITSTATUS(status) == 0 ? decode(bytes) : std::nullopt;
+    if (!decoded)
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (exit status " +
+                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                             "); the file is corrupt or in a form assimp cannot read");
+    return std::move(*decoded);
+}
+
+}  // namespace
+
+Result<Mesh> importMesh(const std::filesystem::path& path) {
+    const std::string name = "'" + path.string() + "'";
+    if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
+        return Status::error("mesh file " + name + " " + s.message());
+    std::error_code ec;
+    if (std::filesystem::file_size(path, ec) == 0)
+        return Status::error("mesh file " + name + " is empty (0 bytes)");
+    if (Status s = checkMeshFileIsWhole(path); !s)
+        return Status::error("mesh file " + name + ": " + s.message());
+
+    return readIsolated(path, name);
 }
 
 }  // namespace softtouch::io

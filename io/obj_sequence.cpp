@@ -115,6 +115,8 @@ public:
             const std::filesystem::path target = objSequenceFramePath(m_path, frame);
             std::error_code error;
             std::filesystem::rename(m_staged[frame], target, error);
+            if (!error)
+                detail::forgetTemporary(m_staged[frame]);
             if (error) {
                 // Renames within one directory practically never fail once the files exist; if one
                 // does, frames before it are already replaced and cannot be put back.
@@ -137,6 +139,7 @@ public:
         for (const std::filesystem::path& staged : m_staged) {
             std::error_code ignored;
             std::filesystem::remove(staged, ignored);
+            detail::forgetTemporary(staged);
         }
         m_staged.clear();
         m_text.clear();

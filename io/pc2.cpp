@@ -113,7 +113,7 @@ Result<VertexCache> readPc2(const std::filesystem::path& path) {
     cache.info.fps = 0.0;  // PC2 has no frame rate; sampleRate is a frame step (see the top of this file)
     cache.info.startFrame = startFrame;
     cache.frames.reserve(cache.info.frameCount);
-    std::vector<std::uint8_t> buffer(static_cast<std::size_t>(frameBytes));
+    std::vector<std::uint8_t> buffer(static_cast<std::size_t>(samples > 0 ? frameBytes : 0));  // see readMdd
     for (std::int32_t i = 0; i < samples; ++i) {
         if (Status s = file.read(buffer.data(), buffer.size()); !s)
             return s;

@@ -425,9 +425,11 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     }
     spreadObjectMass(v["material"], object.lattice, object.mesh, object.material, totalMass);
     readDrivers(v["drivers"], object.drivers);
-    // The body itself validates combinations (every node void, …).
+    // The solver's limits, then the body itself, which validates combinations (every node void, …).
     if (issues.empty()) {
-        if (auto body = buildLatticeBody(object.lattice, object.material); !body)
+        if (Status s = checkObjectLimits(object, project.scene.world); !s)
+            v.problem(s.message());
+        else if (auto body = buildLatticeBody(object.lattice, object.material); !body)
             v.problem(body.message());
     }
     project.meshReferences.push_back(*meshRef);
@@ -775,12 +777,10 @@ std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     const JsonValue objects = root["objects"];
     if (!objects.isArray() || objects.size() == 0)
         objects.problem("expected a non-empty array of objects");
+    // The world first: an object's body is built (and checked) only where the solver can run it.
+    readWorld(root, project.scene.world);
     for (std::size_t i = 0; i < objects.size(); ++i)
         readObject(objects.at(i), baseDir, project, issues);
-    readWorld(root, project.scene.world);
-    if (issues.empty())
-        if (Status s = checkSceneLimits(project.scene); !s)
-            issues.addGeneral(s.message());
     // The library refers to the objects' lattices: read it only onto a valid scene.
     if (!issues.empty())
         return std::nullopt;

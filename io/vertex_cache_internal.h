@@ -29,6 +29,8 @@ std::string formatNumber(double value);
 /// counter is shared by every caller so AtomicFile temporaries and staged OBJ frames never collide.
 /// Defined in atomic_file.cpp.
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
+/// The temporary was published or removed: the signal handler no longer needs to remove it.
+void forgetTemporary(const std::filesystem::path& temporary);
 
 // ---- Byte order ---------------------------------------------------------------------------------
 // Cache formats fix their byte order (PC2 little-endian, MDD big-endian) whatever the host's, so

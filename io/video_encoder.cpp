@@ -123,11 +123,15 @@ struct VideoEncoder::Impl {
     void discard() {
         freeCodec();
         std::error_code ignored;
-        if (!temporary.empty())
+        if (!temporary.empty()) {
             std::filesystem::remove(temporary, ignored);
+            detail::forgetTemporary(temporary);
+        }
         temporary.clear();
-        for (const auto& staged : stagedPngs)
+        for (const auto& staged : stagedPngs) {
             std::filesystem::remove(staged.first, ignored);
+            detail::forgetTemporary(staged.first);
+        }
         stagedPngs.clear();
         if (createdDirectory)
             std::filesystem::remove(target, ignored);  // only when still empty
@@ -386,12 +390,14 @@ Status VideoEncoder::finish() {
             d.discard();
             return s;
         }
+        detail::forgetTemporary(d.temporary);
         d.temporary.clear();
     }
     for (const auto& [staged, final] : d.stagedPngs) {
         std::filesystem::rename(staged, final, renameError);
         if (renameError)
             return Status::error("cannot replace " + detail::quoted(final) + ": " + renameError.message());
+        detail::forgetTemporary(staged);
     }
     d.stagedPngs.clear();
     d.createdDirectory = false;

@@ -15,6 +15,7 @@
 #include <QtTest>
 #include <cmath>
 #include <fstream>
+#include <csignal>
 #include <sys/stat.h>
 
 using namespace softtouch;
@@ -75,6 +76,7 @@ private slots:
     void badInputFailsCleanly_data();
     void badInputFailsCleanly();
     void failedBakeKeepsPreviousFile();
+    void interruptedBakeLeavesNoTemporaries();
     void validateCommand();
     void hapticRecordingReplaysBitExactly();
     void hapticBadDeviceFailsCleanly();
@@ -411,6 +413,9 @@ void TestCli::badInputFailsCleanly_data() {
     QTest::newRow("PLY with 8 of 100 vertices") << onMesh.arg("short.ply") << QStringList() << "holds 10: it is truncated" << 1;
     QTest::newRow("OBJ cut mid-face") << onMesh.arg("cut.obj") << QStringList() << "is cut off: the file is truncated" << 1;
     QTest::newRow("GLB claiming 2^31 bytes") << onMesh.arg("claims.glb") << QStringList() << "states 2147483648 bytes" << 1;
+    // assimp 5.2 calls abort() on this PLY (found by fuzz_mesh): the import runs in a child process.
+    QTest::newRow("PLY that crashes assimp") << onMesh.arg("aborts.ply") << QStringList()
+                                             << "the importer (assimp) crashed on it (signal 6: ai_assert failure" << 1;
 }
 
 void TestCli::badInputFailsCleanly() {
@@ -437,6 +442,12 @@ void TestCli::badInputFailsCleanly() {
     QVERIFY(claims.open(QIODevice::WriteOnly) && claims.write(glb) == glb.size());
     claims.close();
 
+    QFile aborts(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/tests/fuzz/fuzz_mesh/ply-assimp-aborts-in-postprocess.seed"));
+    QVERIFY(aborts.open(QIODevice::ReadOnly));
+    QFile abortsPly(dir.filePath("aborts.ply"));
+    QVERIFY(abortsPly.open(QIODevice::WriteOnly) && abortsPly.write(aborts.readAll().mid(1)) > 0);  // less the format byte
+    abortsPly.close();
+
     const QString scene = writeText(dir, "bad.softtouch", text);
     const QString out = dir.filePath("out.pc2");
     const Run r = runCli(QStringList{"bake", scene, "--out", out, "--quiet"} + extra);
@@ -456,12 +467,51 @@ void TestCli::badInputFailsCleanly() {
 
 void TestCli::failedBakeKeepsPreviousFile() {
     QTemporaryDir dir;
+    const QString scene = kScenes + "guppy-swim.softtouch";
     const QString out = dir.filePath("keep.pc2");
-    QCOMPARE(runCli({"bake", kScenes + "guppy-swim.softtouch", "--out", out, "--frames", "3", "--quiet"}).exitCode, 0);
+    QCOMPARE(runCli({"bake", scene, "--out", out, "--frames", "3", "--quiet"}).exitCode, 0);
     const QByteArray before = fileBytes(out);
+    const QByteArray restBefore = fileBytes(dir.filePath("keep.obj"));
     const QString bad = writeText(dir, "bad.softtouch", R"({"format": "softtouch-project", "version": 1, "objects": []})");
     QVERIFY(runCli({"bake", bad, "--out", out, "--quiet"}).exitCode != 0);
     QCOMPARE(fileBytes(out), before);
+
+    // A target that is a folder is refused before anything is written: the rest OBJ beside it stays
+    // (it used to be replaced before the cache's rename failed).
+    QVERIFY(QFile::remove(out) && QDir(dir.path()).mkdir("keep.pc2"));
+    const Run folder = runCli({"bake", scene, "--out", out, "--frames", "3", "--quiet"});
+    QCOMPARE(folder.exitCode, 1);
+    QVERIFY2(folder.err.contains("it exists and is a folder"), qPrintable(folder.err));
+    QCOMPARE(fileBytes(dir.filePath("keep.obj")), restBefore);
+    const Run noName = runCli({"bake", scene, "--out", dir.path() + "/", "--format", "pc2", "--quiet"});
+    QCOMPARE(noName.exitCode, 1);
+    QVERIFY2(noName.err.contains("names a folder, not a file"), qPrintable(noName.err));
+    QCOMPARE(QDir(dir.path()).entryList({".*obj", ".pc2"}, QDir::Files | QDir::Hidden).size(), 0);
+}
+
+// Temporaries never outlive a bake: Ctrl+C removes them, and those of a process killed outright
+// (here: a pid that no process has) are removed by the next bake to the same target.
+void TestCli::interruptedBakeLeavesNoTemporaries() {
+    QTemporaryDir dir;
+    QProcess bake;
+    bake.start(softtouch::test::kCli, {"bake", kScenes + "angelfish-swim.softtouch", "--out", dir.filePath("f.obj"), "--frames", "100000", "--quiet"});
+    QVERIFY(bake.waitForStarted());
+    // Wait until staged frames are on disk, then interrupt.
+    QDeadlineTimer deadline(60000);
+    while (QDir(dir.path()).entryList({"*.tmp-*"}, QDir::Files).size() < 3 && !deadline.hasExpired())
+        QTest::qWait(20);
+    QVERIFY(QDir(dir.path()).entryList({"*.tmp-*"}, QDir::Files).size() >= 3);
+    QVERIFY(::kill(pid_t(bake.processId()), SIGINT) == 0);
+    QVERIFY(bake.waitForFinished(60000));
+    QCOMPARE(bake.exitStatus(), QProcess::CrashExit);  // ended by the signal, as Ctrl+C ends a program
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).join(' '), QString());
+
+    const QString out = dir.filePath("x.pc2");
+    for (const char* leftover : {"x.pc2.tmp-2147483646-0", "x.obj.tmp-2147483646-7"})
+        writeText(dir, leftover, "half a file");
+    writeText(dir, "x.pc2.tmp-notapid", "someone else's");
+    QCOMPARE(runCli({"bake", kScenes + "guppy-swim.softtouch", "--out", out, "--frames", "2", "--quiet"}).exitCode, 0);
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList({"x.obj", "x.pc2", "x.pc2.tmp-notapid"}));
 }
 
 void TestCli::validateCommand() {

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/; the fuzz preset: clang + ASan + UBSan) and runs each for a bounded
+# time from its corpus: tests/fuzz/<target>/ (inputs that once failed) and the bundled presets as seeds.
+# A crash, a sanitizer report, an input slower than 20 s or an allocation over 2 GB fails the run and
+# leaves the input in build-fuzz/findings/<target>/: fix the cause, then copy the input into
+# tests/fuzz/<target>/ so ctest replays it in every build (fuzz_replay.<target>).
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 45; docs/reliability.md has the long run)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-45}"
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz
+status=0
+while read -r target corpora; do
+  [ -n "$target" ] || continue
+  work=build-fuzz/corpus/$target        # new inputs go to the first folder; the seeds stay untouched
+  findings=build-fuzz/findings/$target
+  mkdir -p "$work" "$findings"
+  echo "fuzzing $target for ${seconds} s"
+  # shellcheck disable=SC2086  # corpora is a list of folders
+  if ! ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
+       LSAN_OPTIONS=suppressions=fuzz/lsan.supp \
+       "build-fuzz/bin/$target" "$work" $corpora -max_total_time="$seconds" -timeout=20 \
+       -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 -artifact_prefix="$findings/" \
+       -print_final_stats=1 > "build-fuzz/$target.log" 2>&1; then
+    echo "FAILED: $target; the input is in $findings/, the report in build-fuzz/$target.log:"
+    grep -v "^#\|^INFO\|^replay" "build-fuzz/$target.log" | tail -40
+    status=1
+  else
+    grep -E "stat::number_of_executed_units|cov:" "build-fuzz/$target.log" | tail -2
+  fi
+done < build-fuzz/fuzz-targets.txt
+exit $status
