@@ -210,7 +210,7 @@ SeamMeasure measureSeam(const NodeFrames& frames) {
 }
 
 Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
-                                std::vector<std::string>* problems) {
+                                std::vector<std::string>* problems, int firstFrames) {
     if (Status s = clip.validate(); !s)
         return s;
     auto created = SceneSimulation::create(scene);
@@ -221,8 +221,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
 
     // Frames j = -pre .. last, at source time start + j/fps: pre-roll (j < 0), the clip (0..N-1), and
     // frame N, one period on, when a loop is closed.
-    const int n = clip.frames;
     const bool close = clip.loop && clip.blendFrames > 0;
+    const int n = !close && firstFrames > 0 ? std::min(firstFrames, clip.frames) : clip.frames;
     const int last = close ? n : n - 1;
     int pre = close && clip.startSeconds - double(clip.blendFrames) / clip.fps >= -1e-9 ? clip.blendFrames : 0;
     auto timeOf = [&](int j) { return std::max(0.0, clip.startSeconds + double(j) / clip.fps); };

@@ -90,8 +90,11 @@ struct NodeFrames {
 
 /// Evaluates a clip of `library` over `scene`: simulates (drivers, session, goals) or samples (keys)
 /// and closes the loop when asked. Problems reported by the simulation are appended to `problems`.
+/// `firstFrames` > 0: only the clip's first frames are wanted (`bake --frames 12` of a long clip). A clip
+/// whose loop is not blended then evaluates only those (its frames do not depend on later ones); a blended
+/// loop is evaluated whole, because its closure reaches across the clip.
 Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
-                                std::vector<std::string>* problems = nullptr);
+                                std::vector<std::string>* problems = nullptr, int firstFrames = 0);
 
 /// Applies loop closure to `frames` (N+1 frames F_0..F_N, F_N one period after F_0) with optional
 /// `preroll` (W+1 frames G_{N-W}..G_N, or empty) over a window of `window` frames; drops F_N.

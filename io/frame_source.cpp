@@ -32,13 +32,16 @@ Result<FrameSource> FrameSource::create(const Scene& scene, const FrameRequest& 
         if (request.fps > 0.0 && std::abs(request.fps - clip->fps) > 1e-9)
             return Status::error("clip '" + clip->name + "' plays at " + std::to_string(clip->fps) +
                                  " fps; leave the frame rate out or change the clip");
-        auto evaluated = evaluateClip(scene, *request.clips, *clip, warnings);
+        // A bake of fewer frames than a clip has, not cycling it, costs those frames (bake --frames 12 of a
+        // 100,000-frame clip took 40 s and 511 MB when the whole clip was evaluated first).
+        const int wanted = request.frames > 0 && request.frames < clip->frames ? request.frames : 0;
+        auto evaluated = evaluateClip(scene, *request.clips, *clip, warnings, wanted);
         if (!evaluated)
             return Status::error(evaluated.message());
         source.m_clipFrames = std::move(evaluated.value());
         if (source.m_clipFrames.nodes.empty())
             return Status::error("clip '" + clip->name + "' has no frames");
-        if (clip->loop && source.m_clipFrames.nodes.size() >= 3)
+        if (clip->loop && int(source.m_clipFrames.nodes.size()) == clip->frames && source.m_clipFrames.nodes.size() >= 3)
             source.m_seam = measureSeam(source.m_clipFrames);
         for (std::size_t i = 0; i < source.m_sim.objectCount(); ++i) {
             Mesh m = source.m_sim.object(i).mesh;

@@ -20,6 +20,7 @@ packages=(
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
+  clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
 )
 
 missing=()

@@ -25,6 +25,7 @@ private slots:
     void bakeSwimClipOfEveryFish_data();
     void bakeSwimClipOfEveryFish();
     void unknownClipFails();
+    void firstFramesOfALongClipAreTheClipsFirstFrames();
     void presetExportApplyBake();
     void badPresetWritesNothing();
 };
@@ -65,6 +66,36 @@ void TestCliClips::bakeSwimClipOfEveryFish() {
     QVERIFY(cycled.ok());
     QCOMPARE(cycled->frames.size(), std::size_t(48));
     QVERIFY(cycled->frames[30] == cache->frames[6]);
+}
+
+// `bake --frames 12` of a 100,000-frame clip evaluates 12 frames, not the clip (it took 40 s and 511 MB),
+// and they are exactly the first 12 frames of the clip baked whole.
+void TestCliClips::firstFramesOfALongClipAreTheClipsFirstFrames() {
+    QTemporaryDir dir;
+    QVERIFY(QDir(dir.path()).mkdir("scenes"));
+    for (const char* folder : {"meshes", "materials"})
+        QVERIFY(QFile::link(kPresets + folder, dir.filePath(folder)));
+    QFile source(kPresets + "scenes/angelfish-swim.softtouch");
+    QVERIFY(source.open(QIODevice::ReadOnly));
+    QString text = QString::fromUtf8(source.readAll());
+    const QString swim = R"({"name": "swim",)";
+    QVERIFY(text.contains(swim));
+    text.replace(swim, R"({"name": "long", "source": "drivers", "frames": 100000, "fps": 24},
+                         {"name": "short", "source": "drivers", "frames": 30, "fps": 24}, )" + swim);
+    QFile scene(dir.filePath("scenes/fish.softtouch"));
+    QVERIFY(scene.open(QIODevice::WriteOnly) && scene.write(text.toUtf8()) > 0);
+    scene.close();
+
+    const Run whole = runCli({"bake", scene.fileName(), "--clip", "short", "--out", dir.filePath("short.pc2"), "--quiet"});
+    QVERIFY2(whole.exitCode == 0, qPrintable(whole.err));
+    const Run first = runCli({"bake", scene.fileName(), "--clip", "long", "--frames", "12", "--out", dir.filePath("long.pc2"), "--quiet"});
+    QVERIFY2(first.exitCode == 0, qPrintable(first.err));
+    auto all = io::readPc2(dir.filePath("short.pc2").toStdString());
+    auto twelve = io::readPc2(dir.filePath("long.pc2").toStdString());
+    QVERIFY(all.ok() && twelve.ok());
+    QCOMPARE(twelve->frames.size(), std::size_t(12));
+    for (std::size_t f = 0; f < 12; ++f)
+        QVERIFY2(twelve->frames[f] == all->frames[f], qPrintable(QString("frame %1 differs").arg(f)));
 }
 
 void TestCliClips::unknownClipFails() {
