@@ -8,6 +8,8 @@
 #include <assimp/scene.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <optional>
@@ -211,12 +213,25 @@ Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& 
     }
     ::close(fds[1]);
     ::close(errs[1]);
-    // Both pipes at once: a child that fills one while the parent waits on the other would hang.
+    // Both pipes at once: a child that fills one while the parent waits on the other would hang. And a
+    // deadline: a child that never finishes (forking a threaded process can, in principle, leave a lock
+    // held in the child) is killed, so an import never hangs: 10 s, plus 0.1 s per MiB of file.
+    std::error_code sizeError;
+    const auto megabytes = std::filesystem::file_size(path, sizeError) >> 20;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(10000 + 100 * megabytes);
     std::string bytes, errors;
     char chunk[1 << 16];
     pollfd open[2] = {{fds[0], POLLIN, 0}, {errs[0], POLLIN, 0}};
+    bool late = false;
     while (open[0].fd >= 0 || open[1].fd >= 0) {
-        if (::poll(open, 2, -1) < 0) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        const int ready = left.count() > 0 ? ::poll(open, 2, int(left.count())) : 0;
+        if (ready == 0) {
+            late = true;
+            ::kill(child, SIGKILL);
+            break;
+        }
+        if (ready < 0) {
             if (errno == EINTR)
                 continue;
             break;
@@ -236,6 +251,9 @@ Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& 
     int status = 0;
     while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
     }
+    if (late)
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) did not finish within " +
+                             std::to_string(10 + megabytes / 10) + " s and was stopped");
     const std::string said = errors.substr(0, std::min(errors.find('\n'), std::size_t(200)));
     if (WIFSIGNALED(status))
         return Status::error("cannot read mesh " + name + ": the importer (assimp) crashed on it (signal " +
