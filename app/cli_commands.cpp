@@ -169,6 +169,9 @@ int runValidate(const std::vector<std::string>& args) {
                   "referenced meshes and presets too) and print every problem found, one per line.");
         return 0;
     }
+    for (const std::string& file : args)
+        if (file.size() > 1 && file[0] == '-')
+            return usage("unknown option '" + file + "' (validate takes files; write ./" + file + " for a file of that name)");
     int bad = 0;
     for (const std::string& file : args) {
         const std::vector<std::string> problems = io::validateFile(file);

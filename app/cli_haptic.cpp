@@ -10,6 +10,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <cstring>
 #include <thread>
@@ -109,6 +110,9 @@ int runHaptic(const std::vector<std::string>& args) {
     auto model = buildLatticeBody(object.lattice, object.material);
     if (!model) return fail(scenePath + ": object '" + object.name + "': " + model.message());
 
+    // A folder that was asked for must exist: silently falling back to the null device hid typos.
+    if (!pluginDir.empty() && !std::filesystem::is_directory(pluginDir))
+        return fail("--plugins '" + pluginDir + "' is not a folder of device plugins");
     DeviceRegistry registry(pluginDir.empty() ? DeviceRegistry::defaultFolder() : QString::fromStdString(pluginDir));
     QString chosen, error;
     std::unique_ptr<InputDevice> device =

@@ -285,6 +285,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
         break;
     }
     }
+    if (!sim.refusal().empty())
+        return Status::error(where + sim.refusal());
     for (const auto& s : samples) {
         for (const Vec3& p : s) {
             if (!isFinite(p))

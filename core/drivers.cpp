@@ -1,5 +1,7 @@
 #include "core/drivers.h"
 
+#include "core/ranges.h"
+
 #include <cmath>
 #include <numbers>
 
@@ -54,6 +56,8 @@ Status validateDriver(const Driver& driver) {
         for (std::size_t i = 0; i < d->keys.size(); ++i) {
             if (!std::isfinite(d->keys[i].time) || !isFinite(d->keys[i].offset))
                 return Status::error("keys/" + std::to_string(i) + ": non-finite time or offset");
+            if (d->keys[i].offset.norm() > ranges::kMaxDragOffset)
+                return Status::error("keys/" + std::to_string(i) + ": offset must be at most 1e4 m");
             if (i > 0 && !(d->keys[i].time > d->keys[i - 1].time))
                 return Status::error("keys/" + std::to_string(i) + ": key times must increase");
         }

@@ -21,6 +21,10 @@ inline constexpr double kMaxFps = 1000.0;
 inline constexpr int kMaxFrames = 1000000;
 /// Where a clip starts on its take, seconds: the simulation runs up to it before the first frame.
 inline constexpr double kMaxClipStart = 3600.0;
+/// Largest gravity, m/s² (a thousand g): 1e30 used to pass and overflowed the energy account.
+inline constexpr double kMaxGravity = 1e4;
+/// Largest drag offset a driver key moves its point by, metres.
+inline constexpr double kMaxDragOffset = 1e4;
 /// Lattice nodes implicit Euler factorises: its sparse LDLT fills in as the lattice grows (a 16x16x16
 /// B-spline's first step takes 4 s, 24x24x24 70 s and 0.6 GB; 64x64x64 ran out of memory). Larger
 /// lattices run with the explicit schemes or XPBD, whose cost is linear in the springs.

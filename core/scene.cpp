@@ -9,8 +9,8 @@
 namespace softtouch {
 
 Status WorldSettings::validate() {
-    if (!isFinite(gravity))
-        return Status::error("gravity must be finite");
+    if (!isFinite(gravity) || gravity.norm() > ranges::kMaxGravity)
+        return Status::error("gravity must be finite and at most 1e4 m/s² (a thousand g)");
     if (Status s = simulation.validate(); !s)
         return s;
     if (frames < 1 || frames > ranges::kMaxFrames)
@@ -128,9 +128,14 @@ void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* proble
         while (double(sim.stepCount() + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12) {
             // Forces are sampled at the start of the step.
             const StepReport report = sim.step(forcesAt(i, sim.time()));
-            if (problems && !report.problem.empty())
-                problems->push_back("object '" + m_objects[i].source->name + "' at t=" +
-                                    std::to_string(sim.time()) + " s: " + report.problem);
+            if (report.problem.empty())
+                continue;
+            const std::string problem =
+                "object '" + m_objects[i].source->name + "' at t=" + std::to_string(sim.time()) + " s: " + report.problem;
+            if (report.refused && m_refusal.empty())
+                m_refusal = problem;
+            if (problems)
+                problems->push_back(problem);
         }
     }
 }
@@ -168,6 +173,7 @@ void SceneSimulation::reset() {
         r.simulator.restoreState(restState(r.simulator.model()), 0);
         r.interactive.clear();
     }
+    m_refusal.clear();
 }
 
 void SceneSimulation::evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {

@@ -77,6 +77,10 @@ public:
     /// Steps every object until the simulated time reaches `seconds` (fixed dt; a step is taken when
     /// its end time is <= seconds). Problems reported by any step are appended to `problems`.
     void advanceTo(double seconds, std::vector<std::string>* problems = nullptr);
+    /// The first step refused since creation or reset() (it needed more than maxSubsteps substeps, so
+    /// the body stood still), as "object 'x' at t=… s: …"; empty when none. A bake fails on it: a frozen
+    /// cache is no answer.
+    const std::string& refusal() const { return m_refusal; }
     /// Simulated time, seconds.
     double time() const;
     /// Steps taken so far (every object takes the same steps).
@@ -116,6 +120,7 @@ private:
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Runtime> m_objects;
+    std::string m_refusal;
 };
 
 }  // namespace softtouch

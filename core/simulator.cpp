@@ -322,6 +322,7 @@ StepReport Simulator::step(const ExternalForces& external) {
             << integratorName(m_settings.integrator) << " (stable step " << stableStep(external)
             << " s): lower dt, soften the stiffest spring, raise the lightest mass, or use implicit-euler";
         report.problem = msg.str();
+        report.refused = true;
         ++m_stepCount;
         return report;
     }

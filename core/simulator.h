@@ -55,6 +55,7 @@ struct StepReport {
     int substeps = 0;          ///< Integrator calls made (0 when asleep or refused).
     bool sleeping = false;     ///< The body was asleep: nothing was computed.
     bool rolledBack = false;   ///< The step produced a non-finite state or energy from nowhere and was undone.
+    bool refused = false;      ///< The step needed more than maxSubsteps substeps and was not taken (the body froze).
     double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the account, fraction of the body's energy.
     std::string problem;       ///< Empty, or what went wrong and how to fix it.
 };

@@ -108,6 +108,10 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     result.objects = int(sim.objectCount());
     for (int f = 0; f < frames; ++f) {
         source.seek(f, &result.warnings);
+        if (const std::string& refusal = source.simulation().refusal(); !refusal.empty()) {
+            writer->abort();
+            return Status::error(refusal + "; nothing was written");
+        }
         std::size_t offset = 0;
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
             const std::size_t n = sim.object(i).mesh.positions.size();

@@ -439,7 +439,12 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
 void readWorld(const JsonValue& root, WorldSettings& w) {
     if (const JsonValue world = root["world"]; world.expectObject()) {
         world.checkKeys({"gravity", "planes"});
-        if (auto g = world["gravity"].vec3()) w.gravity = *g;
+        if (auto g = world["gravity"].vec3()) {
+            if (g->norm() > ranges::kMaxGravity)
+                world["gravity"].problem("expected at most 1e4 m/s² (a thousand g), got a magnitude of " + std::to_string(g->norm()));
+            else
+                w.gravity = *g;
+        }
         const JsonValue planes = world["planes"];
         if (planes.exists() && !planes.isArray())
             planes.problem("expected an array of planes");
@@ -479,6 +484,10 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
         if (auto x = clip["frames"].integer(1, ranges::kMaxFrames)) w.frames = *x;
         if (auto x = clip["fps"].number(ranges::kMinFps, ranges::kMaxFps, "frames per second")) w.fps = *x;
     }
+    // What core checks beyond each field (a safety net: a rule added there is enforced here too).
+    WorldSettings checked = w;
+    if (Status s = checked.validate(); !s)
+        root.problem(s.message());
 }
 
 // --- Version 2: the clip library. -------------------------------------------------------------

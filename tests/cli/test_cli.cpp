@@ -77,6 +77,7 @@ private slots:
     void badInputFailsCleanly();
     void failedBakeKeepsPreviousFile();
     void interruptedBakeLeavesNoTemporaries();
+    void refusedStepsFailTheBake();
     void explicitSchemesNeverPublishNonFiniteFrames_data();
     void explicitSchemesNeverPublishNonFiniteFrames();
     void validateCommand();
@@ -399,6 +400,7 @@ void TestCli::badInputFailsCleanly_data() {
                                          << "nest deeper than 64 levels" << 1;
     QTest::newRow("duplicate key") << good.arg(R"(, "material": {"mass": 1, "mass": 2})", "") << QStringList()
                                    << "\"mass\" appears twice" << 1;
+    QTest::newRow("gravity 1e30") << good.arg("", R"(, "world": {"gravity": [0, -1e30, 0]})") << QStringList() << "/world/gravity: expected at most 1e4" << 1;
     QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps must be in [1, 1000]" << 2;
     QTest::newRow("frames out of range") << good.arg("", "") << QStringList{"--frames", "0"} << "--frames" << 2;
     QTest::newRow("dt 1e-7") << good.arg("", R"(, "simulation": {"dt": 1e-7})") << QStringList() << "/simulation/dt" << 1;
@@ -516,6 +518,21 @@ void TestCli::interruptedBakeLeavesNoTemporaries() {
     QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList({"x.obj", "x.pc2", "x.pc2.tmp-notapid"}));
 }
 
+// A step that would need more than 200,000 explicit substeps is refused and the body stands still; a bake
+// of it fails (exit 1, saying what to change) instead of writing a frozen cache with exit 0.
+void TestCli::refusedStepsFailTheBake() {
+    QTemporaryDir dir;
+    const QString scene = writeText(dir, "stiff.softtouch", QString(R"({"format": "softtouch-project", "version": 3,
+ "objects": [{"mesh": "%1/presets/meshes/guppy.obj", "material": {"model": "lattice-springs", "mass": 1e-12, "stiffness": 1e8}}],
+ "simulation": {"integrator": "verlet"}, "clip": {"frames": 4, "fps": 24}})").arg(SOFTTOUCH_SOURCE_DIR));
+    const QString out = dir.filePath("stiff.pc2");
+    const Run r = runCli({"bake", scene, "--out", out, "--quiet"});
+    QCOMPARE(r.exitCode, 1);
+    QVERIFY2(r.err.contains("needs more than 200000 substeps") && r.err.contains("nothing was written"), qPrintable(r.err));
+    QVERIFY(!QFile::exists(out));
+    QVERIFY(!QFile::exists(dir.filePath("stiff.obj")));
+}
+
 void TestCli::explicitSchemesNeverPublishNonFiniteFrames_data() {
     QTest::addColumn<QString>("integrator");
     QTest::newRow("symplectic Euler") << "symplectic-euler";
@@ -601,6 +618,12 @@ void TestCli::hapticBadDeviceFailsCleanly() {
     const Run badGrab = runCli({"haptic", kScenes + "star-drag.softtouch", "--grab", "0.5,2,0.5"});
     QCOMPARE(badGrab.exitCode, 2);
     QVERIFY2(badGrab.err.contains("--grab"), qPrintable(badGrab.err));
+    const Run noPlugins = runCli({"haptic", kScenes + "star-drag.softtouch", "--plugins", "/nonexistent", "--seconds", "0.1"});
+    QCOMPARE(noPlugins.exitCode, 1);  // it used to fall back to the null device and exit 0
+    QVERIFY2(noPlugins.err.contains("'/nonexistent' is not a folder of device plugins"), qPrintable(noPlugins.err));
+    const Run bogus = runCli({"validate", "--bogus"});
+    QCOMPARE(bogus.exitCode, 2);  // it used to be read as a file
+    QVERIFY2(bogus.err.contains("unknown option '--bogus'"), qPrintable(bogus.err));
 }
 
 QTEST_GUILESS_MAIN(TestCli)
