@@ -441,7 +441,7 @@ void TestCli::badInputFailsCleanly() {
     QByteArray cut = guppy.readAll();
     cut.truncate(cut.lastIndexOf("\nf ") + 8);  // inside the last face line
     writeText(dir, "cut.obj", QString::fromLatin1(cut));
-    QByteArray glb("glTF\x02\0\0\0\0\0\0\x80\0\0\0\x80JSON{}", 24);  // total and chunk length 2^31
+    const QByteArray glb("glTF\x02\0\0\0\0\0\0\x80\0\0\0\x80JSON{}", 22);  // total and chunk length 2^31
     QFile claims(dir.filePath("claims.glb"));
     QVERIFY(claims.open(QIODevice::WriteOnly) && claims.write(glb) == glb.size());
     claims.close();
