@@ -25,6 +25,11 @@ inline constexpr double kMaxClipStart = 3600.0;
 inline constexpr double kMaxGravity = 1e4;
 /// Largest drag offset a driver key moves its point by, metres.
 inline constexpr double kMaxDragOffset = 1e4;
+/// How far outside its lattice box a mesh vertex may lie, in box lengths along each axis. Outside the
+/// box the lattice map is extrapolated, and its weights grow as the distance to the power of the
+/// degree: a guppy bound to a 1 mm box 1 km away baked non-finite frames. No deformer setup puts a vertex
+/// ten box lengths out.
+inline constexpr double kMaxOutsideBox = 10.0;
 /// Lattice nodes implicit Euler factorises: its sparse LDLT fills in as the lattice grows (a 16x16x16
 /// B-spline's first step takes 4 s, 24x24x24 70 s and 0.6 GB; 64x64x64 ran out of memory). Larger
 /// lattices run with the explicit schemes or XPBD, whose cost is linear in the springs.

@@ -3,8 +3,10 @@
 #include "core/oriented_box.h"
 #include "core/ranges.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 
 namespace softtouch {
 
@@ -67,6 +69,20 @@ Result<Scene> newScene(std::string name, Mesh mesh) {
 }
 
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
+    // How far outside the box (in box lengths) the farthest vertex lies.
+    const OrientedBox& box = object.lattice.box();
+    double outside = 0.0;
+    for (const Vec3f& p : object.mesh.positions) {
+        const Vec3 t = box.toParameters(p.cast<double>());
+        outside = std::max({outside, -t.minCoeff(), t.maxCoeff() - 1.0});
+    }
+    if (!(outside <= ranges::kMaxOutsideBox)) {
+        char distance[32];
+        std::snprintf(distance, sizeof distance, "%.3g", outside);
+        return Status::error("object '" + object.name + "': its mesh lies up to " + distance +
+                             " box lengths outside its lattice box (at most 10): move or enlarge the box, or leave "
+                             "\"box\" out so SoftTouch fits one");
+    }
     if (world.simulation.integrator == IntegratorKind::ImplicitEuler &&
         std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
         return Status::error("object '" + object.name + "': implicit Euler factorises at most " +

@@ -400,6 +400,8 @@ void TestCli::badInputFailsCleanly_data() {
                                          << "nest deeper than 64 levels" << 1;
     QTest::newRow("duplicate key") << good.arg(R"(, "material": {"mass": 1, "mass": 2})", "") << QStringList()
                                    << "\"mass\" appears twice" << 1;
+    QTest::newRow("box far from its mesh") << good.arg(R"(, "lattice": {"box": {"origin": [1000, 1000, 1000], "size": [0.001, 0.001, 0.001]}})", "")
+                                          << QStringList() << "box lengths outside its lattice box (at most 10)" << 1;
     QTest::newRow("gravity 1e30") << good.arg("", R"(, "world": {"gravity": [0, -1e30, 0]})") << QStringList() << "/world/gravity: expected at most 1e4" << 1;
     QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps must be in [1, 1000]" << 2;
     QTest::newRow("frames out of range") << good.arg("", "") << QStringList{"--frames", "0"} << "--frames" << 2;
