@@ -25,6 +25,10 @@ inline constexpr double kMaxClipStart = 3600.0;
 inline constexpr double kMaxGravity = 1e4;
 /// Largest drag offset a driver key moves its point by, metres.
 inline constexpr double kMaxDragOffset = 1e4;
+/// Size of a mesh (its bounding box's diagonal), metres: SoftTouch works in metres, and a mesh of 1e30 m
+/// (or 1e-30 m) left the lattice's springs with rest lengths that round to nothing.
+inline constexpr double kMinMeshSize = 1e-4;
+inline constexpr double kMaxMeshSize = 1e5;
 /// How far outside its lattice box a mesh vertex may lie, in box lengths along each axis. Outside the
 /// box the lattice map is extrapolated, and its weights grow as the distance to the power of the
 /// degree: a guppy bound to a 1 mm box 1 km away baked non-finite frames. No deformer setup puts a vertex

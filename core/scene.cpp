@@ -69,6 +69,14 @@ Result<Scene> newScene(std::string name, Mesh mesh) {
 }
 
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
+    const Bounds bounds = object.mesh.bounds();
+    const double across = (bounds.max - bounds.min).norm();
+    if (!(across >= ranges::kMinMeshSize && across <= ranges::kMaxMeshSize)) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%.3g", across);
+        return Status::error("object '" + object.name + "': its mesh is " + size +
+                             " m across; SoftTouch works in metres, from 0.1 mm to 100 km: rescale it");
+    }
     // How far outside the box (in box lengths) the farthest vertex lies.
     const OrientedBox& box = object.lattice.box();
     double outside = 0.0;

@@ -402,6 +402,7 @@ void TestCli::badInputFailsCleanly_data() {
                                    << "\"mass\" appears twice" << 1;
     QTest::newRow("box far from its mesh") << good.arg(R"(, "lattice": {"box": {"origin": [1000, 1000, 1000], "size": [0.001, 0.001, 0.001]}})", "")
                                           << QStringList() << "box lengths outside its lattice box (at most 10)" << 1;
+    QTest::newRow("mesh 1e30 m across") << onMesh.arg("huge.obj") << QStringList() << "its mesh is 1.73e+30 m across" << 1;
     QTest::newRow("gravity 1e30") << good.arg("", R"(, "world": {"gravity": [0, -1e30, 0]})") << QStringList() << "/world/gravity: expected at most 1e4" << 1;
     QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps must be in [1, 1000]" << 2;
     QTest::newRow("frames out of range") << good.arg("", "") << QStringList{"--frames", "0"} << "--frames" << 2;
@@ -438,6 +439,7 @@ void TestCli::badInputFailsCleanly() {
     const QString eight = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 0\n1 0 1\n0 1 1\n1 1 1\n3 0 1 2\n3 1 2 3\n";
     writeText(dir, "huge.ply", header.arg(2000000000) + eight);
     writeText(dir, "short.ply", header.arg(100) + eight);
+    writeText(dir, "huge.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nv 0 0 1e30\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
     QFile guppy(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj"));
     QVERIFY(guppy.open(QIODevice::ReadOnly));
     QByteArray cut = guppy.readAll();
