@@ -2,12 +2,15 @@
 
 #include "core/mesh_volume.h"
 #include "core/ranges.h"
+#include "core/integrator.h"
+#include "core/simulator.h"
 
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace softtouch::io {
 namespace fs = std::filesystem;
@@ -427,10 +430,24 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     readDrivers(v["drivers"], object.drivers);
     // The solver's limits, then the body itself, which validates combinations (every node void, …).
     if (issues.empty()) {
-        if (Status s = checkObjectLimits(object, project.scene.world); !s)
+        if (Status s = checkObjectLimits(object, project.scene.world); !s) {
             v.problem(s.message());
-        else if (auto body = buildLatticeBody(object.lattice, object.material); !body)
+        } else if (auto body = buildLatticeBody(object.lattice, object.material); !body) {
             v.problem(body.message());
+        } else {
+            // A step the explicit schemes would refuse at rest fails every bake: say so here, not there.
+            const SimulationSettings& settings = project.scene.world.simulation;
+            ExternalForces rest;
+            rest.gravity = project.scene.world.gravity;
+            const Simulator simulator(body.value(), settings);
+            if (simulator.substepsFor(rest) > settings.maxSubsteps) {
+                std::ostringstream msg;
+                msg << "at dt = " << settings.dt << " s this body needs more than " << settings.maxSubsteps << " substeps of "
+                    << integratorName(settings.integrator) << " a step (stable step " << simulator.stableStep(rest)
+                    << " s): lower dt, soften the stiffest spring, raise the lightest mass, or use implicit-euler";
+                v.problem(msg.str());
+            }
+        }
     }
     project.meshReferences.push_back(*meshRef);
     project.scene.objects.push_back(std::move(object));
