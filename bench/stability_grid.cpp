@@ -1,5 +1,7 @@
 #include "bench/stability_grid.h"
 
+#include "core/ranges.h"
+
 #include "core/lattice_body.h"
 #include "core/parallel.h"
 #include "core/simulator.h"
@@ -21,8 +23,8 @@ constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, Inte
                                            IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd};
 constexpr double kBoundFactors[] = {0.1, 1.0, 10.0};  // kDtLabels[0..2]; kDtLabels[3] is 1/24 s
 constexpr double kFilmStep = 1.0 / 24.0;              ///< s, the coarsest step an animator would bake at.
-constexpr double kMaxDt = 0.1;                        ///< s, SimulationSettings' upper limit.
-constexpr double kProjectMinDt = 1e-7;                ///< s, the project file's lower limit on dt.
+constexpr double kMaxDt = ranges::kMaxDt;             ///< s, SimulationSettings' upper limit.
+constexpr double kProjectMinDt = ranges::kMinDt;      ///< s, the project file's lower limit on dt.
 constexpr double kEnergyEpsilon = 1e-12;              ///< J, absolute slack on the energy bound.
 constexpr double kEnergyFactor = 2.0;                 ///< Energy may not exceed this times its start.
 constexpr double kPerturbation = 0.01;                ///< m, 1% of the unit box, per component.
@@ -431,7 +433,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << "  `Simulator::stableStep` with `stabilitySafety = 1` for that body and drag: 2/ω (√(1+ζ²) − ζ) with\n"
        << "  ω² the largest eigenvalue of M⁻¹K (springs plus drag) and ζ its damping ratio (docs/lattice.md).\n"
        << "  Steps above 0.1 s (the settings' limit) are clamped to 0.1 s. Steps below the project file's\n"
-       << "  1e-7 s limit are run as they are (the Simulator accepts any dt in (0, 0.1]), so \"0.1x bound\" always\n"
+       << "  1e-5 s limit are run as they are (the Simulator itself accepts any dt in (0, 0.1]), so \"0.1x bound\" always\n"
        << "  means a tenth of the bound.\n"
        << "- **Run**: the same body with every integrator and the simulator's guards as shipped\n"
        << "  (`stabilitySafety` " << formatNumber(cells.front().stabilitySafety) << ", XPBD "
@@ -652,7 +654,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
     md << "## Notes\n\n"
        << "- Largest energy growth among runs that did not fail: " << formatNumber(worstStable, 3) << "x E₀.\n"
        << "- " << clamped << " runs had their step clamped to 0.1 s; " << belowProjectLimit
-       << " ran below the project file's 1e-7 s limit (reachable through the API only).\n"
+       << " ran below the project file's 1e-5 s limit (reachable through the API only).\n"
        << "- Implicit Euler: ";
     const OutcomeCounts ie = countOutcomes(cells, IntegratorKind::ImplicitEuler);
     if (ie.stable == ie.total())
