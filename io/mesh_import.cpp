@@ -198,6 +198,11 @@ Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& 
         return readWithAssimp(path, name);
     }
     if (child == 0) {
+        // A crash in the child must end the child and nothing else: handlers inherited from the parent
+        // (a crash reporter; under the fuzzer, libFuzzer's, which would file the child's crash as the
+        // parent's finding) are put back to the default, so the parent sees the signal and reports it.
+        for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT})
+            ::signal(sig, SIG_DFL);
         // What assimp prints before it aborts ("ai_assert failure in …") goes to the parent's message.
         ::dup2(errs[1], STDERR_FILENO);
         ::close(fds[0]);
