@@ -165,7 +165,7 @@ int runValidate(const std::vector<std::string>& args) {
     if (args.empty())
         return usage("validate needs at least one FILE");
     if (args.front() == "--help" || args.front() == "-h") {
-        std::puts("Usage: softtouch-cli validate FILE...\n\nCheck *.softtouch projects and *.stpreset presets (the "
+        std::puts("Usage: softtouch-cli validate FILE...\n\nCheck *.softtouch projects, *.stpreset presets and *.sttraj device trajectories (the "
                   "referenced meshes and presets too) and print every problem found, one per line.");
         return 0;
     }

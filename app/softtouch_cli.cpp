@@ -34,7 +34,7 @@ Commands:
              'softtouch-cli modes --help'.
   upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
              every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
-  validate   Check project (*.softtouch) and preset (*.stpreset) files; print every problem found.
+  validate   Check project (*.softtouch), preset (*.stpreset) and trajectory (*.sttraj) files; print every problem found.
   preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
              one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.

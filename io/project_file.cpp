@@ -7,6 +7,7 @@
 
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
+#include "io/trajectory_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -868,6 +869,14 @@ std::vector<std::string> validateFile(const fs::path& path) {
     const std::string format = doc->is_object() && doc->contains("format") && (*doc)["format"].is_string()
                                    ? (*doc)["format"].get<std::string>()
                                    : std::string();
+    if (format == "softtouch-trajectory") {  // a device recording, or a script for the scripted device
+        auto trajectory = loadTrajectory(path);
+        if (trajectory)
+            return {};
+        JsonIssues all(path.string());
+        all.addGeneral(trajectory.message());
+        return all.messages();
+    }
     if (format == kPresetFormat && (*doc).contains("kind") && (*doc)["kind"] == "setup") {
         auto setup = loadSetupPreset(path);
         if (setup)

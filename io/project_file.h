@@ -50,7 +50,7 @@ struct SetupPreset {
 /// Loads a project and its meshes and builds the scene. On failure the message is the first
 /// problem (and how many more there are).
 Result<Project> loadProject(const std::filesystem::path& path);
-/// Every problem in a project or preset file (decided by its "format"); empty when valid.
+/// Every problem in a project, preset or trajectory file (decided by its "format"); empty when valid.
 std::vector<std::string> validateFile(const std::filesystem::path& path);
 /// Writes a project atomically (explicit box, per-node values, anchors and voids as node lists).
 Status saveProject(const Project& project, const std::filesystem::path& path);

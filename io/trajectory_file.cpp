@@ -35,13 +35,17 @@ void readDevice(const JsonValue& v, DeviceInfo& info) {
     if (auto x = v["forceFeedback"].boolean()) info.forceFeedback = *x;
 }
 
+/// Bound on every time, position and velocity in a trajectory, given or derived: what a recording of a
+/// loaded trajectory writes stays inside it, so every recording reloads.
+constexpr double kMaxMagnitude = 1e12;
+
 std::optional<double> finiteAt(const JsonValue& sample, std::size_t i, const char* what) {
     const JsonValue v = sample.at(i);
     if (!v.isNumber()) {
         v.problem(std::string("expected a number (") + what + ")");
         return std::nullopt;
     }
-    return v.number(-1e12, 1e12, what);
+    return v.number(-kMaxMagnitude, kMaxMagnitude, what);
 }
 
 }  // namespace
@@ -116,6 +120,16 @@ Result<Trajectory> loadTrajectory(const std::filesystem::path& path) {
             const std::size_t a = i == 0 ? 0 : i - 1;
             const std::size_t b = i + 1 == n ? n - 1 : i + 1;
             s[i].velocity = (s[b].position - s[a].position) / (s[b].time - s[a].time);
+            // A velocity the file could not hold would make a recording of this trajectory unreadable.
+            if (!s[i].velocity.allFinite() || s[i].velocity.cwiseAbs().maxCoeff() > kMaxMagnitude) {
+                std::ostringstream msg;
+                msg.precision(3);
+                msg << "moves " << (s[b].position - s[a].position).norm() << " m in " << (s[b].time - s[a].time)
+                    << " s between samples " << a << " and " << b << ": faster than " << kMaxMagnitude
+                    << " m/s on an axis, the most a trajectory can hold";
+                samples.at(i).problem(msg.str());
+                return Status::error(issues.summary());
+            }
         }
     }
     return trajectory;

@@ -83,6 +83,7 @@ private slots:
     void validateCommand();
     void hapticRecordingReplaysBitExactly();
     void hapticBadDeviceFailsCleanly();
+    void everyRecordingOfALoadableTrajectoryReloads();
 };
 
 void TestCli::helpAndUsage() {
@@ -625,6 +626,41 @@ void TestCli::hapticRecordingReplaysBitExactly() {
     const Run still = runCli(common + QStringList{"--device", "null"});
     QVERIFY2(still.exitCode == 0, qPrintable(still.err));
     QVERIFY(hash.match(still.out).captured(1) != a);
+}
+
+void TestCli::everyRecordingOfALoadableTrajectoryReloads() {
+    // A recording writes what the scripted device played: positions between the file's, velocities
+    // given or derived from them. Trajectories at the edges of what loads must give recordings that load;
+    // one whose derived velocity no file could hold (1e10 m in 1 ms) is refused when it is loaded, naming
+    // the samples, instead of producing a recording nothing can read.
+    QTemporaryDir dir;
+    const QString head = R"({"format": "softtouch-trajectory", "version": 1, "samples": )";
+    const QStringList legal = {
+        "[[0, 0, 0, 0], [1e6, 1e12, -1e12, 0]]",                                  // far, slowly
+        "[[0, 0, 0, 0], [1e-9, 1e-3, 0, 0], [2e-9, 0, 0, 0]]",                    // quick, barely moving
+        "[[-5, 0, 0, 0, 1e12, -1e12, 0, 3, 1, 2, -2], [-4.999, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]]",  // given extremes
+    };
+    for (int i = 0; i < legal.size(); ++i) {
+        const QString script = writeText(dir, QString("legal%1.sttraj").arg(i), head + legal[i] + "}");
+        const QString recorded = dir.filePath(QString("recorded%1.sttraj").arg(i));
+        const Run record = runCli({"haptic", kScenes + "star-drag.softtouch", "--device", "scripted", "--manual",
+                                   "--seconds", "0.05", "--device-arg", script, "--record", recorded});
+        QVERIFY2(record.exitCode == 0, qPrintable(legal[i] + ": " + record.err));
+        const Run reload = runCli({"haptic", kScenes + "star-drag.softtouch", "--device", "scripted", "--manual",
+                                   "--seconds", "0.05", "--device-arg", recorded});
+        QVERIFY2(reload.exitCode == 0, qPrintable(legal[i] + ": " + reload.err));
+    }
+    const QString tooFast = writeText(dir, "too-fast.sttraj", head + "[[0, 0, 0, 0], [0.001, 1e10, 0, 0], [0.002, 0, 0, 0]]}");
+    const Run refused = runCli({"haptic", kScenes + "star-drag.softtouch", "--device", "scripted", "--manual",
+                                "--seconds", "0.05", "--device-arg", tooFast});
+    QCOMPARE(refused.exitCode, 1);
+    QVERIFY2(refused.err.contains("too-fast.sttraj") && refused.err.contains("/samples/0") &&
+                 refused.err.contains("between samples 0 and 1"),
+             qPrintable(refused.err));
+    const Run validated = runCli({"validate", tooFast});
+    QCOMPARE(validated.exitCode, 1);
+    QVERIFY2(validated.err.contains("between samples 0 and 1"), qPrintable(validated.err));
+    QCOMPARE(runCli({"validate", dir.filePath("recorded0.sttraj")}).exitCode, 0);
 }
 
 void TestCli::hapticBadDeviceFailsCleanly() {
