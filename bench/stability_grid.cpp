@@ -62,6 +62,7 @@ struct CellSetup {
     double nodeMass = 0.0;
     double damping = 0.0;
     double perturbation = kPerturbation;
+    bool dragReleased = false; ///< The drag lets go after half the run.
     std::shared_ptr<const BodyModel> model;
     ExternalForces forces;
     BodyState start;
@@ -72,9 +73,10 @@ struct CellSetup {
 /// above 1), one drag at (0.9, 0.5, 0.5) with the material's k and c, free nodes perturbed by up to
 /// 1% of the box (5% for the large-deformation runs) so that every mode starts excited.
 CellSetup makeSetup(const Lattice& lattice, double stiffness, double massRatio, double nodeMass, double damping,
-                    double perturbation) {
+                    double perturbation, bool dragReleased = false) {
     CellSetup setup;
     setup.perturbation = perturbation;
+    setup.dragReleased = dragReleased;
     setup.stiffness = stiffness;
     setup.massRatio = massRatio;
     setup.nodeMass = nodeMass;
@@ -188,6 +190,7 @@ StabilityCell runCell(const CellSetup& setup, const Lattice& lattice, Integrator
     cell.nodeMass = setup.nodeMass;
     cell.damping = setup.damping;
     cell.perturbation = setup.perturbation;
+    cell.dragReleased = setup.dragReleased;
     cell.stableStep = setup.stableStep;
     cell.dtLabel = std::string(kDtLabels[dtIndex]);
     cell.steps = steps;
@@ -216,6 +219,10 @@ StabilityCell runCell(const CellSetup& setup, const Lattice& lattice, Integrator
     static const std::vector<Vec3> kSamples = samplePoints();
     const BodyModel& model = *setup.model;
     const double e0 = totalEnergy(model, setup.forces, setup.start);
+    // Letting go removes the drag's potential from E and adds nothing, so 2 E0 stays a bound on the exact
+    // motion; the step bound of the body alone is larger than with the drag, so no new substeps are due.
+    const ExternalForces released;
+    const int releaseStep = setup.dragReleased ? steps / 2 : steps;
     const double limit = kEnergyFactor * e0 + kEnergyEpsilon;
     double eMax = e0;
     bool unreportedGrowth = false;  // a step that said nothing ended above the energy limit
@@ -223,7 +230,8 @@ StabilityCell runCell(const CellSetup& setup, const Lattice& lattice, Integrator
     std::string firstProblem;
     int lastSubsteps = 0;
     for (int step = 0; step < steps; ++step) {
-        const StepReport report = sim.step(setup.forces);
+        const ExternalForces& forces = step < releaseStep ? setup.forces : released;
+        const StepReport report = sim.step(forces);
         cell.maxSubsteps = std::max(cell.maxSubsteps, report.substeps);
         if (report.substeps > 0)
             lastSubsteps = report.substeps;  // the substep the last state was made with
@@ -245,7 +253,7 @@ StabilityCell runCell(const CellSetup& setup, const Lattice& lattice, Integrator
             eMax = std::numeric_limits<double>::infinity();
             break;
         }
-        const double e = totalEnergy(model, setup.forces, sim.state());  // may overflow to inf
+        const double e = totalEnergy(model, forces, sim.state());  // may overflow to inf
         energies.push_back(e);
         if (!(e <= eMax))
             eMax = e;
@@ -255,7 +263,9 @@ StabilityCell runCell(const CellSetup& setup, const Lattice& lattice, Integrator
     cell.energyGrowth = eMax / e0;
     if (cell.outputFinite) {
         const double h = isExplicit(integrator) && lastSubsteps > 0 ? cell.dt / lastSubsteps : 0.0;
-        cell.energyDrift = schemeEnergy(model, setup.forces, sim.state(), h) / e0 - 1.0;
+        // A released run's end is measured without the drag it no longer has; its drift also holds the
+        // drag's potential lost at release, so the drift figures leave it out.
+        cell.energyDrift = schemeEnergy(model, setup.dragReleased ? released : setup.forces, sim.state(), h) / e0 - 1.0;
     } else {
         cell.energyDrift = std::numeric_limits<double>::infinity();
     }
@@ -360,6 +370,7 @@ std::vector<StabilityCell> runStabilityGrid(const StabilityGridOptions& options)
                 for (double c : axes.damping)
                     setups.push_back(makeSetup(lattice, k, r, m, c, kPerturbation));
                 setups.push_back(makeSetup(lattice, k, r, m, 0.0, kLargeDeformation));  // undamped, large deformation
+                setups.push_back(makeSetup(lattice, k, r, m, 0.0, kPerturbation, true));  // undamped, let go halfway
             }
 
     struct Job {
@@ -423,6 +434,9 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << "- **Load**: one drag spring on the material point (0.9, 0.5, 0.5), target 0.14 m away at rest point +\n"
        << "  (0.1, 0.1, 0) m, fixed. Its Ks and Kd are the cell's *k* and *c*, so the drag is exactly as extreme as\n"
        << "  the material (a drag of fixed 50 N/m would be negligible at 1e7 N/m and dominate at 1e-2 N/m).\n"
+       << "  The undamped bodies are also run with the drag let go after half the run, the stretched body\n"
+       << "  released as when an animator's drag ends (the case of a tiny mass on soft springs that once\n"
+       << "  published a non-finite frame at 1/24 s).\n"
        << "- **Start**: every non-pinned node displaced by a fixed pseudo-random vector of up to 1 cm per\n"
        << "  component, zero velocity, so that every mode, the stiffest included, starts excited and an unstable\n"
        << "  scheme shows it within a few steps. The undamped bodies (*c* = 0) also start from a large\n"
@@ -448,7 +462,8 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << "  implicit Euler and XPBD, the modified energy E + (h/2) vᵀf for the explicit schemes (h their last\n"
        << "  substep; E swings by tens of percent around it near the bound, docs/lattice.md). Undamped, the\n"
        << "  exact motion keeps E₀, so the drift of an undamped run is all numerical. Runs the guard rolled back\n"
-       << "  or refused are left out of the drift figures: their substep, and with it Ẽ, changed on the way.\n\n";
+       << "  or refused are left out of the drift figures: their substep, and with it Ẽ, changed on the way;\n"
+       << "  so are the released runs, whose E loses the drag's potential when it lets go.\n\n";
 
     md << "## Classes\n\n"
        << "- **S, stable**: every exported frame finite, no problem reported, explicit schemes not substepped,\n"
@@ -474,8 +489,8 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
     auto driftOf = [&](auto select) {
         std::vector<double> drifts;
         for (const StabilityCell& cell : cells)
-            if (cell.damping == 0.0 && cell.outputFinite && cell.rolledBackSteps == 0 && cell.refusedSteps == 0 &&
-                select(cell))
+            if (cell.damping == 0.0 && !cell.dragReleased && cell.outputFinite && cell.rolledBackSteps == 0 &&
+                cell.refusedSteps == 0 && select(cell))
                 drifts.push_back(cell.energyDrift);
         if (drifts.empty())
             return std::string("–");
@@ -529,7 +544,8 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
             md << "| " << integratorName(kind) << " | " << formatNumber(100.0 * perturbation) << " cm |";
             for (std::string_view label : kDtLabels)
                 md << " " << driftOf([&](const StabilityCell& c) {
-                    return c.integrator == kind && c.perturbation == perturbation && c.dtLabel == label;
+                    return c.integrator == kind && c.perturbation == perturbation && !c.dragReleased &&
+                           c.dtLabel == label;
                 }) << " |";
             md << "\n";
         }
@@ -563,12 +579,14 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
 
     md << "## Every run\n\n"
        << "One table per integrator: rows *k* × *m*, columns the time step. Each entry holds one letter per run\n"
-       << "(S stable, B bounded, C caught, F failed) in groups of " << dampings.size() + 1
+       << "(S stable, B bounded, C caught, F failed) in groups of " << dampings.size() + 2
        << ", one group per mass ratio *r* = " << list(ratios, "") << "; inside a group, damping *c* = "
-       << list(dampings, " N·s/m") << " from the 1 cm start, then *c* = 0 from the 5 cm start (large deformation).\n\n";
-    std::map<std::tuple<int, double, double, double, double, double, std::string>, const StabilityCell*> index;
+       << list(dampings, " N·s/m") << " from the 1 cm start, then *c* = 0 from the 5 cm start (large deformation),\n"
+       << "then *c* = 0 with the drag let go halfway.\n\n";
+    std::map<std::tuple<int, double, double, double, double, double, bool, std::string>, const StabilityCell*> index;
     for (const StabilityCell& c : cells)
-        index[{int(c.integrator), c.stiffness, c.nodeMass, c.massRatio, c.damping, c.perturbation, c.dtLabel}] = &c;
+        index[{int(c.integrator), c.stiffness, c.nodeMass, c.massRatio, c.damping, c.perturbation, c.dragReleased,
+               c.dtLabel}] = &c;
     for (IntegratorKind kind : kIntegrators) {
         md << "### " << integratorName(kind) << "\n\n| *k* (N/m) | *m* (kg) |";
         for (std::string_view label : kDtLabels)
@@ -585,13 +603,15 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
                     for (double r : ratios) {
                         if (!entry.empty())
                             entry += ' ';
-                        auto letter = [&](double c, double perturbation) {
-                            const auto it = index.find({int(kind), k, m, r, c, perturbation, std::string(label)});
+                        auto letter = [&](double c, double perturbation, bool released = false) {
+                            const auto it =
+                                index.find({int(kind), k, m, r, c, perturbation, released, std::string(label)});
                             return it == index.end() ? '-' : outcomeLetter(it->second->outcome);
                         };
                         for (double c : dampings)
                             entry += letter(c, kPerturbation);
                         entry += letter(0.0, kLargeDeformation);
+                        entry += letter(0.0, kPerturbation, true);
                     }
                     md << " `" << entry << "` |";
                 }
@@ -633,7 +653,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
             const double substep = c->dt / std::max(1, c->maxSubsteps);
             md << "| " << integratorName(c->integrator) << " | " << axisValue(c->stiffness) << " | "
                << axisValue(c->massRatio) << " | " << axisValue(c->nodeMass) << " | " << axisValue(c->damping)
-               << " | " << c->dtLabel << " | " << formatNumber(c->dt, 3) << " | " << c->maxSubsteps << " | "
+               << (c->dragReleased ? " (let go)" : c->perturbation > kPerturbation ? " (5 cm)" : "") << " | " << c->dtLabel << " | " << formatNumber(c->dt, 3) << " | " << c->maxSubsteps << " | "
                << formatNumber(substep / c->stableStep, 2) << " | " << c->rolledBackSteps << " | "
                << formatNumber(c->energyGrowth, 3) << " |\n";
         }

@@ -35,6 +35,8 @@ struct StabilityCell {
     double damping = 0.0;       ///< Per-node spring damping, N·s/m; also the drag's Kd. Grid: [0, 1e3].
     double perturbation = 0.01; ///< Largest start displacement of a node per component, m: 0.01, or 0.05
                                 ///< (5% of the body: large deformation, undamped runs only).
+    bool dragReleased = false;  ///< The drag lets go after half the run (undamped runs from the 1 cm start
+                                ///< only): the stretched body is released, as an animator's drag ends.
     double stableStep = 0.0;    ///< The explicit bound of this body and drag (Simulator::stableStep with
                                 ///< stabilitySafety 1), seconds; the "x bound" steps are multiples of it.
     double dt = 0.0;            ///< The step actually run, seconds, (0, 0.1].
