@@ -48,11 +48,11 @@ Options:
   --quiet           No progress output.
 )";
 
-int usage(const std::string& message) { return usageError(message); }
 
 }  // namespace
 
 int runBake(const std::vector<std::string>& args) {
+    const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
     std::string scenePath, outPath, formatName, clipName;
     std::optional<double> frames, fps, threads;
     bool quiet = false;
@@ -113,9 +113,9 @@ int runBake(const std::vector<std::string>& args) {
         options.format = *f;
     }
     if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
-        return usage("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+        return usage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
     if (fps && (*fps < ranges::kMinFps || *fps > ranges::kMaxFps))
-        return usage("--fps must be in [1, 1000], got " + std::to_string(*fps));
+        return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
     options.frames = frames ? int(*frames) : 0;
@@ -162,6 +162,7 @@ int runBake(const std::vector<std::string>& args) {
 }
 
 int runValidate(const std::vector<std::string>& args) {
+    const auto usage = [](const std::string& message) { return usageError(message, "validate"); };
     if (args.empty())
         return usage("validate needs at least one FILE");
     if (args.front() == "--help" || args.front() == "-h") {
@@ -186,6 +187,7 @@ int runValidate(const std::vector<std::string>& args) {
 }
 
 int runBench(const std::vector<std::string>& args) {
+    const auto usage = [](const std::string& message) { return usageError(message, "bench"); };
     bench::BenchOptions options;
     std::string jsonPath;
     std::filesystem::path hapticScene;
@@ -251,6 +253,7 @@ int runBench(const std::vector<std::string>& args) {
 }
 
 int runStudy(const std::vector<std::string>& args) {
+    const auto usage = [](const std::string& message) { return usageError(message, "study"); };
     std::string scenePath, outDir, applyPath;
     std::optional<double> target;
     bench::StudyOptions options;
@@ -373,7 +376,7 @@ int runStudy(const std::vector<std::string>& args) {
                     result.restError, result.motionAmplitude);
     const bench::StudyRow* pick = bench::cheapestWithin(result, *target);
     if (!pick)
-        return fail("no setting reaches a " + errorName + " error of " + std::to_string(*target) + " of the diagonal");
+        return fail("no setting reaches a " + errorName + " error of " + formatValue(*target) + " of the diagonal");
     std::printf("cheapest setting within %g of the diagonal (%s error): %s, dt = 1/%d s, %s lattice (%s error %.2e; "
                 "%.2e s per simulated s)\n",
                 *target, errorName.c_str(), std::string(integratorName(pick->integrator)).c_str(), int(std::lround(1.0 / pick->dt)),
@@ -402,7 +405,7 @@ int runStudy(const std::vector<std::string>& args) {
                 measured->total, measured->integration, measured->model);
     if (error > *target)
         return fail(applyPath + ": as written, the " + errorName + " error is " + std::to_string(error) + ", above the target " +
-                    std::to_string(*target));
+                    formatValue(*target));
     return 0;
 }
 

@@ -61,7 +61,7 @@ int runRender(const std::vector<std::string>& args) {
             } else {
                 const auto n = parseNumber(v);
                 if (!n)
-                    return fail(a + " expects a number, got '" + v + "'");
+                    return usage(a + " expects a number, got '" + v + "'");
                 (a == "--frames" ? frames : a == "--fps" ? fps : crf) = *n;
             }
         } else if (!a.empty() && a[0] == '-') {
@@ -81,13 +81,13 @@ int runRender(const std::vector<std::string>& args) {
         return usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
     const auto size = parseSize(sizeText);
     if (!size)
-        return fail("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+        return usage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
     if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
-        return usage("--frames must be a whole number in [1, 1000000], got " + std::to_string(*frames));
+        return usage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
     if (fps && (*fps < ranges::kMinFps || *fps > 240))
-        return usage("--fps must be in [1, 240], got " + std::to_string(*fps));
+        return usage("--fps must be in [1, 240], got " + formatValue(*fps));
     if (crf && (*crf < 0 || *crf > 51 || std::floor(*crf) != *crf))
-        return usage("--crf must be a whole number in [0, 51], got " + std::to_string(*crf));
+        return usage("--crf must be a whole number in [0, 51], got " + formatValue(*crf));
 
     auto project = io::loadProject(scenePath);
     if (!project)

@@ -1,6 +1,7 @@
 // `softtouch-cli stability`: runs the stability grid (bench/stability_grid.h), prints the counts and
 // writes the docs page.
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 
 #include "bench/stability_grid.h"
 #include "bench/timer.h"
@@ -43,16 +44,11 @@ int runStability(const std::vector<std::string>& args) {
         if (args[i] == "--quick") {
             options.quick = true;
         } else if (args[i] == "--out") {
-            if (i + 1 == args.size()) {
-                std::fputs("softtouch-cli: --out needs a FILE.md; see 'softtouch-cli stability --help'\n", stderr);
-                return 2;
-            }
+            if (i + 1 == args.size())
+                return usageError("--out needs a FILE.md", "stability");
             outPath = args[++i];
         } else {
-            std::fprintf(stderr,
-                         "softtouch-cli: unknown stability argument '%s'; see 'softtouch-cli stability --help'\n",
-                         args[i].c_str());
-            return 2;
+            return usageError("unknown stability argument '" + args[i] + "'", "stability");
         }
     }
 

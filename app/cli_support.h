@@ -1,6 +1,8 @@
 #pragma once
 /// What every softtouch-cli subcommand shares: how errors are printed and how numbers are parsed.
 
+#include "app/cli_usage.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -16,11 +18,14 @@ inline int fail(const std::string& message) {
     return 1;
 }
 
-/// Prints a usage problem pointing at the command's help and returns exit status 2 (bad usage).
-/// `command` empty: the top-level help.
+/// Prints a usage problem, the command's usage line and where its help is, and returns exit status 2
+/// (bad usage). `command` empty: the top-level help.
 inline int usageError(const std::string& message, const std::string& command = {}) {
-    std::fprintf(stderr, "softtouch-cli: %s; see 'softtouch-cli %s--help'\n", message.c_str(),
-                 command.empty() ? "" : (command + " ").c_str());
+    std::fprintf(stderr, "softtouch-cli: %s\n", message.c_str());
+    const std::string_view synopsis = synopsisOf(command);
+    if (!synopsis.empty())
+        std::fprintf(stderr, "Usage: softtouch-cli %.*s\n", int(synopsis.size()), synopsis.data());
+    std::fprintf(stderr, "See 'softtouch-cli %s--help'.\n", command.empty() ? "" : (command + " ").c_str());
     return 2;
 }
 
@@ -31,6 +36,13 @@ inline std::optional<double> parseNumber(const std::string& text) {
     if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
         return std::nullopt;
     return value;
+}
+
+/// A number as a user would write it back (%g: 0, 0.001, 1e-300), not std::to_string's 0.000000.
+inline std::string formatValue(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
 }
 
 /// "WxH" with whole numbers in [16, 8192] (picture and video sizes), or nothing.

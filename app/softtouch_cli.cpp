@@ -1,5 +1,6 @@
 // softtouch-cli: the headless front end of SoftTouch (bake, render, validate). Parses the subcommand only.
 #include "app/cli_commands.h"
+#include "app/cli_support.h"
 #include "io/atomic_file.h"
 
 #include <cstdio>
@@ -9,20 +10,9 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches
+constexpr const char* kTitle = "softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches\n";
 
-Usage:
-  softtouch-cli bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|vat|lattice] [--threads N]
-  softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]
-  softtouch-cli validate FILE...
-  softtouch-cli modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]
-  softtouch-cli upgrade SCENE --out NEW.softtouch
-  softtouch-cli preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch
-  softtouch-cli bench [--json FILE] [--quick] [--only KEY]
-  softtouch-cli study SCENE [--out DIR] [--quick] [--error KIND] [--target ERROR [--apply OUT]]
-  softtouch-cli stability [--out FILE.md] [--quick]
-  softtouch-cli haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]
-  softtouch-cli --help | --version
+constexpr const char* kCommands = R"(  softtouch-cli --help | --version
 
 Commands:
   bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
@@ -42,8 +32,17 @@ Commands:
   haptic     Run the 1 kHz haptic loop on SCENE's first object with a device plugin (docs/haptics.md).
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
 
-Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage.
+Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage (the reason and
+the command's usage line).
 )";
+
+/// The help: title, every command's usage line (app/cli_usage.h, shared with the usage errors), commands.
+void printUsage(std::FILE* to) {
+    std::fprintf(to, "%s\nUsage:\n", kTitle);
+    for (const softtouch::cli::CommandSynopsis& s : softtouch::cli::kSynopses)
+        std::fprintf(to, "  softtouch-cli %.*s\n", int(s.synopsis.size()), s.synopsis.data());
+    std::fputs(kCommands, to);
+}
 
 }  // namespace
 
@@ -52,13 +51,13 @@ int main(int argc, char** argv) {
     softtouch::io::removeTemporariesOnSignal();
     std::vector<std::string> args(argv + 1, argv + argc);
     if (args.empty()) {
-        std::fputs(kUsage, stderr);
+        printUsage(stderr);
         return 2;
     }
     const std::string command = args.front();
     args.erase(args.begin());
     if (command == "--help" || command == "-h" || command == "help") {
-        std::fputs(kUsage, stdout);
+        printUsage(stdout);
         return 0;
     }
     if (command == "--version") {
@@ -85,6 +84,5 @@ int main(int argc, char** argv) {
         return softtouch::cli::runUpgrade(args);
     if (command == "haptic")
         return softtouch::cli::runHaptic(args);
-    std::fprintf(stderr, "softtouch-cli: error: unknown command '%s'; see 'softtouch-cli --help'\n", command.c_str());
-    return 2;
+    return softtouch::cli::usageError("unknown command '" + command + "'");
 }

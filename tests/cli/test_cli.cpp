@@ -101,6 +101,26 @@ void TestCli::helpAndUsage() {
     const Run noOut = runCli({"bake", kScenes + "angelfish-swim.softtouch"});
     QCOMPARE(noOut.exitCode, 2);
     QVERIFY(noOut.err.contains("--out"));
+    // One rule for every command: bad usage, an out-of-range or non-numeric value included, exits 2 with the
+    // reason, the command's usage line (the same the top-level help lists) and where its help is.
+    const QString scene = kScenes + "angelfish-swim.softtouch";
+    const QList<QStringList> bad = {
+        {"bake", scene, "--out", "x.pc2", "--fps", "abc"},   {"bake", scene, "--out", "x.pc2", "--frames", "0"},
+        {"render", scene, "--out", "x.mp4", "--crf", "abc"}, {"render", scene, "--out", "x.mp4", "--size", "9x9"},
+        {"validate", "--bogus"},                             {"modes", scene, "--count", "-1"},
+        {"upgrade", scene},                                  {"preset", "explode"},
+        {"bench", "--bogus"},                                {"study", scene, "--target", "-1"},
+        {"stability", "--bogus"},                            {"haptic", scene, "--seconds", "0"},
+    };
+    for (const QStringList& args : bad) {
+        const Run r = runCli(args);
+        const QString what = args.join(' ') + ": " + r.err;
+        QVERIFY2(r.exitCode == 2, qPrintable(what));
+        const QStringList lines = r.err.trimmed().split('\n');
+        QVERIFY2(lines.size() == 3 && lines[1].startsWith("Usage: softtouch-cli " + args[0] + " "), qPrintable(what));
+        QVERIFY2(help.out.contains(lines[1].mid(QString("Usage: ").size())), qPrintable(what));
+        QVERIFY2(lines[2] == "See 'softtouch-cli " + args[0] + " --help'.", qPrintable(what));
+    }
 }
 
 void TestCli::bakeEverySample_data() {
@@ -462,7 +482,15 @@ void TestCli::badInputFailsCleanly() {
     const Run r = runCli(QStringList{"bake", scene, "--out", out, "--quiet"} + extra);
     QCOMPARE(r.exitCode, exitCode);
     QVERIFY2(r.err.contains(expected), qPrintable(r.err));
-    QCOMPARE(r.err.trimmed().count('\n'), 0);  // one line
+    if (exitCode == 2) {
+        // Bad usage: the reason, bake's usage line and where its help is.
+        const QStringList lines = r.err.trimmed().split('\n');
+        QCOMPARE(lines.size(), 3);
+        QVERIFY2(lines[1].startsWith("Usage: softtouch-cli bake SCENE --out FILE"), qPrintable(r.err));
+        QVERIFY2(lines[2].contains("softtouch-cli bake --help"), qPrintable(r.err));
+    } else {
+        QCOMPARE(r.err.trimmed().count('\n'), 0);  // one line
+    }
     QVERIFY(!QFile::exists(out));
     QVERIFY(!QFile::exists(dir.filePath("out.obj")));
     QCOMPARE(QDir(dir.path()).entryList({"*.tmp-*"}, QDir::Files | QDir::Hidden).size(), 0);

@@ -97,26 +97,28 @@ void TestCliRender::badInputFailsWithoutPartialFiles_data() {
     QTest::addColumn<QString>("name");    // output inside the temporary directory
     QTest::addColumn<QString>("size");
     QTest::addColumn<QString>("message"); // part of the error
-    QTest::newRow("size without height") << "old.mp4" << "100x" << "--size expects WIDTHxHEIGHT";
-    QTest::newRow("size too small") << "old.mp4" << "8x8" << "--size expects WIDTHxHEIGHT";
-    QTest::newRow("odd size for yuv420p") << "old.mp4" << "161x96" << "even width and height";
-    QTest::newRow("missing directory") << "missing/out.mp4" << "160x96" << "missing";
-    QTest::newRow("parent is a file") << "old.mp4/out.gif" << "160x96" << "old.mp4";
+    QTest::addColumn<int>("exitCode");    // 2 bad usage (with the usage line), 1 failure (one line)
+    QTest::newRow("size without height") << "old.mp4" << "100x" << "--size expects WIDTHxHEIGHT" << 2;
+    QTest::newRow("size too small") << "old.mp4" << "8x8" << "--size expects WIDTHxHEIGHT" << 2;
+    QTest::newRow("odd size for yuv420p") << "old.mp4" << "161x96" << "even width and height" << 1;
+    QTest::newRow("missing directory") << "missing/out.mp4" << "160x96" << "missing" << 1;
+    QTest::newRow("parent is a file") << "old.mp4/out.gif" << "160x96" << "old.mp4" << 1;
 }
 
 void TestCliRender::badInputFailsWithoutPartialFiles() {
     QFETCH(QString, name);
     QFETCH(QString, size);
     QFETCH(QString, message);
+    QFETCH(int, exitCode);
     QTemporaryDir dir;
     QFile old(dir.filePath("old.mp4"));
     QVERIFY(old.open(QIODevice::WriteOnly));
     old.write("previous render");
     old.close();
     const Run run = runCli({"render", kScene, "--out", dir.filePath(name), "--size", size, "--frames", "3", "--quiet"});
-    QCOMPARE(run.exitCode, 1);
+    QCOMPARE(run.exitCode, exitCode);
     QVERIFY2(run.err.contains(message), qPrintable(run.err));
-    QVERIFY2(run.err.count('\n') == 1, qPrintable(run.err));  // one clear line
+    QVERIFY2(run.err.count('\n') == (exitCode == 2 ? 3 : 1), qPrintable(run.err));  // one clear line (+ usage)
     QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::NoDotAndDotDot), QStringList{"old.mp4"});
     QVERIFY(old.open(QIODevice::ReadOnly));
     QCOMPARE(old.readAll(), QByteArray("previous render"));

@@ -1,0 +1,36 @@
+#pragma once
+/// The one-line synopsis of every softtouch-cli subcommand: the top-level help lists them, and every
+/// bad-usage error (exit 2) prints the one of its subcommand, so the two never disagree.
+
+#include <array>
+#include <string_view>
+
+namespace softtouch::cli {
+
+struct CommandSynopsis {
+    std::string_view command;  ///< The subcommand, as typed.
+    std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line.
+};
+
+inline constexpr std::array<CommandSynopsis, 10> kSynopses{{
+    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|vat|lattice] [--threads N]"},
+    {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
+    {"validate", "validate FILE..."},
+    {"modes", "modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]"},
+    {"upgrade", "upgrade SCENE --out NEW.softtouch"},
+    {"preset", "preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch"},
+    {"bench", "bench [--json FILE] [--quick] [--only KEY]"},
+    {"study", "study SCENE [--out DIR] [--quick] [--error KIND] [--target ERROR [--apply OUT]]"},
+    {"stability", "stability [--out FILE.md] [--quick]"},
+    {"haptic", "haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]"},
+}};
+
+/// The synopsis of `command`, or empty when there is none.
+inline std::string_view synopsisOf(std::string_view command) {
+    for (const CommandSynopsis& s : kSynopses)
+        if (s.command == command)
+            return s.synopsis;
+    return {};
+}
+
+}  // namespace softtouch::cli
