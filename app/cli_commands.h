@@ -16,6 +16,8 @@ int runRender(const std::vector<std::string>& args);
 int runPreset(const std::vector<std::string>& args);
 int runHaptic(const std::vector<std::string>& args);
 int runModes(const std::vector<std::string>& args);
+/// `softtouch-cli batch`: clip libraries from a manifest, locally or as a Slurm job array.
+int runBatch(const std::vector<std::string>& args);
 /// `softtouch-cli upgrade`: lattice-springs materials rewritten as continuum ones.
 int runUpgrade(const std::vector<std::string>& args);
 

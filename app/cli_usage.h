@@ -12,7 +12,7 @@ struct CommandSynopsis {
     std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line.
 };
 
-inline constexpr std::array<CommandSynopsis, 10> kSynopses{{
+inline constexpr std::array<CommandSynopsis, 11> kSynopses{{
     {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|vat|lattice] [--threads N]"},
     {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
     {"validate", "validate FILE..."},
@@ -22,6 +22,7 @@ inline constexpr std::array<CommandSynopsis, 10> kSynopses{{
     {"bench", "bench [--json FILE] [--quick] [--only KEY]"},
     {"study", "study SCENE [--out DIR] [--quick] [--error KIND] [--target ERROR [--apply OUT]]"},
     {"stability", "stability [--out FILE.md] [--quick]"},
+    {"batch", "batch plan|run|slurm|check MANIFEST.stbatch [--library DIR] [--jobs N | --job ID] [--out DIR] [--force]"},
     {"haptic", "haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]"},
 }};
 

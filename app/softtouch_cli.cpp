@@ -30,6 +30,8 @@ Commands:
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
   study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
   haptic     Run the 1 kHz haptic loop on SCENE's first object with a device plugin (docs/haptics.md).
+  batch      Bake and render a clip library (scenes x presets x clips x formats) from a manifest, skipping
+             what is up to date, locally or as a Slurm job array (docs/farm.md). 'softtouch-cli batch --help'.
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
 
 Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage (the reason and
@@ -82,6 +84,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runModes(args);
     if (command == "upgrade")
         return softtouch::cli::runUpgrade(args);
+    if (command == "batch")
+        return softtouch::cli::runBatch(args);
     if (command == "haptic")
         return softtouch::cli::runHaptic(args);
     return softtouch::cli::usageError("unknown command '" + command + "'");

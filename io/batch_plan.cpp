@@ -1,0 +1,312 @@
+#include "io/batch_plan.h"
+
+#include "io/atomic_file.h"
+#include "io/json_reader.h"
+#include "io/project_file.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+
+namespace softtouch::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFormat = "softtouch-batch";
+constexpr const char* kStampFormat = "softtouch-batch-stamp";
+const std::set<std::string> kFormats = {"pc2", "mdd", "objseq", "gltf", "glb", "vat", "lattice", "mp4", "gif"};
+
+/// The extension a job's output gets: the name a bake or render recognises (vat and lattice write
+/// several files from a base path, so they get none).
+std::string extensionOf(const std::string& format) {
+    if (format == "objseq")
+        return ".obj";
+    if (format == "vat" || format == "lattice")
+        return "";
+    return "." + format;
+}
+
+/// FNV-1a, 64 bit: a content hash for change detection (not for security; inputs are the user's own).
+struct Fnv1a {
+    std::uint64_t value = 0xcbf29ce484222325ull;
+    void add(const void* data, std::size_t size) {
+        const auto* bytes = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < size; ++i)
+            value = (value ^ bytes[i]) * 0x100000001b3ull;
+    }
+    void add(const std::string& text) {
+        add(text.data(), text.size());
+        add("\0", 1);  // so that "ab" + "c" and "a" + "bc" differ
+    }
+};
+
+Status hashFile(const fs::path& path, Fnv1a& hash) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        return Status::error("cannot read '" + path.string() + "'");
+    char buffer[1 << 16];
+    while (in) {
+        in.read(buffer, sizeof buffer);
+        hash.add(buffer, std::size_t(in.gcount()));
+    }
+    return Status::success();
+}
+
+/// A job id part: letters, digits, '-' and '_' kept, anything else '_'.
+std::string slug(const std::string& text) {
+    std::string s;
+    for (char c : text)
+        s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    return s.empty() ? "_" : s;
+}
+
+std::vector<fs::path> pathList(const JsonValue& v, const fs::path& base, bool required) {
+    std::vector<fs::path> paths;
+    if (!v.exists()) {
+        if (required)
+            v.problem("expected an array of file paths");
+        return paths;
+    }
+    if (!v.isArray() || (required && v.size() == 0)) {
+        v.problem(required ? "expected a non-empty array of file paths" : "expected an array of file paths");
+        return paths;
+    }
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (auto s = v.at(i).string(true); s && !s->empty())
+            paths.push_back(fs::path(*s).is_absolute() ? fs::path(*s) : (base / *s).lexically_normal());
+    return paths;
+}
+
+}  // namespace
+
+std::string hashText(std::uint64_t hash) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+    return text;
+}
+
+Result<BatchManifest> loadBatchManifest(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return Status::error(issues.summary());
+    const JsonValue root(&*doc, "", &issues);
+    if (!root.expectObject(true))
+        return Status::error(issues.summary());
+    root.checkKeys({"format", "version", "scenes", "presets", "clips", "formats", "frames", "video", "outputRoot",
+                    "output", "resources"});
+    if (const auto format = root["format"].string(true); format && *format != kFormat)
+        root["format"].problem(std::string("expected \"") + kFormat + "\", got \"" + *format + "\"");
+    if (const auto version = root["version"].integer(1, 1000000, true); version && *version > kBatchManifestVersion)
+        root["version"].problem("version " + std::to_string(*version) + " was written by a newer SoftTouch; this build reads up to " +
+                                std::to_string(kBatchManifestVersion));
+    if (!issues.empty())
+        return Status::error(issues.summary());
+
+    BatchManifest m;
+    m.path = fs::absolute(path);
+    const fs::path base = m.path.parent_path();
+    m.scenes = pathList(root["scenes"], base, true);
+    m.presets = pathList(root["presets"], base, false);
+    if (const JsonValue clips = root["clips"]; clips.exists()) {
+        if (!clips.isArray())
+            clips.problem("expected an array of clip names");
+        for (std::size_t i = 0; i < clips.size(); ++i)
+            if (auto s = clips.at(i).string(true)) {
+                if (s->empty())
+                    clips.at(i).problem("expected a clip name, got an empty string");
+                else
+                    m.clips.push_back(*s);
+            }
+    }
+    const JsonValue formats = root["formats"];
+    if (!formats.isArray() || formats.size() == 0)
+        formats.problem("expected a non-empty array of formats (pc2, mdd, objseq, gltf, glb, vat, lattice, mp4, gif)");
+    for (std::size_t i = 0; i < formats.size(); ++i)
+        if (auto s = formats.at(i).string(true)) {
+            if (!kFormats.count(*s))
+                formats.at(i).problem("unknown format \"" + *s + "\" (expected pc2, mdd, objseq, gltf, glb, vat, lattice, mp4 or gif)");
+            else if (std::find(m.formats.begin(), m.formats.end(), *s) != m.formats.end())
+                formats.at(i).problem("\"" + *s + "\" is listed twice");
+            else
+                m.formats.push_back(*s);
+        }
+    if (auto f = root["frames"].integer(1, 1000000))
+        m.frames = *f;
+    if (const JsonValue video = root["video"]; video.expectObject()) {
+        video.checkKeys({"size"});
+        const JsonValue size = video["size"];
+        if (size.exists()) {
+            if (!size.isArray() || size.size() != 2) {
+                size.problem("expected [width, height] in pixels");
+            } else {
+                const auto w = size.at(0).integer(16, 8192), h = size.at(1).integer(16, 8192);
+                if (w && h && (*w % 2 || *h % 2))
+                    size.problem("expected even width and height (H.264 in yuv420p), got " + std::to_string(*w) + "x" +
+                                 std::to_string(*h));
+                if (w && h) {
+                    m.videoWidth = *w;
+                    m.videoHeight = *h;
+                }
+            }
+        }
+    }
+    m.outputRoot = base / "library";
+    if (auto s = root["outputRoot"].string(); s && !s->empty())
+        m.outputRoot = fs::path(*s).is_absolute() ? fs::path(*s) : (base / *s).lexically_normal();
+    if (auto s = root["output"].string()) {
+        if (s->empty() || fs::path(*s).is_absolute() || s->find("..") != std::string::npos)
+            root["output"].problem("expected a relative path pattern inside outputRoot, such as \"{scene}/{preset}/{clip}-{format}\"");
+        else
+            m.output = *s;
+    }
+    if (const JsonValue r = root["resources"]; r.expectObject()) {
+        r.checkKeys({"cpusPerTask", "memoryMB", "minutes", "partition"});
+        if (auto x = r["cpusPerTask"].integer(1, 256)) m.resources.cpusPerTask = *x;
+        if (auto x = r["memoryMB"].integer(64, 1048576)) m.resources.memoryMB = *x;
+        if (auto x = r["minutes"].integer(1, 10080)) m.resources.minutes = *x;
+        if (auto x = r["partition"].string()) {
+            if (x->find_first_of(" \t\n'\"$`\\;") != std::string::npos)
+                r["partition"].problem("expected a partition name (no spaces or shell characters)");
+            else
+                m.resources.partition = *x;
+        }
+    }
+    if (!issues.empty())
+        return Status::error(issues.summary());
+    return m;
+}
+
+Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
+    std::vector<BatchJob> jobs;
+    std::map<fs::path, std::string> writers;  // output -> job id, to refuse collisions
+    std::set<std::string> ids;
+    const std::vector<fs::path> presets = manifest.presets.empty() ? std::vector<fs::path>{fs::path()} : manifest.presets;
+    for (const fs::path& preset : presets)
+        if (!preset.empty())
+            if (auto p = loadMaterialPreset(preset); !p)
+                return Status::error(manifest.path.string() + ": /presets: " + p.message());
+    for (const fs::path& scene : manifest.scenes) {
+        auto project = loadProject(scene);
+        if (!project)
+            return Status::error(manifest.path.string() + ": /scenes: " + project.message());
+        std::vector<fs::path> sceneInputs = {scene};
+        for (const std::string& mesh : project->meshReferences)
+            sceneInputs.push_back((scene.parent_path() / mesh).lexically_normal());
+        std::vector<std::string> clips = manifest.clips;
+        if (clips.empty())
+            clips.push_back(project->clips.defaultClip);  // empty: the drivers from frame 0
+        for (const std::string& clip : clips)
+            if (!clip.empty() && !project->clips.findClip(clip))
+                return Status::error(manifest.path.string() + ": /clips: scene '" + scene.string() + "' has no clip \"" +
+                                     clip + "\"");
+        for (const fs::path& preset : presets)
+            for (const std::string& clip : clips)
+                for (const std::string& format : manifest.formats) {
+                    BatchJob job;
+                    job.scene = scene;
+                    job.preset = preset;
+                    job.clip = clip;
+                    job.format = format;
+                    job.frames = manifest.frames;
+                    if (format == "mp4" || format == "gif") {
+                        job.videoWidth = manifest.videoWidth;
+                        job.videoHeight = manifest.videoHeight;
+                    }
+                    const std::string sceneName = scene.stem().string();
+                    const std::string presetName = preset.empty() ? "as-authored" : preset.stem().string();
+                    const std::string clipName = clip.empty() ? "drivers" : clip;
+                    job.id = slug(sceneName) + "." + slug(presetName) + "." + slug(clipName) + "." + format;
+                    std::string rel = manifest.output;
+                    for (const auto& [key, value] : {std::pair<std::string, std::string>{"{scene}", sceneName},
+                                                     {"{preset}", presetName},
+                                                     {"{clip}", clipName},
+                                                     {"{format}", format}})
+                        for (std::size_t at; (at = rel.find(key)) != std::string::npos;)
+                            rel.replace(at, key.size(), value);
+                    job.output = (manifest.outputRoot / (rel + extensionOf(format))).lexically_normal();
+                    if (!ids.insert(job.id).second)
+                        return Status::error(manifest.path.string() + ": two jobs have the id " + job.id +
+                                             " (scenes or presets of the same file name in different folders)");
+                    if (auto [it, fresh] = writers.emplace(job.output, job.id); !fresh)
+                        return Status::error(manifest.path.string() + ": /output: jobs " + it->second + " and " + job.id +
+                                             " would both write '" + job.output.string() +
+                                             "'; the pattern needs each of {scene}, {preset}, {clip} and {format} that varies");
+                    job.inputs = sceneInputs;
+                    if (!preset.empty())
+                        job.inputs.push_back(preset);
+                    Fnv1a hash;
+                    hash.add(std::string("softtouch-batch-job 1 " SOFTTOUCH_VERSION));
+                    for (const std::string& field : {job.format, job.clip, std::to_string(job.frames),
+                                                     std::to_string(job.videoWidth), std::to_string(job.videoHeight)})
+                        hash.add(field);
+                    for (const fs::path& input : job.inputs)
+                        if (Status s = hashFile(input, hash); !s)
+                            return Status::error(manifest.path.string() + ": job " + job.id + ": " + s.message());
+                    job.hash = hash.value;
+                    jobs.push_back(std::move(job));
+                }
+    }
+    return jobs;
+}
+
+fs::path batchStampPath(const BatchManifest& manifest, const BatchJob& job) {
+    return manifest.outputRoot / ".softtouch-batch" / (job.id + ".json");
+}
+
+std::optional<std::vector<fs::path>> batchStampFiles(const BatchManifest& manifest, const BatchJob& job) {
+    const fs::path stamp = batchStampPath(manifest, job);
+    std::error_code ec;
+    if (!fs::is_regular_file(stamp, ec))
+        return std::nullopt;
+    std::ifstream in(stamp, std::ios::binary);
+    const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object() || doc.value("format", "") != kStampFormat ||
+        doc.value("hash", "") != hashText(job.hash) || !doc.contains("files") || !doc["files"].is_array())
+        return std::nullopt;
+    std::vector<fs::path> files;
+    for (const auto& f : doc["files"]) {
+        if (!f.is_object() || !f.contains("path") || !f["path"].is_string() || !f.contains("bytes") ||
+            !f["bytes"].is_number_unsigned())
+            return std::nullopt;
+        const fs::path file = manifest.outputRoot / f["path"].get<std::string>();
+        if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) != f["bytes"].get<std::uintmax_t>())
+            return std::nullopt;
+        files.push_back(file);
+    }
+    return files;
+}
+
+bool batchJobUpToDate(const BatchManifest& manifest, const BatchJob& job) {
+    return batchStampFiles(manifest, job).has_value();
+}
+
+Status writeBatchStamp(const BatchManifest& manifest, const BatchJob& job, const std::vector<fs::path>& files) {
+    nlohmann::json doc;
+    doc["format"] = kStampFormat;
+    doc["id"] = job.id;
+    doc["hash"] = hashText(job.hash);
+    doc["files"] = nlohmann::json::array();
+    for (const fs::path& file : files) {
+        std::error_code ec;
+        const auto bytes = fs::file_size(file, ec);
+        if (ec)
+            return Status::error("job " + job.id + ": cannot stamp '" + file.string() + "': " + ec.message());
+        doc["files"].push_back({{"path", file.lexically_relative(manifest.outputRoot).generic_string()}, {"bytes", bytes}});
+    }
+    const fs::path stamp = batchStampPath(manifest, job);
+    std::error_code ec;
+    fs::create_directories(stamp.parent_path(), ec);
+    if (ec)
+        return Status::error("cannot create '" + stamp.parent_path().string() + "': " + ec.message());
+    return writeFileAtomically(stamp, doc.dump(1) + "\n");
+}
+
+}  // namespace softtouch::io
