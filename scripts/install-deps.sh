@@ -21,6 +21,7 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
   clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
+  slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
 )
 
 missing=()
