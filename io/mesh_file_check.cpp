@@ -33,36 +33,66 @@ Status checkPly(const std::filesystem::path& path) {
     std::string line, format;
     std::vector<PlyElement> elements;
     std::uint64_t headerBytes = 0;
+    int lineNumber = 0;
+    // Only what the PLY format declares, in its order: "ply", "format F 1.0", then elements with their
+    // properties, comments and obj_info, then "end_header". Anything else is refused here: assimp 5.2
+    // loops for ever on some malformed headers (fuzz_mesh: a misspelt "elemnet" line), and a header
+    // SoftTouch cannot read is a file it should not guess at.
+    auto malformed = [&](const std::string& why) {
+        return Status::error("its PLY header line " + std::to_string(lineNumber) + " ('" + line.substr(0, 80) + "') " + why);
+    };
     // A PLY header is a few hundred bytes; stop reading it at 64 KiB.
     while (headerBytes < 65536 && std::getline(in, line)) {
         headerBytes += line.size() + 1;
+        ++lineNumber;
         if (!line.empty() && line.back() == '\r')
             line.pop_back();
         std::istringstream words(line);
-        std::string keyword;
+        std::string keyword, extra;
         words >> keyword;
-        if (keyword == "format") {
-            words >> format;
+        if (lineNumber == 1) {
+            if (keyword != "ply" || (words >> extra))
+                return malformed("is not 'ply'");
+        } else if (keyword == "format") {
+            std::string version;
+            words >> format >> version;
+            if (lineNumber != 2 || (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") ||
+                version != "1.0" || (words >> extra))
+                return malformed("is not 'format ascii|binary_little_endian|binary_big_endian 1.0' on line 2");
+        } else if (keyword == "comment" || keyword == "obj_info") {
         } else if (keyword == "element") {
             PlyElement e;
             long double count = -1;
             words >> e.name >> count;
-            if (!words || count < 0 || count > 1e15L)
+            if (!words || count < 0 || count > 1e15L || (words >> extra))
                 return Status::error("its PLY header has an element line it cannot read: '" + line + "'");
             e.count = std::uint64_t(count);
             elements.push_back(e);
-        } else if (keyword == "property" && !elements.empty()) {
-            std::string type;
+        } else if (keyword == "property") {
+            if (elements.empty())
+                return malformed("declares a property before any element");
+            std::string type, name;
             words >> type;
             if (type == "list") {
-                std::string countType;
-                words >> countType;
+                std::string countType, itemType;
+                words >> countType >> itemType >> name;
+                const bool integer = countType.find("int") != std::string::npos || countType.find("char") != std::string::npos ||
+                                     countType.find("short") != std::string::npos;
+                if (!integer || plyTypeBytes(countType) == 0 || plyTypeBytes(itemType) == 0 || name.empty() || (words >> extra))
+                    return malformed("is not 'property list COUNT-TYPE ITEM-TYPE NAME' with PLY types");
                 elements.back().minBytes += std::uint64_t(plyTypeBytes(countType));
             } else {
+                words >> name;
+                if (plyTypeBytes(type) == 0 || name.empty() || (words >> extra))
+                    return malformed("is not 'property TYPE NAME' with a PLY type");
                 elements.back().minBytes += std::uint64_t(plyTypeBytes(type));
             }
         } else if (keyword == "end_header") {
+            if (format.empty())
+                return malformed("ends the header before any 'format' line");
             break;
+        } else {
+            return malformed("is not one the PLY format declares (format, element, property, comment, obj_info, end_header)");
         }
     }
     if (line != "end_header") {
