@@ -65,6 +65,7 @@ private slots:
     void badManifestsFailCleanly_data();
     void badManifestsFailCleanly();
     void slurmScriptRunsEveryJobOfTheArray();
+    void videoPreviewsAreRenderedHeadless();
 };
 
 void TestCliBatch::planRunSkipAndRebuildWhatChanged() {
@@ -238,6 +239,18 @@ void TestCliBatch::slurmScriptRunsEveryJobOfTheArray() {
     // Once done, a new script has nothing to run.
     const Run again = runCli({"batch", "slurm", manifest, "--out", farm, "--library", dir.filePath("farmed")});
     QVERIFY2(again.out.contains("every one of the 8 jobs is up to date"), qPrintable(again.out));
+}
+
+void TestCliBatch::videoPreviewsAreRenderedHeadless() {
+    // Previews beside the caches, drawn without a window system (EGL), checked by reading them back.
+    QTemporaryDir dir;
+    const QString manifest = writeManifest(dir, R"("mp4", "gif")", R"(, "frames": 4, "video": {"size": [96, 64]})");
+    const Run run = runCli({"batch", "run", manifest, "--jobs", "2"}, /*headless=*/true);
+    QVERIFY2(run.exitCode == 0 && run.out.contains("8 jobs: 8 ran"), qPrintable(run.out + run.err));
+    QVERIFY(QFileInfo(dir.filePath("library/guppy-swim/rubber/swim-mp4.mp4")).size() > 0);
+    QVERIFY(QFileInfo(dir.filePath("library/angelfish-swim/jelly/swim-gif.gif")).size() > 0);
+    const Run check = runCli({"batch", "check", manifest}, true);
+    QVERIFY2(check.exitCode == 0 && check.out.contains("8 of 8 jobs done and readable"), qPrintable(check.out + check.err));
 }
 
 QTEST_GUILESS_MAIN(TestCliBatch)
