@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -84,6 +85,28 @@ void removeTemporariesOnSignal() {
         ::signal(signal, removeLiveTemporaries);
 }
 
+namespace {
+
+/// True when no live process has this pid: none at all, or only a zombie (killed, not yet reaped: a
+/// bake re-run right after a kill -9 of the one before meets it while the reaper has not run yet).
+bool processIsGone(long pid) {
+    if (::kill(pid_t(pid), 0) != 0)
+        return errno == ESRCH;
+    std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+    if (!stat)
+        return false;
+    char state = 0;
+    // "pid (comm) S ...": the state follows the last ')' (comm may hold spaces and parentheses).
+    char line[512] = {};
+    const bool read = std::fgets(line, sizeof line, stat) != nullptr;
+    std::fclose(stat);
+    if (const char* close = read ? std::strrchr(line, ')') : nullptr; close && close[1] == ' ')
+        state = close[2];
+    return state == 'Z' || state == 'X';
+}
+
+}  // namespace
+
 void removeStaleTemporaries(const std::filesystem::path& target) {
     namespace fs = std::filesystem;
     const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
@@ -99,7 +122,7 @@ void removeStaleTemporaries(const std::filesystem::path& target) {
         if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash)
             continue;
         const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
-        if (pid > 0 && pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+        if (pid > 0 && pid != long(::getpid()) && processIsGone(pid)) {
             std::error_code ignored;
             fs::remove(it->path(), ignored);
         }

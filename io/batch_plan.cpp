@@ -306,6 +306,7 @@ Status writeBatchStamp(const BatchManifest& manifest, const BatchJob& job, const
     fs::create_directories(stamp.parent_path(), ec);
     if (ec)
         return Status::error("cannot create '" + stamp.parent_path().string() + "': " + ec.message());
+    removeStaleTemporaries(stamp);  // a stamp half-written when its job was killed
     return writeFileAtomically(stamp, doc.dump(1) + "\n");
 }
 
