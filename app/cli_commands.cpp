@@ -31,7 +31,8 @@ sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
 Formats (docs/formats.md):
   pc2, mdd          vertex caches
   objseq            one OBJ per frame
-  gltf, glb         glTF 2.0 morph targets (one per frame) and a weights animation
+  gltf, glb         glTF 2.0 morph targets (one per frame, or compressed: --morph-error) and a
+                    weights animation
   vat               FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float),
                     FILE.vat-mesh.glb, FILE.vat.json
   lattice           FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w),
@@ -45,6 +46,11 @@ Options:
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
   --threads N       Deformation threads (default: all).
+  --morph-error E   gltf, glb: compressed morphs, the frames' mean plus the fewest principal
+                    components that keep every frame's RMS vertex error at or below E times the
+                    rest mesh's bounding-box diagonal (0 < E <= 0.1; e.g. 0.001). Prints the
+                    components, the errors and the size against PC2.
+  --morph-components K  gltf, glb with --morph-error: at most K components (1..255, default 32).
   --quiet           No progress output.
 )";
 
@@ -54,7 +60,7 @@ Options:
 int runBake(const std::vector<std::string>& args) {
     const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
     std::string scenePath, outPath, formatName, clipName;
-    std::optional<double> frames, fps, threads;
+    std::optional<double> frames, fps, threads, morphError, morphComponents;
     bool quiet = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -71,7 +77,7 @@ int runBake(const std::vector<std::string>& args) {
         if (a == "--quiet") {
             quiet = true;
         } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads" ||
-                   a == "--clip") {
+                   a == "--clip" || a == "--morph-error" || a == "--morph-components") {
             const auto v = value(a.c_str());
             if (!v)
                 return usage(a + " needs a value");
@@ -85,7 +91,11 @@ int runBake(const std::vector<std::string>& args) {
                 const auto n = parseNumber(*v);
                 if (!n)
                     return usage(a + " expects a number, got '" + *v + "'");
-                (a == "--frames" ? frames : a == "--fps" ? fps : threads) = *n;
+                (a == "--frames"        ? frames
+                 : a == "--fps"         ? fps
+                 : a == "--threads"     ? threads
+                 : a == "--morph-error" ? morphError
+                                        : morphComponents) = *n;
             }
         } else if (!a.empty() && a[0] == '-') {
             return usage("unknown option '" + a + "'");
@@ -118,6 +128,18 @@ int runBake(const std::vector<std::string>& args) {
         return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
+    const bool gltf = options.format == io::CacheFormat::Gltf || options.format == io::CacheFormat::Glb;
+    if ((morphError || morphComponents) && !gltf)
+        return usage("--morph-error and --morph-components are for the gltf and glb formats");
+    if (morphComponents && !morphError)
+        return usage("--morph-components needs --morph-error (the error target decides how many are used)");
+    if (morphError && !(*morphError > 0 && *morphError <= 0.1))
+        return usage("--morph-error must be in (0, 0.1] (a fraction of the diagonal), got " + formatValue(*morphError));
+    if (morphComponents && (*morphComponents < 1 || *morphComponents > 255 || std::floor(*morphComponents) != *morphComponents))
+        return usage("--morph-components must be a whole number in [1, 255], got " + formatValue(*morphComponents));
+    options.exportOptions.gltfMorphError = morphError.value_or(0.0);
+    if (morphComponents)
+        options.exportOptions.gltfMaxMorphs = int(*morphComponents);
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);
     options.threads = threads ? int(*threads) : 0;
@@ -149,6 +171,8 @@ int runBake(const std::vector<std::string>& args) {
     for (std::size_t i = 1; i < result->files.size(); ++i)
         std::printf("wrote %s\n", result->files[i].string().c_str());
     std::printf("rest mesh %s\n", result->restMesh.string().c_str());
+    for (const std::string& note : result->notes)
+        std::printf("%s\n", note.c_str());
     if (const int unchanged = result->frames * result->objects - result->meshEvaluations; unchanged > 0)
         std::printf("%d of %d object frames unchanged (asleep or held): their meshes were not deformed again\n",
                     unchanged, result->frames * result->objects);

@@ -146,6 +146,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         return s;
     // The exporter's first: the CLI shows only the first few.
     result.warnings.insert(result.warnings.begin(), writer->warnings().begin(), writer->warnings().end());
+    result.notes = writer->notes();
     result.frames = frames;
     return result;
 }

@@ -45,6 +45,7 @@ struct BakeResult {
                                      ///< last frame (asleep, or a held clip frame) keeps its mesh, at no cost.
     std::size_t points = 0;          ///< Vertices per frame.
     std::vector<std::string> warnings; ///< Guard reports from the simulation (rolled-back steps, …) and the exporter's (engine limits).
+    std::vector<std::string> notes;    ///< What the exporter measured of its output (ClipWriter::notes()).
     std::string clip;                ///< The clip baked; empty for the drivers from frame 0.
     std::optional<SeamMeasure> seam; ///< For a loop clip: its seam, measured on the lattice nodes.
 };

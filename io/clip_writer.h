@@ -53,6 +53,13 @@ struct ClipExportOptions {
     bool gltfNormals = true;
     /// VAT: widest texture, texels. A frame of more vertices wraps onto several rows. [1, 16384].
     int vatMaxWidth = 8192;
+    /// glTF/GLB: 0 writes one morph target per frame (exact). Above 0, compressed morphs: the frames'
+    /// mean displacement plus the fewest principal components (core/morph_basis.h) that keep every
+    /// frame's RMS vertex error at or below this fraction of the rest mesh's bounding-box diagonal,
+    /// with a weights animation. [0, 0.1].
+    double gltfMorphError = 0.0;
+    /// glTF/GLB compressed morphs: most components, besides the mean. [1, 255].
+    int gltfMaxMorphs = 32;
 };
 
 /// Streaming writer of one clip export.
@@ -75,9 +82,12 @@ public:
     /// Things a person should know about the written files (engine limits, …), filled by begin()
     /// and finish().
     const std::vector<std::string>& warnings() const { return m_warnings; }
+    /// What the writer measured of its output (a compression's error and size), filled by finish().
+    const std::vector<std::string>& notes() const { return m_notes; }
 
 protected:
     std::vector<std::string> m_warnings;  ///< See warnings().
+    std::vector<std::string> m_notes;     ///< See notes().
 };
 
 /// A writer for any CacheFormat (vertex caches are adapted; OBJ sequences take the rest mesh's

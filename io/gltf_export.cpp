@@ -7,16 +7,23 @@
 // between keys) or STEP (one active). The deformation at frame f is therefore exactly
 // rest + delta_f, which is what the round-trip test re-imports with assimp.
 //
+// Compressed morphs (ClipExportOptions::gltfMorphError > 0): the frames' deltas are kept until finish(),
+// then fitted as their mean (target 0, weight 1 in every key) plus the fewest principal components that
+// keep every frame within the error (core/morph_basis.h); key f holds [1, w_f1 … w_fK]. Normal deltas get
+// components fitted to the same weights. The base mesh is the rest mesh, as in every other export.
+//
 // glTF cannot be streamed: the JSON (written first in a GLB) must know every accessor, so the
 // whole binary buffer stays in memory until finish(): about pointCount x 24 bytes per frame
 // (12 with normals off). The weights are frames x frames floats. docs/formats.md has the numbers.
 
+#include "core/morph_basis.h"
 #include "io/clip_writer_internal.h"
 #include "io/vertex_cache_internal.h"
 
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -149,6 +156,17 @@ public:
         m_model->meshes.push_back(mesh);
         m_delta.resize(setup.info.pointCount);
         m_framesWritten = 0;
+        m_notes.clear();
+        m_positionDeltas.clear();
+        m_normalDeltas.clear();
+        if (compressed()) {
+            const std::size_t values = 3 * setup.info.pointCount;
+            if (setup.info.frameCount > std::numeric_limits<std::size_t>::max() / 4 / values / 2)
+                return Status::error("cannot write " + detail::quoted(path) + ": the clip is too large to compress in memory");
+            m_positionDeltas.reserve(setup.info.frameCount * values);
+            if (m_options.gltfNormals)
+                m_normalDeltas.reserve(setup.info.frameCount * values);
+        }
         return Status::success();
     }
 
@@ -160,6 +178,18 @@ public:
             return s;
         }
         const Mesh& rest = m_setup.restMesh;
+        if (compressed()) {  // kept until finish(), where the basis is fitted to every frame
+            for (std::size_t v = 0; v < m_delta.size(); ++v) {
+                const Vec3f d = frame.positions[v] - rest.positions[v];
+                m_positionDeltas.insert(m_positionDeltas.end(), d.data(), d.data() + 3);
+                if (m_options.gltfNormals) {
+                    const Vec3f n = frame.normals[v] - rest.normals[v];
+                    m_normalDeltas.insert(m_normalDeltas.end(), n.data(), n.data() + 3);
+                }
+            }
+            ++m_framesWritten;
+            return Status::success();
+        }
         std::map<std::string, int> target;
         for (std::size_t v = 0; v < m_delta.size(); ++v)
             m_delta[v] = frame.positions[v] - rest.positions[v];
@@ -184,13 +214,21 @@ public:
             return s;
         }
         tinygltf::Mesh& mesh = m_model->meshes.front();
-        mesh.weights.assign(frames, 0.0);
-        mesh.weights.front() = 1.0;  // a viewer that ignores the animation shows frame 0
+        // Key f's weights, one row per key: frame f's target alone, or [1, w_f1 … w_fK] when compressed.
+        std::vector<float> weights;
+        std::size_t targets = frames;
         tinygltf::Value::Array names;
-        for (std::size_t f = 0; f < frames; ++f) {
-            std::string number = std::to_string(f);
-            names.emplace_back(std::string("frame_") + std::string(number.size() < 4 ? 4 - number.size() : 0, '0') + number);
+        if (compressed()) {
+            targets = addCompressedTargets(weights, names);
+        } else {
+            weights.assign(frames * frames, 0.0f);
+            for (std::size_t f = 0; f < frames; ++f) {
+                weights[f * frames + f] = 1.0f;
+                std::string number = std::to_string(f);
+                names.emplace_back(std::string("frame_") + std::string(number.size() < 4 ? 4 - number.size() : 0, '0') + number);
+            }
         }
+        mesh.weights.assign(weights.begin(), weights.begin() + std::ptrdiff_t(targets));  // shown without the animation: frame 0
         tinygltf::Value::Object extras;
         extras["targetNames"] = tinygltf::Value(names);  // the de-facto convention Blender and three.js read
         mesh.extras = tinygltf::Value(extras);
@@ -204,14 +242,11 @@ public:
         m_model->scenes.push_back(scene);
         m_model->defaultScene = 0;
 
-        // Key f at f / fps: target f at weight 1, the others 0.
+        // Key f at f / fps.
         std::vector<float> times(frames);
-        std::vector<float> weights(frames * frames, 0.0f);
-        for (std::size_t f = 0; f < frames; ++f) {
+        for (std::size_t f = 0; f < frames; ++f)
             times[f] = float(double(f) / m_setup.info.fps);
-            weights[f * frames + f] = 1.0f;
-        }
-        warnAboutTargets(weights, frames);
+        warnAboutTargets(weights, targets);
         tinygltf::AnimationSampler sampler;
         sampler.input = detail::addFloatAccessor(*m_model, times.data(), frames, 1, false, true);
         sampler.output = detail::addFloatAccessor(*m_model, weights.data(), weights.size(), 1, false, false);
@@ -234,12 +269,23 @@ public:
         files.push_back(std::make_unique<detail::StagedFile>(m_path));
         if (Status s = files.front()->write(bytes.value()); !s)
             return s;
+        if (compressed()) {
+            const double pc2Bytes = 32.0 + double(frames) * double(m_setup.info.pointCount) * 12.0;
+            char line[200];
+            std::snprintf(line, sizeof line, "%zu bytes, %.1f%% of a PC2 of the same clip (%.0f bytes)", bytes.value().size(),
+                          100.0 * double(bytes.value().size()) / pc2Bytes, pc2Bytes);
+            m_notes.push_back(detail::quoted(m_path) + ": " + line);
+        }
         return detail::publishAll(files);
     }
 
     void abort() override {
         m_model.reset();
         m_framesWritten = 0;
+        m_positionDeltas.clear();
+        m_positionDeltas.shrink_to_fit();
+        m_normalDeltas.clear();
+        m_normalDeltas.shrink_to_fit();
         m_delta.clear();
         m_delta.shrink_to_fit();
     }
@@ -247,11 +293,87 @@ public:
     bool needsNormals() const override { return m_options.gltfNormals; }
 
 private:
+    bool compressed() const { return m_options.gltfMorphError > 0.0; }
+
+    /// Fits the compressed basis to the kept frames and adds its targets (mean first); fills the keys'
+    /// weights and the targets' names, and returns the number of targets.
+    std::size_t addCompressedTargets(std::vector<float>& weights, tinygltf::Value::Array& names) {
+        const std::size_t frames = m_setup.info.frameCount, values = 3 * m_setup.info.pointCount;
+        Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+        for (const Vec3f& p : m_setup.restMesh.positions) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+        const double diagonal = std::max(1e-12, double((hi - lo).norm()));
+        MorphBasis basis = fitMorphBasis(m_positionDeltas, frames, values, m_options.gltfMorphError * diagonal,
+                                               std::size_t(std::max(1, m_options.gltfMaxMorphs)));
+        m_positionDeltas.clear();
+        m_positionDeltas.shrink_to_fit();
+        MorphBasis normals;
+        if (m_options.gltfNormals) {
+            normals = fitMorphComponentsFor(basis, m_normalDeltas, frames, values);
+            m_normalDeltas.clear();
+            m_normalDeltas.shrink_to_fit();
+        }
+        // Weights in [0, 1]: each component's lowest weight goes into the mean target and its range into
+        // the target, w' = (w − lo) / (hi − lo). The motion is the same; importers that clamp negative
+        // weights (assimp 5.2 reads them as 0) or sliders that start at 0 (Blender's shape keys) play it.
+        for (std::size_t k = 0; k < basis.components.size(); ++k) {
+            float low = basis.weights[0][k], high = low;
+            for (const auto& row : basis.weights) {
+                low = std::min(low, row[k]);
+                high = std::max(high, row[k]);
+            }
+            const float range = high > low ? high - low : 1.0f;
+            for (MorphBasis* b : {&basis, m_options.gltfNormals ? &normals : nullptr}) {
+                if (!b)
+                    continue;
+                for (std::size_t j = 0; j < values; ++j) {
+                    b->mean[j] += low * b->components[k][j];
+                    b->components[k][j] *= range;
+                }
+            }
+            for (auto& row : basis.weights)
+                row[k] = (row[k] - low) / range;
+        }
+        auto addTarget = [&](const std::vector<float>& position, const std::vector<float>* normal) {
+            std::map<std::string, int> target;
+            target["POSITION"] = detail::addFloatAccessor(*m_model, position.data(), m_setup.info.pointCount, 3, true, true);
+            if (normal)
+                target["NORMAL"] = detail::addFloatAccessor(*m_model, normal->data(), m_setup.info.pointCount, 3, true, false);
+            m_model->meshes.front().primitives.front().targets.push_back(std::move(target));
+        };
+        addTarget(basis.mean, m_options.gltfNormals ? &normals.mean : nullptr);
+        names.emplace_back(std::string("mean"));
+        for (std::size_t k = 0; k < basis.components.size(); ++k) {
+            addTarget(basis.components[k], m_options.gltfNormals ? &normals.components[k] : nullptr);
+            names.emplace_back("component_" + std::to_string(k + 1));
+        }
+        const std::size_t targets = basis.components.size() + 1;
+        weights.assign(frames * targets, 0.0f);
+        for (std::size_t f = 0; f < frames; ++f) {
+            weights[f * targets] = 1.0f;
+            for (std::size_t k = 0; k + 1 < targets; ++k)
+                weights[f * targets + k + 1] = basis.weights[f][k];
+        }
+        char line[300];
+        std::snprintf(line, sizeof line,
+                      "compressed morphs: the mean and %zu component%s for %zu frames (weights in [0, 1]); worst frame RMS "
+                      "error %.3g, worst vertex error %.3g of the diagonal (target %.3g)",
+                      basis.components.size(), basis.components.size() == 1 ? "" : "s", frames, basis.worstFrameRms / diagonal, basis.worstVertexError / diagonal,
+                      m_options.gltfMorphError);
+        m_notes.push_back(detail::quoted(m_path) + ": " + line);
+        if (basis.worstFrameRms > m_options.gltfMorphError * diagonal)
+            m_warnings.push_back(detail::quoted(m_path) + ": " + std::to_string(basis.components.size()) +
+                                 " components (the most allowed) miss the error target; raise --morph-components or the target");
+        return targets;
+    }
+
     /// Counts the targets the sampler makes active at once (a key's non-zero weights, and with
     /// LINEAR the union of two neighbouring keys) and warns past what engines guarantee.
     void warnAboutTargets(const std::vector<float>& weights, std::size_t targets) {
         std::size_t mostActive = 0;
-        const std::size_t keys = targets;
+        const std::size_t keys = targets > 0 ? weights.size() / targets : 0;
         for (std::size_t k = 0; k < keys; ++k) {
             std::size_t active = 0;
             for (std::size_t t = 0; t < targets; ++t) {
@@ -279,6 +401,8 @@ private:
     ClipSetup m_setup;                         ///< Copied by begin().
     std::unique_ptr<tinygltf::Model> m_model;  ///< The whole file until finish() (glTF cannot stream).
     std::vector<Vec3f> m_delta;                ///< One frame's deltas, reused.
+    std::vector<float> m_positionDeltas;       ///< Compressed morphs: every frame's position deltas until finish().
+    std::vector<float> m_normalDeltas;         ///< Compressed morphs: every frame's normal deltas until finish().
     std::size_t m_framesWritten = 0;
 };
 

@@ -17,6 +17,8 @@
 #include <tiny_gltf.h>
 
 #include <QProcess>
+#include "core/morph_basis.h"
+
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -225,6 +227,8 @@ private slots:
     void gltfRoundTrip_data();
     void gltfRoundTrip();
     void gltfWarnsAboutTargetCount();
+    void gltfCompressedMorphsKeepTheErrorTarget_data();
+    void gltfCompressedMorphsKeepTheErrorTarget();
     void vatRoundTrip_data();
     void vatRoundTrip();
     void latticeRoundTrip_data();
@@ -334,6 +338,82 @@ void TestExports::gltfRoundTrip() {
         QVERIFY(found);
         QCOMPARE(sum, 1.0);
     }
+}
+
+void TestExports::gltfCompressedMorphsKeepTheErrorTarget_data() {
+    QTest::addColumn<double>("target");  // RMS vertex error per frame, fraction of the rest mesh's diagonal
+    QTest::newRow("0.3%") << 3e-3;
+    QTest::newRow("0.1%") << 1e-3;
+    QTest::newRow("0.03%") << 3e-4;
+}
+
+void TestExports::gltfCompressedMorphsKeepTheErrorTarget() {
+    // The swim baked for a second, exported as compressed morphs, re-imported with assimp and played back
+    // as an engine would (rest + Σ weight × (target − rest) at each key): every frame within the target of
+    // the PC2 of the same bake, with the fewest components that can be, in fewer bytes than the PC2.
+    QFETCH(double, target);
+    QTemporaryDir dir;
+    const fs::path out = fs::path(dir.path().toStdString()) / "swim.glb";
+    constexpr int kSwimFrames = 24;
+    BakeOptions options;
+    options.output = out;
+    options.format = CacheFormat::Glb;
+    options.frames = kSwimFrames;
+    options.threads = 1;
+    options.exportOptions.gltfMorphError = target;
+    Result<BakeResult> baked = bake(m_fish, options);
+    QVERIFY2(baked, baked.message().c_str());
+    QVERIFY(!baked->notes.empty());
+    options.output = out.parent_path() / "swim.pc2";
+    options.format = CacheFormat::Pc2;
+    QVERIFY(bake(m_fish, options));
+    const Result<VertexCache> pc2 = readPc2(out.parent_path() / "swim.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(out.string(), 0);
+    QVERIFY2(scene != nullptr, importer.GetErrorString());
+    const aiMesh* mesh = scene->mMeshes[0];
+    const std::size_t vertices = mesh->mNumVertices;
+    QCOMPARE(vertices, pc2->info.pointCount);
+    const std::size_t targets = mesh->mNumAnimMeshes;
+    QVERIFY2(targets >= 2 && targets < std::size_t(kSwimFrames), qPrintable(QString::number(targets)));
+    Vec3f lo = Vec3f::Constant(1e30f), hi = -lo;
+    for (std::size_t v = 0; v < vertices; ++v) {
+        const Vec3f p(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const double diagonal = double((hi - lo).norm());
+    const aiMeshMorphAnim* channel = scene->mAnimations[0]->mMorphMeshChannels[0];
+    QCOMPARE(int(channel->mNumKeys), kSwimFrames);
+    double worstRms = 0.0;
+    std::vector<float> deltas;  // the PC2's frames as displacements from the rest mesh
+    for (int f = 0; f < kSwimFrames; ++f) {
+        const aiMeshMorphKey& key = channel->mKeys[f];
+        double squared = 0.0;
+        for (std::size_t v = 0; v < vertices; ++v) {
+            const aiVector3D& rest = mesh->mVertices[v];
+            aiVector3D p = rest;
+            for (unsigned k = 0; k < key.mNumValuesAndWeights; ++k)
+                p += float(key.mWeights[k]) * (mesh->mAnimMeshes[key.mValues[k]]->mVertices[v] - rest);
+            const Vec3f& expected = pc2->frames[std::size_t(f)][v];
+            squared += double((Vec3f(p.x, p.y, p.z) - expected).squaredNorm());
+            const Vec3f d = expected - Vec3f(rest.x, rest.y, rest.z);
+            deltas.insert(deltas.end(), d.data(), d.data() + 3);
+        }
+        worstRms = std::max(worstRms, std::sqrt(squared / double(vertices)));
+    }
+    qInfo("target %.2g: %zu targets (mean + components), worst frame RMS %.3g of the diagonal, %lld bytes against "
+          "%lld for PC2", target, targets, worstRms / diagonal, (long long)fs::file_size(out),
+          (long long)fs::file_size(out.parent_path() / "swim.pc2"));
+    QVERIFY2(worstRms <= target * diagonal * (1.0 + 1e-3) + 1e-7,
+             qPrintable(QString("worst frame RMS %1 above %2").arg(worstRms / diagonal).arg(target)));
+    // The fewest: one component less misses the target.
+    const MorphBasis fewer = fitMorphBasis(deltas, std::size_t(kSwimFrames), 3 * vertices, target * diagonal, targets - 2);
+    QVERIFY2(fewer.worstFrameRms > target * diagonal,
+             qPrintable(QString("%1 components already reach %2").arg(targets - 2).arg(fewer.worstFrameRms / diagonal)));
+    QVERIFY(fs::file_size(out) < fs::file_size(out.parent_path() / "swim.pc2"));
 }
 
 void TestExports::gltfWarnsAboutTargetCount() {
