@@ -1,0 +1,222 @@
+// The shader SoftTouch ships for game engines (io/shaders/lattice_deform.glsl) run, not only compiled:
+// in a headless OpenGL context (EGL), fed from the exported lattice cache files alone (.lattice.glb for
+// the (u,v,w) and rest normals, .lattice.bin for the nodes), its outputs captured by transform feedback
+// and compared with the PC2 and the normals of the same bake.
+#include "io/bake.h"
+#include "io/lattice_cache.h"
+#include "io/project_file.h"
+#include "io/vertex_cache.h"
+#include "render/egl_context.h"
+#include "render/gl.h"
+#include "render/gl_program.h"
+
+#include <tiny_gltf.h>
+
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+using namespace softtouch;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSource = SOFTTOUCH_SOURCE_DIR;
+constexpr int kFrames = 6;
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+tinygltf::Model loadGlb(const fs::path& path) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error, warning;
+    if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string()))
+        qFatal("cannot load %s: %s", path.string().c_str(), error.c_str());
+    return model;
+}
+
+std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
+    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
+    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
+    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
+    std::vector<float> out(accessor.count * components);
+    std::memcpy(out.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset,
+                out.size() * sizeof(float));
+    return out;
+}
+
+void bakeTo(const Scene& scene, io::CacheFormat format, const fs::path& out) {
+    io::BakeOptions options;
+    options.output = out;
+    options.format = format;
+    options.frames = kFrames;
+    options.threads = 1;
+    const Result<io::BakeResult> result = io::bake(scene, options);
+    if (!result)
+        qFatal("bake failed: %s", result.message().c_str());
+}
+
+/// A fragment stage for linking only: the vertex outputs are captured before rasterisation, which is off.
+constexpr const char* kFragment = "#version 430 core\nin vec3 vNormal;\nout vec4 colour;\nvoid main() { colour = vec4(vNormal, 1.0); }\n";
+
+}  // namespace
+
+class TestShippedShaders : public QObject {
+    Q_OBJECT
+private slots:
+    void latticeShaderReproducesTheBake();
+};
+
+void TestShippedShaders::latticeShaderReproducesTheBake() {
+    if (Status s = render::EglContext::probeDriver(); !s)
+        QSKIP(qPrintable("no EGL driver: " + QString::fromStdString(s.message())));
+    auto created = render::EglContext::create(16, 16, 0);
+    QVERIFY2(created, created.message().c_str());
+    const std::unique_ptr<render::EglContext> context = std::move(created.value());
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major * 10 + minor < 43)
+        QSKIP(qPrintable(QString("the shader needs OpenGL 4.3 (storage buffers); this context has %1.%2").arg(major).arg(minor)));
+
+    // The painted angelfish swims for a few frames; the lattice cache, the PC2 and the GLB (for the
+    // bake's own normals) of the same bake.
+    QTemporaryDir dir;
+    const fs::path folder = dir.path().toStdString();
+    const Result<io::Project> project = io::loadProject(kSource / "presets/scenes/angelfish-swim.softtouch");
+    QVERIFY2(project, project.message().c_str());
+    bakeTo(project->scene, io::CacheFormat::Lattice, folder / "clip");
+    bakeTo(project->scene, io::CacheFormat::Pc2, folder / "clip.pc2");
+    bakeTo(project->scene, io::CacheFormat::Glb, folder / "normals.glb");
+    const Result<io::VertexCache> pc2 = io::readPc2(folder / "clip.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const Result<io::LatticeCache> cache = io::readLatticeCache(folder / "clip.lattice.bin");
+    QVERIFY2(cache, cache.message().c_str());
+    const tinygltf::Model mesh = loadGlb(folder / cache->mesh);
+    const tinygltf::Model morphs = loadGlb(folder / "normals.glb");
+    const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
+    const std::vector<float> restNormalsAll = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
+
+    const std::string source = readText(kSource / "io/shaders/lattice_deform.glsl");
+    QVERIFY(!source.empty());
+    auto program = render::buildProgram("lattice_deform", source, kFragment, {"gl_Position", "vNormal"});
+    QVERIFY2(program, program.message().c_str());
+    const GLuint id = program->id;
+    glUseProgram(id);
+
+    // The .bin's node floats, every frame, as the shader's storage buffer (what an engine uploads as is).
+    std::vector<float> nodes;
+    for (const auto& frame : cache->frames)
+        for (const Vec3f& p : frame)
+            nodes.insert(nodes.end(), p.data(), p.data() + 3);
+    GLuint buffers[4] = {};
+    glGenBuffers(4, buffers);
+    const GLuint nodeBuffer = buffers[0], uvwBuffer = buffers[1], normalBuffer = buffers[2], captured = buffers[3];
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, nodeBuffer);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(nodes.size() * sizeof(float)), nodes.data(), GL_STATIC_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, nodeBuffer);
+    GLuint vao = 0;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glEnable(GL_RASTERIZER_DISCARD);
+    const float identity4[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const float identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    glUniformMatrix4fv(glGetUniformLocation(id, "uModelViewProjection"), 1, GL_FALSE, identity4);
+    glUniformMatrix3fv(glGetUniformLocation(id, "uNormalMatrix"), 1, GL_FALSE, identity3);
+    glUniform1i(glGetUniformLocation(id, "uNodesPerFrame"), GLint(cache->frames.front().size()));
+
+    double diagonal = 0.0;
+    {
+        Vec3f lo = Vec3f::Constant(1e30f), hi = -lo;
+        for (const auto& frame : pc2->frames)
+            for (const Vec3f& p : frame) {
+                lo = lo.cwiseMin(p);
+                hi = hi.cwiseMax(p);
+            }
+        diagonal = double((hi - lo).norm());
+    }
+    double worst = 0.0, worstBlend = 0.0, worstNormal = 0.0, motion = 0.0;
+    int firstNode = 0;
+    for (std::size_t o = 0; o < cache->objects.size(); ++o) {
+        const io::LatticeCacheObject& object = cache->objects[o];
+        const std::vector<float> uvw = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("_LATTICE_UVW"));
+        const std::vector<float> normals = accessorFloats(mesh, mesh.meshes[0].primitives[o].attributes.at("NORMAL"));
+        const GLsizei count = GLsizei(object.vertexCount);
+        glBindBuffer(GL_ARRAY_BUFFER, uvwBuffer);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(uvw.size() * sizeof(float)), uvw.data(), GL_STATIC_DRAW);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, normalBuffer);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(normals.size() * sizeof(float)), normals.data(), GL_STATIC_DRAW);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(1);
+        glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, captured);
+        glBufferData(GL_TRANSFORM_FEEDBACK_BUFFER, GLsizeiptr(count) * 7 * GLsizeiptr(sizeof(float)), nullptr, GL_DYNAMIC_READ);
+        glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, captured);
+
+        glUniform3i(glGetUniformLocation(id, "uNodeCount"), object.nodes[0], object.nodes[1], object.nodes[2]);
+        glUniform3i(glGetUniformLocation(id, "uDegree"), object.degrees[0], object.degrees[1], object.degrees[2]);
+        glUniform1i(glGetUniformLocation(id, "uFirstNode"), firstNode);
+        const Mat3 axes = object.box.axes;
+        const float axesColumns[9] = {float(axes(0, 0)), float(axes(1, 0)), float(axes(2, 0)), float(axes(0, 1)), float(axes(1, 1)),
+                                      float(axes(2, 1)), float(axes(0, 2)), float(axes(1, 2)), float(axes(2, 2))};
+        glUniformMatrix3fv(glGetUniformLocation(id, "uBoxAxes"), 1, GL_FALSE, axesColumns);
+        const Vec3 size = object.box.size;
+        glUniform3f(glGetUniformLocation(id, "uBoxSize"), float(size.x()), float(size.y()), float(size.z()));
+
+        // Runs the shader at frames a, b blended by t; returns x y z w nx ny nz per vertex.
+        auto run = [&](int a, int b, float t) {
+            glUniform1i(glGetUniformLocation(id, "uFrameA"), a);
+            glUniform1i(glGetUniformLocation(id, "uFrameB"), b);
+            glUniform1f(glGetUniformLocation(id, "uBlend"), t);
+            glBeginTransformFeedback(GL_POINTS);
+            glDrawArrays(GL_POINTS, 0, count);
+            glEndTransformFeedback();
+            std::vector<float> out(std::size_t(count) * 7);
+            glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+            return out;
+        };
+        for (int f = 0; f < kFrames; ++f) {
+            const std::vector<float> out = run(f, f, 0.0f);
+            const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(std::size_t(f)).at("NORMAL"));
+            for (std::size_t v = 0; v < std::size_t(count); ++v) {
+                const Vec3f x(out[7 * v], out[7 * v + 1], out[7 * v + 2]);
+                QCOMPARE(out[7 * v + 3], 1.0f);
+                const Vec3f& expected = pc2->frames[std::size_t(f)][object.firstVertex + v];
+                worst = std::max(worst, double((x - expected).norm()));
+                motion = std::max(motion, double((expected - pc2->frames[0][object.firstVertex + v]).norm()));
+                const std::size_t g = 3 * (object.firstVertex + v);
+                const Vec3f baked(restNormalsAll[g] + normalDeltas[g], restNormalsAll[g + 1] + normalDeltas[g + 1],
+                                  restNormalsAll[g + 2] + normalDeltas[g + 2]);
+                worstNormal = std::max(worstNormal, double((Vec3f(out[7 * v + 4], out[7 * v + 5], out[7 * v + 6]) - baked.normalized()).norm()));
+            }
+            if (f + 1 < kFrames) {  // halfway to the next frame: the mesh is linear in the nodes
+                const std::vector<float> half = run(f, f + 1, 0.5f);
+                for (std::size_t v = 0; v < std::size_t(count); ++v) {
+                    const Vec3f expected = 0.5f * (pc2->frames[std::size_t(f)][object.firstVertex + v] +
+                                                   pc2->frames[std::size_t(f) + 1][object.firstVertex + v]);
+                    worstBlend = std::max(worstBlend, double((Vec3f(half[7 * v], half[7 * v + 1], half[7 * v + 2]) - expected).norm()));
+                }
+            }
+        }
+        firstNode += object.nodeCount();
+    }
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(4, buffers);
+    program->release();
+    qInfo("%s: lattice_deform.glsl against the bake: positions %.3g, halfway blends %.3g of the diagonal; normals %.3g",
+          context->description().c_str(), worst / diagonal, worstBlend / diagonal, worstNormal);
+    QVERIFY2(motion > 1e-3 * diagonal, "the clip does not move: the comparison would be between rest poses");
+    QVERIFY2(worst <= 1e-5 * diagonal, qPrintable(QString("position error %1 of the diagonal").arg(worst / diagonal)));
+    QVERIFY2(worstBlend <= 1e-5 * diagonal, qPrintable(QString("blend error %1 of the diagonal").arg(worstBlend / diagonal)));
+    QVERIFY2(worstNormal <= 1e-4, qPrintable(QString("normal error %1").arg(worstNormal)));
+}
+
+QTEST_GUILESS_MAIN(TestShippedShaders)
+#include "test_shipped_shaders.moc"
