@@ -684,6 +684,8 @@ void TestExports::latticeShadersCompile_data() {
     QTest::addColumn<QStringList>("arguments");
     QTest::newRow("GLSL 4.30 vertex") << "lattice_deform.glsl" << QStringList{"-S", "vert"};
     QTest::newRow("HLSL vertex to SPIR-V") << "lattice_deform.hlsl" << QStringList{"-D", "-S", "vert", "-e", "main", "-V"};
+    QTest::newRow("VAT GLSL 4.30 vertex") << "vat_deform.glsl" << QStringList{"-S", "vert"};
+    QTest::newRow("VAT HLSL vertex to SPIR-V") << "vat_deform.hlsl" << QStringList{"-D", "-S", "vert", "-e", "main", "-V"};
 }
 
 void TestExports::latticeShadersCompile() {

@@ -1,7 +1,7 @@
-// The shader SoftTouch ships for game engines (io/shaders/lattice_deform.glsl) run, not only compiled:
-// in a headless OpenGL context (EGL), fed from the exported lattice cache files alone (.lattice.glb for
-// the (u,v,w) and rest normals, .lattice.bin for the nodes), its outputs captured by transform feedback
-// and compared with the PC2 and the normals of the same bake.
+// The shaders SoftTouch ships for game engines (io/shaders/*.glsl) run, not only compiled: in a headless
+// OpenGL context (EGL), fed from the exported files alone (the lattice cache's .lattice.glb and .bin; the
+// VAT's mesh, EXRs and JSON), their outputs captured by transform feedback and compared with the PC2 and
+// the normals of the same bake.
 #include "io/bake.h"
 #include "io/lattice_cache.h"
 #include "io/project_file.h"
@@ -10,6 +10,8 @@
 #include "render/gl.h"
 #include "render/gl_program.h"
 
+#include <ImfRgbaFile.h>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <QTemporaryDir>
@@ -71,6 +73,7 @@ class TestShippedShaders : public QObject {
     Q_OBJECT
 private slots:
     void latticeShaderReproducesTheBake();
+    void vatShaderReproducesTheBake();
 };
 
 void TestShippedShaders::latticeShaderReproducesTheBake() {
@@ -197,11 +200,11 @@ void TestShippedShaders::latticeShaderReproducesTheBake() {
                 worstNormal = std::max(worstNormal, double((Vec3f(out[7 * v + 4], out[7 * v + 5], out[7 * v + 6]) - baked.normalized()).norm()));
             }
             if (f + 1 < kFrames) {  // halfway to the next frame: the mesh is linear in the nodes
-                const std::vector<float> half = run(f, f + 1, 0.5f);
+                const std::vector<float> between = run(f, f + 1, 0.5f);
                 for (std::size_t v = 0; v < std::size_t(count); ++v) {
                     const Vec3f expected = 0.5f * (pc2->frames[std::size_t(f)][object.firstVertex + v] +
                                                    pc2->frames[std::size_t(f) + 1][object.firstVertex + v]);
-                    worstBlend = std::max(worstBlend, double((Vec3f(half[7 * v], half[7 * v + 1], half[7 * v + 2]) - expected).norm()));
+                    worstBlend = std::max(worstBlend, double((Vec3f(between[7 * v], between[7 * v + 1], between[7 * v + 2]) - expected).norm()));
                 }
             }
         }
@@ -216,6 +219,128 @@ void TestShippedShaders::latticeShaderReproducesTheBake() {
     QVERIFY2(worst <= 1e-5 * diagonal, qPrintable(QString("position error %1 of the diagonal").arg(worst / diagonal)));
     QVERIFY2(worstBlend <= 1e-5 * diagonal, qPrintable(QString("blend error %1 of the diagonal").arg(worstBlend / diagonal)));
     QVERIFY2(worstNormal <= 1e-4, qPrintable(QString("normal error %1").arg(worstNormal)));
+}
+
+void TestShippedShaders::vatShaderReproducesTheBake() {
+    if (Status s = render::EglContext::probeDriver(); !s)
+        QSKIP(qPrintable("no EGL driver: " + QString::fromStdString(s.message())));
+    auto created = render::EglContext::create(16, 16, 0);
+    QVERIFY2(created, created.message().c_str());
+    const std::unique_ptr<render::EglContext> context = std::move(created.value());
+
+    QTemporaryDir dir;
+    const fs::path folder = dir.path().toStdString();
+    const Result<io::Project> project = io::loadProject(kSource / "presets/scenes/angelfish-swim.softtouch");
+    QVERIFY2(project, project.message().c_str());
+    // Wrapped rows (1,000 texels wide: 4 rows a frame) as well as the default one row per frame.
+    for (const int width : {8192, 1000}) {
+        io::BakeOptions options;
+        options.output = folder / ("clip" + std::to_string(width));
+        options.format = io::CacheFormat::Vat;
+        options.frames = kFrames;
+        options.threads = 1;
+        options.exportOptions.vatMaxWidth = width;
+        QVERIFY(io::bake(project->scene, options));
+        const std::string base = options.output.string();
+        bakeTo(project->scene, io::CacheFormat::Pc2, folder / "clip.pc2");
+        const Result<io::VertexCache> pc2 = io::readPc2(folder / "clip.pc2");
+        QVERIFY2(pc2, pc2.message().c_str());
+        const nlohmann::json sidecar = nlohmann::json::parse(readText(base + ".vat.json"));
+        const int texWidth = sidecar["textureWidth"], texHeight = sidecar["textureHeight"];
+        const tinygltf::Model mesh = loadGlb(folder / sidecar["mesh"].get<std::string>());
+        const tinygltf::Primitive& primitive = mesh.meshes.at(0).primitives.at(0);
+        const std::vector<float> rest = accessorFloats(mesh, primitive.attributes.at("POSITION"));
+        const std::vector<float> lookup = accessorFloats(mesh, primitive.attributes.at("TEXCOORD_1"));
+        const GLsizei count = GLsizei(rest.size() / 3);
+        QCOMPARE(std::size_t(count), pc2->info.pointCount);
+
+        // Each EXR as a float texture, scanline 0 first (GL's t = 0 is glTF's v = 0), nearest, no mipmaps.
+        GLuint textures[2] = {};
+        glGenTextures(2, textures);
+        const std::string names[2] = {base + ".vat-position.exr", base + ".vat-normal.exr"};
+        for (int t = 0; t < 2; ++t) {
+            Imf::RgbaInputFile file(names[t].c_str());
+            const Imath::Box2i window = file.dataWindow();
+            QCOMPARE(window.max.x - window.min.x + 1, texWidth);
+            QCOMPARE(window.max.y - window.min.y + 1, texHeight);
+            std::vector<Imf::Rgba> pixels(std::size_t(texWidth) * std::size_t(texHeight));
+            file.setFrameBuffer(pixels.data(), 1, std::size_t(texWidth));
+            file.readPixels(window.min.y, window.max.y);
+            std::vector<float> rgb;
+            rgb.reserve(pixels.size() * 3);
+            for (const Imf::Rgba& p : pixels)
+                rgb.insert(rgb.end(), {float(p.r), float(p.g), float(p.b)});
+            glActiveTexture(GLenum(GL_TEXTURE0 + t));
+            glBindTexture(GL_TEXTURE_2D, textures[t]);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, texWidth, texHeight, 0, GL_RGB, GL_FLOAT, rgb.data());
+        }
+
+        auto program = render::buildProgram("vat_deform", readText(kSource / "io/shaders/vat_deform.glsl"), kFragment,
+                                            {"gl_Position", "vNormal"});
+        QVERIFY2(program, program.message().c_str());
+        const GLuint id = program->id;
+        glUseProgram(id);
+        glUniform1i(glGetUniformLocation(id, "uOffsets"), 0);
+        glUniform1i(glGetUniformLocation(id, "uNormals"), 1);
+        glUniform1f(glGetUniformLocation(id, "uFrameRowStep"), sidecar["frameRowStep"].get<float>());
+        const float identity4[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        const float identity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        glUniformMatrix4fv(glGetUniformLocation(id, "uModelViewProjection"), 1, GL_FALSE, identity4);
+        glUniformMatrix3fv(glGetUniformLocation(id, "uNormalMatrix"), 1, GL_FALSE, identity3);
+        GLuint buffers[3] = {}, vao = 0;
+        glGenBuffers(3, buffers);
+        glGenVertexArrays(1, &vao);
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(rest.size() * sizeof(float)), rest.data(), GL_STATIC_DRAW);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, buffers[1]);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lookup.size() * sizeof(float)), lookup.data(), GL_STATIC_DRAW);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(1);
+        glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, buffers[2]);
+        glBufferData(GL_TRANSFORM_FEEDBACK_BUFFER, GLsizeiptr(count) * 7 * GLsizeiptr(sizeof(float)), nullptr, GL_DYNAMIC_READ);
+        glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffers[2]);
+        glEnable(GL_RASTERIZER_DISCARD);
+
+        double worst = 0.0, allowed = 0.0, motion = 0.0, worstNormalLength = 0.0;
+        for (int f = 0; f < kFrames; ++f) {
+            glUniform1i(glGetUniformLocation(id, "uFrameA"), f);
+            glUniform1i(glGetUniformLocation(id, "uFrameB"), f);
+            glUniform1f(glGetUniformLocation(id, "uBlend"), 0.0f);
+            glBeginTransformFeedback(GL_POINTS);
+            glDrawArrays(GL_POINTS, 0, count);
+            glEndTransformFeedback();
+            std::vector<float> out(std::size_t(count) * 7);
+            glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+            for (std::size_t v = 0; v < std::size_t(count); ++v) {
+                const Vec3f x(out[7 * v], out[7 * v + 1], out[7 * v + 2]);
+                const Vec3f& expected = pc2->frames[std::size_t(f)][v];
+                const Vec3f restPosition(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]);
+                // Half precision of the offset (2^-11 relative, 2^-25 m subnormal) plus float rounding.
+                const double bound = double((expected - restPosition).norm()) * 1e-3 + 1e-6;
+                worst = std::max(worst, double((x - expected).norm()) / bound);
+                allowed = std::max(allowed, bound);
+                motion = std::max(motion, double((expected - pc2->frames[0][v]).norm()));
+                worstNormalLength = std::max(worstNormalLength, std::abs(double(Vec3f(out[7 * v + 4], out[7 * v + 5], out[7 * v + 6]).norm()) - 1.0));
+            }
+        }
+        qInfo("vat_deform.glsl, texture %dx%d: worst position error %.3g of its half-precision bound (at most %.3g m); "
+              "normals unit within %.2g", texWidth, texHeight, worst, allowed, worstNormalLength);
+        QVERIFY2(motion > 1e-3, "the clip does not move");
+        QVERIFY2(worst <= 1.0, qPrintable(QString("a vertex is %1 times its bound away from the bake").arg(worst)));
+        QVERIFY(worstNormalLength <= 1e-5);
+        glDeleteVertexArrays(1, &vao);
+        glDeleteBuffers(3, buffers);
+        glDeleteTextures(2, textures);
+        program->release();
+    }
 }
 
 QTEST_GUILESS_MAIN(TestShippedShaders)
