@@ -31,8 +31,10 @@ sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
 Formats (docs/formats.md):
   pc2, mdd          vertex caches
   objseq            one OBJ per frame
-  gltf, glb         glTF 2.0 morph targets (one per frame, or compressed: --morph-error) and a
-                    weights animation
+  gltf, glb         glTF 2.0 morph targets (one per frame) and a weights animation
+  pca               glTF/GLB (by the extension, default .glb) with compressed morphs: the frames'
+                    mean plus the fewest principal components that keep every frame's RMS vertex
+                    error within --error; prints the targets, the errors and the size against PC2
   vat               FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float),
                     FILE.vat-mesh.glb, FILE.vat.json
   lattice           FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w),
@@ -46,11 +48,9 @@ Options:
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
   --threads N       Deformation threads (default: all).
-  --morph-error E   gltf, glb: compressed morphs, the frames' mean plus the fewest principal
-                    components that keep every frame's RMS vertex error at or below E times the
-                    rest mesh's bounding-box diagonal (0 < E <= 0.1; e.g. 0.001). Prints the
-                    components, the errors and the size against PC2.
-  --morph-components K  gltf, glb with --morph-error: at most K components (1..255, default 32).
+  --error E         pca: each frame's RMS vertex error at most E times the rest mesh's bounding-box
+                    diagonal (0 < E <= 0.1; default 0.005).
+  --targets K       pca: at most K morph targets, the mean included (2..256, default 33).
   --quiet           No progress output.
 )";
 
@@ -60,7 +60,7 @@ Options:
 int runBake(const std::vector<std::string>& args) {
     const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
     std::string scenePath, outPath, formatName, clipName;
-    std::optional<double> frames, fps, threads, morphError, morphComponents;
+    std::optional<double> frames, fps, threads, error, targets;
     bool quiet = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -77,7 +77,7 @@ int runBake(const std::vector<std::string>& args) {
         if (a == "--quiet") {
             quiet = true;
         } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads" ||
-                   a == "--clip" || a == "--morph-error" || a == "--morph-components") {
+                   a == "--clip" || a == "--error" || a == "--targets") {
             const auto v = value(a.c_str());
             if (!v)
                 return usage(a + " needs a value");
@@ -94,8 +94,8 @@ int runBake(const std::vector<std::string>& args) {
                 (a == "--frames"        ? frames
                  : a == "--fps"         ? fps
                  : a == "--threads"     ? threads
-                 : a == "--morph-error" ? morphError
-                                        : morphComponents) = *n;
+                 : a == "--error"       ? error
+                                        : targets) = *n;
             }
         } else if (!a.empty() && a[0] == '-') {
             return usage("unknown option '" + a + "'");
@@ -111,10 +111,13 @@ int runBake(const std::vector<std::string>& args) {
         return usage("bake needs --out FILE");
     io::BakeOptions options;
     options.output = outPath;
+    const bool pca = formatName == "pca";
+    if (pca)  // compressed morphs: a glTF export with its own options, .gltf or .glb by the extension
+        formatName = io::cacheFormatFromPath(outPath) == io::CacheFormat::Gltf ? "gltf" : "glb";
     if (!formatName.empty()) {
         const auto f = io::parseCacheFormat(formatName);
         if (!f)
-            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, vat or lattice)");
+            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, pca, vat or lattice)");
         options.format = *f;
     } else {
         const auto f = io::cacheFormatFromPath(outPath);
@@ -128,18 +131,17 @@ int runBake(const std::vector<std::string>& args) {
         return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
-    const bool gltf = options.format == io::CacheFormat::Gltf || options.format == io::CacheFormat::Glb;
-    if ((morphError || morphComponents) && !gltf)
-        return usage("--morph-error and --morph-components are for the gltf and glb formats");
-    if (morphComponents && !morphError)
-        return usage("--morph-components needs --morph-error (the error target decides how many are used)");
-    if (morphError && !(*morphError > 0 && *morphError <= 0.1))
-        return usage("--morph-error must be in (0, 0.1] (a fraction of the diagonal), got " + formatValue(*morphError));
-    if (morphComponents && (*morphComponents < 1 || *morphComponents > 255 || std::floor(*morphComponents) != *morphComponents))
-        return usage("--morph-components must be a whole number in [1, 255], got " + formatValue(*morphComponents));
-    options.exportOptions.gltfMorphError = morphError.value_or(0.0);
-    if (morphComponents)
-        options.exportOptions.gltfMaxMorphs = int(*morphComponents);
+    if ((error || targets) && !pca)
+        return usage("--error and --targets are for --format pca");
+    if (error && !(*error > 0 && *error <= 0.1))
+        return usage("--error must be in (0, 0.1] (a fraction of the diagonal), got " + formatValue(*error));
+    if (targets && (*targets < 2 || *targets > 256 || std::floor(*targets) != *targets))
+        return usage("--targets must be a whole number in [2, 256] (the mean and at least one component), got " +
+                     formatValue(*targets));
+    if (pca) {
+        options.exportOptions.gltfMorphError = error.value_or(0.005);
+        options.exportOptions.gltfMaxMorphs = targets ? int(*targets) - 1 : 32;
+    }
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);
     options.threads = threads ? int(*threads) : 0;

@@ -365,7 +365,7 @@ private:
         m_notes.push_back(detail::quoted(m_path) + ": " + line);
         if (basis.worstFrameRms > m_options.gltfMorphError * diagonal)
             m_warnings.push_back(detail::quoted(m_path) + ": " + std::to_string(basis.components.size()) +
-                                 " components (the most allowed) miss the error target; raise --morph-components or the target");
+                                 " components (the most allowed) miss the error target; allow more with --targets or raise --error");
         return targets;
     }
 
