@@ -35,6 +35,9 @@ Formats (docs/formats.md):
   pca               glTF/GLB (by the extension, default .glb) with compressed morphs: the frames'
                     mean plus the fewest principal components that keep every frame's RMS vertex
                     error within --error; prints the targets, the errors and the size against PC2
+  skin              glTF/GLB (by the extension, default .glb) as linear blend skinning: rigid bones
+                    fitted to the clip (Le & Deng 2012), at most 4 weights a vertex, a bone animation;
+                    the fewest of 8/16/32/64 bones within --error, or --bones K; prints the errors
   vat               FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float),
                     FILE.vat-mesh.glb, FILE.vat.json
   lattice           FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w),
@@ -48,8 +51,9 @@ Options:
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
   --threads N       Deformation threads (default: all).
-  --error E         pca: each frame's RMS vertex error at most E times the rest mesh's bounding-box
-                    diagonal (0 < E <= 0.1; default 0.005).
+  --error E         pca: each frame's RMS vertex error, skin: the clip's RMS vertex error, at most E
+                    times the rest mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005).
+  --bones K         skin: exactly K bones (1..256) instead of the fewest within --error.
   --targets K       pca: at most K morph targets, the mean included (2..256, default 33).
   --quiet           No progress output.
 )";
@@ -60,7 +64,7 @@ Options:
 int runBake(const std::vector<std::string>& args) {
     const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
     std::string scenePath, outPath, formatName, clipName;
-    std::optional<double> frames, fps, threads, error, targets;
+    std::optional<double> frames, fps, threads, error, targets, bones;
     bool quiet = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -77,7 +81,7 @@ int runBake(const std::vector<std::string>& args) {
         if (a == "--quiet") {
             quiet = true;
         } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads" ||
-                   a == "--clip" || a == "--error" || a == "--targets") {
+                   a == "--clip" || a == "--error" || a == "--targets" || a == "--bones") {
             const auto v = value(a.c_str());
             if (!v)
                 return usage(a + " needs a value");
@@ -95,7 +99,8 @@ int runBake(const std::vector<std::string>& args) {
                  : a == "--fps"         ? fps
                  : a == "--threads"     ? threads
                  : a == "--error"       ? error
-                                        : targets) = *n;
+                 : a == "--targets"     ? targets
+                                        : bones) = *n;
             }
         } else if (!a.empty() && a[0] == '-') {
             return usage("unknown option '" + a + "'");
@@ -111,13 +116,13 @@ int runBake(const std::vector<std::string>& args) {
         return usage("bake needs --out FILE");
     io::BakeOptions options;
     options.output = outPath;
-    const bool pca = formatName == "pca";
-    if (pca)  // compressed morphs: a glTF export with its own options, .gltf or .glb by the extension
+    const bool pca = formatName == "pca", skin = formatName == "skin";
+    if (pca || skin)  // compressed morphs or bones: glTF exports with their own options, .gltf or .glb by the extension
         formatName = io::cacheFormatFromPath(outPath) == io::CacheFormat::Gltf ? "gltf" : "glb";
     if (!formatName.empty()) {
         const auto f = io::parseCacheFormat(formatName);
         if (!f)
-            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, pca, vat or lattice)");
+            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, pca, skin, vat or lattice)");
         options.format = *f;
     } else {
         const auto f = io::cacheFormatFromPath(outPath);
@@ -131,8 +136,16 @@ int runBake(const std::vector<std::string>& args) {
         return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
-    if ((error || targets) && !pca)
-        return usage("--error and --targets are for --format pca");
+    if (error && !pca && !skin)
+        return usage("--error is for --format pca and --format skin");
+    if (targets && !pca)
+        return usage("--targets is for --format pca");
+    if (bones && !skin)
+        return usage("--bones is for --format skin");
+    if (bones && error)
+        return usage("--bones fixes the bone count; --error chooses it: give one");
+    if (bones && (*bones < 1 || *bones > 256 || std::floor(*bones) != *bones))
+        return usage("--bones must be a whole number in [1, 256], got " + formatValue(*bones));
     if (error && !(*error > 0 && *error <= 0.1))
         return usage("--error must be in (0, 0.1] (a fraction of the diagonal), got " + formatValue(*error));
     if (targets && (*targets < 2 || *targets > 256 || std::floor(*targets) != *targets))
@@ -141,6 +154,10 @@ int runBake(const std::vector<std::string>& args) {
     if (pca) {
         options.exportOptions.gltfMorphError = error.value_or(0.005);
         options.exportOptions.gltfMaxMorphs = targets ? int(*targets) - 1 : 32;
+    }
+    if (skin) {
+        options.exportOptions.skinBones = bones ? int(*bones) : 0;
+        options.exportOptions.skinError = bones ? 0.0 : error.value_or(0.005);
     }
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);

@@ -13,7 +13,7 @@ struct CommandSynopsis {
 };
 
 inline constexpr std::array<CommandSynopsis, 11> kSynopses{{
-    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|pca|vat|lattice] [--error E] [--targets K] [--threads N]"},
+    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|pca|skin|vat|lattice] [--error E] [--targets K | --bones K] [--threads N]"},
     {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
     {"validate", "validate FILE..."},
     {"modes", "modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]"},

@@ -60,9 +60,10 @@ std::unique_ptr<ClipWriter> makeClipWriter(CacheFormat format, const ClipExportO
     case CacheFormat::ObjSequence:
         return std::make_unique<VertexCacheClipWriter>(format);
     case CacheFormat::Gltf:
-        return detail::makeGltfWriter(false, options);
     case CacheFormat::Glb:
-        return detail::makeGltfWriter(true, options);
+        if (options.skinError > 0.0 || options.skinBones > 0)  // the clip as rigid bones and weights
+            return detail::makeSkinWriter(format == CacheFormat::Glb, options);
+        return detail::makeGltfWriter(format == CacheFormat::Glb, options);
     case CacheFormat::Vat:
         return detail::makeVatWriter(options);
     case CacheFormat::Lattice:

@@ -60,6 +60,11 @@ struct ClipExportOptions {
     double gltfMorphError = 0.0;
     /// glTF/GLB compressed morphs: most components, besides the mean. [1, 255].
     int gltfMaxMorphs = 32;
+    /// glTF/GLB skinned export (core/skin_fit.h) when above 0: the fewest of 8, 16, 32, 64 rigid bones whose
+    /// RMS vertex error over the clip is at most this fraction of the rest mesh's diagonal. [0, 0.1].
+    double skinError = 0.0;
+    /// glTF/GLB skinned export with exactly this many bones when above 0 (overrides skinError). [0, 256].
+    int skinBones = 0;
 };
 
 /// Streaming writer of one clip export.

@@ -71,6 +71,8 @@ Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, con
 
 /// glTF/GLB morph-target animation (gltf_export.cpp).
 std::unique_ptr<ClipWriter> makeGltfWriter(bool binary, const ClipExportOptions& options);
+/// The skinned glTF/GLB writer (ClipExportOptions::skinError or skinBones set).
+std::unique_ptr<ClipWriter> makeSkinWriter(bool binary, const ClipExportOptions& options);
 /// Vertex animation textures (vat_export.cpp).
 std::unique_ptr<ClipWriter> makeVatWriter(const ClipExportOptions& options);
 /// Lattice cache (lattice_cache.cpp).

@@ -28,6 +28,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <string>
 
 #include <sys/stat.h>
@@ -229,6 +230,8 @@ private slots:
     void gltfWarnsAboutTargetCount();
     void gltfCompressedMorphsKeepTheErrorTarget_data();
     void gltfCompressedMorphsKeepTheErrorTarget();
+    void gltfSkinnedExportReproducesTheClip_data();
+    void gltfSkinnedExportReproducesTheClip();
     void vatRoundTrip_data();
     void vatRoundTrip();
     void latticeRoundTrip_data();
@@ -414,6 +417,118 @@ void TestExports::gltfCompressedMorphsKeepTheErrorTarget() {
     QVERIFY2(fewer.worstFrameRms > target * diagonal,
              qPrintable(QString("%1 components already reach %2").arg(targets - 2).arg(fewer.worstFrameRms / diagonal)));
     QVERIFY(fs::file_size(out) < fs::file_size(out.parent_path() / "swim.pc2"));
+}
+
+void TestExports::gltfSkinnedExportReproducesTheClip_data() {
+    QTest::addColumn<double>("error");  // RMS target, fraction of the rest mesh's diagonal (0: fixed bones)
+    QTest::addColumn<int>("bones");
+    QTest::newRow("error 0.5%") << 5e-3 << 0;
+    QTest::newRow("16 bones") << 0.0 << 16;
+}
+
+void TestExports::gltfSkinnedExportReproducesTheClip() {
+    // The swim as rigid bones: checked as a validator would (weights ≥ 0 summing to 1, at most 4 per
+    // vertex, joints in range, identity inverse binds, one key per frame), then re-imported with assimp and
+    // skinned as an engine does, frame by frame, against the PC2 of the same bake.
+    QFETCH(double, error);
+    QFETCH(int, bones);
+    QTemporaryDir dir;
+    const fs::path out = fs::path(dir.path().toStdString()) / "skin.glb";
+    constexpr int kSwimFrames = 24;
+    BakeOptions options;
+    options.output = out;
+    options.format = CacheFormat::Glb;
+    options.frames = kSwimFrames;
+    options.threads = 1;
+    options.exportOptions.skinError = error;
+    options.exportOptions.skinBones = bones;
+    Result<BakeResult> baked = bake(m_fish, options);
+    QVERIFY2(baked, baked.message().c_str());
+    QVERIFY(!baked->notes.empty());
+    options.output = out.parent_path() / "skin.pc2";
+    options.format = CacheFormat::Pc2;
+    QVERIFY(bake(m_fish, options));
+    const Result<VertexCache> pc2 = readPc2(out.parent_path() / "skin.pc2");
+    QVERIFY2(pc2, pc2.message().c_str());
+    const std::size_t n = pc2->info.pointCount;
+
+    const tinygltf::Model model = loadGlb(out);
+    QCOMPARE(model.skins.size(), std::size_t(1));
+    const std::size_t joints = model.skins[0].joints.size();
+    QVERIFY(joints >= 8 && joints <= 64);
+    if (bones > 0)
+        QCOMPARE(int(joints), bones);
+    const tinygltf::Primitive& primitive = model.meshes.at(0).primitives.at(0);
+    const std::vector<float> weights = accessorFloats(model, primitive.attributes.at("WEIGHTS_0"));
+    const tinygltf::Accessor& jointAccessor = model.accessors.at(std::size_t(primitive.attributes.at("JOINTS_0")));
+    QCOMPARE(jointAccessor.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    const tinygltf::BufferView& jointView = model.bufferViews.at(std::size_t(jointAccessor.bufferView));
+    std::vector<std::uint16_t> jointIndices(4 * n);
+    std::memcpy(jointIndices.data(), model.buffers[0].data.data() + jointView.byteOffset, jointIndices.size() * 2);
+    QCOMPARE(weights.size(), 4 * n);
+    for (std::size_t v = 0; v < n; ++v) {
+        float sum = 0.0f;
+        for (std::size_t s = 0; s < 4; ++s) {
+            QVERIFY(weights[4 * v + s] >= 0.0f);
+            QVERIFY(jointIndices[4 * v + s] < joints);
+            sum += weights[4 * v + s];
+        }
+        QVERIFY2(std::abs(sum - 1.0f) <= 2e-7f * 4, qPrintable(QString("vertex %1 weights sum to %2").arg(v).arg(double(sum))));
+    }
+    QVERIFY(!model.accessors.at(std::size_t(primitive.attributes.at("POSITION"))).minValues.empty());
+    const std::vector<float> inverseBinds = accessorFloats(model, model.skins[0].inverseBindMatrices);
+    QCOMPARE(inverseBinds.size(), 16 * joints);
+    for (std::size_t i = 0; i < inverseBinds.size(); ++i)
+        QCOMPARE(inverseBinds[i], (i % 16) % 5 == 0 ? 1.0f : 0.0f);
+
+    // assimp's view: bones with offset matrices and weights, node animations with one key per frame.
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(out.string(), 0);
+    QVERIFY2(scene != nullptr, importer.GetErrorString());
+    const aiMesh* mesh = scene->mMeshes[0];
+    QCOMPARE(std::size_t(mesh->mNumVertices), n);
+    QVERIFY(mesh->mNumBones >= 1 && mesh->mNumBones <= joints);
+    QCOMPARE(scene->mNumAnimations, 1u);
+    const aiAnimation* animation = scene->mAnimations[0];
+    std::map<std::string, const aiNodeAnim*> channels;
+    for (unsigned c = 0; c < animation->mNumChannels; ++c)
+        channels[animation->mChannels[c]->mNodeName.C_Str()] = animation->mChannels[c];
+    Vec3f lo = Vec3f::Constant(1e30f), hi = -lo;
+    for (std::size_t v = 0; v < n; ++v) {
+        const Vec3f p(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const double diagonal = double((hi - lo).norm());
+    double sum2 = 0.0, worst = 0.0;
+    std::vector<aiVector3D> skinned(n);
+    for (int f = 0; f < kSwimFrames; ++f) {
+        std::fill(skinned.begin(), skinned.end(), aiVector3D(0, 0, 0));
+        for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+            const aiBone* bone = mesh->mBones[b];
+            const aiNodeAnim* channel = channels.at(bone->mName.C_Str());
+            QCOMPARE(int(channel->mNumPositionKeys), kSwimFrames);
+            QCOMPARE(int(channel->mNumRotationKeys), kSwimFrames);
+            aiMatrix4x4 m(aiVector3D(1, 1, 1), channel->mRotationKeys[f].mValue, channel->mPositionKeys[f].mValue);
+            m = m * bone->mOffsetMatrix;
+            for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+                const aiVertexWeight& vw = bone->mWeights[w];
+                skinned[vw.mVertexId] += vw.mWeight * (m * mesh->mVertices[vw.mVertexId]);
+            }
+        }
+        for (std::size_t v = 0; v < n; ++v) {
+            const double e = double((Vec3f(skinned[v].x, skinned[v].y, skinned[v].z) - pc2->frames[std::size_t(f)][v]).norm());
+            sum2 += e * e;
+            worst = std::max(worst, e);
+        }
+    }
+    const double rms = std::sqrt(sum2 / double(n * kSwimFrames));
+    qInfo("%zu bones: RMS %.3g, worst %.3g of the diagonal; %lld bytes against %lld for PC2", joints, rms / diagonal,
+          worst / diagonal, (long long)fs::file_size(out), (long long)fs::file_size(out.parent_path() / "skin.pc2"));
+    QVERIFY2(rms <= 5e-3 * diagonal, qPrintable(QString("RMS %1 of the diagonal").arg(rms / diagonal)));
+    if (error > 0.0)
+        QVERIFY(rms <= error * diagonal * 1.001);
+    QVERIFY(fs::file_size(out) < fs::file_size(out.parent_path() / "skin.pc2"));
 }
 
 void TestExports::gltfWarnsAboutTargetCount() {
