@@ -59,8 +59,10 @@ Options:
 
 int usage(const std::string& message) { return usageError(message, "batch"); }
 
-/// The extension-less names a bake needs for its format.
-io::CacheFormat cacheFormatOf(const std::string& format) { return io::parseCacheFormat(format).value(); }
+/// The bake format of a manifest format (pca and skin are GLB exports with their own options).
+io::CacheFormat cacheFormatOf(const std::string& format) {
+    return format == "pca" || format == "skin" ? io::CacheFormat::Glb : io::parseCacheFormat(format).value();
+}
 
 bool isVideo(const std::string& format) { return format == "mp4" || format == "gif"; }
 
@@ -103,6 +105,10 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
         options.clips = &project->clips;
         options.clip = job.clip;
         options.threads = manifest.resources.cpusPerTask;
+        if (job.format == "pca")
+            options.exportOptions.gltfMorphError = 0.005;  // bake's defaults (docs/formats.md)
+        if (job.format == "skin")
+            options.exportOptions.skinError = 0.005;
         auto baked = io::bake(project->scene, options);
         if (!baked)
             return Status::error(baked.message());

@@ -21,7 +21,7 @@ namespace {
 
 constexpr const char* kFormat = "softtouch-batch";
 constexpr const char* kStampFormat = "softtouch-batch-stamp";
-const std::set<std::string> kFormats = {"pc2", "mdd", "objseq", "gltf", "glb", "vat", "lattice", "mp4", "gif"};
+const std::set<std::string> kFormats = {"pc2", "mdd", "objseq", "gltf", "glb", "pca", "skin", "vat", "lattice", "mp4", "gif"};
 
 /// The extension a job's output gets: the name a bake or render recognises (vat and lattice write
 /// several files from a base path, so they get none).
@@ -30,6 +30,8 @@ std::string extensionOf(const std::string& format) {
         return ".obj";
     if (format == "vat" || format == "lattice")
         return "";
+    if (format == "pca" || format == "skin")  // GLB files with compressed morphs or bones
+        return ".glb";
     return "." + format;
 }
 
@@ -128,11 +130,11 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
     }
     const JsonValue formats = root["formats"];
     if (!formats.isArray() || formats.size() == 0)
-        formats.problem("expected a non-empty array of formats (pc2, mdd, objseq, gltf, glb, vat, lattice, mp4, gif)");
+        formats.problem("expected a non-empty array of formats (pc2, mdd, objseq, gltf, glb, pca, skin, vat, lattice, mp4, gif)");
     for (std::size_t i = 0; i < formats.size(); ++i)
         if (auto s = formats.at(i).string(true)) {
             if (!kFormats.count(*s))
-                formats.at(i).problem("unknown format \"" + *s + "\" (expected pc2, mdd, objseq, gltf, glb, vat, lattice, mp4 or gif)");
+                formats.at(i).problem("unknown format \"" + *s + "\" (expected pc2, mdd, objseq, gltf, glb, pca, skin, vat, lattice, mp4 or gif)");
             else if (std::find(m.formats.begin(), m.formats.end(), *s) != m.formats.end())
                 formats.at(i).problem("\"" + *s + "\" is listed twice");
             else

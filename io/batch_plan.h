@@ -33,7 +33,8 @@ struct BatchManifest {
     std::vector<std::filesystem::path> presets;   ///< Material presets applied to every object; empty: the
                                                   ///< scenes as authored (one variant, named "as-authored").
     std::vector<std::string> clips;               ///< Clip names; empty: each scene's default clip.
-    std::vector<std::string> formats;             ///< pc2, mdd, objseq, gltf, glb, vat, lattice, mp4, gif.
+    std::vector<std::string> formats;             ///< pc2, mdd, objseq, gltf, glb, pca, skin (GLB files, at bake's
+                                                  ///< default error 0.5%), vat, lattice, mp4, gif.
     int frames = 0;                               ///< Frames per output; 0: the clip's. [0, 1e6].
     int videoWidth = 640, videoHeight = 360;      ///< Size of mp4/gif previews, pixels. [16, 8192], even.
     std::filesystem::path outputRoot;             ///< Folder of the library (default: "library" beside the manifest).

@@ -66,6 +66,7 @@ private slots:
     void badManifestsFailCleanly();
     void slurmScriptRunsEveryJobOfTheArray();
     void videoPreviewsAreRenderedHeadless();
+    void gameReadyExportsInALibrary();
 };
 
 void TestCliBatch::planRunSkipAndRebuildWhatChanged() {
@@ -255,6 +256,18 @@ void TestCliBatch::videoPreviewsAreRenderedHeadless() {
     QVERIFY(QFileInfo(dir.filePath("library/guppy-swim/rubber/swim-mp4.mp4")).size() > 0);
     QVERIFY(QFileInfo(dir.filePath("library/angelfish-swim/jelly/swim-gif.gif")).size() > 0);
     const Run check = runCli({"batch", "check", manifest}, true);
+    QVERIFY2(check.exitCode == 0 && check.out.contains("8 of 8 jobs done and readable"), qPrintable(check.out + check.err));
+}
+
+void TestCliBatch::gameReadyExportsInALibrary() {
+    // Skinned and compressed-morph GLBs beside the caches, read back by batch check (assimp).
+    QTemporaryDir dir;
+    const QString manifest = writeManifest(dir, R"("skin", "pca")", R"(, "frames": 8)");
+    const Run run = runCli({"batch", "run", manifest, "--jobs", "2"});
+    QVERIFY2(run.exitCode == 0 && run.out.contains("8 jobs: 8 ran"), qPrintable(run.out + run.err));
+    QVERIFY(QFileInfo(dir.filePath("library/guppy-swim/rubber/swim-skin.glb")).size() > 0);
+    QVERIFY(QFileInfo(dir.filePath("library/angelfish-swim/jelly/swim-pca.glb")).size() > 0);
+    const Run check = runCli({"batch", "check", manifest});
     QVERIFY2(check.exitCode == 0 && check.out.contains("8 of 8 jobs done and readable"), qPrintable(check.out + check.err));
 }
 
