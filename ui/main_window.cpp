@@ -141,7 +141,9 @@ void MainWindow::buildActions() {
     QAction* undo = m_document->undoStack()->createUndoAction(this, tr("&Undo"));
     undo->setShortcut(QKeySequence::Undo);
     QAction* redo = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
-    redo->setShortcut(QKeySequence::Redo);
+    redo->setObjectName("actionRedo");
+    // Both conventions: Ctrl+Y (Windows, Maya) and Ctrl+Shift+Z (Blender, macOS, GNOME).
+    redo->setShortcuts({QKeySequence(tr("Ctrl+Y")), QKeySequence(tr("Ctrl+Shift+Z"))});
     edit->addAction(undo);
     edit->addAction(redo);
 
@@ -211,10 +213,10 @@ void MainWindow::buildActions() {
     QAction* play = new QAction(tr("Play"), this);
     play->setObjectName("actionPlay");
     play->setShortcut(QKeySequence(Qt::Key_Space));
-    play->setCheckable(true);
+    // Not checkable: its text says what it does next ("Pause" while running); a checked "Pause" read
+    // as "paused" while the simulation ran.
     connect(play, &QAction::triggered, m_simulation, &SimulationController::togglePlay);
     connect(m_simulation, &SimulationController::playingChanged, play, [play](bool on) {
-        play->setChecked(on);
         play->setText(on ? tr("Pause") : tr("Play"));
     });
     QAction* step = new QAction(tr("Step"), this);

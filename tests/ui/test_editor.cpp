@@ -131,6 +131,7 @@ private slots:
     void cleanup();
     void opensDefaultScene();
     void paintStrokeIsOneUndoStep();
+    void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
@@ -260,6 +261,36 @@ void TestEditor::paintStrokeIsOneUndoStep() {
     QVERIFY(!w.document()->isModified());
     w.document()->undoStack()->redo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, after));
+}
+
+void TestEditor::redoWithCtrlYAndCtrlShiftZ() {
+    // A stroke undone with Ctrl+Z comes back with Ctrl+Y, and again with Ctrl+Shift+Z, typed at the window.
+    MainWindow& w = *m_window;
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    view->brush().field = PaintField::Stiffness;
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    view->brush().value = 4.0 * *std::max_element(before.stiffness.begin(), before.stiffness.end());
+    paintStroke(view);
+    const LatticeMaterial after = w.document()->scene().objects[0].material;
+    QVERIFY(!sameMaterial(after, before));
+    for (const QKeyCombination redo : {QKeyCombination(Qt::ControlModifier, Qt::Key_Y),
+                                       QKeyCombination(Qt::ControlModifier | Qt::ShiftModifier, Qt::Key_Z)}) {
+        QTest::keyClick(&w, Qt::Key_Z, Qt::ControlModifier);
+        QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+        QTest::keyClick(&w, redo.key(), redo.keyboardModifiers());
+        QVERIFY2(sameMaterial(w.document()->scene().objects[0].material, after),
+                 qPrintable(QKeySequence(redo).toString() + " did not redo"));
+    }
+    // Play says what it does next and is never shown checked.
+    QAction* play = w.findChild<QAction*>("actionPlay");
+    QVERIFY(!play->isCheckable());
+    w.simulation()->play();
+    QCOMPARE(play->text(), QString("Pause"));
+    w.simulation()->pause();
+    QCOMPARE(play->text(), QString("Play"));
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
