@@ -6,7 +6,9 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <QDir>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
@@ -231,9 +233,22 @@ bool TimelinePanel::makeClip(int index, bool loop) {
     return true;
 }
 
+QString TimelinePanel::suggestedOutputPath(int index, const QString& suffix) const {
+    const QFileInfo project(m_document->filePath());
+    const QString folder = m_document->filePath().isEmpty() ? QDir::homePath() : project.absolutePath();
+    QString name = m_document->filePath().isEmpty() ? QStringLiteral("untitled") : project.completeBaseName();
+    const ClipLibrary& library = m_document->project().clips;
+    name += "-" + (index >= 0 && std::size_t(index) < library.clips.size()
+                       ? QString::fromStdString(library.clips[std::size_t(index)].name)
+                       : QStringLiteral("drivers"));
+    return QDir(folder).filePath(name + "." + suffix);
+}
+
+QString TimelinePanel::statusText() const { return m_time->text(); }
+
 void TimelinePanel::exportClip(int index) {
     const QString path = QFileDialog::getSaveFileName(
-        this, tr("Export Clip"), QString(),
+        this, tr("Export Clip"), suggestedOutputPath(index, "pc2"),
         tr("Point cache (*.pc2);;MDD (*.mdd);;glTF binary (*.glb);;glTF (*.gltf);;OBJ sequence (*.obj);;"
            "Vertex animation textures (base name ending _vat) (*);;Lattice cache (base name ending _lattice) (*)"));
     if (path.isEmpty())
@@ -266,7 +281,11 @@ Status TimelinePanel::exportClipTo(int index, const QString& path) {
         m_time->setText(QString::fromStdString(result.message()));
         return Status::error(result.message());
     }
-    QString text = tr("Exported %1 frames to %2").arg(result->frames).arg(QString::fromStdString(result->cache.string()));
+    // Say every file written: the rest mesh the cache matches is one of them.
+    QString text = tr("Exported %1 frames to %2 (and its rest mesh %3)")
+                       .arg(result->frames)
+                       .arg(QString::fromStdString(result->cache.string()))
+                       .arg(QString::fromStdString(result->restMesh.filename().string()));
     if (result->seam)
         text += tr(" · loop seam %1× the median frame step").arg(result->seam->ratio, 0, 'f', 2);
     m_time->setText(text);
@@ -274,7 +293,7 @@ Status TimelinePanel::exportClipTo(int index, const QString& path) {
 }
 
 void TimelinePanel::renderClip(int index) {
-    const QString path = QFileDialog::getSaveFileName(this, tr("Render Video"), QString(),
+    const QString path = QFileDialog::getSaveFileName(this, tr("Render Video"), suggestedOutputPath(index, "mp4"),
                                                       tr("MP4 video (*.mp4);;Animated GIF (*.gif)"));
     if (path.isEmpty())
         return;

@@ -40,6 +40,11 @@ public slots:
     void exportClip(int index);
     /// Exports without asking (tests, scripts); returns the message shown.
     Status exportClipTo(int index, const QString& path);
+    /// Where the export and render dialogs start: beside the project (else the home folder), named after
+    /// the project and the clip ("angelfish-swim-swim.pc2"), with extension `suffix`.
+    QString suggestedOutputPath(int index, const QString& suffix) const;
+    /// The status line's text (what the last export or render said).
+    QString statusText() const;
     /// Asks for a file and renders clip `index` (or the drivers when < 0) as a video.
     void renderClip(int index);
     /// Renders without asking: .mp4, .gif or a folder ending in '/' for PNG frames, at width × height.

@@ -20,6 +20,7 @@
 #include <QListWidget>
 #include <QApplication>
 #include <QDir>
+#include <QFileInfo>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QMessageBox>
@@ -727,9 +728,15 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QVERIFY(w.timeline()->makeClip(0, true));
     QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore + 1);
     const int clip = int(clipsBefore);
+    // The dialogs start beside the project, named after it and the clip.
+    const QString suggested = w.timeline()->suggestedOutputPath(clip, "pc2");
+    QCOMPARE(QFileInfo(suggested).absolutePath(), QFileInfo(w.document()->filePath()).absolutePath());
+    QCOMPARE(QFileInfo(suggested).fileName(), QFileInfo(w.document()->filePath()).completeBaseName() + "-" +
+                                                  QString::fromStdString(w.document()->project().clips.clips[std::size_t(clip)].name) + ".pc2");
     const QString pc2 = m_dir->filePath("take.pc2");
     const Status exported = w.timeline()->exportClipTo(clip, pc2);
     QVERIFY2(exported.ok(), exported.message().c_str());
+    QVERIFY2(w.timeline()->statusText().contains("rest mesh take.obj"), qPrintable(w.timeline()->statusText()));
     auto cache = io::readPc2(pc2.toStdString());
     QVERIFY2(cache.ok(), cache.message().c_str());
     QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
