@@ -7,6 +7,8 @@
 #include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
 
+#include <algorithm>
+
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
@@ -234,6 +236,45 @@ void MainWindow::buildActions() {
     }
     simMenu->addSeparator();
     buildDeviceMenu(simMenu->addMenu(tr("Input &Device")));
+
+    QMenu* help = menuBar()->addMenu(tr("&Help"));
+    QAction* shortcuts = help->addAction(tr("&Keyboard Shortcuts"));
+    shortcuts->setObjectName("actionShortcuts");
+    shortcuts->setShortcut(QKeySequence(Qt::Key_F1));
+    connect(shortcuts, &QAction::triggered, this, [this] {
+        QString html = "<table cellspacing=6>";
+        for (const auto& [what, keys] : shortcutTable())
+            html += "<tr><td>" + what.toHtmlEscaped() + "</td><td><b>" + keys.toHtmlEscaped() + "</b></td></tr>";
+        QMessageBox box(QMessageBox::NoIcon, tr("Keyboard Shortcuts"), html + "</table>", QMessageBox::Close, this);
+        box.exec();
+    });
+}
+
+QList<QPair<QString, QString>> MainWindow::shortcutTable() const {
+    QList<QPair<QString, QString>> rows;
+    auto plain = [](QString text) { return text.remove('&').remove(QStringLiteral("…")).trimmed(); };
+    for (QAction* menuAction : menuBar()->actions()) {
+        QMenu* menu = menuAction->menu();
+        if (!menu)
+            continue;
+        QList<QPair<QMenu*, QString>> pending = {{menu, plain(menuAction->text())}};
+        while (!pending.isEmpty()) {
+            const auto [current, path] = pending.takeFirst();
+            for (QAction* a : current->actions()) {
+                if (a->menu()) {
+                    pending.append({a->menu(), path + " ▸ " + plain(a->text())});
+                    continue;
+                }
+                QStringList keys;
+                for (const QKeySequence& k : a->shortcuts())
+                    keys << k.toString(QKeySequence::NativeText);
+                if (!keys.isEmpty())
+                    rows.append({path + " ▸ " + plain(a->text()), keys.join(", ")});
+            }
+        }
+    }
+    std::sort(rows.begin(), rows.end());
+    return rows;
 }
 
 void MainWindow::buildDeviceMenu(QMenu* menu) {

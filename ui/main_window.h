@@ -42,6 +42,9 @@ public:
     Autosave* autosave() { return m_autosave; }
     PropertiesPanel* properties() { return m_properties; }
     TimelinePanel* timeline() { return m_timeline; }
+    /// Every action with a keyboard shortcut, read from the actions themselves (so Help ▸ Keyboard
+    /// Shortcuts cannot drift from the code): (menu ▸ action, shortcuts), sorted.
+    QList<QPair<QString, QString>> shortcutTable() const;
     PresetsPanel* presets() { return m_presets; }
     HapticController* haptics() { return m_haptics; }
     StudyPanel* study() { return m_study; }

@@ -285,6 +285,17 @@ void TestEditor::redoWithCtrlYAndCtrlShiftZ() {
         QVERIFY2(sameMaterial(w.document()->scene().objects[0].material, after),
                  qPrintable(QKeySequence(redo).toString() + " did not redo"));
     }
+    // Help ▸ Keyboard Shortcuts lists them, read from the actions.
+    const auto table = w.shortcutTable();
+    bool listed = false;
+    for (const auto& [what, keys] : table)
+        listed = listed || (what == "Edit ▸ Redo" && keys.contains("Ctrl+Y") && keys.contains("Ctrl+Shift+Z"));
+    QVERIFY2(listed, "Edit ▸ Redo with both shortcuts is not in the shortcut table");
+    bool playListed = false;
+    for (const auto& [what, keys] : table)
+        playListed = playListed || (what == "Simulation ▸ Play" && keys == "Space");
+    QVERIFY2(playListed, "Simulation ▸ Play (Space) is not in the shortcut table");
+    QVERIFY(table.size() >= 10);
     // Play says what it does next and is never shown checked.
     QAction* play = w.findChild<QAction*>("actionPlay");
     QVERIFY(!play->isCheckable());
