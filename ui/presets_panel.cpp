@@ -3,6 +3,7 @@
 #include "ui/edit_commands.h"
 #include "ui/material_thumbnail.h"
 
+#include <QMessageBox>
 #include <QDir>
 #include <QFile>
 #include <QFileDialog>
@@ -143,6 +144,34 @@ bool PresetsPanel::applyRow(int row) {
     const SceneObject& o = m_document->scene().objects[std::size_t(object)];
     const io::MaterialPreset& preset = *entry.material;
     const std::vector<int> nodes(m_viewport->selection().begin(), m_viewport->selection().end());
+    if (nodes.empty()) {
+        // The whole lattice gets the preset's single values: a painted map is lost (undo brings it back,
+        // but an animator who meant a few nodes should hear it before, not after).
+        QStringList painted;
+        const LatticeMaterial& m = o.material;
+        for (const auto& [values, label] : {std::pair{&m.mass, tr("mass")}, {&m.stiffness, tr("stiffness")},
+                                            {&m.damping, tr("spring damping")}, {&m.nodeDamping, tr("node damping")}}) {
+            double lo = 1e300, hi = -1e300;
+            for (std::size_t n = 0; n < values->size(); ++n)
+                if (n >= m.isVoid.size() || !m.isVoid[n]) {
+                    lo = std::min(lo, (*values)[n]);
+                    hi = std::max(hi, (*values)[n]);
+                }
+            if (hi > lo * (1.0 + 1e-9) + 1e-300)
+                painted << label;
+        }
+        if (!painted.isEmpty()) {
+            const QString question = tr("No nodes are selected, so \"%1\" replaces the whole lattice, including its "
+                                        "painted %2. Apply it anyway? (Select nodes to apply it to them only.)")
+                                         .arg(QString::fromStdString(preset.name), painted.join(", "));
+            const bool go = m_confirm ? m_confirm(question)
+                                      : QMessageBox::question(this, tr("Replace painted values?"), question) == QMessageBox::Yes;
+            if (!go) {
+                m_message->setText(tr("Not applied: the painted values are kept."));
+                return false;
+            }
+        }
+    }
     LatticeMaterial after = o.material;
     if (Status s = io::applyMaterialPreset(preset, o.lattice, after, nodes); !s) {
         m_message->setText(QString::fromStdString(s.message()));

@@ -10,6 +10,7 @@
 
 #include <QWidget>
 
+#include <functional>
 #include <optional>
 
 class QListWidget;
@@ -30,8 +31,12 @@ public:
     void reload();
     /// Number of presets listed.
     int count() const;
-    /// Applies preset `row` to the selection (or, with none selected, the whole lattice).
+    /// Applies preset `row` to the selection (or, with none selected, the whole lattice). Replacing a
+    /// painted map on the whole lattice asks first (see setConfirm); false when refused or failed.
     bool applyRow(int row);
+    /// Replaces the yes/no question asked before a preset overwrites painted values (a dialog by default;
+    /// tests answer it themselves). It gets the question and returns true to go on.
+    void setConfirm(std::function<bool(const QString&)> confirm) { m_confirm = std::move(confirm); }
     /// Saves the current object's material as a preset named `name` in the user folder.
     Status saveCurrent(const QString& name);
     /// Saves the current object's setup (lattice, painted maps, anchors, voids, drivers, drivers clips)
@@ -53,6 +58,7 @@ private:
         std::optional<io::SetupPreset> setup;
     };
     std::vector<Entry> m_presets;
+    std::function<bool(const QString&)> m_confirm;
 };
 
 }  // namespace softtouch::ui

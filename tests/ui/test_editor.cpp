@@ -657,7 +657,13 @@ void TestEditor::presetAppliesAsOneUndoStep() {
         if (presets->findChild<QListWidget*>("presetList")->item(row)->text() == "Jelly")
             jelly = row;
     QVERIFY(jelly >= 0);
+    QStringList asked;
+    presets->setConfirm([&](const QString& question) {
+        asked << question;
+        return false;
+    });
     QVERIFY(presets->applyRow(jelly));
+    QVERIFY2(asked.isEmpty(), "asked before replacing an unpainted material");
     const LatticeMaterial after = w.document()->scene().objects[0].material;
     QVERIFY(after.stiffness[0] != before.stiffness[0]);
     QVERIFY(after.anchor == before.anchor);  // anchors are the scene's, not the material's
@@ -693,6 +699,23 @@ void TestEditor::presetAppliesAsOneUndoStep() {
     QVERIFY(w.simulation()->simulation() != nullptr);
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, projectBefore.scene.objects[0].material));
+    // Over a painted map with nothing selected, it asks first: "no" keeps the paint, "yes" applies.
+    w.findChild<QAction*>("toolPaint")->trigger();
+    w.viewport()->brush().field = PaintField::Stiffness;
+    const LatticeMaterial unpainted = w.document()->scene().objects[0].material;
+    w.viewport()->brush().value = 4.0 * *std::max_element(unpainted.stiffness.begin(), unpainted.stiffness.end());
+    paintStroke(w.viewport());
+    const LatticeMaterial painted = w.document()->scene().objects[0].material;
+    QVERIFY(!sameMaterial(painted, unpainted));
+    QVERIFY(!presets->applyRow(jelly));
+    QCOMPARE(asked.size(), 1);
+    QVERIFY2(asked.front().contains("painted stiffness"), qPrintable(asked.front()));
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, painted));
+    presets->setConfirm([](const QString&) { return true; });
+    QVERIFY(presets->applyRow(jelly));
+    QVERIFY(!sameMaterial(w.document()->scene().objects[0].material, painted));
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, painted));
     // Saving the current material as a preset lists it.
     QFile::remove(PresetsPanel::userFolder() + "/my-fish.stpreset");
     presets->reload();
