@@ -6,6 +6,8 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <algorithm>
+
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -247,22 +249,50 @@ QString TimelinePanel::suggestedOutputPath(int index, const QString& suffix) con
 QString TimelinePanel::statusText() const { return m_time->text(); }
 
 void TimelinePanel::exportClip(int index) {
-    const QString path = QFileDialog::getSaveFileName(
-        this, tr("Export Clip"), suggestedOutputPath(index, "pc2"),
-        tr("Point cache (*.pc2);;MDD (*.mdd);;glTF binary (*.glb);;glTF (*.gltf);;OBJ sequence (*.obj);;"
-           "Vertex animation textures (base name ending _vat) (*);;Lattice cache (base name ending _lattice) (*)"));
+    // The file type chosen in the dialog decides the export (several are .glb files).
+    struct Choice {
+        QString filter;
+        io::CacheFormat format;
+        io::ClipExportOptions options;
+    };
+    io::ClipExportOptions pca, skin;
+    pca.gltfMorphError = 0.005;  // bake's defaults (docs/formats.md)
+    skin.skinError = 0.005;
+    const std::vector<Choice> choices = {
+        {tr("Point cache (*.pc2)"), io::CacheFormat::Pc2, {}},
+        {tr("MDD (*.mdd)"), io::CacheFormat::Mdd, {}},
+        {tr("glTF binary, skinned: bones for game engines (*.glb)"), io::CacheFormat::Glb, skin},
+        {tr("glTF binary, compressed morph targets (*.glb)"), io::CacheFormat::Glb, pca},
+        {tr("glTF binary, one morph target per frame (*.glb)"), io::CacheFormat::Glb, {}},
+        {tr("glTF (*.gltf)"), io::CacheFormat::Gltf, {}},
+        {tr("OBJ sequence (*.obj)"), io::CacheFormat::ObjSequence, {}},
+        {tr("Vertex animation textures (base name) (*)"), io::CacheFormat::Vat, {}},
+        {tr("Lattice cache (base name) (*)"), io::CacheFormat::Lattice, {}},
+    };
+    QStringList filters;
+    for (const Choice& c : choices)
+        filters << c.filter;
+    QString selected = filters.front();
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export Clip"), suggestedOutputPath(index, "pc2"),
+                                                      filters.join(";;"), &selected);
     if (path.isEmpty())
         return;
-    const Status s = exportClipTo(index, path);
+    const auto chosen = std::find_if(choices.begin(), choices.end(), [&](const Choice& c) { return c.filter == selected; });
+    const Status s = chosen == choices.end() ? exportClipTo(index, path)
+                                             : exportClipTo(index, path, chosen->format, chosen->options);
     if (!s && s.message() != "cancelled")
         QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));
 }
 
-Status TimelinePanel::exportClipTo(int index, const QString& path) {
+Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path), {}); }
+
+Status TimelinePanel::exportClipTo(int index, const QString& path, io::CacheFormat format,
+                                   const io::ClipExportOptions& exportOptions) {
     const ClipLibrary& library = m_document->project().clips;
     io::BakeOptions options;
     options.output = path.toStdString();
-    options.format = formatFor(path);
+    options.format = format;
+    options.exportOptions = exportOptions;
     options.clips = &library;
     if (index >= 0 && std::size_t(index) < library.clips.size())
         options.clip = library.clips[std::size_t(index)].name;
@@ -288,6 +318,8 @@ Status TimelinePanel::exportClipTo(int index, const QString& path) {
                        .arg(QString::fromStdString(result->restMesh.filename().string()));
     if (result->seam)
         text += tr(" · loop seam %1× the median frame step").arg(result->seam->ratio, 0, 'f', 2);
+    for (const std::string& note : result->notes)  // a compressed export's error and size
+        text += " · " + QString::fromStdString(note.substr(note.find(": ") == std::string::npos ? 0 : note.find(": ") + 2));
     m_time->setText(text);
     return Status::success();
 }

@@ -771,6 +771,17 @@ void TestEditor::recordedTakeScrubsAndExports() {
     const Status exported = w.timeline()->exportClipTo(clip, pc2);
     QVERIFY2(exported.ok(), exported.message().c_str());
     QVERIFY2(w.timeline()->statusText().contains("rest mesh take.obj"), qPrintable(w.timeline()->statusText()));
+    // The same clip as bones for a game engine (the dialog's "skinned" file type): a GLB with a skin, and
+    // the status line says how close it is.
+    io::ClipExportOptions skinned;
+    skinned.skinError = 0.005;
+    const QString glb = m_dir->filePath("take-skin.glb");
+    const Status skin = w.timeline()->exportClipTo(clip, glb, io::CacheFormat::Glb, skinned);
+    QVERIFY2(skin.ok(), skin.message().c_str());
+    QFile glbFile(glb);
+    QVERIFY(glbFile.open(QIODevice::ReadOnly));
+    QVERIFY(glbFile.readAll().contains("\"skins\""));
+    QVERIFY2(w.timeline()->statusText().contains("rigid bones"), qPrintable(w.timeline()->statusText()));
     auto cache = io::readPc2(pc2.toStdString());
     QVERIFY2(cache.ok(), cache.message().c_str());
     QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
