@@ -386,7 +386,10 @@ bool MainWindow::openFile(const QString& path) {
         return false;
     }
     addRecentFile(path);
-    m_simulation->play();
+    // Opened paused, as the user guide says: Space (or a drag in the viewport) starts it. Running on open
+    // moved the fish before the animator had looked at it.
+    m_simulation->pause();
+    statusBar()->showMessage(tr("Paused: press Space to play, or drag the body."), 8000);
     return true;
 }
 

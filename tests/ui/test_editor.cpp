@@ -234,6 +234,15 @@ void TestEditor::opensDefaultScene() {
     QVERIFY2(w.viewport()->renderProblem().isEmpty(), qPrintable(w.viewport()->renderProblem()));
     QVERIFY(w.windowTitle().contains("angelfish-swim.softtouch"));
     QVERIFY(!w.document()->isModified());
+    // A project opens paused (the guide: "Press Space to run"); Space starts it.
+    QVERIFY(w.openFile(kDefaultScene));
+    QVERIFY(!w.simulation()->isPlaying());
+    QCOMPARE(w.findChild<QAction*>("actionPlay")->text(), QString("Play"));
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    QTest::keyClick(&w, Qt::Key_Space);
+    QVERIFY(w.simulation()->isPlaying());
+    w.simulation()->pause();
 }
 
 void TestEditor::paintStrokeIsOneUndoStep() {
