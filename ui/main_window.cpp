@@ -361,6 +361,8 @@ void MainWindow::refreshStatus() {
     const SceneSimulation* sim = m_simulation->simulation();
     if (s.asleep)
         m_statusSim->setText(tr("asleep: nothing moves, nothing is simulated or redrawn"));
+    else if (!m_simulation->isPlaying())
+        m_statusSim->setText(tr("paused (Space plays)"));
     else
         m_statusSim->setText(tr("%1 steps/s · %2 µs/step · %3× real time")
                                  .arg(s.stepsPerSecond, 0, 'f', 0)

@@ -45,6 +45,13 @@ void SimulationController::rebuild(bool keepState) {
         if (g && (!m_sim || g->object >= int(m_sim->objectCount())))
             g.reset();
     }
+    // The bound and substeps are known before the first step: a paused scene shows them too.
+    m_stats.stepMicros = 0.0;
+    if (m_sim) {
+        const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
+        m_stats.stableStepSeconds = m_sim->simulator(0).stableStep(forces);
+        m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
+    }
     if (!m_problem.isEmpty())
         emit problemReported(m_problem);
     emit rebuilt();
