@@ -201,6 +201,15 @@ Status checkWritable(const std::filesystem::path& target) {
     return Status::success();
 }
 
+Status checkExportMemory(const std::filesystem::path& target, double bytes, const std::string& what) {
+    if (bytes <= kMaxExportMemoryBytes)
+        return Status::success();
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+    return Status::error("cannot write " + quoted(target) + ": " + what + " holds the whole clip in memory, " + text +
+                         " here, above the 8.6 GB limit; bake fewer frames, or use --format vat or lattice, which stream");
+}
+
 }  // namespace detail
 
 }  // namespace softtouch::io

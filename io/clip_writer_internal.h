@@ -54,6 +54,12 @@ Status publishAll(std::vector<std::unique_ptr<StagedFile>>& files);
 /// Checks that `target`'s folder exists and is writable before a long bake starts; names the file.
 Status checkWritable(const std::filesystem::path& target);
 
+/// Most memory an export that cannot stream (glTF keeps the whole clip until it is written) may plan
+/// to hold: a longer clip is refused before the bake starts rather than exhausting memory at its end.
+inline constexpr double kMaxExportMemoryBytes = 8.0 * 1024 * 1024 * 1024;
+/// Refuses an export that would hold `bytes` in memory (named `what`), naming the file and the way out.
+Status checkExportMemory(const std::filesystem::path& target, double bytes, const std::string& what);
+
 // ---- glTF building (tinygltf) -------------------------------------------------------------------
 
 /// Appends `values` (count elements of `components` floats each: 1, 2, 3 or 4) to buffer 0 as a

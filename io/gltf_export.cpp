@@ -136,6 +136,14 @@ public:
             return Status::error("cannot write " + detail::quoted(path) + ": glTF indices hold at most 2^32 vertices");
         if (Status s = detail::checkWritable(path); !s)
             return s;
+        {
+            // One target per frame: the deltas and a frames x frames weight table. Compressed: the deltas
+            // twice (kept, then centred) and the frames' Gram matrix.
+            const double f = double(setup.info.frameCount), perFrame = double(setup.info.pointCount) * (m_options.gltfNormals ? 24.0 : 12.0);
+            const double bytes = compressed() ? 2.0 * f * perFrame + 8.0 * f * f : f * perFrame + 4.0 * f * f;
+            if (Status s = detail::checkExportMemory(path, bytes, compressed() ? "a compressed-morph glTF" : "a glTF morph export"); !s)
+                return s;
+        }
         m_path = path;
         m_setup = setup;
         m_model = std::make_unique<tinygltf::Model>();

@@ -66,6 +66,10 @@ public:
             return Status::error("cannot write " + detail::quoted(path) + ": the clip is too large to fit bones to in memory");
         if (Status s = detail::checkWritable(path); !s)
             return s;
+        if (Status s = detail::checkExportMemory(path, double(setup.info.frameCount) * double(setup.info.pointCount) * 12.0,
+                                                 "a skinned glTF export");
+            !s)
+            return s;
         m_path = path;
         m_setup = setup;
         m_frames.clear();

@@ -228,6 +228,7 @@ private slots:
     void gltfRoundTrip_data();
     void gltfRoundTrip();
     void gltfWarnsAboutTargetCount();
+    void gltfRefusesClipsTooLongToHold();
     void gltfCompressedMorphsKeepTheErrorTarget_data();
     void gltfCompressedMorphsKeepTheErrorTarget();
     void gltfSkinnedExportReproducesTheClip_data();
@@ -529,6 +530,30 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
     if (error > 0.0)
         QVERIFY(rms <= error * diagonal * 1.001);
     QVERIFY(fs::file_size(out) < fs::file_size(out.parent_path() / "skin.pc2"));
+}
+
+void TestExports::gltfRefusesClipsTooLongToHold() {
+    // glTF cannot stream: a clip of a million frames would need terabytes for one target per frame (the
+    // weight table alone is frames²) and for the PCA's Gram matrix. Refused at begin(), before any frame
+    // is simulated, with the way out; a short clip is accepted.
+    QTemporaryDir dir;
+    const fs::path path = fs::path(dir.path().toStdString()) / "long.glb";
+    ClipExportOptions pca;
+    pca.gltfMorphError = 0.005;
+    for (const ClipExportOptions& options : {ClipExportOptions{}, pca}) {
+        ClipSetup setup = smallSetup();
+        setup.info.frameCount = 1000000;
+        auto writer = makeClipWriter(CacheFormat::Glb, options);
+        const Status s = writer->begin(path, setup);
+        QVERIFY(!s.ok());
+        QVERIFY2(QString::fromStdString(s.message()).contains("holds the whole clip in memory") &&
+                     QString::fromStdString(s.message()).contains("vat or lattice"),
+                 s.message().c_str());
+        setup.info.frameCount = 100;
+        QVERIFY(writer->begin(path, setup).ok());
+        writer->abort();
+    }
+    QVERIFY(!fs::exists(path));
 }
 
 void TestExports::gltfWarnsAboutTargetCount() {
