@@ -58,6 +58,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     auto* statusTimer = new QTimer(this);
     connect(statusTimer, &QTimer::timeout, this, &MainWindow::refreshStatus);
     statusTimer->start(250);
+    connect(m_simulation, &SimulationController::rebuilt, this, &MainWindow::refreshStatus);  // at once, not in 250 ms
     refreshStatus();
 
     connect(m_document, &Document::sceneReplaced, this, &MainWindow::refreshOutliner);

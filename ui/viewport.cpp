@@ -49,6 +49,33 @@ private:
     std::function<std::vector<std::pair<QPointF, QPointF>>()> m_lines;
 };
 
+/// While a take is recorded: a red frame around the view and "● REC" with the take's length, so
+/// nobody records without knowing (or forgets to stop). A child widget over the GL picture.
+class RecordingCue : public QWidget {
+public:
+    RecordingCue(QWidget* parent, std::function<double()> seconds) : QWidget(parent), m_seconds(std::move(seconds)) {
+        setObjectName("recordingCue");
+        setAttribute(Qt::WA_TransparentForMouseEvents);
+        setAttribute(Qt::WA_NoSystemBackground);
+        hide();
+    }
+
+protected:
+    void paintEvent(QPaintEvent*) override {
+        QPainter painter(this);
+        painter.setRenderHint(QPainter::Antialiasing);
+        painter.setPen(QPen(QColor(220, 30, 30), 4));
+        painter.drawRect(QRectF(rect()).adjusted(2, 2, -2, -2));
+        const QRectF label(12, 10, 150, 26);
+        painter.fillRect(label, QColor(0, 0, 0, 120));
+        painter.setPen(QColor(255, 80, 80));
+        painter.drawText(label, Qt::AlignCenter, QStringLiteral("● REC  %1 s").arg(m_seconds(), 0, 'f', 1));
+    }
+
+private:
+    std::function<double()> m_seconds;
+};
+
 /// The colour scale of the node overlay: the painted field from its lowest to its highest value, in
 /// the node discs' blue-grey-red map. A child widget, so Qt composites it over the GL picture.
 class ValueLegend : public QWidget {
@@ -86,6 +113,21 @@ Viewport::Viewport(Document* document, SimulationController* simulation, QWidget
     setMouseTracking(true);
     setMinimumSize(320, 240);
     m_legend = new ValueLegend(this);
+    m_recordingCue = new RecordingCue(this, [this] {
+        const SceneSimulation* sim = m_simulation->simulation();
+        return sim ? sim->time() - m_recordingStart : 0.0;
+    });
+    connect(simulation, &SimulationController::recordingChanged, this, [this](bool recording) {
+        const SceneSimulation* sim = m_simulation->simulation();
+        m_recordingStart = sim ? sim->time() : 0.0;
+        m_recordingCue->setGeometry(rect());
+        m_recordingCue->setVisible(recording);
+        m_recordingCue->raise();
+    });
+    connect(simulation, &SimulationController::stepped, this, [this] {
+        if (m_recordingCue->isVisible())
+            m_recordingCue->update();
+    });
     m_grabIndicator = new GrabIndicator(this, [this] {
         std::vector<std::pair<QPointF, QPointF>> lines;
         const SceneSimulation* sim = m_simulation->simulation();
@@ -160,6 +202,7 @@ void Viewport::initializeGL() {
 }
 
 void Viewport::resizeGL(int, int) {
+    m_recordingCue->setGeometry(rect());
     m_grabIndicator->resize(size());
     updateLegend();
 }

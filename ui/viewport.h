@@ -152,6 +152,8 @@ private:
 
     Document* m_document;
     SimulationController* m_simulation;
+    QWidget* m_recordingCue = nullptr;  ///< Red frame and "● REC" while a take is recorded.
+    double m_recordingStart = 0.0;      ///< Simulation time the take started at, s.
     render::MeshRenderer m_renderer;
     bool m_glReady = false;
     bool m_sceneDirty = true;

@@ -755,12 +755,21 @@ void TestEditor::presetAppliesAsOneUndoStep() {
 void TestEditor::recordedTakeScrubsAndExports() {
     MainWindow& w = *m_window;
     SimulationController* sim = w.simulation();
+    QWidget* cue = w.viewport()->findChild<QWidget*>("recordingCue");
+    QVERIFY(cue && !cue->isVisible());
     sim->startRecording();
     sim->pause();
     sim->advance(0.5);
     const BodyState atHalf = sim->simulation()->simulator(0).state();
     sim->advance(0.5);
+    // While recording, the viewport wears a red frame with "● REC" (red pixels at its edge).
+    QVERIFY(cue->isVisible());
+    QCOMPARE(cue->size(), w.viewport()->size());
+    const QImage frame = cue->grab().toImage();
+    const QColor edge = frame.pixelColor(frame.width() / 2, 1);
+    QVERIFY2(edge.red() > 180 && edge.green() < 80, qPrintable(edge.name()));
     QVERIFY(sim->stopRecording().has_value());
+    QVERIFY(!cue->isVisible());
     QCOMPARE(w.timeline()->takeCount(), 1);  // the take is in the project (undoable, saved with it)
     QVERIFY(w.document()->isModified());
     // Scrubbing to 0.5 s replays the take and shows exactly the state recorded there.
