@@ -240,6 +240,8 @@ private slots:
     void latticeCacheRejectsBadFiles();
     void latticeShadersCompile_data();
     void latticeShadersCompile();
+    void hlslShadersShareTheGlslInterface_data();
+    void hlslShadersShareTheGlslInterface();
     void cancelledBakeLeavesOldFiles_data();
     void cancelledBakeLeavesOldFiles();
     void nonFiniteFrameLeavesOldFiles_data();
@@ -844,6 +846,57 @@ void TestExports::latticeShadersCompile() {
     QVERIFY(process.waitForFinished(60000));
     const QByteArray output = process.readAllStandardOutput() + process.readAllStandardError();
     QVERIFY2(process.exitStatus() == QProcess::NormalExit && process.exitCode() == 0, output.constData());
+}
+
+void TestExports::hlslShadersShareTheGlslInterface_data() {
+    QTest::addColumn<QString>("shader");
+    QTest::newRow("lattice") << "lattice_deform";
+    QTest::newRow("vat") << "vat_deform";
+}
+
+void TestExports::hlslShadersShareTheGlslInterface() {
+    // The HLSL versions run nowhere here (no D3D or Vulkan), so their interface is checked against the GLSL
+    // ones, which do run: glslang's reflection of both lists the same parameters (names starting with u),
+    // each of the same type (an engine sets them from the same files).
+    QFETCH(QString, shader);
+    const QString validator = QStandardPaths::findExecutable("glslangValidator");
+    QVERIFY2(!validator.isEmpty(), "glslangValidator not found: run scripts/install-deps.sh (glslang-tools)");
+    QTemporaryDir dir;
+    const QString folder = QString::fromStdString((kSource / "io/shaders").string()) + "/";
+    auto reflect = [&](const QStringList& arguments) {
+        QProcess process;
+        process.start(validator, arguments);
+        process.waitForFinished(60000);
+        std::map<std::string, std::string> parameters;  // name -> GL type code
+        bool inUniforms = false;
+        for (const QByteArray& line : process.readAllStandardOutput().split('\n')) {
+            if (line.endsWith("reflection:")) {  // a section header: only "Uniform reflection:" is read
+                inUniforms = line.startsWith("Uniform reflection:");
+                continue;
+            }
+            if (!inUniforms || line.trimmed().isEmpty())
+                continue;
+            const QList<QByteArray> parts = line.split(':');
+            const QByteArray name = parts.value(0).trimmed();
+            const int at = line.indexOf("type ");
+            const QByteArray type = at < 0 ? QByteArray() : line.mid(at + 5, line.indexOf(',', at) - at - 5);
+            if (name.startsWith('u') && type != "0")  // HLSL's separate sampler state has no GLSL twin
+                parameters[name.toStdString()] = type.toStdString();
+        }
+        return parameters;
+    };
+    const auto glsl = reflect({"-S", "vert", "-l", "-q", folder + shader + ".glsl"});
+    const auto hlsl = reflect({"-D", "-S", "vert", "-e", "main", "-V", "-q", "-o", dir.filePath("out.spv"), folder + shader + ".hlsl"});
+    QVERIFY(glsl.size() >= 8);
+    QString differences;
+    for (const auto& [name, type] : glsl)
+        if (!hlsl.count(name) || hlsl.at(name) != type)
+            differences += QString(" %1 (GLSL type %2, HLSL %3)").arg(QString::fromStdString(name), QString::fromStdString(type),
+                                                                       hlsl.count(name) ? QString::fromStdString(hlsl.at(name)) : "missing");
+    for (const auto& [name, type] : hlsl)
+        if (!glsl.count(name))
+            differences += QString(" %1 (only in HLSL)").arg(QString::fromStdString(name));
+    QVERIFY2(differences.isEmpty(), qPrintable(shader + ":" + differences));
 }
 
 void TestExports::cancelledBakeLeavesOldFiles_data() {
