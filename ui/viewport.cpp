@@ -727,6 +727,17 @@ void Viewport::frameAll() {
         all.min = all.min.cwiseMin(b.min);
         all.max = all.max.cwiseMax(b.max);
     }
+    // Where the bodies are now, not where they rested: an unanchored body that fell or was thrown away is
+    // found. The deformed mesh lies in the hull of its lattice's nodes (the basis weights are ≥ 0 and sum to
+    // 1 inside the box), so the nodes' bounds enclose it.
+    if (const SceneSimulation* sim = m_simulation->simulation(); sim && sim->objectCount() > 0) {
+        all = Bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+        for (std::size_t i = 0; i < sim->objectCount(); ++i)
+            for (const Vec3& x : sim->simulator(i).state().position) {
+                all.min = all.min.cwiseMin(x);
+                all.max = all.max.cwiseMax(x);
+            }
+    }
     m_camera.frame(all);
     update();
 }

@@ -1236,6 +1236,22 @@ void TestEditor::importedMeshStartsOnVerletAndSavesIt() {
     QVERIFY(w.document()->importMesh(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
     const Scene& scene = w.document()->scene();
     QCOMPARE(scene.world.simulation.integrator, IntegratorKind::Verlet);
+    {
+        // Unanchored under gravity it falls out of view; Frame All finds it where it is now.
+        WorldSettings world = scene.world;
+        world.gravity = Vec3(0, -9.81, 0);
+        w.document()->setWorld(world);
+        w.simulation()->advance(3.0);  // some 17 m down (node damping slows the fall)
+        const std::vector<Vec3>& nodes = w.simulation()->simulation()->simulator(0).state().position;
+        Vec3 centre = Vec3::Zero();
+        for (const Vec3& x : nodes)
+            centre += x / double(nodes.size());
+        QVERIFY2(centre.y() < -10.0, qPrintable(QString::number(centre.y())));
+        QVERIFY(!QRectF(w.viewport()->rect()).contains(w.viewport()->toWidget(centre)));
+        w.viewport()->frameAll();
+        QVERIFY(QRectF(w.viewport()->rect()).contains(w.viewport()->toWidget(centre)));
+        w.document()->undoStack()->undo();  // gravity off again
+    }
     auto* integrator = w.findChild<QComboBox*>("integrator");
     QVERIFY(integrator);
     QCOMPARE(IntegratorKind(integrator->currentData().toInt()), IntegratorKind::Verlet);
