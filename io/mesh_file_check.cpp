@@ -1,5 +1,6 @@
 #include "io/mesh_file_check.h"
 
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <sstream>
@@ -51,7 +52,7 @@ Status checkPly(const std::filesystem::path& path) {
         std::string keyword, extra;
         words >> keyword;
         if (lineNumber == 1) {
-            if (keyword != "ply" || (words >> extra))
+            if ((keyword != "ply" && keyword != "PLY") || (words >> extra))
                 return malformed("is not 'ply'");
         } else if (keyword == "format") {
             std::string version;
@@ -193,7 +194,12 @@ Status checkMeshFileIsWhole(const std::filesystem::path& path) {
     // (a PLY named .gltf is read as PLY).
     char magic[4] = {};
     std::ifstream(path, std::ios::binary).read(magic, sizeof magic);
-    if (std::string(magic, 3) == "ply")
+    // Any capitalisation: assimp's PLY reader takes a file named .ply whatever its first line says, and
+    // looped on a "Ply" header (fuzz_mesh); the strict check below then names what is wrong.
+    std::string start(magic, 3);
+    for (char& c : start)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (start == "ply")
         return checkPly(path);
     if (std::string(magic, 4) == "glTF")
         return checkGlb(path);
