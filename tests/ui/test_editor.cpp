@@ -19,6 +19,10 @@
 #include <QAction>
 #include <QListWidget>
 #include <QApplication>
+#include <QScrollArea>
+#include <QAbstractSpinBox>
+#include <QSlider>
+#include <QLineEdit>
 #include <QDir>
 #include <QFileInfo>
 #include <QElapsedTimer>
@@ -155,6 +159,8 @@ private slots:
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
+    void propertiesFieldsFitTheDock_data();
+    void propertiesFieldsFitTheDock();
 
 private:
     std::unique_ptr<MainWindow> makeWindow();
@@ -1315,6 +1321,38 @@ void TestEditor::screenshotCommandWritesPng() {
     QCOMPARE(editor.exitCode(), 1);
     QVERIFY(editor.readAll().contains("missing.softtouch"));
     QVERIFY(!QFile::exists(none));
+}
+
+void TestEditor::propertiesFieldsFitTheDock_data() {
+    QTest::addColumn<QSize>("window");
+    QTest::newRow("1280x800") << QSize(1280, 800);
+    QTest::newRow("1600x1000") << QSize(1600, 1000);
+    QTest::newRow("1920x1080") << QSize(1920, 1080);
+}
+
+void TestEditor::propertiesFieldsFitTheDock() {
+    // Every field of Properties lies inside the dock's visible width at common window sizes (the dock
+    // scrolls vertically only, so a field past its right edge would be cut off, as combo arrows once were).
+    QFETCH(QSize, window);
+    MainWindow& w = *m_window;
+    w.resize(window);
+    QTest::qWait(50);
+    QApplication::processEvents();
+    auto* scroll = qobject_cast<QScrollArea*>(w.properties()->parentWidget()->parentWidget());
+    QVERIFY(scroll);
+    const int visibleWidth = scroll->viewport()->width();
+    QStringList cut;
+    for (QWidget* field : w.properties()->findChildren<QWidget*>()) {
+        if (!field->isVisibleTo(w.properties()) ||
+            !(qobject_cast<QAbstractSpinBox*>(field) || qobject_cast<QComboBox*>(field) || qobject_cast<QAbstractButton*>(field) ||
+              qobject_cast<QLineEdit*>(field) || qobject_cast<QSlider*>(field)))
+            continue;
+        const QPoint right = field->mapTo(scroll->viewport(), QPoint(field->width(), 0));
+        if (right.x() > visibleWidth + 1)
+            cut << QString("%1 '%2' ends at %3").arg(field->metaObject()->className(), field->objectName()).arg(right.x());
+    }
+    QVERIFY2(cut.isEmpty(), qPrintable(QString("visible width %1: ").arg(visibleWidth) + cut.join("; ")));
+    w.resize(1280, 800);
 }
 
 int main(int argc, char** argv) {
