@@ -15,10 +15,19 @@ public:
     static Status success() { return Status(); }
     /// A failed status with the given message.
     static Status error(std::string message) { return Status(std::move(message)); }
+    /// A failure because the user stopped the work (a progress callback said no): callers that asked
+    /// for it need not report it as an error. Tell it apart with wasCancelled(), not by the message.
+    static Status cancelled(std::string message) {
+        Status s(std::move(message));
+        s.m_cancelled = true;
+        return s;
+    }
 
     /// True on success.
     bool ok() const { return !m_failed; }
     explicit operator bool() const { return ok(); }
+    /// True when the failure is a cancellation (see cancelled()).
+    bool wasCancelled() const { return m_cancelled; }
     /// The failure message; empty on success.
     const std::string& message() const { return m_message; }
 
@@ -26,6 +35,7 @@ private:
     Status() = default;
     explicit Status(std::string message) : m_failed(true), m_message(std::move(message)) {}
     bool m_failed = false;
+    bool m_cancelled = false;
     std::string m_message;
 };
 
@@ -34,7 +44,7 @@ template <typename T>
 class [[nodiscard]] Result {
 public:
     Result(T value) : m_value(std::move(value)) {}  // NOLINT: implicit by design, like std::optional
-    Result(Status failure) : m_message(failure.message()) {}  // NOLINT
+    Result(Status failure) : m_message(failure.message()), m_cancelled(failure.wasCancelled()) {}  // NOLINT
 
     /// True when a value is held.
     bool ok() const { return m_value.has_value(); }
@@ -46,10 +56,19 @@ public:
     const T* operator->() const { return &*m_value; }
     /// The failure message; empty on success.
     const std::string& message() const { return m_message; }
+    /// True when the failure is a cancellation (Status::cancelled()).
+    bool wasCancelled() const { return m_cancelled; }
+    /// The failure as a Status (kind kept); success when a value is held.
+    Status status() const {
+        if (ok())
+            return Status::success();
+        return m_cancelled ? Status::cancelled(m_message) : Status::error(m_message);
+    }
 
 private:
     std::optional<T> m_value;
     std::string m_message;
+    bool m_cancelled = false;
 };
 
 }  // namespace softtouch

@@ -134,7 +134,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         }
         if (options.progress && !options.progress(f + 1, frames)) {
             writer->abort();
-            return Status::error("the bake was cancelled; nothing was written");
+            return Status::cancelled("the bake was cancelled; nothing was written");
         }
     }
     // The rest mesh first: a cache is never published without the mesh it matches.

@@ -55,7 +55,7 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
         if (rendered)
             rendered = encoder.value()->writeFrame(pixels);
         if (rendered && options.progress && !options.progress(f + 1, frameCount))
-            rendered = Status::error("the render was cancelled; nothing was written");
+            rendered = Status::cancelled("the render was cancelled; nothing was written");
     }
     renderer.release();
     if (!rendered) {

@@ -280,8 +280,8 @@ void TimelinePanel::exportClip(int index) {
     const auto chosen = std::find_if(choices.begin(), choices.end(), [&](const Choice& c) { return c.filter == selected; });
     const Status s = chosen == choices.end() ? exportClipTo(index, path)
                                              : exportClipTo(index, path, chosen->format, chosen->options);
-    if (!s && s.message() != "cancelled")
-        QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));
+    if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
+        QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));  // never matched)
 }
 
 Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path), {}); }
@@ -309,7 +309,7 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, io::CacheForm
     progress.reset();
     if (!result) {
         m_time->setText(QString::fromStdString(result.message()));
-        return Status::error(result.message());
+        return result.status();
     }
     // Say every file written: the rest mesh the cache matches is one of them.
     QString text = tr("Exported %1 frames to %2 (and its rest mesh %3)")
@@ -330,7 +330,7 @@ void TimelinePanel::renderClip(int index) {
     if (path.isEmpty())
         return;
     const Status s = renderClipTo(index, path);
-    if (!s && s.message().find("cancelled") == std::string::npos)
+    if (!s && !s.wasCancelled())
         QMessageBox::critical(this, tr("Render failed"), QString::fromStdString(s.message()));
 }
 
@@ -379,7 +379,7 @@ Status TimelinePanel::renderClipTo(int index, const QString& path, int width, in
     progress.reset();
     if (!result) {
         m_time->setText(QString::fromStdString(result.message()));
-        return Status::error(result.message());
+        return result.status();
     }
     m_time->setText(tr("Rendered %1 frames (%2) to %3").arg(result->frames).arg(QString::fromStdString(result->codec)).arg(path));
     return Status::success();

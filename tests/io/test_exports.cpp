@@ -924,6 +924,10 @@ void TestExports::cancelledBakeLeavesOldFiles() {
     const Result<BakeResult> result = bake(m_fish, options);
     QVERIFY(!result);
     QVERIFY2(QString::fromStdString(result.message()).contains("cancelled"), result.message().c_str());
+    // Callers tell a cancel from a failure by its kind, not its words (the editor's check of the words
+    // never matched, so a cancelled export showed "Export failed").
+    QVERIFY(result.wasCancelled() && result.status().wasCancelled());
+    QVERIFY(!Result<BakeResult>(Status::error("disk full")).wasCancelled());
     for (const fs::path& path : outputs)
         QCOMPARE(readText(path), "previous " + path.filename().string());
     QCOMPARE(folderEntries(base.parent_path()), before);
