@@ -106,9 +106,9 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
         options.clip = job.clip;
         options.threads = manifest.resources.cpusPerTask;
         if (job.format == "pca")
-            options.exportOptions.gltfMorphError = 0.005;  // bake's defaults (docs/formats.md)
+            options.exportOptions.gltfMorphError = io::ClipExportOptions::kDefaultCompressionError;
         if (job.format == "skin")
-            options.exportOptions.skinError = 0.005;
+            options.exportOptions.skinError = io::ClipExportOptions::kDefaultCompressionError;
         auto baked = io::bake(project->scene, options);
         if (!baked)
             return Status::error(baked.message());

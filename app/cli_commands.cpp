@@ -152,12 +152,12 @@ int runBake(const std::vector<std::string>& args) {
         return usage("--targets must be a whole number in [2, 256] (the mean and at least one component), got " +
                      formatValue(*targets));
     if (pca) {
-        options.exportOptions.gltfMorphError = error.value_or(0.005);
+        options.exportOptions.gltfMorphError = error.value_or(io::ClipExportOptions::kDefaultCompressionError);
         options.exportOptions.gltfMaxMorphs = targets ? int(*targets) - 1 : 32;
     }
     if (skin) {
         options.exportOptions.skinBones = bones ? int(*bones) : 0;
-        options.exportOptions.skinError = bones ? 0.0 : error.value_or(0.005);
+        options.exportOptions.skinError = bones ? 0.0 : error.value_or(io::ClipExportOptions::kDefaultCompressionError);
     }
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);

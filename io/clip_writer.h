@@ -58,6 +58,9 @@ struct ClipExportOptions {
     /// frame's RMS vertex error at or below this fraction of the rest mesh's bounding-box diagonal,
     /// with a weights animation. [0, 0.1].
     double gltfMorphError = 0.0;
+    /// The error target `--format pca` and `--format skin` use when none is given (CLI, editor, batch):
+    /// 0.5% of the rest mesh's diagonal.
+    static constexpr double kDefaultCompressionError = 0.005;
     /// glTF/GLB compressed morphs: most components, besides the mean. [1, 255].
     int gltfMaxMorphs = 32;
     /// glTF/GLB skinned export (core/skin_fit.h) when above 0: the fewest of 8, 16, 32, 64 rigid bones whose

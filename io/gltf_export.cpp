@@ -307,12 +307,7 @@ private:
     /// weights and the targets' names, and returns the number of targets.
     std::size_t addCompressedTargets(std::vector<float>& weights, tinygltf::Value::Array& names) {
         const std::size_t frames = m_setup.info.frameCount, values = 3 * m_setup.info.pointCount;
-        Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
-        for (const Vec3f& p : m_setup.restMesh.positions) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-        }
-        const double diagonal = std::max(1e-12, double((hi - lo).norm()));
+        const double diagonal = std::max(1e-12, m_setup.restMesh.bounds().diagonal());
         MorphBasis basis = fitMorphBasis(m_positionDeltas, frames, values, m_options.gltfMorphError * diagonal,
                                                std::size_t(std::max(1, m_options.gltfMaxMorphs)));
         m_positionDeltas.clear();

@@ -99,12 +99,7 @@ public:
             return s;
         }
         const std::vector<Vec3f>& rest = m_setup.restMesh.positions;
-        Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
-        for (const Vec3f& p : rest) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-        }
-        const double diagonal = std::max(1e-12, double((hi - lo).norm()));
+        const double diagonal = std::max(1e-12, m_setup.restMesh.bounds().diagonal());
 
         // The bones: a fixed count, or the fewest of 8, 16, 32, 64 that meet the error target.
         SkinFit skin;

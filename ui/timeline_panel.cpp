@@ -256,8 +256,8 @@ void TimelinePanel::exportClip(int index) {
         io::ClipExportOptions options;
     };
     io::ClipExportOptions pca, skin;
-    pca.gltfMorphError = 0.005;  // bake's defaults (docs/formats.md)
-    skin.skinError = 0.005;
+    pca.gltfMorphError = io::ClipExportOptions::kDefaultCompressionError;
+    skin.skinError = io::ClipExportOptions::kDefaultCompressionError;
     const std::vector<Choice> choices = {
         {tr("Point cache (*.pc2)"), io::CacheFormat::Pc2, {}},
         {tr("MDD (*.mdd)"), io::CacheFormat::Mdd, {}},
