@@ -36,7 +36,18 @@ Eigen::Matrix4f perspective(float fovYRadians, float aspect, float nearPlane, fl
     return m;
 }
 
+Camera cameraFor(const CameraPlacement& placement, float aspect) {
+    Camera camera;
+    camera.view = lookAt(placement.eye, placement.centre, placement.up);
+    camera.projection = perspective(placement.fovY, aspect > 0.0f ? aspect : 1.0f, placement.nearPlane, placement.farPlane);
+    return camera;
+}
+
 Camera frameBounds(const Bounds& bounds, const Eigen::Vector3f& viewDirection, float aspect) {
+    return cameraFor(framePlacement(bounds, viewDirection, aspect), aspect);
+}
+
+CameraPlacement framePlacement(const Bounds& bounds, const Eigen::Vector3f& viewDirection, float aspect) {
     aspect = aspect > 0.0f ? aspect : 1.0f;
     const Eigen::Vector3f centre = (0.5 * (bounds.min + bounds.max)).cast<float>();
     const float radius = std::max(0.5f * float(bounds.diagonal()), 1e-3f);
@@ -45,13 +56,14 @@ Camera frameBounds(const Bounds& bounds, const Eigen::Vector3f& viewDirection, f
     const float halfY = 0.5f * kDefaultFovY;
     const float halfX = std::atan(std::tan(halfY) * aspect);
     const float distance = radius / std::sin(std::min(halfX, halfY)) * 1.05f;
-    const Eigen::Vector3f eye = centre - dir * distance;
-    const Eigen::Vector3f up = std::abs(dir.y()) > 0.99f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitY();
-    Camera camera;
-    camera.view = lookAt(eye, centre, up);
-    camera.projection = perspective(kDefaultFovY, aspect, std::max(distance - 4.0f * radius, distance * 0.01f),
-                                    distance + 4.0f * radius);
-    return camera;
+    CameraPlacement placement;
+    placement.eye = centre - dir * distance;
+    placement.centre = centre;
+    placement.up = std::abs(dir.y()) > 0.99f ? Eigen::Vector3f::UnitZ() : Eigen::Vector3f::UnitY();
+    placement.fovY = kDefaultFovY;
+    placement.nearPlane = std::max(distance - 4.0f * radius, distance * 0.01f);
+    placement.farPlane = distance + 4.0f * radius;
+    return placement;
 }
 
 Eigen::Vector3d toPixels(const Camera& camera, const Vec3& world, int width, int height) {

@@ -25,9 +25,26 @@ Eigen::Matrix4f perspective(float fovYRadians, float aspect, float nearPlane, fl
 /// Vertical field of view frameBounds() uses, radians (35 degrees).
 constexpr float kDefaultFovY = 0.6108652f;
 
+/// Where a camera stands and what it sees, as other renderers take it (the preview page's three.js camera
+/// is built from these, so it draws what render/ draws).
+struct CameraPlacement {
+    Eigen::Vector3f eye = Eigen::Vector3f::Zero();     ///< Camera position, metres.
+    Eigen::Vector3f centre = -Eigen::Vector3f::UnitZ(); ///< Point looked at.
+    Eigen::Vector3f up = Eigen::Vector3f::UnitY();     ///< Roughly up (lookAt() makes it orthogonal).
+    float fovY = kDefaultFovY;                         ///< Vertical field of view, radians.
+    float nearPlane = 0.01f;                           ///< Near clipping distance, metres.
+    float farPlane = 100.0f;                           ///< Far clipping distance, metres.
+};
+
+/// The matrices of a placement at the given aspect (width / height).
+Camera cameraFor(const CameraPlacement& placement, float aspect);
+
 /// A camera looking along `viewDirection` (need not be unit; zero means -z) at the centre of `bounds`,
 /// far enough that the bounds' bounding sphere fits the view at the given aspect (width / height),
 /// with +y up (or +z when looking along y).
+CameraPlacement framePlacement(const Bounds& bounds, const Eigen::Vector3f& viewDirection, float aspect);
+
+/// cameraFor(framePlacement(bounds, viewDirection, aspect), aspect).
 Camera frameBounds(const Bounds& bounds, const Eigen::Vector3f& viewDirection, float aspect);
 
 /// Where a world point lands in a picture of the given size drawn with `camera`: pixels from the top-left

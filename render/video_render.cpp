@@ -5,6 +5,14 @@
 
 namespace softtouch::render {
 
+CameraPlacement videoCameraPlacement(const Bounds& restBounds, float aspect) {
+    Bounds bounds = restBounds;
+    const Vec3 margin = 0.1 * (bounds.max - bounds.min);
+    bounds.min -= margin;
+    bounds.max += margin;
+    return framePlacement(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f), aspect);
+}
+
 Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptions& options) {
     VideoRenderResult result;
     auto created = io::FrameSource::create(scene, options.frames, &result.warnings);
@@ -34,13 +42,9 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
         bounds.min = bounds.min.cwiseMin(b.min);
         bounds.max = bounds.max.cwiseMax(b.max);
     }
-    // Room for the motion: the camera frames the rest bounds grown by a tenth on each side.
-    const Vec3 margin = 0.1 * (bounds.max - bounds.min);
-    bounds.min -= margin;
-    bounds.max += margin;
-    renderer.setPlanes(scene.world.planes, float(bounds.diagonal()));
-    const Camera camera = frameBounds(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f),
-                                      float(settings.width) / float(settings.height));
+    renderer.setPlanes(scene.world.planes, float(1.2 * bounds.diagonal()));
+    const float aspect = float(settings.width) / float(settings.height);
+    const Camera camera = cameraFor(videoCameraPlacement(bounds, aspect), aspect);
 
     std::vector<std::uint8_t> pixels;
     const int frameCount = source.frameCount();

@@ -5,6 +5,7 @@
 /// frame succeeded.
 
 #include "io/frame_source.h"
+#include "render/camera.h"
 #include "io/video_encoder.h"
 
 #include <functional>
@@ -29,6 +30,11 @@ struct VideoRenderResult {
     std::string context;                 ///< The OpenGL implementation that drew it.
     std::vector<std::string> warnings;   ///< Simulation and encoder warnings.
 };
+
+/// The camera of every video render: a 3/4 view from the front, above and to the left, framing the
+/// rest bounds grown by a tenth on each side (room for the motion). The preview page
+/// (`softtouch-cli preview`) stands its camera here too, so both draw the same picture.
+CameraPlacement videoCameraPlacement(const Bounds& restBounds, float aspect);
 
 /// Renders and encodes; errors name the file, the codec or the GL problem.
 Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptions& options);

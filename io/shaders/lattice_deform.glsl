@@ -12,7 +12,9 @@
 //   attribute  inLatticeUvw  _LATTICE_UVW (or TEXCOORD_0.xy and TEXCOORD_1.x)
 //   attribute  inNormal      NORMAL (rest normals), for the deformed normal
 //   SSBO       LatticeNodes  the .bin file from byte 12 + headerBytes on, as is: every frame's nodes,
-//                            3 floats each (x, y, z), frame after frame
+//                            3 floats each (x, y, z), frame after frame. With LATTICE_NODE_TEXTURE
+//                            defined (WebGL 2, which has no storage buffers; drop the #version line for
+//                            "#version 300 es"): the same nodes as texels of uLatticeNodeTexture instead.
 //   uniforms   uNodeCount = objects[i].nodes, uDegree = objects[i].degrees,
 //              uNodesPerFrame = nodesPerFrame, uFirstNode = objects[i].firstNode,
 //              uFrameA / uFrameB / uBlend: the two frames around the playback time and the blend
@@ -25,7 +27,18 @@
 
 const int LATTICE_MAX_ORDER = 8;  // degree 7 + 1
 
+#ifdef LATTICE_NODE_TEXTURE
+// WebGL 2 / GLSL ES 3.00 has no storage buffers: the same floats as RGB texels of a float texture, one
+// node a texel in the .bin's order, rows of the texture's width (the preview page, web/preview.js).
+uniform highp sampler2D uLatticeNodeTexture;
+vec3 latticeNodeAt(int i) {
+    int width = textureSize(uLatticeNodeTexture, 0).x;
+    return texelFetch(uLatticeNodeTexture, ivec2(i % width, i / width), 0).xyz;
+}
+#else
 layout(std430, binding = 0) readonly buffer LatticeNodes { float latticeNodes[]; };
+vec3 latticeNodeAt(int i) { return vec3(latticeNodes[3 * i], latticeNodes[3 * i + 1], latticeNodes[3 * i + 2]); }
+#endif
 
 uniform ivec3 uNodeCount;
 uniform ivec3 uDegree;
@@ -54,43 +67,42 @@ float latticeKnot(int i, int count, int degree) {
 int latticeBasis(int count, int degree, float t, out float N[LATTICE_MAX_ORDER], out float D[LATTICE_MAX_ORDER]) {
     int spans = count - degree;
     int span = clamp(int(floor(t * float(spans))), 0, spans - 1) + degree;
-    float ndu[LATTICE_MAX_ORDER][LATTICE_MAX_ORDER];  // upper: values by degree; lower: knot differences
+    // The book's ndu[r][c] as ndu[r * LATTICE_MAX_ORDER + c] (GLSL ES 3.00 has no arrays of arrays):
+    // upper triangle values by degree, lower knot differences.
+    float ndu[LATTICE_MAX_ORDER * LATTICE_MAX_ORDER];
     float left[LATTICE_MAX_ORDER];
     float right[LATTICE_MAX_ORDER];
-    ndu[0][0] = 1.0;
+    ndu[0] = 1.0;
     for (int j = 1; j <= degree; ++j) {
         left[j] = t - latticeKnot(span + 1 - j, count, degree);
         right[j] = latticeKnot(span + j, count, degree) - t;
         float saved = 0.0;
         for (int r = 0; r < j; ++r) {
-            ndu[j][r] = right[r + 1] + left[j - r];
-            float temp = ndu[r][j - 1] / ndu[j][r];
-            ndu[r][j] = saved + right[r + 1] * temp;
+            ndu[j * LATTICE_MAX_ORDER + r] = right[r + 1] + left[j - r];
+            float temp = ndu[r * LATTICE_MAX_ORDER + j - 1] / ndu[j * LATTICE_MAX_ORDER + r];
+            ndu[r * LATTICE_MAX_ORDER + j] = saved + right[r + 1] * temp;
             saved = left[j - r] * temp;
         }
-        ndu[j][j] = saved;
+        ndu[j * LATTICE_MAX_ORDER + j] = saved;
     }
     for (int r = 0; r < LATTICE_MAX_ORDER; ++r) {
         N[r] = 0.0;
         D[r] = 0.0;
     }
     for (int r = 0; r <= degree; ++r) {
-        N[r] = ndu[r][degree];
+        N[r] = ndu[r * LATTICE_MAX_ORDER + degree];
         // N'_{i,p} = p (N_{i,p-1} / (u_{i+p} - u_i) - N_{i+1,p-1} / (u_{i+p+1} - u_{i+1}))
         float d = 0.0;
         if (r >= 1)
-            d += ndu[r - 1][degree - 1] / ndu[degree][r - 1];
+            d += ndu[(r - 1) * LATTICE_MAX_ORDER + degree - 1] / ndu[degree * LATTICE_MAX_ORDER + r - 1];
         if (r <= degree - 1)
-            d -= ndu[r][degree - 1] / ndu[degree][r];
+            d -= ndu[r * LATTICE_MAX_ORDER + degree - 1] / ndu[degree * LATTICE_MAX_ORDER + r];
         D[r] = float(degree) * d;
     }
     return span - degree;
 }
 
-vec3 latticeNode(int frame, int index) {
-    int base = 3 * (frame * uNodesPerFrame + uFirstNode + index);
-    return vec3(latticeNodes[base], latticeNodes[base + 1], latticeNodes[base + 2]);
-}
+vec3 latticeNode(int frame, int index) { return latticeNodeAt(frame * uNodesPerFrame + uFirstNode + index); }
 
 // Deformed position at uvw; xu, xv, xw receive the partial derivatives dx/du, dx/dv, dx/dw.
 vec3 latticeDeform(vec3 uvw, out vec3 xu, out vec3 xv, out vec3 xw) {
