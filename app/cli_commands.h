@@ -13,6 +13,8 @@ int runBench(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);
 int runStability(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
+/// softtouch-cli preview: a web page that plays an exported clip with three.js.
+int runPreview(const std::vector<std::string>& args);
 int runPreset(const std::vector<std::string>& args);
 int runHaptic(const std::vector<std::string>& args);
 int runModes(const std::vector<std::string>& args);

@@ -12,9 +12,10 @@ struct CommandSynopsis {
     std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line.
 };
 
-inline constexpr std::array<CommandSynopsis, 11> kSynopses{{
+inline constexpr std::array<CommandSynopsis, 12> kSynopses{{
     {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|pca|skin|vat|lattice] [--error E] [--targets K | --bones K] [--threads N]"},
     {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
+    {"preview", "preview CLIP --out DIR [--size WxH]"},
     {"validate", "validate FILE..."},
     {"modes", "modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]"},
     {"upgrade", "upgrade SCENE --out NEW.softtouch"},

@@ -19,6 +19,8 @@ Commands:
              it matches beside it. 'softtouch-cli bake --help' for details.
   render     Simulate SCENE and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU
              (EGL; no X server needed). 'softtouch-cli render --help' for details.
+  preview    Write a web page that plays an exported clip (skin, morphs, VAT or lattice cache) with
+             three.js, as a game would. 'softtouch-cli preview --help'.
   modes      The lowest vibration modes of each object (frequency, damping ratio, shape) and what the
              scene's integrator and step do to them; --pictures draws the shapes headless.
              'softtouch-cli modes --help'.
@@ -70,6 +72,8 @@ int main(int argc, char** argv) {
         return softtouch::cli::runBake(args);
     if (command == "render")
         return softtouch::cli::runRender(args);
+    if (command == "preview")
+        return softtouch::cli::runPreview(args);
     if (command == "validate")
         return softtouch::cli::runValidate(args);
     if (command == "preset")

@@ -22,18 +22,30 @@ packages=(
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
   clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
   slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
+  chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
 )
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+# npm installs three.js for the preview page (web/package.json). Any npm will do (a nodejs package from
+# elsewhere may already bring one), so only a machine without the command gets Debian's.
+command -v npm >/dev/null 2>&1 || missing+=(npm)
+if [ ${#missing[@]} -ne 0 ]; then
+  echo "installing: ${missing[*]}"
+  as_root=()
+  [ "$(id -u)" -eq 0 ] || as_root=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${as_root[@]}" apt-get update -qq
+  "${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "installing: ${missing[*]}"
-as_root=()
-[ "$(id -u)" -eq 0 ] || as_root=(sudo)
-export DEBIAN_FRONTEND=noninteractive
-"${as_root[@]}" apt-get update -qq
-"${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+
+# three.js at the version web/package-lock.json pins, from npm's registry, into web/node_modules.
+cd "$(dirname "$0")/../web"
+want=$(sed -n 's/^ *"three": "\(.*\)"$/\1/p' package.json)
+have=$(sed -n 's/^ *"version": "\(.*\)",$/\1/p' node_modules/three/package.json 2>/dev/null || true)
+if [ "$want" != "$have" ]; then
+  echo "installing three.js $want for the preview page (npm ci in web/)"
+  npm ci --no-audit --no-fund --loglevel=error
+fi

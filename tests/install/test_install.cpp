@@ -69,6 +69,16 @@ void TestInstall::installedBuildRunsOnItsOwn() {
     QVERIFY2(haptic.exitCode == 0 && haptic.text.contains("plugin scripted"), qPrintable(haptic.text));
     const Output batch = run(cli, {"batch", "run", share + "/presets/batch/fish-library.stbatch", "--library", "library", "--jobs", "2"}, work);
     QVERIFY2(batch.exitCode == 0 && batch.text.contains("8 jobs: 8 ran"), qPrintable(batch.text));
+    // The preview page from the installed player, three.js modules and shaders.
+    QVERIFY(QFile::exists(share + "/web/preview.js") && QFile::exists(share + "/web/node_modules/three/build/three.module.js"));
+    const Output lattice = run(cli, {"bake", share + "/presets/scenes/guppy-swim.softtouch", "--out", "guppy", "--format", "lattice",
+                                     "--frames", "4", "--quiet"},
+                               work);
+    QVERIFY2(lattice.exitCode == 0, qPrintable(lattice.text));
+    const Output preview = run(cli, {"preview", "guppy.lattice.bin", "--out", "page"}, work);
+    QVERIFY2(preview.exitCode == 0 && preview.text.contains("lattice clip guppy.lattice.bin: 4 frames") &&
+                 QFile::exists(work + "/page/index.html"),
+             qPrintable(preview.text));
 
     // The editor on its installed default scene (this suite runs under Xvfb).
     const Output editor = run(prefix + "/bin/softtouch", {"--screenshot", work + "/editor.png"}, work);

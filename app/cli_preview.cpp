@@ -1,0 +1,120 @@
+// softtouch-cli preview: a web page that plays an exported clip with three.js, as a game would.
+#include "app/cli_commands.h"
+#include "app/cli_support.h"
+
+#include "io/atomic_file.h"
+#include "io/clip_preview.h"
+#include "render/video_render.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+namespace softtouch::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kPreviewUsage = R"(Usage: softtouch-cli preview CLIP --out DIR [options]
+
+Write DIR/index.html, one self-contained page that plays an exported clip in a web browser with
+three.js, the way a game engine plays it: skinned and morph glTF through three.js's own loader,
+skinning and morph targets; vertex animation textures and lattice caches through SoftTouch's shipped
+engine shaders (io/shaders/) in WebGL 2. Open it from disk; no server is needed. The camera starts
+where 'softtouch-cli render' puts it (drag to orbit; Reset view goes back), with play, pause, a frame
+slider and the keys Space, Left, Right and Home.
+
+CLIP is what 'bake' wrote: a .glb/.gltf of --format skin, pca, glb or gltf; a VAT's .vat.json (or its
+base path); a lattice cache's .lattice.bin (or its base path).
+
+Options:
+  --out DIR         Folder for index.html (required; created if missing).
+  --size WxH        The picture size the camera is framed for (default 960x540, as render's).
+  --quiet           No summary line.
+
+The page's address takes options after '#': frame=N shows frame N and stops, size=WxH draws at that
+size, matte draws a white silhouette on black, readback writes the canvas as a PNG into the page
+(tests use these).
+)";
+
+int usage(const std::string& message) { return usageError(message, "preview"); }
+
+/// A bundled folder: <bin>/../share/softtouch/INSTALLED when installed, else the source tree's SOURCE.
+fs::path bundledFolder(const std::string& installed, const std::string& source) {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path candidate = exe.parent_path() / "../share/softtouch" / installed;
+        if (fs::is_directory(candidate, ec))
+            return candidate.lexically_normal();
+    }
+    return fs::path(SOFTTOUCH_SOURCE_DIR) / source;
+}
+
+std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+int runPreview(const std::vector<std::string>& args) {
+    std::string clipPath, outDir, sizeText = "960x540";
+    bool quiet = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--help" || a == "-h") {
+            std::fputs(kPreviewUsage, stdout);
+            return 0;
+        }
+        if (a == "--quiet") {
+            quiet = true;
+        } else if (a == "--out" || a == "--size") {
+            if (i + 1 >= args.size())
+                return usage(a + " needs a value");
+            (a == "--out" ? outDir : sizeText) = args[++i];
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown option '" + a + "'");
+        } else if (clipPath.empty()) {
+            clipPath = a;
+        } else {
+            return usage("unexpected argument '" + a + "'");
+        }
+    }
+    if (clipPath.empty())
+        return usage("preview needs a CLIP file");
+    if (outDir.empty())
+        return usage("preview needs --out DIR");
+    const auto size = parseSize(sizeText);
+    if (!size)
+        return usage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+
+    auto clip = io::inspectPreviewClip(clipPath);
+    if (!clip)
+        return fail(clip.message());
+    const float aspect = float(size->first) / float(size->second);
+    const render::CameraPlacement placement = render::videoCameraPlacement(clip->restBounds, aspect);
+    io::PreviewCamera camera;
+    camera.eye = array3(placement.eye);
+    camera.centre = array3(placement.centre);
+    camera.up = array3(placement.up);
+    camera.fovYDegrees = float(placement.fovY * 180.0 / M_PI);
+    camera.nearPlane = placement.nearPlane;
+    camera.farPlane = placement.farPlane;
+    const io::PreviewAssets assets{bundledFolder("web", "web"), bundledFolder("shaders", "io/shaders")};
+    auto page = io::buildPreviewPage(clip.value(), camera, assets);
+    if (!page)
+        return fail(page.message());
+    std::error_code ec;
+    fs::create_directories(outDir, ec);
+    if (ec)
+        return fail("cannot create " + outDir + ": " + ec.message());
+    const fs::path index = fs::path(outDir) / "index.html";
+    if (Status s = io::writeFileAtomically(index, page.value()); !s)
+        return fail(s.message());
+    if (!quiet)
+        std::printf("wrote %s (%s clip %s: %d frames at %g fps, %s; %.1f MB)\n", index.c_str(),
+                    io::previewKindName(clip->kind), clip->name.c_str(), clip->frames, clip->fps, clip->summary.c_str(),
+                    double(page.value().size()) / 1e6);
+    return 0;
+}
+
+}  // namespace softtouch::cli
