@@ -23,8 +23,9 @@ constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, Inte
                                            IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd};
 
 /// A lattice body with the fish material, pinned at its u = 0 face.
-std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice) {
+std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const StrainLimits& limits = {}) {
     LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    m.strainLimits = limits;
     for (int k = 0; k < lattice.count(2); ++k)
         for (int j = 0; j < lattice.count(1); ++j)
             m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
@@ -36,9 +37,9 @@ std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice) {
 /// benchmarks.
 struct DraggedBody {
     DraggedBody(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool leftToSleep,
-                bool energyGuard = true)
+                bool energyGuard = true, const StrainLimits& limits = {})
         : lattice(Lattice::create(shape, OrientedBox{}).value()),
-          sim(benchBody(lattice), settingsFor(integrator, leftToSleep, energyGuard)), forces(base), sleeping(leftToSleep) {
+          sim(benchBody(lattice, limits), settingsFor(integrator, leftToSleep, energyGuard)), forces(base), sleeping(leftToSleep) {
         drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
         drag.stiffness = 50.0;
         drag.damping = 0.5;
@@ -76,8 +77,8 @@ struct DraggedBody {
 
 /// Microseconds per step of a DraggedBody.
 double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool sleeping,
-                        double minSeconds, bool energyGuard = true) {
-    DraggedBody body(shape, integrator, base, sleeping, energyGuard);
+                        double minSeconds, bool energyGuard = true, const StrainLimits& limits = {}) {
+    DraggedBody body(shape, integrator, base, sleeping, energyGuard, limits);
     const int batch = 200;
     auto run = [&] {
         for (int i = 0; i < batch; ++i)
@@ -185,6 +186,14 @@ json features(double minSeconds, std::ostream& out) {
     out << line;
     std::snprintf(line, sizeof line, "  energy guard off %.2f (the guard costs %.2fx)\n", unguarded, base / unguarded);
     out << line;
+    // Stretch and squash limits: a scan of every spring per substep while none is out of bounds, the
+    // Gauss-Seidel projection only when one is (the drag stretches this body's springs by up to ~8%).
+    const double limitsIdle = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {1.5, 0.5});
+    const double limitsBinding = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {1.02, 0.98});
+    std::snprintf(line, sizeof line,
+                  "  stretch/squash limits never reached (1.5x/0.5x) %.2f (%.2fx), holding (1.02x/0.98x) %.2f (%.2fx)\n",
+                  limitsIdle, limitsIdle / base, limitsBinding, limitsBinding / base);
+    out << line;
     // An unchanged frame (the body asleep) skips the mesh too.
     const double frameAwake = frameMicroseconds(false, minSeconds);
     const double frameAsleep = frameMicroseconds(true, minSeconds);
@@ -194,7 +203,8 @@ json features(double minSeconds, std::ostream& out) {
     out << line;
     return {{"awake_us", base},          {"gravity_us", withGravity},        {"plane_us", withPlane},
             {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep},
-            {"energy_guard_off_us", unguarded}};
+            {"energy_guard_off_us", unguarded}, {"strain_limits_idle_us", limitsIdle},
+            {"strain_limits_binding_us", limitsBinding}};
 }
 
 }  // namespace

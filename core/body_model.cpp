@@ -70,8 +70,12 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         return Status::error("node damping has " + std::to_string(d.nodeDamping.size()) + " values for " +
                              std::to_string(n) + " nodes");
 
+    if (Status s = validateStrainLimits(d.strainLimits); !s)
+        return s;
+
     auto model = std::make_shared<BodyModel>();
     model->restPositions = d.restPositions;
+    model->strainLimits = d.strainLimits;
     model->mass.assign(n, 0.0);
     model->inverseMass.assign(n, 0.0);
     model->simulated.assign(n, 1);

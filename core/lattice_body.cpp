@@ -278,6 +278,7 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     d.isVoid = material.isVoid;
     d.springs = latticeSprings(lattice, material);
     d.heavyAnchorRatio = material.heavyAnchorRatio;
+    d.strainLimits = material.strainLimits;
     if (material.model == MaterialModel::Continuum) {
         // Each node's rate times its mass: mass-proportional, the same ζ at every resolution.
         d.nodeDamping = d.mass;

@@ -52,6 +52,7 @@ struct LatticeMaterial {
                                          ///< direction d (box frame) gets Σ d_a² s_a. Paper's transversely
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
+    StrainLimits strainLimits;           ///< No spring beyond stretch × (or under squash ×) its rest length; off.
 };
 
 /// Name, valid range and unit of each field under a model: one table for validation, the project

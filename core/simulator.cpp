@@ -1,4 +1,5 @@
 #include "core/simulator.h"
+#include "core/strain_limits.h"
 
 #include "core/ranges.h"
 
@@ -197,7 +198,8 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     const double floor = std::max(1e-6 * m_peakScale, 1e-12);
     // Against the energy the account started with (or what the drags or contacts moved, if more): not
     // the current kinetic + spring energy, which swings with the step in the stiffest modes.
-    const double scale = std::max({m_accountScale, std::abs(m_account.work), std::abs(m_account.contacts), floor});
+    const double scale = std::max({m_accountScale, std::abs(m_account.work), std::abs(m_account.contacts),
+                                   std::abs(m_account.limits), floor});
     const double growth = (parts.modified - m_account.expected()) / scale;
     // |(h/2) vᵀf_springs| ≤ (hω/2)(kinetic + spring) for any state when hω < 2 (Cauchy-Schwarz in the
     // energy norm), and a mode past its bound grows with H̃ = 0, where the two are equal: a share near
@@ -328,6 +330,7 @@ StepReport Simulator::step(const ExternalForces& external) {
     }
     const double h = m_settings.dt / substeps;
     const bool contacts = !external.planes.empty();
+    const bool limits = m_model->strainLimits.any();
     const bool accountEnergy = accountsEnergy();
     if (accountEnergy && h != m_accountStep)
         rebaseAccount(external, h);  // the drags changed the bound since the last step
@@ -339,6 +342,14 @@ StepReport Simulator::step(const ExternalForces& external) {
             const StepWork work = m_integrator->lastWork();
             m_account.work += work.external;
             m_account.dissipated += work.dissipated;
+        }
+        if (limits && strainLimitsViolated(*m_model, m_model->strainLimits, m_state)) {
+            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
+            const StrainLimitPass pass = enforceStrainLimits(*m_model, m_model->strainLimits, m_state);
+            report.strainCorrections += pass.corrections;
+            report.worstStrainExcess = std::max(report.worstStrainExcess, pass.worstExcess);
+            if (accountEnergy)
+                m_account.limits += energyParts(external, h).modified - before;
         }
         if (contacts) {
             if (accountEnergy)

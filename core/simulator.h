@@ -57,6 +57,8 @@ struct StepReport {
     bool rolledBack = false;   ///< The step produced a non-finite state or energy from nowhere and was undone.
     bool refused = false;      ///< The step needed more than maxSubsteps substeps and was not taken (the body froze).
     double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the account, fraction of the body's energy.
+    int strainCorrections = 0; ///< Springs the stretch and squash limits put back this step (0: none was out).
+    double worstStrainExcess = 0.0; ///< Largest excess they found, fraction of a rest length.
     std::string problem;       ///< Empty, or what went wrong and how to fix it.
 };
 
@@ -102,7 +104,8 @@ public:
         double work = 0.0;        ///< Drags' work on the body since.
         double dissipated = 0.0;  ///< Taken out by node and spring damping since.
         double contacts = 0.0;    ///< Changed by plane contacts since (position and velocity corrections).
-        double expected() const { return start + work - dissipated + contacts; }
+        double limits = 0.0;      ///< Changed by the stretch and squash limits since (never positive by design).
+        double expected() const { return start + work - dissipated + contacts + limits; }
     };
     const EnergyAccount& energyAccount() const { return m_account; }
     /// The account's H̃ of the current state, J (what energyAccount().expected() is compared with).

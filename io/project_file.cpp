@@ -96,10 +96,12 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
         return;
     if (allowPreset)
         v.checkKeys({"preset", "model", "mass", "totalMass", "massDistribution", "stiffness", "damping", "airDamping",
-                     "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
+                     "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio",
+                     "stretchLimit", "squashLimit"});
     else
         v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
-                     "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio"});
+                     "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio", "stretchLimit",
+                     "squashLimit"});
     if (allowPreset)
         applyPreset(v["preset"], m, totalMass, baseDir);
     // Each model has its own keys (materialRanges().name), so a file can never give kilograms where a
@@ -153,6 +155,19 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     }
     if (auto x = v["heavyAnchorRatio"].number(1.0, 1e9))
         m.heavyAnchorRatio = *x;
+    // Length / rest length of every spring; 0 (or absent) is no limit.
+    if (auto x = v["stretchLimit"].number(0.0, 100.0)) {
+        if (*x != 0.0 && *x < 1.01)
+            v["stretchLimit"].problem("expected 0 (off) or a limit in [1.01, 100] times the rest length");
+        else
+            m.strainLimits.stretch = *x;
+    }
+    if (auto x = v["squashLimit"].number(0.0, 0.99)) {
+        if (*x != 0.0 && *x < 0.01)
+            v["squashLimit"].problem("expected 0 (off) or a limit in [0.01, 0.99] times the rest length");
+        else
+            m.strainLimits.squash = *x;
+    }
 }
 
 std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {
@@ -1036,6 +1051,10 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
                           {"anisotropy", vec(m.anisotropy)},
                           {"heavyAnchorRatio", m.heavyAnchorRatio},
                           {key.nodeDamping.name, perNode(m.nodeDamping)}};
+    if (m.strainLimits.stretch > 0.0)
+        object["material"]["stretchLimit"] = m.strainLimits.stretch;
+    if (m.strainLimits.squash > 0.0)
+        object["material"]["squashLimit"] = m.strainLimits.squash;
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -1164,6 +1183,10 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
         values[key.mass.name] = total / count;
     else
         values["totalMass"] = total;
+    if (material.strainLimits.stretch > 0.0)
+        values["stretchLimit"] = material.strainLimits.stretch;
+    if (material.strainLimits.squash > 0.0)
+        values["squashLimit"] = material.strainLimits.squash;
     const json doc = {{"format", kPresetFormat},
                       {"version", kPresetVersion},
                       {"kind", "material"},

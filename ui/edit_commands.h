@@ -20,6 +20,7 @@ enum MergeKey : int {
     kMergeFrequency,
     kMergeGravity,
     kMergeTimeStep,
+    kMergeStrainLimits,
     kFirstStrokeKey = 1000,  ///< Brush strokes: one key per stroke.
 };
 

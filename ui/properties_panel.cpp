@@ -215,6 +215,28 @@ QWidget* PropertiesPanel::buildMaterial() {
         });
     }
     form->addRow(tr("Anisotropy"), aniso);
+    // Stretch and squash limits (core/strain_limits.h): each spin box's minimum is "off".
+    m_stretchLimit = spin(1.0, 100.0, 2, tr(" × rest"), 0.05);
+    m_stretchLimit->setObjectName("stretchLimit");
+    m_stretchLimit->setSpecialValueText(tr("off"));
+    m_stretchLimit->setToolTip(tr("No spring of the lattice gets longer than this many times its rest length, "
+                                  "however hard it is pulled (a constraint after every step; it only ever takes energy out)."));
+    form->addRow(tr("Stretch limit"), m_stretchLimit);
+    m_squashLimit = spin(0.0, 0.99, 2, tr(" × rest"), 0.05);
+    m_squashLimit->setObjectName("squashLimit");
+    m_squashLimit->setSpecialValueText(tr("off"));
+    m_squashLimit->setToolTip(tr("No spring of the lattice gets shorter than this fraction of its rest length."));
+    form->addRow(tr("Squash limit"), m_squashLimit);
+    connect(m_stretchLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
+        if (!m_refreshing)
+            editMaterial(tr("Set stretch limit"), kMergeStrainLimits,
+                         [x](LatticeMaterial& m) { m.strainLimits.stretch = x < 1.01 ? 0.0 : x; });
+    });
+    connect(m_squashLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
+        if (!m_refreshing)
+            editMaterial(tr("Set squash limit"), kMergeStrainLimits,
+                         [x](LatticeMaterial& m) { m.strainLimits.squash = x < 0.01 ? 0.0 : x; });
+    });
 
     connect(m_frequency, &QDoubleSpinBox::valueChanged, this, [this](double hz) {
         if (!m_refreshing)
@@ -508,6 +530,8 @@ void PropertiesPanel::refresh() {
         setQuietly(m_nodeDamping, s.meanNodeDamping);
         for (int a = 0; a < 3; ++a)
             setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
+        setQuietly(m_stretchLimit, o.material.strainLimits.stretch > 0.0 ? o.material.strainLimits.stretch : 1.0);
+        setQuietly(m_squashLimit, o.material.strainLimits.squash);
         m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
         for (int a = 0; a < 3; ++a)
             m_latticeNodes[std::size_t(a)]->setValue(o.lattice.count(a));

@@ -75,6 +75,8 @@ private:
     std::array<QPushButton*, 3> m_modeShow{}; ///< "Show": animates that mode in the viewport (Viewport::showMode).
     std::vector<VibrationMode> m_analysedModes; ///< The modes the rows show (current object).
     QDoubleSpinBox* m_nodeDamping = nullptr;
+    QDoubleSpinBox* m_stretchLimit = nullptr;  ///< Longest spring / rest length; its minimum (1.00) reads "off".
+    QDoubleSpinBox* m_squashLimit = nullptr;   ///< Shortest spring / rest length; its minimum (0.00) reads "off".
     QDoubleSpinBox* m_totalMass = nullptr;
     QDoubleSpinBox* m_stiffness = nullptr;
     QDoubleSpinBox* m_damping = nullptr;

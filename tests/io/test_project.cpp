@@ -55,6 +55,7 @@ private slots:
     void saveAndReloadGivesTheSameScene();
     void saveRebasesMeshPaths();
     void paintedNodeDampingRoundTrips();
+    void strainLimitsRoundTripAndBind();
     void scalarNodeDampingIsAUniformMap_data();
     void scalarNodeDampingIsAUniformMap();
     void massFromTheMeshSitsWhereTheFishIs();
@@ -171,6 +172,35 @@ void TestProject::paintedNodeDampingRoundTrips() {
     QCOMPARE(reloaded->scene.objects[0].material.nodeDamping, o.material.nodeDamping);
     QVERIFY(simulate(project->scene, 0.5) == simulate(reloaded->scene, 0.5));
     QVERIFY(simulate(project->scene, 0.5) != simulate(loadProject(kPresets / "scenes/angelfish-swim.softtouch")->scene, 0.5));
+}
+
+// Stretch and squash limits are material keys: absent means off (every older file), saved only when
+// set, read back as written, and the loaded body holds them.
+void TestProject::strainLimitsRoundTripAndBind() {
+    QTemporaryDir dir;
+    const auto path = writeFile(dir, "limits.softtouch",
+                                projectText(R"(, "material": {"stiffness": 80, "stretchLimit": 1.25, "squashLimit": 0.75})"));
+    auto project = loadProject(path);
+    QVERIFY2(project.ok(), project.message().c_str());
+    QCOMPARE(project->scene.objects[0].material.strainLimits, (StrainLimits{1.25, 0.75}));
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "saved.softtouch";
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream in(saved);
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    QCOMPARE(doc["objects"][0]["material"]["stretchLimit"].get<double>(), 1.25);
+    QCOMPARE(doc["objects"][0]["material"]["squashLimit"].get<double>(), 0.75);
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.objects[0].material.strainLimits, (StrainLimits{1.25, 0.75}));
+    auto body = buildLatticeBody(reloaded->scene.objects[0].lattice, reloaded->scene.objects[0].material);
+    QVERIFY(body.ok());
+    QCOMPARE(body.value()->strainLimits, (StrainLimits{1.25, 0.75}));
+    // A file without the keys has no limits and writes none.
+    auto plain = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY(plain.ok() && !plain->scene.objects[0].material.strainLimits.any());
+    QVERIFY(saveProject(plain.value(), saved).ok());
+    std::ifstream again(saved);
+    QVERIFY(!nlohmann::json::parse(again)["objects"][0]["material"].contains("stretchLimit"));
 }
 
 // Files before version 4 give node damping as one number: it becomes the same value on every node
@@ -299,6 +329,12 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::newRow("mass distribution without a total")
         << QString::fromStdString(projectText(R"(, "material": {"massDistribution": "mesh"})"))
         << "/objects/0/material/massDistribution|totalMass";
+    QTest::newRow("stretch limit below 1.01")
+        << QString::fromStdString(projectText(R"(, "material": {"stretchLimit": 1.0})"))
+        << "/objects/0/material/stretchLimit|0 (off) or a limit in [1.01, 100]";
+    QTest::newRow("squash limit of 1")
+        << QString::fromStdString(projectText(R"(, "material": {"squashLimit": 1})"))
+        << "/objects/0/material/squashLimit|got 1";
     QTest::newRow("zero fps") << QString::fromStdString(projectText("", R"(, "clip": {"fps": 0})"))
                               << "/clip/fps|expected a number";
     QTest::newRow("missing mesh") << QString::fromStdString(R"({"format": "softtouch-project", "version": 1,

@@ -138,6 +138,7 @@ private slots:
     void paintStrokeIsOneUndoStep();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
+    void strainLimitsFromTheProperties();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -318,6 +319,28 @@ void TestEditor::redoWithCtrlYAndCtrlShiftZ() {
     QCOMPARE(play->text(), QString("Pause"));
     w.simulation()->pause();
     QCOMPARE(play->text(), QString("Play"));
+}
+
+// The Properties' stretch and squash limits: "off" at their minimum, a typed value reaches the material
+// and the running body as one undo step, and undo turns it off again.
+void TestEditor::strainLimitsFromTheProperties() {
+    MainWindow& w = *m_window;
+    auto* stretch = w.findChild<QDoubleSpinBox*>("stretchLimit");
+    auto* squash = w.findChild<QDoubleSpinBox*>("squashLimit");
+    QVERIFY(stretch && squash);
+    QCOMPARE(stretch->text(), QString("off"));
+    QCOMPARE(squash->text(), QString("off"));
+    QVERIFY(!w.document()->scene().objects[0].material.strainLimits.any());
+    const int undoBefore = w.document()->undoStack()->index();
+    stretch->setValue(1.3);
+    squash->setValue(0.6);
+    QCOMPARE(w.document()->scene().objects[0].material.strainLimits, (StrainLimits{1.3, 0.6}));
+    QCOMPARE(w.simulation()->simulation()->simulator(0).model().strainLimits, (StrainLimits{1.3, 0.6}));
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);  // both fields merge into one step
+    w.document()->undoStack()->undo();
+    QVERIFY(!w.document()->scene().objects[0].material.strainLimits.any());
+    QCOMPARE(stretch->text(), QString("off"));
+    QVERIFY(!w.simulation()->simulation()->simulator(0).model().strainLimits.any());
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
