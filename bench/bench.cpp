@@ -22,10 +22,17 @@ using nlohmann::json;
 constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
                                            IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd};
 
+/// The cartoon controls a bench body may use (all off by default).
+struct CartoonControls {
+    StrainLimits limits;
+    double volumePreservation = 0.0;  ///< Of the whole box (the bench body has no mesh).
+};
+
 /// A lattice body with the fish material, pinned at its u = 0 face.
-std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const StrainLimits& limits = {}) {
+std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const CartoonControls& controls = {}) {
     LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, 0.9);
-    m.strainLimits = limits;
+    m.strainLimits = controls.limits;
+    m.volumePreservation = controls.volumePreservation;
     for (int k = 0; k < lattice.count(2); ++k)
         for (int j = 0; j < lattice.count(1); ++j)
             m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
@@ -37,9 +44,9 @@ std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const StrainL
 /// benchmarks.
 struct DraggedBody {
     DraggedBody(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool leftToSleep,
-                bool energyGuard = true, const StrainLimits& limits = {})
+                bool energyGuard = true, const CartoonControls& controls = {})
         : lattice(Lattice::create(shape, OrientedBox{}).value()),
-          sim(benchBody(lattice, limits), settingsFor(integrator, leftToSleep, energyGuard)), forces(base), sleeping(leftToSleep) {
+          sim(benchBody(lattice, controls), settingsFor(integrator, leftToSleep, energyGuard)), forces(base), sleeping(leftToSleep) {
         drag.support = lattice.weights(Vec3(1.0, 0.5, 0.5));
         drag.stiffness = 50.0;
         drag.damping = 0.5;
@@ -77,8 +84,8 @@ struct DraggedBody {
 
 /// Microseconds per step of a DraggedBody.
 double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, const ExternalForces& base, bool sleeping,
-                        double minSeconds, bool energyGuard = true, const StrainLimits& limits = {}) {
-    DraggedBody body(shape, integrator, base, sleeping, energyGuard, limits);
+                        double minSeconds, bool energyGuard = true, const CartoonControls& controls = {}) {
+    DraggedBody body(shape, integrator, base, sleeping, energyGuard, controls);
     const int batch = 200;
     auto run = [&] {
         for (int i = 0; i < batch; ++i)
@@ -188,12 +195,24 @@ json features(double minSeconds, std::ostream& out) {
     out << line;
     // Stretch and squash limits: a scan of every spring per substep while none is out of bounds, the
     // Gauss-Seidel projection only when one is (the drag stretches this body's springs by up to ~8%).
-    const double limitsIdle = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {1.5, 0.5});
-    const double limitsBinding = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {1.02, 0.98});
+    const double limitsIdle = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {{1.5, 0.5}});
+    const double limitsBinding = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, true, {{1.02, 0.98}});
     std::snprintf(line, sizeof line,
                   "  stretch/squash limits never reached (1.5x/0.5x) %.2f (%.2fx), holding (1.02x/0.98x) %.2f (%.2fx)\n",
                   limitsIdle, limitsIdle / base, limitsBinding, limitsBinding / base);
     out << line;
+    // Volume preservation per integrator: the whole box's volume sampled at 4³ points, compliant (0.5) and
+    // hard (1: Newton steps until |C| < 1e-6 V0).
+    json volume = json::object();
+    for (IntegratorKind k : kIntegrators) {
+        const double off = stepMicroseconds(shape, k, none, false, minSeconds);
+        const double half = stepMicroseconds(shape, k, none, false, minSeconds, true, {{}, 0.5});
+        const double hard = stepMicroseconds(shape, k, none, false, minSeconds, true, {{}, 1.0});
+        std::snprintf(line, sizeof line, "  volume preservation, %-16s off %.2f   0.5 %.2f (%.2fx)   1 %.2f (%.2fx)\n",
+                      std::string(integratorName(k)).c_str(), off, half, half / off, hard, hard / off);
+        out << line;
+        volume[std::string(integratorName(k))] = {{"off_us", off}, {"compliant_us", half}, {"hard_us", hard}};
+    }
     // An unchanged frame (the body asleep) skips the mesh too.
     const double frameAwake = frameMicroseconds(false, minSeconds);
     const double frameAsleep = frameMicroseconds(true, minSeconds);
@@ -204,7 +223,7 @@ json features(double minSeconds, std::ostream& out) {
     return {{"awake_us", base},          {"gravity_us", withGravity},        {"plane_us", withPlane},
             {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep},
             {"energy_guard_off_us", unguarded}, {"strain_limits_idle_us", limitsIdle},
-            {"strain_limits_binding_us", limitsBinding}};
+            {"strain_limits_binding_us", limitsBinding}, {"volume_preservation", volume}};
 }
 
 }  // namespace

@@ -76,6 +76,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     auto model = std::make_shared<BodyModel>();
     model->restPositions = d.restPositions;
     model->strainLimits = d.strainLimits;
+    model->volume = d.volume;
     model->mass.assign(n, 0.0);
     model->inverseMass.assign(n, 0.0);
     model->simulated.assign(n, 1);

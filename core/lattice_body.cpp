@@ -1,5 +1,7 @@
 #include "core/lattice_body.h"
 
+#include "core/mesh_volume.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -268,9 +270,12 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
 
 }  // namespace
 
-Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material) {
+Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
+                                                          const Mesh* mesh) {
     if (Status s = validateMaterial(lattice, material); !s)
         return s;
+    if (!(material.volumePreservation >= 0.0 && material.volumePreservation <= 1.0))
+        return Status::error("volume preservation must be in [0, 1], got " + std::to_string(material.volumePreservation));
     BodyDescription d;
     d.restPositions = lattice.restNodes();
     d.mass = nodeMasses(lattice, material);
@@ -319,6 +324,22 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
             d.voidFollowers.push_back(f);
             progress = true;
         }
+    }
+    if (material.volumePreservation > 0.0) {
+        // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).
+        double modulus = 0.0;
+        int counted = 0;
+        for (const Spring& s : d.springs)
+            if (s.restLength > 0.0 && !material.isVoid[s.a] && !material.isVoid[s.b]) {
+                modulus += s.stiffness / s.restLength;
+                ++counted;
+            }
+        std::vector<double> occupancy;
+        if (mesh && !mesh->triangles.empty())
+            if (auto shares = meshVolumeShares(lattice, *mesh, kMeshVolumeSamples, volumeSampleCells(lattice)))
+                occupancy = std::move(shares.value().occupancy);
+        d.volume = buildVolumeConstraint(lattice, occupancy, material.volumePreservation,
+                                         counted > 0 ? modulus / counted : 0.0);
     }
     return buildBodyModel(d);
 }

@@ -53,6 +53,8 @@ struct LatticeMaterial {
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
     StrainLimits strainLimits;           ///< No spring beyond stretch × (or under squash ×) its rest length; off.
+    double volumePreservation = 0.0;     ///< How stiffly the mesh's volume is kept, [0, 1]: 0 off, 1 hard
+                                         ///< (core/volume_preservation.h).
 };
 
 /// Name, valid range and unit of each field under a model: one table for validation, the project
@@ -111,7 +113,10 @@ SpringCounts countSprings(const std::vector<Spring>& springs);
 
 /// Builds the body of a lattice: validates the material (errors name the node and field), removes
 /// void nodes with their springs, and lets void nodes follow their non-void neighbours.
-Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material);
+/// With volume preservation on, the kept volume is `mesh`'s (a closed mesh; otherwise, or without one, the
+/// lattice box's).
+Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
+                                                          const Mesh* mesh = nullptr);
 
 /// The material of `from` carried onto lattice `to` (another resolution or kind over the same object):
 /// every node of `to` takes the painted values of the node of `from` nearest in lattice parameters; anchors

@@ -55,9 +55,11 @@ int openEdges(const Mesh& mesh) {
 
 }  // namespace
 
-Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& mesh, int samples) {
+Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& mesh, int samples, int occupancyCells) {
     if (samples < 4 || samples > 512)
         return Status::error("mesh volume samples must be in [4, 512], got " + std::to_string(samples));
+    if (occupancyCells < 0 || occupancyCells > samples)
+        return Status::error("occupancy cells must be in [0, samples], got " + std::to_string(occupancyCells));
     if (Status s = mesh.validate(); !s)
         return s;
     if (const int open = openEdges(mesh); open > 0)
@@ -105,6 +107,14 @@ Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& me
     const double cellVolume = box.size.prod() / (double(S) * S * S);
     MeshVolumeShares out;
     out.nodeVolume.assign(std::size_t(lattice.nodeCount()), 0.0);
+    // Occupancy: inside samples per coarse cell over the samples the cell holds.
+    const int G = occupancyCells;
+    std::vector<int> cellOf(static_cast<std::size_t>(S)), perAxis(static_cast<std::size_t>(std::max(G, 1)), 0);
+    for (int s = 0; s < S; ++s) {
+        cellOf[std::size_t(s)] = G > 0 ? s * G / S : 0;
+        ++perAxis[std::size_t(cellOf[std::size_t(s)])];
+    }
+    std::vector<double> insideCount(std::size_t(G) * std::size_t(G) * std::size_t(G), 0.0);
     std::vector<double> lineSum(static_cast<std::size_t>(nx), 0.0);
     for (int k = 0; k < S; ++k) {
         for (int j = 0; j < S; ++j) {
@@ -131,6 +141,8 @@ Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& me
                 if (inside <= 0)
                     continue;
                 ++samplesInside;
+                if (G > 0)
+                    insideCount[std::size_t(cellOf[std::size_t(s)] + G * (cellOf[std::size_t(j)] + G * cellOf[std::size_t(k)]))] += 1.0;
                 for (int i = 0; i < nx; ++i)
                     lineSum[std::size_t(i)] += nu[std::size_t(s)][std::size_t(i)];
             }
@@ -155,6 +167,16 @@ Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& me
                              " sample lines through it cross it unevenly), so it has no volume to share the mass by");
     if (!(out.volume > 0.0))
         return Status::error("the mesh encloses no volume inside its lattice box");
+    if (G > 0) {
+        out.occupancy.resize(insideCount.size());
+        for (int ck = 0; ck < G; ++ck)
+            for (int cj = 0; cj < G; ++cj)
+                for (int ci = 0; ci < G; ++ci) {
+                    const std::size_t c = std::size_t(ci + G * (cj + G * ck));
+                    out.occupancy[c] = insideCount[c] / (double(perAxis[std::size_t(ci)]) * perAxis[std::size_t(cj)] *
+                                                         perAxis[std::size_t(ck)]);
+                }
+    }
     return out;
 }
 

@@ -23,6 +23,9 @@ struct MeshVolumeShares {
     double volume = 0.0;            ///< The mesh's volume inside the box, m³.
     int openLines = 0;              ///< Sample lines whose crossings did not balance (holes in the surface).
     int linesThroughMesh = 0;       ///< Sample lines that crossed the mesh at all.
+    /// With `occupancyCells` G > 0: the fraction of each of G³ equal cells of the parameter box that lies
+    /// inside the mesh (index cu + G·(cv + G·cw)), from the same samples. Empty otherwise.
+    std::vector<double> occupancy;
 };
 
 /// Samples per box axis meshVolumeShares() uses by default (48³ ≈ 110k points: a node's share is good to
@@ -33,7 +36,8 @@ inline constexpr int kMeshVolumeSamples = 48;
 /// (an edge borders one triangle only, vertices at one position counted as one), when it encloses no
 /// volume inside the box, or when more than 2% of the sample lines through it cross it unevenly.
 /// `samples` in [4, 512].
-Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& mesh, int samples = kMeshVolumeSamples);
+Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& mesh, int samples = kMeshVolumeSamples,
+                                          int occupancyCells = 0);
 
 /// Least mass a node gets from meshMassPerNode(), as a fraction of the mean over non-void nodes. Nodes
 /// outside the mesh carry the map but no material; the paper found light "air" nodes unstable and hard to

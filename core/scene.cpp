@@ -120,7 +120,7 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             if (Status s = validateDriver(object.drivers[d]); !s)
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
         }
-        auto model = buildLatticeBody(object.lattice, object.material);
+        auto model = buildLatticeBody(object.lattice, object.material, &object.mesh);
         if (!model)
             return Status::error(where + model.message());
         sim.m_objects.push_back(Runtime{&object,

@@ -199,7 +199,7 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     // Against the energy the account started with (or what the drags or contacts moved, if more): not
     // the current kinetic + spring energy, which swings with the step in the stiffest modes.
     const double scale = std::max({m_accountScale, std::abs(m_account.work), std::abs(m_account.contacts),
-                                   std::abs(m_account.limits), floor});
+                                   std::abs(m_account.limits), std::abs(m_account.volume), floor});
     const double growth = (parts.modified - m_account.expected()) / scale;
     // |(h/2) vᵀf_springs| ≤ (hω/2)(kinetic + spring) for any state when hω < 2 (Cauchy-Schwarz in the
     // energy norm), and a mode past its bound grows with H̃ = 0, where the two are equal: a share near
@@ -331,6 +331,7 @@ StepReport Simulator::step(const ExternalForces& external) {
     const double h = m_settings.dt / substeps;
     const bool contacts = !external.planes.empty();
     const bool limits = m_model->strainLimits.any();
+    const bool keepVolume = m_model->volume.active();
     const bool accountEnergy = accountsEnergy();
     if (accountEnergy && h != m_accountStep)
         rebaseAccount(external, h);  // the drags changed the bound since the last step
@@ -343,6 +344,26 @@ StepReport Simulator::step(const ExternalForces& external) {
             m_account.work += work.external;
             m_account.dissipated += work.dissipated;
         }
+        const auto resolveContacts = [&] {
+            if (accountEnergy)
+                resolveContactsAccounted(external, h);
+            else
+                resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+        };
+        if (keepVolume) {
+            // Planes first, so the volume is restored around them; nodes resting on a plane move only along
+            // it. A correction can carry a node near a plane through it, which the next contact pass takes
+            // back with some volume, so with planes the two alternate a few times (the final contact pass
+            // below ends it).
+            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
+            for (int round = 0; round < (contacts ? 3 : 1); ++round) {
+                if (contacts)
+                    resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+                (void)enforceVolume(*m_model, m_state, h, m_volumeScratch, external.planes);
+            }
+            if (accountEnergy)
+                m_account.volume += energyParts(external, h).modified - before;
+        }
         if (limits && strainLimitsViolated(*m_model, m_model->strainLimits, m_state)) {
             const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
             const StrainLimitPass pass = enforceStrainLimits(*m_model, m_model->strainLimits, m_state);
@@ -351,12 +372,8 @@ StepReport Simulator::step(const ExternalForces& external) {
             if (accountEnergy)
                 m_account.limits += energyParts(external, h).modified - before;
         }
-        if (contacts) {
-            if (accountEnergy)
-                resolveContactsAccounted(external, h);
-            else
-                resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
-        }
+        if (contacts)
+            resolveContacts();
         updateVoidNodes(*m_model, m_state);
     }
     report.substeps = substeps;

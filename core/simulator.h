@@ -105,7 +105,8 @@ public:
         double dissipated = 0.0;  ///< Taken out by node and spring damping since.
         double contacts = 0.0;    ///< Changed by plane contacts since (position and velocity corrections).
         double limits = 0.0;      ///< Changed by the stretch and squash limits since (never positive by design).
-        double expected() const { return start + work - dissipated + contacts + limits; }
+        double volume = 0.0;      ///< Changed by volume preservation since (its constraint's work).
+        double expected() const { return start + work - dissipated + contacts + limits + volume; }
     };
     const EnergyAccount& energyAccount() const { return m_account; }
     /// The account's H̃ of the current state, J (what energyAccount().expected() is compared with).
@@ -165,6 +166,7 @@ private:
     std::vector<Vec3> m_conservativeForce;
     SpringScratch m_scratch;
     std::vector<Vec3> m_substepStart;  ///< Positions before the current substep (contact history).
+    std::vector<Vec3> m_volumeScratch; ///< Volume gradient per node (volume preservation).
     long long m_stepCount = 0;
     bool m_sleeping = false;
     int m_quietSteps = 0;

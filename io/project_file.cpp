@@ -97,11 +97,11 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     if (allowPreset)
         v.checkKeys({"preset", "model", "mass", "totalMass", "massDistribution", "stiffness", "damping", "airDamping",
                      "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio",
-                     "stretchLimit", "squashLimit"});
+                     "stretchLimit", "squashLimit", "volumePreservation"});
     else
         v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
                      "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio", "stretchLimit",
-                     "squashLimit"});
+                     "squashLimit", "volumePreservation"});
     if (allowPreset)
         applyPreset(v["preset"], m, totalMass, baseDir);
     // Each model has its own keys (materialRanges().name), so a file can never give kilograms where a
@@ -162,6 +162,8 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
         else
             m.strainLimits.stretch = *x;
     }
+    if (auto x = v["volumePreservation"].number(0.0, 1.0))
+        m.volumePreservation = *x;
     if (auto x = v["squashLimit"].number(0.0, 0.99)) {
         if (*x != 0.0 && *x < 0.01)
             v["squashLimit"].problem("expected 0 (off) or a limit in [0.01, 0.99] times the rest length");
@@ -1055,6 +1057,8 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
         object["material"]["stretchLimit"] = m.strainLimits.stretch;
     if (m.strainLimits.squash > 0.0)
         object["material"]["squashLimit"] = m.strainLimits.squash;
+    if (m.volumePreservation > 0.0)
+        object["material"]["volumePreservation"] = m.volumePreservation;
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -1187,6 +1191,8 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
         values["stretchLimit"] = material.strainLimits.stretch;
     if (material.strainLimits.squash > 0.0)
         values["squashLimit"] = material.strainLimits.squash;
+    if (material.volumePreservation > 0.0)
+        values["volumePreservation"] = material.volumePreservation;
     const json doc = {{"format", kPresetFormat},
                       {"version", kPresetVersion},
                       {"kind", "material"},

@@ -21,6 +21,7 @@ enum MergeKey : int {
     kMergeGravity,
     kMergeTimeStep,
     kMergeStrainLimits,
+    kMergeVolume,
     kFirstStrokeKey = 1000,  ///< Brush strokes: one key per stroke.
 };
 

@@ -227,6 +227,17 @@ QWidget* PropertiesPanel::buildMaterial() {
     m_squashLimit->setSpecialValueText(tr("off"));
     m_squashLimit->setToolTip(tr("No spring of the lattice gets shorter than this fraction of its rest length."));
     form->addRow(tr("Squash limit"), m_squashLimit);
+    m_volumePreservation = spin(0.0, 1.0, 2, QString(), 0.1);
+    m_volumePreservation->setObjectName("volumePreservation");
+    m_volumePreservation->setSpecialValueText(tr("off"));
+    m_volumePreservation->setToolTip(tr("Keeps the mesh's volume: a squashed body bulges sideways. 0.5 resists a "
+                                        "volume change as much as the springs resist a stretch, 0.9 nine times as "
+                                        "much, 1 holds it exactly."));
+    form->addRow(tr("Volume preservation"), m_volumePreservation);
+    connect(m_volumePreservation, &QDoubleSpinBox::valueChanged, this, [this](double p) {
+        if (!m_refreshing)
+            editMaterial(tr("Set volume preservation"), kMergeVolume, [p](LatticeMaterial& m) { m.volumePreservation = p; });
+    });
     connect(m_stretchLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
         if (!m_refreshing)
             editMaterial(tr("Set stretch limit"), kMergeStrainLimits,
@@ -532,6 +543,7 @@ void PropertiesPanel::refresh() {
             setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
         setQuietly(m_stretchLimit, o.material.strainLimits.stretch > 0.0 ? o.material.strainLimits.stretch : 1.0);
         setQuietly(m_squashLimit, o.material.strainLimits.squash);
+        setQuietly(m_volumePreservation, o.material.volumePreservation);
         m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
         for (int a = 0; a < 3; ++a)
             m_latticeNodes[std::size_t(a)]->setValue(o.lattice.count(a));

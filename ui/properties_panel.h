@@ -77,6 +77,7 @@ private:
     QDoubleSpinBox* m_nodeDamping = nullptr;
     QDoubleSpinBox* m_stretchLimit = nullptr;  ///< Longest spring / rest length; its minimum (1.00) reads "off".
     QDoubleSpinBox* m_squashLimit = nullptr;   ///< Shortest spring / rest length; its minimum (0.00) reads "off".
+    QDoubleSpinBox* m_volumePreservation = nullptr;  ///< 0 (reads "off") to 1 (hard).
     QDoubleSpinBox* m_totalMass = nullptr;
     QDoubleSpinBox* m_stiffness = nullptr;
     QDoubleSpinBox* m_damping = nullptr;

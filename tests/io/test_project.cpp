@@ -179,7 +179,7 @@ void TestProject::paintedNodeDampingRoundTrips() {
 void TestProject::strainLimitsRoundTripAndBind() {
     QTemporaryDir dir;
     const auto path = writeFile(dir, "limits.softtouch",
-                                projectText(R"(, "material": {"stiffness": 80, "stretchLimit": 1.25, "squashLimit": 0.75})"));
+                                projectText(R"(, "material": {"stiffness": 80, "stretchLimit": 1.25, "squashLimit": 0.75, "volumePreservation": 0.8})"));
     auto project = loadProject(path);
     QVERIFY2(project.ok(), project.message().c_str());
     QCOMPARE(project->scene.objects[0].material.strainLimits, (StrainLimits{1.25, 0.75}));
@@ -189,9 +189,11 @@ void TestProject::strainLimitsRoundTripAndBind() {
     const nlohmann::json doc = nlohmann::json::parse(in);
     QCOMPARE(doc["objects"][0]["material"]["stretchLimit"].get<double>(), 1.25);
     QCOMPARE(doc["objects"][0]["material"]["squashLimit"].get<double>(), 0.75);
+    QCOMPARE(doc["objects"][0]["material"]["volumePreservation"].get<double>(), 0.8);
     auto reloaded = loadProject(saved);
     QVERIFY2(reloaded.ok(), reloaded.message().c_str());
     QCOMPARE(reloaded->scene.objects[0].material.strainLimits, (StrainLimits{1.25, 0.75}));
+    QCOMPARE(reloaded->scene.objects[0].material.volumePreservation, 0.8);
     auto body = buildLatticeBody(reloaded->scene.objects[0].lattice, reloaded->scene.objects[0].material);
     QVERIFY(body.ok());
     QCOMPARE(body.value()->strainLimits, (StrainLimits{1.25, 0.75}));
@@ -332,6 +334,9 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::newRow("stretch limit below 1.01")
         << QString::fromStdString(projectText(R"(, "material": {"stretchLimit": 1.0})"))
         << "/objects/0/material/stretchLimit|0 (off) or a limit in [1.01, 100]";
+    QTest::newRow("volume preservation above 1")
+        << QString::fromStdString(projectText(R"(, "material": {"volumePreservation": 1.5})"))
+        << "/objects/0/material/volumePreservation|got 1.5";
     QTest::newRow("squash limit of 1")
         << QString::fromStdString(projectText(R"(, "material": {"squashLimit": 1})"))
         << "/objects/0/material/squashLimit|got 1";

@@ -341,6 +341,21 @@ void TestEditor::strainLimitsFromTheProperties() {
     QVERIFY(!w.document()->scene().objects[0].material.strainLimits.any());
     QCOMPARE(stretch->text(), QString("off"));
     QVERIFY(!w.simulation()->simulation()->simulator(0).model().strainLimits.any());
+
+    // Volume preservation: the running body keeps the fish mesh's volume (sampled inside the mesh, so
+    // less than the lattice box's).
+    auto* volume = w.findChild<QDoubleSpinBox*>("volumePreservation");
+    QVERIFY(volume);
+    QCOMPARE(volume->text(), QString("off"));
+    volume->setValue(0.9);
+    QCOMPARE(w.document()->scene().objects[0].material.volumePreservation, 0.9);
+    const VolumeConstraint& kept = w.simulation()->simulation()->simulator(0).model().volume;
+    QVERIFY(kept.active());
+    const OrientedBox& box = w.document()->scene().objects[0].lattice.box();
+    QVERIFY2(kept.restVolume > 0.05 * box.size.prod() && kept.restVolume < 0.8 * box.size.prod(),
+             qPrintable(QString("%1 m³ of a %2 m³ box").arg(kept.restVolume).arg(box.size.prod())));
+    w.document()->undoStack()->undo();
+    QVERIFY(!w.simulation()->simulation()->simulator(0).model().volume.active());
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
