@@ -19,59 +19,145 @@ VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector
     if (c.preservation == 0.0 || !(modulus > 0.0))
         return c;
     const int G = volumeSampleCells(lattice);
-    const bool wholeBox = occupancy.size() != std::size_t(G) * std::size_t(G) * std::size_t(G);
-    const double cellVolume = 1.0 / (double(G) * G * G);  // of the unit parameter box
-    c.start.push_back(0);
-    for (int k = 0; k < G; ++k) {
-        const BasisSample w = lattice.axis(2).sample((k + 0.5) / G);
-        for (int j = 0; j < G; ++j) {
-            const BasisSample v = lattice.axis(1).sample((j + 0.5) / G);
-            for (int i = 0; i < G; ++i) {
-                const double inside = wholeBox ? 1.0 : occupancy[std::size_t(i + G * (j + G * k))];
-                if (inside <= 0.0)
-                    continue;
-                const BasisSample u = lattice.axis(0).sample((i + 0.5) / G);
-                for (int rk = 0; rk < w.order; ++rk)
-                    for (int rj = 0; rj < v.order; ++rj)
-                        for (int ri = 0; ri < u.order; ++ri) {
-                            c.node.push_back(std::uint32_t(lattice.index(u.first + ri, v.first + rj, w.first + rk)));
-                            c.slope.emplace_back(u.slope[std::size_t(ri)] * v.value[std::size_t(rj)] * w.value[std::size_t(rk)],
-                                                 u.value[std::size_t(ri)] * v.slope[std::size_t(rj)] * w.value[std::size_t(rk)],
-                                                 u.value[std::size_t(ri)] * v.value[std::size_t(rj)] * w.slope[std::size_t(rk)]);
-                        }
-                c.weight.push_back(cellVolume * inside);
-                c.start.push_back(std::uint32_t(c.node.size()));
+    c.cells = G;
+    for (int a = 0; a < 3; ++a) {
+        const int n = lattice.count(a);
+        c.nodes[std::size_t(a)] = n;
+        c.value[std::size_t(a)].assign(std::size_t(G * n), 0.0);
+        c.slope[std::size_t(a)].assign(std::size_t(G * n), 0.0);
+        for (int g = 0; g < G; ++g) {
+            const BasisSample b = lattice.axis(a).sample((g + 0.5) / G);
+            for (int r = 0; r < b.order; ++r) {
+                c.value[std::size_t(a)][std::size_t(g * n + b.first + r)] = b.value[std::size_t(r)];
+                c.slope[std::size_t(a)][std::size_t(g * n + b.first + r)] = b.slope[std::size_t(r)];
             }
         }
     }
+    const std::size_t points = std::size_t(G) * std::size_t(G) * std::size_t(G);
+    const bool wholeBox = occupancy.size() != points;
+    c.weight.assign(points, 0.0);
+    for (std::size_t q = 0; q < points; ++q)
+        c.weight[q] = (wholeBox ? 1.0 : occupancy[q]) / double(points);  // of the unit parameter box
     c.restVolume = sampledVolume(c, lattice.restNodes());
     // K = E p / (1 − p); α = V0 / K (0 when hard).
     c.compliance = c.preservation >= 1.0 ? 0.0 : c.restVolume * (1.0 - c.preservation) / (modulus * c.preservation);
     return c;
 }
 
+namespace {
+
+/// out[g, rest] = Σ_i table[g * n + i] in[i, rest]: one axis of a tensor-product sum, the axis first.
+/// `in` holds n blocks of `rest` vectors, `out` G blocks.
+void contract(const std::vector<double>& table, int G, int n, std::size_t rest, const Vec3* in, Vec3* out) {
+    for (int g = 0; g < G; ++g) {
+        Vec3* o = out + std::size_t(g) * rest;
+        std::fill(o, o + rest, Vec3::Zero());
+        for (int i = 0; i < n; ++i) {
+            const double t = table[std::size_t(g * n + i)];
+            if (t == 0.0)
+                continue;
+            const Vec3* src = in + std::size_t(i) * rest;
+            for (std::size_t r = 0; r < rest; ++r)
+                o[r] += t * src[r];
+        }
+    }
+}
+
+/// The transpose: out[i, rest] += Σ_g table[g * n + i] in[g, rest].
+void contractTransposed(const std::vector<double>& table, int G, int n, std::size_t rest, const Vec3* in, Vec3* out) {
+    for (int i = 0; i < n; ++i) {
+        Vec3* o = out + std::size_t(i) * rest;
+        for (int g = 0; g < G; ++g) {
+            const double t = table[std::size_t(g * n + i)];
+            if (t == 0.0)
+                continue;
+            const Vec3* src = in + std::size_t(g) * rest;
+            for (std::size_t r = 0; r < rest; ++r)
+                o[r] += t * src[r];
+        }
+    }
+}
+
+/// Moves axis order (a, b, c) → (b, c, a) of a dense block of na × nb × nc vectors (a slowest).
+void rotate(const std::vector<Vec3>& in, int na, int nb, int nc, std::vector<Vec3>& out) {
+    out.resize(in.size());
+    for (int a = 0; a < na; ++a)
+        for (int b = 0; b < nb; ++b)
+            for (int c = 0; c < nc; ++c)
+                out[(std::size_t(b) * nc + c) * na + a] = in[(std::size_t(a) * nb + b) * nc + c];
+}
+
+}  // namespace
+
 double sampledVolume(const VolumeConstraint& volume, std::span<const Vec3> x, std::span<Vec3> gradient) {
     const bool wantGradient = !gradient.empty();
     if (wantGradient)
         std::fill(gradient.begin(), gradient.end(), Vec3::Zero());
+    const int G = volume.cells;
+    if (G == 0)
+        return 0.0;
+    const int nu = volume.nodes[0], nv = volume.nodes[1], nw = volume.nodes[2];
+    // Nodes as [w][v][u] (the lattice's order, u fastest) → work arrays with the contracted axis first.
+    // Tangent k (0: x_u, 1: x_v, 2: x_w) uses the slope table on axis k and values on the others.
+    // Work arrays kept per thread: after the first call a substep allocates nothing.
+    thread_local std::array<std::vector<Vec3>, 3> tangent;
+    thread_local std::vector<Vec3> a, b, c;
+    for (int k = 0; k < 3; ++k) {
+        const auto& tw = k == 2 ? volume.slope[2] : volume.value[2];
+        const auto& tv = k == 1 ? volume.slope[1] : volume.value[1];
+        const auto& tu = k == 0 ? volume.slope[0] : volume.value[0];
+        a.assign(x.begin(), x.end());                       // [w][v][u]
+        b.resize(std::size_t(G) * nv * nu);
+        contract(tw, G, nw, std::size_t(nv) * nu, a.data(), b.data());  // [gw][v][u]
+        rotate(b, G, nv, nu, a);                            // [v][u][gw]
+        c.resize(std::size_t(G) * nu * G);
+        contract(tv, G, nv, std::size_t(nu) * G, a.data(), c.data());   // [gv][u][gw]
+        rotate(c, G, nu, G, a);                             // [u][gw][gv]
+        tangent[std::size_t(k)].resize(std::size_t(G) * G * G);
+        contract(tu, G, nu, std::size_t(G) * G, a.data(), tangent[std::size_t(k)].data());  // [gu][gw][gv]
+    }
+    // The samples, and the gradient's per-sample vectors (w_q times x_v × x_w, ...), in [gu][gw][gv].
     double total = 0.0;
-    for (std::size_t q = 0; q < volume.weight.size(); ++q) {
-        Vec3 xu = Vec3::Zero(), xv = Vec3::Zero(), xw = Vec3::Zero();
-        for (std::uint32_t t = volume.start[q]; t < volume.start[q + 1]; ++t) {
-            const Vec3& p = x[volume.node[t]];
-            const Vec3& d = volume.slope[t];
-            xu += d.x() * p;
-            xv += d.y() * p;
-            xw += d.z() * p;
-        }
-        const Vec3 vw = xv.cross(xw), wu = xw.cross(xu), uv = xu.cross(xv);
-        const double wq = volume.weight[q];
-        total += wq * xu.dot(vw);
-        if (wantGradient)
-            for (std::uint32_t t = volume.start[q]; t < volume.start[q + 1]; ++t) {
-                const Vec3& d = volume.slope[t];
-                gradient[volume.node[t]] += wq * (d.x() * vw + d.y() * wu + d.z() * uv);
+    thread_local std::array<std::vector<Vec3>, 3> seed;
+    if (wantGradient)
+        for (auto& s : seed)
+            s.assign(std::size_t(G) * G * G, Vec3::Zero());
+    for (int gu = 0; gu < G; ++gu)
+        for (int gw = 0; gw < G; ++gw)
+            for (int gv = 0; gv < G; ++gv) {
+                const std::size_t at = (std::size_t(gu) * G + gw) * G + gv;
+                const double wq = volume.weight[std::size_t(gu + G * (gv + G * gw))];
+                if (wq == 0.0)
+                    continue;
+                const Vec3 &xu = tangent[0][at], &xv = tangent[1][at], &xw = tangent[2][at];
+                const Vec3 vw = xv.cross(xw);
+                total += wq * xu.dot(vw);
+                if (wantGradient) {
+                    seed[0][at] = wq * vw;
+                    seed[1][at] = wq * xw.cross(xu);
+                    seed[2][at] = wq * xu.cross(xv);
+                }
             }
+    if (!wantGradient)
+        return total;
+    // ∂V/∂x_i = Σ_k Σ_q (tables of tangent k at q for node i) seed_k[q]: the contractions transposed, in
+    // reverse order, back to [w][v][u].
+    for (int k = 0; k < 3; ++k) {
+        const auto& tw = k == 2 ? volume.slope[2] : volume.value[2];
+        const auto& tv = k == 1 ? volume.slope[1] : volume.value[1];
+        const auto& tu = k == 0 ? volume.slope[0] : volume.value[0];
+        a.assign(std::size_t(nu) * G * G, Vec3::Zero());
+        contractTransposed(tu, G, nu, std::size_t(G) * G, seed[std::size_t(k)].data(), a.data());  // [u][gw][gv]
+        rotate(a, nu, G, G, b);                             // [gw][gv][u]
+        rotate(b, G, G, nu, c);                             // [gv][u][gw]
+        a.assign(std::size_t(nv) * nu * G, Vec3::Zero());
+        contractTransposed(tv, G, nv, std::size_t(nu) * G, c.data(), a.data());  // [v][u][gw]
+        rotate(a, nv, nu, G, b);                            // [u][gw][v]
+        rotate(b, nu, G, nv, c);                            // [gw][v][u]
+        a.assign(std::size_t(nw) * nv * nu, Vec3::Zero());
+        contractTransposed(tw, G, nw, std::size_t(nv) * nu, c.data(), a.data());  // [w][v][u]
+        for (std::size_t i = 0; i < a.size(); ++i)
+            gradient[i] += a[i];
     }
     return total;
 }

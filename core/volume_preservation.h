@@ -23,6 +23,7 @@
 #include "core/lattice.h"
 #include "core/types.h"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -38,10 +39,12 @@ struct VolumeConstraint {
     double preservation = 0.0;          ///< p in [0, 1]; 0: off.
     double restVolume = 0.0;            ///< V0, m³ (the mesh's volume; the box's when there is no mesh).
     double compliance = 0.0;            ///< α = V0 / K, m³/Pa; 0 at p = 1 (hard).
-    std::vector<double> weight;         ///< w_q: parameter volume × the fraction inside the mesh.
-    std::vector<std::uint32_t> start;   ///< Point q's terms are [start[q], start[q + 1]).
-    std::vector<std::uint32_t> node;    ///< Node of each term.
-    std::vector<Vec3> slope;            ///< (∂N/∂u, ∂N/∂v, ∂N/∂w) of that node at the point.
+    int cells = 0;                      ///< G: samples per box axis.
+    std::array<int, 3> nodes{};         ///< Lattice nodes per axis.
+    /// Per axis: basis values and slopes of every node at the G sample parameters, [g * nodes + i].
+    std::array<std::vector<double>, 3> value, slope;
+    std::vector<double> weight;         ///< w_q on the G³ grid (q = gu + G·(gv + G·gw)): parameter volume ×
+                                        ///< the fraction inside the mesh; 0 outside it.
     bool active() const { return preservation > 0.0 && !weight.empty() && restVolume > 0.0; }
 };
 
@@ -54,7 +57,8 @@ VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector
                                        double preservation, double modulus);
 
 /// V(x) = Σ_q w_q det J(u_q) of node positions `x`; with `gradient` (one entry per node, zeroed here)
-/// also ∂V/∂x_i.
+/// also ∂V/∂x_i. The tangents x_u, x_v, x_w on the whole grid are sums over one axis at a time (a
+/// tensor-product lattice), and the gradient is the same sums transposed.
 double sampledVolume(const VolumeConstraint& volume, std::span<const Vec3> x, std::span<Vec3> gradient = {});
 
 /// One substep's correction (see above) on `state`, which the integrator has just advanced by `h`.
