@@ -213,6 +213,21 @@ json features(double minSeconds, std::ostream& out) {
         out << line;
         volume[std::string(integratorName(k))] = {{"off_us", off}, {"compliant_us", half}, {"hard_us", hard}};
     }
+    // Colliders: one far away (the bounding-box test skips it), one the body rests on (contact at the nodes:
+    // the bench body has no mesh).
+    ExternalForces farRock, nearRock;
+    Collider rock;
+    rock.centre = Vec3(0.5, -5.0, 0.5);
+    rock.radius = 0.5;
+    farRock.colliders.push_back(rock);
+    rock.centre = Vec3(0.8, -0.15, 0.5);
+    rock.radius = 0.2;
+    nearRock.colliders.push_back(rock);
+    const double withFarRock = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, farRock, false, minSeconds);
+    const double withNearRock = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, nearRock, false, minSeconds);
+    std::snprintf(line, sizeof line, "  sphere collider out of reach %.2f (%.2fx), touching %.2f (%.2fx)\n", withFarRock,
+                  withFarRock / base, withNearRock, withNearRock / base);
+    out << line;
     // What of that is the energy guard booking the pass (two energy evaluations a substep).
     const double hardUnguarded = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, false, {{}, 1.0});
     std::snprintf(line, sizeof line, "  volume preservation 1, symplectic-euler, energy guard off: %.2f (%.2fx the guarded step without it)\n",
@@ -229,7 +244,8 @@ json features(double minSeconds, std::ostream& out) {
     return {{"awake_us", base},          {"gravity_us", withGravity},        {"plane_us", withPlane},
             {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep},
             {"energy_guard_off_us", unguarded}, {"strain_limits_idle_us", limitsIdle},
-            {"strain_limits_binding_us", limitsBinding}, {"volume_preservation", volume}};
+            {"strain_limits_binding_us", limitsBinding}, {"volume_preservation", volume},
+            {"collider_out_of_reach_us", withFarRock}, {"collider_touching_us", withNearRock}};
 }
 
 }  // namespace

@@ -77,6 +77,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     model->restPositions = d.restPositions;
     model->strainLimits = d.strainLimits;
     model->volume = d.volume;
+    model->contactPoints = d.contactPoints;
     model->mass.assign(n, 0.0);
     model->inverseMass.assign(n, 0.0);
     model->simulated.assign(n, 1);

@@ -4,6 +4,7 @@
 
 #include "core/result.h"
 #include "core/spring_forces.h"
+#include "core/colliders.h"
 #include "core/strain_limits.h"
 #include "core/volume_preservation.h"
 #include "core/types.h"
@@ -53,6 +54,7 @@ struct BodyDescription {
                                          ///< [0, 1e6]. Empty means none.
     StrainLimits strainLimits;           ///< Stretch and squash limits of every spring; off by default.
     VolumeConstraint volume;             ///< Volume preservation (core/volume_preservation.h); off by default.
+    ContactPoints contactPoints;         ///< Where colliders are tested; empty: at the nodes.
 };
 
 /// Immutable, validated body.
@@ -68,6 +70,8 @@ struct BodyModel {
     std::vector<double> nodeDamping;     ///< d_i, N·s/m on absolute velocity (the paper's D); 0 for void nodes.
     StrainLimits strainLimits;           ///< Held after every substep (core/strain_limits.h); off by default.
     VolumeConstraint volume;             ///< Kept after every substep (core/volume_preservation.h); off by default.
+    ContactPoints contactPoints;         ///< Mesh surface points colliders are tested at (core/colliders.h);
+                                         ///< empty: the nodes themselves.
     bool anyNodeDamping = false;         ///< Some d_i > 0 (otherwise the force pass skips the term).
     bool anySpringDamping = false;       ///< Some spring has c > 0 (otherwise the energy account skips it); filled by build.
     double maxNodeDampingRate = 0.0;     ///< Largest d_i / m_i over free nodes (1/s); filled by build.

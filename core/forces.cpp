@@ -38,6 +38,13 @@ std::string ExternalForces::firstNonFinite() const {
         if (!isFinite(p.point) || !isFinite(p.normal) || !std::isfinite(p.restitution) || !std::isfinite(p.friction))
             return "plane " + std::to_string(i);
     }
+    for (std::size_t i = 0; i < colliders.size(); ++i) {
+        const Collider& c = colliders[i];
+        if (!isFinite(c.centre) || !isFinite(c.axis) || !isFinite(c.halfExtents) || !c.axes.allFinite() ||
+            !std::isfinite(c.radius) || !std::isfinite(c.halfLength) || !std::isfinite(c.restitution) ||
+            !std::isfinite(c.friction))
+            return "collider " + std::to_string(i);
+    }
     return {};
 }
 

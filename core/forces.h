@@ -2,6 +2,7 @@
 /// What acts on a body from outside during one step, and the state the solver writes.
 
 #include "core/body_model.h"
+#include "core/colliders.h"
 #include "core/lattice.h"
 #include "core/spring_forces.h"
 #include "core/types.h"
@@ -46,6 +47,7 @@ struct ExternalForces {
     Vec3 gravity = Vec3::Zero();            ///< m/s^2. Zero: no gravity pass.
     std::vector<DragSpring> drags;          ///< Any number (two hands, drivers).
     std::vector<CollisionPlane> planes;     ///< Empty: no collision pass.
+    std::vector<Collider> colliders;        ///< Spheres, capsules, boxes; empty: no collider pass.
     /// Names the first non-finite input, or returns an empty string when all are finite.
     std::string firstNonFinite() const;
 };

@@ -325,6 +325,8 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
             progress = true;
         }
     }
+    if (mesh && !mesh->positions.empty())
+        d.contactPoints = meshContactPoints(lattice, *mesh);
     if (material.volumePreservation > 0.0) {
         // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).
         double modulus = 0.0;

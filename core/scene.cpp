@@ -30,6 +30,9 @@ Status WorldSettings::validate() {
         if (!(p.friction >= 0.0 && p.friction <= 10.0))
             return Status::error(name + ": friction must be in [0, 10]");
     }
+    for (std::size_t i = 0; i < colliders.size(); ++i)
+        if (Status s = colliders[i].validate(); !s)
+            return Status::error("collider " + std::to_string(i) + ": " + s.message());
     return Status::success();
 }
 
@@ -134,6 +137,7 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
     ExternalForces f;
     f.gravity = m_scene->world.gravity;
     f.planes = m_scene->world.planes;
+    f.colliders = m_scene->world.colliders;
     const SceneObject& object = *m_objects[i].source;
     for (const Driver& driver : object.drivers) {
         if (auto drag = driverDrag(driver, object.lattice, seconds))

@@ -26,6 +26,7 @@ struct SceneObject {
 struct WorldSettings {
     Vec3 gravity = Vec3::Zero();              ///< m/s^2.
     std::vector<CollisionPlane> planes;       ///< Collision planes.
+    std::vector<Collider> colliders;          ///< Spheres, capsules and boxes.
     SimulationSettings simulation;            ///< Integrator, dt, guards.
     int frames = 48;                          ///< Default clip length, frames. [1, 1e6].
     double fps = 24.0;                        ///< Default clip rate, frames per second. (0, 1000].

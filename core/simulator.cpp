@@ -284,7 +284,8 @@ int Simulator::substepsFor(const ExternalForces& external) const {
 
 bool Simulator::forcesChanged(const ExternalForces& e) const {
     const ExternalForces& s = m_sleepForces;
-    if (e.gravity != s.gravity || e.drags.size() != s.drags.size() || e.planes.size() != s.planes.size())
+    if (e.gravity != s.gravity || e.drags.size() != s.drags.size() || e.planes.size() != s.planes.size() ||
+        e.colliders != s.colliders)
         return true;
     for (std::size_t i = 0; i < e.drags.size(); ++i) {
         const DragSpring& a = e.drags[i];
@@ -374,6 +375,18 @@ StepReport Simulator::step(const ExternalForces& external) {
         }
         if (contacts)
             resolveContacts();
+        if (collidersMayTouch(*m_model, external.colliders, m_state)) {
+            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
+            const ColliderPass pass =
+                resolveColliders(*m_model, external.colliders, m_state, restingContactSpeed(external.gravity, h),
+                                 m_colliderImpulses);
+            report.colliderContacts += pass.contacts;
+            report.deepestContact = std::max(report.deepestContact, pass.deepest);
+            if (accountEnergy)
+                m_account.contacts += energyParts(external, h).modified - before;
+        } else {
+            m_colliderImpulses.clear();  // out of reach: the next contact starts without a stale warm start
+        }
         updateVoidNodes(*m_model, m_state);
     }
     report.substeps = substeps;

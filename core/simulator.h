@@ -59,6 +59,8 @@ struct StepReport {
     double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the account, fraction of the body's energy.
     int strainCorrections = 0; ///< Springs the stretch and squash limits put back this step (0: none was out).
     double worstStrainExcess = 0.0; ///< Largest excess they found, fraction of a rest length.
+    int colliderContacts = 0;  ///< Contact points found inside a collider this step (before correction).
+    double deepestContact = 0.0; ///< The deepest of them, metres.
     std::string problem;       ///< Empty, or what went wrong and how to fix it.
 };
 
@@ -167,6 +169,7 @@ private:
     SpringScratch m_scratch;
     std::vector<Vec3> m_substepStart;  ///< Positions before the current substep (contact history).
     std::vector<Vec3> m_volumeScratch; ///< Volume gradient per node (volume preservation).
+    std::vector<ColliderImpulses> m_colliderImpulses; ///< Last substep's contact impulses (warm start).
     long long m_stepCount = 0;
     bool m_sleeping = false;
     int m_quietSteps = 0;

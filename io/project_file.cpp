@@ -473,7 +473,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
 
 void readWorld(const JsonValue& root, WorldSettings& w) {
     if (const JsonValue world = root["world"]; world.expectObject()) {
-        world.checkKeys({"gravity", "planes"});
+        world.checkKeys({"gravity", "planes", "colliders"});
         if (auto g = world["gravity"].vec3()) {
             if (g->norm() > ranges::kMaxGravity)
                 world["gravity"].problem("expected at most 1e4 m/s² (a thousand g), got a magnitude of " + std::to_string(g->norm()));
@@ -499,6 +499,63 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
             if (auto x = p["restitution"].number(0.0, 1.0)) plane.restitution = *x;
             if (auto x = p["friction"].number(0.0, 10.0)) plane.friction = *x;
             w.planes.push_back(plane);
+        }
+        // Spheres, capsules and boxes (core/colliders.h); each shape has its own size keys.
+        const JsonValue colliders = world["colliders"];
+        if (colliders.exists() && !colliders.isArray())
+            colliders.problem("expected an array of colliders");
+        for (std::size_t i = 0; i < colliders.size(); ++i) {
+            const JsonValue v = colliders.at(i);
+            if (!v.expectObject(true))
+                continue;
+            Collider c;
+            const auto shape = v["shape"].string();
+            if (!shape || (*shape != "sphere" && *shape != "capsule" && *shape != "box")) {
+                v["shape"].problem("expected \"sphere\", \"capsule\" or \"box\"");
+                continue;
+            }
+            c.shape = *shape == "sphere" ? ColliderShape::Sphere : *shape == "capsule" ? ColliderShape::Capsule : ColliderShape::Box;
+            if (c.shape == ColliderShape::Sphere)
+                v.checkKeys({"shape", "centre", "radius", "restitution", "friction"});
+            else if (c.shape == ColliderShape::Capsule)
+                v.checkKeys({"shape", "centre", "radius", "axis", "halfLength", "restitution", "friction"});
+            else
+                v.checkKeys({"shape", "centre", "halfExtents", "axes", "restitution", "friction"});
+            if (auto x = v["centre"].vec3(true)) c.centre = *x;
+            if (c.shape != ColliderShape::Box)
+                if (auto x = v["radius"].number(1e-6, 1e6, "m", true)) c.radius = *x;
+            if (c.shape == ColliderShape::Capsule) {
+                if (auto x = v["halfLength"].number(0.0, 1e6, "m", true)) c.halfLength = *x;
+                if (auto a = v["axis"].vec3(true)) {
+                    if (a->norm() < 1e-9)
+                        v["axis"].problem("the axis must not be zero");
+                    else
+                        c.axis = a->normalized();
+                }
+            }
+            if (c.shape == ColliderShape::Box) {
+                if (auto h = v["halfExtents"].vec3(true)) {
+                    if ((h->array() <= 0.0).any() || (h->array() > 1e6).any())
+                        v["halfExtents"].problem("each half extent must be in (0, 1e6] m");
+                    else
+                        c.halfExtents = *h;
+                }
+                const JsonValue axes = v["axes"];
+                if (axes.exists()) {
+                    if (!axes.isArray() || axes.size() != 3) {
+                        axes.problem("expected three axis vectors [[x], [y], [z]]");
+                    } else {
+                        for (std::size_t k = 0; k < 3; ++k)
+                            if (auto a = axes.at(k).vec3(true))
+                                c.axes.col(Eigen::Index(k)) = *a;
+                        if ((c.axes.transpose() * c.axes - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+                            axes.problem("the axes must be unit and at right angles");
+                    }
+                }
+            }
+            if (auto x = v["restitution"].number(0.0, 1.0)) c.restitution = *x;
+            if (auto x = v["friction"].number(0.0, 10.0)) c.friction = *x;
+            w.colliders.push_back(c);
         }
     }
     if (const JsonValue sim = root["simulation"]; sim.expectObject()) {
@@ -1113,10 +1170,30 @@ Status saveProject(const Project& project, const fs::path& path) {
     for (const CollisionPlane& p : w.planes)
         planes.push_back({{"point", vec(p.point)}, {"normal", vec(p.normal)}, {"restitution", p.restitution},
                           {"friction", p.friction}});
+    json colliders = json::array();
+    for (const Collider& c : w.colliders) {
+        json entry = {{"shape", colliderShapeName(c.shape)}, {"centre", vec(c.centre)}};
+        if (c.shape != ColliderShape::Box)
+            entry["radius"] = c.radius;
+        if (c.shape == ColliderShape::Capsule) {
+            entry["axis"] = vec(c.axis);
+            entry["halfLength"] = c.halfLength;
+        }
+        if (c.shape == ColliderShape::Box) {
+            entry["halfExtents"] = vec(c.halfExtents);
+            entry["axes"] = {vec(c.axes.col(0)), vec(c.axes.col(1)), vec(c.axes.col(2))};
+        }
+        entry["restitution"] = c.restitution;
+        entry["friction"] = c.friction;
+        colliders.push_back(entry);
+    }
+    json world = {{"gravity", vec(w.gravity)}, {"planes", planes}};
+    if (!colliders.empty())
+        world["colliders"] = colliders;
     json doc = {{"format", kProjectFormat},
                       {"version", kProjectVersion},
                       {"objects", objects},
-                      {"world", {{"gravity", vec(w.gravity)}, {"planes", planes}}},
+                      {"world", world},
                       {"simulation",
                        {{"integrator", std::string(integratorName(w.simulation.integrator))},
                         {"dt", w.simulation.dt},

@@ -1,5 +1,7 @@
 #include "render/mesh_renderer.h"
 
+#include "core/primitives.h"
+
 #include "render/gl.h"
 #include "render/gl_program.h"
 #include "render/shaders.h"
@@ -65,6 +67,11 @@ struct MeshRenderer::Shared {
     GLuint emptyVao = 0;         ///< For attribute-less draws (background).
     GLuint planeVao = 0;         ///< Plane quads.
     GLuint planeBuffer = 0;
+    GLuint colliderVao = 0;      ///< Collider triangles (flat program, opaque).
+    GLuint colliderBuffer = 0;
+    GLsizei colliderVertexCount = 0;
+    std::vector<float> colliderVertices; ///< Pending upload.
+    bool collidersDirty = false;
     GLsizei planeVertexCount = 0;
     std::vector<float> planeVertices; ///< Pending upload (kFlatStride floats per vertex).
     bool planesDirty = false;
@@ -153,6 +160,11 @@ Status MeshRenderer::initialize() {
     glBindVertexArray(shared->planeVao);
     glBindBuffer(GL_ARRAY_BUFFER, shared->planeBuffer);
     setFlatLayout();
+    glGenVertexArrays(1, &shared->colliderVao);
+    glGenBuffers(1, &shared->colliderBuffer);
+    glBindVertexArray(shared->colliderVao);
+    glBindBuffer(GL_ARRAY_BUFFER, shared->colliderBuffer);
+    setFlatLayout();
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     m_shared = std::move(shared);
@@ -168,9 +180,10 @@ void MeshRenderer::release() {
     m_shared->mesh.release();
     m_shared->flat.release();
     m_shared->background.release();
-    const GLuint arrays[] = {m_shared->emptyVao, m_shared->planeVao};
-    glDeleteVertexArrays(2, arrays);
-    glDeleteBuffers(1, &m_shared->planeBuffer);
+    const GLuint arrays[] = {m_shared->emptyVao, m_shared->planeVao, m_shared->colliderVao};
+    glDeleteVertexArrays(3, arrays);
+    const GLuint buffers[] = {m_shared->planeBuffer, m_shared->colliderBuffer};
+    glDeleteBuffers(2, buffers);
     m_shared.reset();
 }
 
@@ -367,6 +380,52 @@ void MeshRenderer::uploadOverlay(Object& object) {
     object.overlayDirty = false;
 }
 
+void MeshRenderer::setColliders(std::span<const Collider> colliders) {
+    if (!m_shared)
+        return;
+    std::vector<float>& out = m_shared->colliderVertices;
+    out.clear();
+    // A dark slate: it reads against the light grey background the renders use.
+    const Eigen::Vector3f stone(0.38f, 0.35f, 0.31f), light = Eigen::Vector3f(-0.5f, 0.7f, 0.6f).normalized();
+    // Faceted: each triangle shaded by its own normal, so the shape reads without a lighting program.
+    auto triangle = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        const Eigen::Vector3f n = (b - a).cross(c - a).cast<float>().normalized();
+        const float shade = 0.35f + 0.65f * std::max(0.0f, n.allFinite() ? n.dot(light) : 0.0f);
+        const Eigen::Vector4f colour(stone.x() * shade, stone.y() * shade, stone.z() * shade, 1.0f);
+        for (const Vec3* p : {&a, &b, &c})
+            pushFlat(out, p->cast<float>(), colour);
+    };
+    for (const Collider& c : colliders) {
+        if (c.shape == ColliderShape::Box) {
+            Vec3 corner[8];
+            for (int k = 0; k < 8; ++k)
+                corner[k] = c.centre + c.axes * Vec3((k & 1 ? 1 : -1) * c.halfExtents.x(), (k & 2 ? 1 : -1) * c.halfExtents.y(),
+                                                     (k & 4 ? 1 : -1) * c.halfExtents.z());
+            const int faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+            for (const auto& f : faces) {
+                triangle(corner[f[0]], corner[f[1]], corner[f[2]]);
+                triangle(corner[f[0]], corner[f[2]], corner[f[3]]);
+            }
+            continue;
+        }
+        // A unit sphere with its poles on y (an odd ring count: no vertex on the equator), then scaled by the
+        // radius, each half moved out along the axis by the capsule's half length, and turned onto the axis.
+        const Mesh unit = makeUvEllipsoid(13, 24, Vec3::Ones());
+        const Vec3 axis = c.shape == ColliderShape::Capsule ? c.axis.normalized() : Vec3::UnitY();
+        const Mat3 turn = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), axis).toRotationMatrix();
+        std::vector<Vec3> p(unit.positions.size());
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const Vec3 u = unit.positions[i].cast<double>();
+            const double offset = c.shape == ColliderShape::Capsule ? (u.y() >= 0.0 ? c.halfLength : -c.halfLength) : 0.0;
+            p[i] = c.centre + turn * (c.radius * u + offset * Vec3::UnitY());
+        }
+        for (const auto& t : unit.triangles)
+            triangle(p[t[0]], p[t[1]], p[t[2]]);
+    }
+    m_shared->colliderVertexCount = GLsizei(out.size() / kFlatStride);
+    m_shared->collidersDirty = true;
+}
+
 void MeshRenderer::setPlanes(std::span<const CollisionPlane> planes, float halfSize) {
     if (!m_shared)
         return;
@@ -437,6 +496,23 @@ void MeshRenderer::draw(const Camera& camera, int widthPixels, int heightPixels)
             drawObject(*object, 1.0f, true);
             glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         }
+    }
+    // Colliders are opaque: drawn with the meshes, before anything translucent.
+    if (sh.collidersDirty) {
+        glBindBuffer(GL_ARRAY_BUFFER, sh.colliderBuffer);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sh.colliderVertices.size() * sizeof(float)), sh.colliderVertices.data(),
+                     GL_DYNAMIC_DRAW);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        sh.collidersDirty = false;
+    }
+    if (sh.colliderVertexCount > 0) {
+        glUseProgram(sh.flat.id);
+        glUniformMatrix4fv(sh.flat.uniform("uView"), 1, GL_FALSE, camera.view.data());
+        glUniformMatrix4fv(sh.flat.uniform("uProjection"), 1, GL_FALSE, camera.projection.data());
+        glUniform1i(sh.flat.uniform("uPoints"), 0);
+        glBindVertexArray(sh.colliderVao);
+        glDrawArrays(GL_TRIANGLES, 0, sh.colliderVertexCount);
+        glUseProgram(sh.mesh.id);
     }
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);

@@ -84,6 +84,8 @@ public:
     /// Collision planes drawn as translucent square quads of the given half-size (metres), centred on
     /// each CollisionPlane::point.
     void setPlanes(std::span<const CollisionPlane> planes, float halfSize);
+    /// Colliders (spheres, capsules, boxes) drawn as opaque faceted stone, lit from the view's key light.
+    void setColliders(std::span<const Collider> colliders);
 
     /// Draws everything into the currently bound framebuffer of the given pixel size, which it first
     /// clears to a mid-grey gradient. Afterwards depth test is enabled, blending disabled, polygon mode

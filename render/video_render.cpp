@@ -43,6 +43,7 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
         bounds.max = bounds.max.cwiseMax(b.max);
     }
     renderer.setPlanes(scene.world.planes, float(1.2 * bounds.diagonal()));
+    renderer.setColliders(scene.world.colliders);
     const float aspect = float(settings.width) / float(settings.height);
     const Camera camera = cameraFor(videoCameraPlacement(bounds, aspect), aspect);
 

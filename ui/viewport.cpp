@@ -221,6 +221,7 @@ void Viewport::uploadScene() {
     }
     m_renderer.setPlanes(m_document->scene().world.planes,
                          float(std::max(1.0, 1.5 * sim->object(0).mesh.bounds().diagonal())));
+    m_renderer.setColliders(m_document->scene().world.colliders);
     m_sceneDirty = false;
 }
 

@@ -56,6 +56,8 @@ private slots:
     void saveRebasesMeshPaths();
     void paintedNodeDampingRoundTrips();
     void strainLimitsRoundTripAndBind();
+    void collidersRoundTrip();
+    void rockSampleSquashesTheTail();
     void scalarNodeDampingIsAUniformMap_data();
     void scalarNodeDampingIsAUniformMap();
     void massFromTheMeshSitsWhereTheFishIs();
@@ -205,6 +207,68 @@ void TestProject::strainLimitsRoundTripAndBind() {
     QVERIFY(!nlohmann::json::parse(again)["objects"][0]["material"].contains("stretchLimit"));
 }
 
+// World colliders: each shape with its own keys, saved and read back as written; the body built from a
+// project with a mesh tests contact at mesh surface points.
+void TestProject::collidersRoundTrip() {
+    QTemporaryDir dir;
+    const auto path = writeFile(dir, "rock.softtouch", projectText("", R"(, "world": {"colliders": [
+        {"shape": "sphere", "centre": [0, -1, 0], "radius": 0.5, "friction": 0.8},
+        {"shape": "capsule", "centre": [1, 0, 0], "radius": 0.1, "axis": [0, 0, 3], "halfLength": 0.4, "restitution": 0.3},
+        {"shape": "box", "centre": [0, 0, 2], "halfExtents": [0.5, 0.2, 0.1], "axes": [[0, 1, 0], [-1, 0, 0], [0, 0, 1]]}]})"));
+    auto project = loadProject(path);
+    QVERIFY2(project.ok(), project.message().c_str());
+    const auto& colliders = project->scene.world.colliders;
+    QCOMPARE(int(colliders.size()), 3);
+    QCOMPARE(colliders[0].shape, ColliderShape::Sphere);
+    QCOMPARE(colliders[0].friction, 0.8);
+    QCOMPARE(colliders[1].axis, Vec3(0, 0, 1));
+    QCOMPARE(colliders[1].restitution, 0.3);
+    QCOMPARE(colliders[2].axes.col(0), Vec3(0, 1, 0));
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "saved.softtouch";
+    QVERIFY(saveProject(project.value(), saved).ok());
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QVERIFY(reloaded->scene.world.colliders == colliders);
+    // Scenes without colliders write none (older readers keep reading them).
+    auto plain = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY(saveProject(plain.value(), saved).ok());
+    std::ifstream in(saved);
+    QVERIFY(!nlohmann::json::parse(in)["world"].contains("colliders"));
+}
+
+// presets/scenes/angelfish-rock.softtouch: the swimming tail reaches the rock, and the fin (the mesh's
+// surface points, not the lattice box) stays out of it.
+void TestProject::rockSampleSquashesTheTail() {
+    auto project = loadProject(kPresets / "scenes/angelfish-rock.softtouch");
+    QVERIFY2(project.ok(), project.message().c_str());
+    const Collider& rock = project->scene.world.colliders.at(0);
+    auto sim = SceneSimulation::create(project->scene);
+    QVERIFY2(sim.ok(), sim.message().c_str());
+    const BodyModel& body = sim->simulator(0).model();
+    QVERIFY(body.contactPoints.size() > 100 && body.volume.active());
+    double deepest = 0.0, nearest = 1e9;
+    std::vector<std::string> problems;
+    for (int frame = 1; frame <= 72; ++frame) {
+        sim->advanceTo(frame / 24.0, &problems);
+        const auto& x = sim->simulator(0).state().position;
+        for (std::size_t q = 0; q < body.contactPoints.size(); ++q) {
+            Vec3 p = Vec3::Zero(), n;
+            for (std::uint32_t t = body.contactPoints.start[q]; t < body.contactPoints.start[q + 1]; ++t)
+                p += body.contactPoints.terms[t].weight * x[body.contactPoints.terms[t].node];
+            const double d = colliderDistance(rock, p, n);
+            deepest = std::max(deepest, -d);
+            nearest = std::min(nearest, d);
+        }
+    }
+    const double size = project->scene.objects[0].mesh.bounds().diagonal();
+    qInfo("%zu contact points on %zu vertices", body.contactPoints.size(), project->scene.objects[0].mesh.positions.size());
+    qInfo("over 3 s: the fish's surface points came within %.2e m of the rock, deepest inside at a frame %.2e m "
+          "(%.3f%% of %.2f m); %zu problems", nearest, deepest, 100.0 * deepest / size, size, problems.size());
+    QVERIFY2(nearest <= 1e-4, "the tail never reached the rock");  // it rests on it: contact puts it on the surface
+    QVERIFY(deepest <= 0.01 * size);
+    QVERIFY(problems.empty());
+}
+
 // Files before version 4 give node damping as one number: it becomes the same value on every node
 // and the motion is bit for bit that of the same map written per node (and, through the golden bake
 // in test_cli, that of earlier builds). Saving a uniform map writes one number again.
@@ -337,6 +401,16 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::newRow("volume preservation above 1")
         << QString::fromStdString(projectText(R"(, "material": {"volumePreservation": 1.5})"))
         << "/objects/0/material/volumePreservation|got 1.5";
+    QTest::newRow("collider of unknown shape")
+        << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "cone", "centre": [0, 0, 0]}]})"))
+        << "/world/colliders/0/shape|\"sphere\", \"capsule\" or \"box\"";
+    QTest::newRow("sphere without a radius")
+        << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "sphere", "centre": [0, 0, 0]}]})"))
+        << "/world/colliders/0/radius";
+    QTest::newRow("box with skewed axes")
+        << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "box", "centre": [0, 0, 0],
+            "halfExtents": [1, 1, 1], "axes": [[1, 0, 0], [1, 1, 0], [0, 0, 1]]}]})"))
+        << "/world/colliders/0/axes|unit and at right angles";
     QTest::newRow("squash limit of 1")
         << QString::fromStdString(projectText(R"(, "material": {"squashLimit": 1})"))
         << "/objects/0/material/squashLimit|got 1";

@@ -8,6 +8,8 @@
 #include <Eigen/Geometry>
 #include <QtTest>
 
+#include <set>
+
 #include <random>
 
 using namespace softtouch;
@@ -60,6 +62,7 @@ private slots:
     void deformationMatchesBinding_data();
     void deformationMatchesBinding();
     void sphereCoversMiddleNotCorners();
+    void collidersAreDrawnWhereTheyAre();
     void shadedAndWireframeDiffer();
     void overlayAndPlanesDraw();
 
@@ -202,6 +205,51 @@ void TestRender::sphereCoversMiddleNotCorners() {
         QVERIFY2(maxChannelDifference(background, sphere, kSize, x, y) > 40, "the sphere covers the middle");
     for (auto [x, y] : {std::pair{1, 1}, {kSize - 2, 1}, {1, kSize - 2}, {kSize - 2, kSize - 2}})
         QVERIFY2(maxChannelDifference(background, sphere, kSize, x, y) <= 1, "the corners show the background");
+}
+
+// A box collider on the left and a capsule on the right, nothing else: each covers its own side of the
+// picture and shades its faces differently; without them the background shows.
+void TestRender::collidersAreDrawnWhereTheyAre() {
+    const Bounds bounds{Vec3(-1.0, -1.0, -1.0), Vec3(1.0, 1.0, 1.0)};
+    const render::Camera camera = render::frameBounds(bounds, Eigen::Vector3f(0.0f, 0.0f, -1.0f), 1.0f);
+    auto draw = [&](std::span<const Collider> colliders) {
+        m_renderer.setColliders(colliders);
+        m_context->bindFramebuffer();
+        m_renderer.draw(camera, kSize, kSize);
+        std::vector<std::uint8_t> pixels;
+        if (Status read = m_context->readPixels(pixels); !read)
+            qFatal("%s", read.message().c_str());
+        return pixels;
+    };
+    Collider box, capsule;
+    box.shape = ColliderShape::Box;
+    box.centre = Vec3(-0.55, 0.0, 0.0);
+    box.halfExtents = Vec3(0.3, 0.3, 0.3);
+    box.axes = Eigen::AngleAxisd(0.6, Vec3(1, 1, 0).normalized()).toRotationMatrix();  // three faces in view
+    capsule.shape = ColliderShape::Capsule;
+    capsule.centre = Vec3(0.55, 0.0, 0.0);
+    capsule.radius = 0.2;
+    capsule.halfLength = 0.4;
+    capsule.axis = Vec3::UnitY();
+    const std::vector<Collider> both{box, capsule};
+    const auto empty = draw({});
+    const auto drawn = draw(both);
+    m_renderer.setColliders({});
+    for (const Vec3& centre : {box.centre, capsule.centre, Vec3(capsule.centre + Vec3(0, 0.45, 0))}) {
+        const Eigen::Vector3d p = render::toPixels(camera, centre, kSize, kSize);
+        QVERIFY2(maxChannelDifference(empty, drawn, kSize, int(p.x()), int(p.y())) > 30,
+                 qPrintable(QString("nothing drawn at (%1, %2)").arg(p.x()).arg(p.y())));
+    }
+    const Eigen::Vector3d gap = render::toPixels(camera, Vec3(0.0, 0.8, 0.0), kSize, kSize);  // between and above
+    QVERIFY(maxChannelDifference(empty, drawn, kSize, int(gap.x()), int(gap.y())) <= 1);
+    // Faceted shading: the box shows faces of different brightness.
+    std::set<int> shades;
+    for (int dy = -12; dy <= 12; dy += 4)
+        for (int dx = -12; dx <= 12; dx += 4) {
+            const Eigen::Vector3d p = render::toPixels(camera, box.centre, kSize, kSize);
+            shades.insert(drawn[(std::size_t(int(p.y()) + dy) * kSize + std::size_t(int(p.x()) + dx)) * 4] / 8);
+        }
+    QVERIFY2(shades.size() >= 2, "the box's faces are shaded alike");
 }
 
 void TestRender::shadedAndWireframeDiffer() {

@@ -1,0 +1,314 @@
+#include "core/colliders.h"
+
+#include "core/body_model.h"
+#include "core/forces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace softtouch {
+
+namespace {
+
+/// Gauss-Seidel sweeps over the contact points: the points share nodes, so one point's correction moves
+/// its neighbours; a resting body needs a few rounds to settle them all.
+constexpr int kSweeps = 4;
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+
+/// A unit vector perpendicular to `n`.
+Vec3 perpendicular(const Vec3& n) {
+    const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    return n.cross(helper).normalized();
+}
+
+/// Radius of a sphere around the collider's centre that holds it.
+double boundingRadius(const Collider& c) {
+    switch (c.shape) {
+    case ColliderShape::Sphere: return c.radius;
+    case ColliderShape::Capsule: return c.radius + c.halfLength;
+    case ColliderShape::Box: return c.halfExtents.norm();
+    }
+    return 0.0;
+}
+
+}  // namespace
+
+const char* colliderShapeName(ColliderShape shape) {
+    switch (shape) {
+    case ColliderShape::Sphere: return "sphere";
+    case ColliderShape::Capsule: return "capsule";
+    case ColliderShape::Box: return "box";
+    }
+    return "sphere";
+}
+
+Status Collider::validate() {
+    if (!finite(centre))
+        return Status::error("the collider's centre must be finite");
+    if (!(restitution >= 0.0 && restitution <= 1.0))
+        return Status::error("restitution must be in [0, 1], got " + std::to_string(restitution));
+    if (!(friction >= 0.0 && friction <= 10.0))
+        return Status::error("friction must be in [0, 10], got " + std::to_string(friction));
+    switch (shape) {
+    case ColliderShape::Capsule:
+        if (!(halfLength >= 0.0 && halfLength <= 1e6))
+            return Status::error("a capsule's halfLength must be in [0, 1e6] m, got " + std::to_string(halfLength));
+        if (!finite(axis) || axis.norm() < 1e-9)
+            return Status::error("a capsule's axis must be a non-zero direction");
+        axis.normalize();
+        [[fallthrough]];
+    case ColliderShape::Sphere:
+        if (!(radius > 0.0 && radius <= 1e6))
+            return Status::error(std::string("a ") + colliderShapeName(shape) + "'s radius must be in (0, 1e6] m, got " +
+                                 std::to_string(radius));
+        break;
+    case ColliderShape::Box:
+        if (!finite(halfExtents) || (halfExtents.array() <= 0.0).any() || (halfExtents.array() > 1e6).any())
+            return Status::error("a box's halfExtents must each be in (0, 1e6] m");
+        if (!axes.allFinite() || (axes.transpose() * axes - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+            return Status::error("a box's axes must be orthonormal");
+        break;
+    }
+    return Status::success();
+}
+
+double colliderDistance(const Collider& c, const Vec3& p, Vec3& normal) {
+    switch (c.shape) {
+    case ColliderShape::Sphere:
+    case ColliderShape::Capsule: {
+        // The nearest point of the core (the centre, or the capsule's segment), then the radius off it.
+        Vec3 nearest = c.centre;
+        if (c.shape == ColliderShape::Capsule)
+            nearest += std::clamp((p - c.centre).dot(c.axis), -c.halfLength, c.halfLength) * c.axis;
+        const Vec3 d = p - nearest;
+        const double length = d.norm();
+        normal = length > 0.0 ? Vec3(d / length) : (c.shape == ColliderShape::Capsule ? perpendicular(c.axis) : Vec3::UnitY());
+        return length - c.radius;
+    }
+    case ColliderShape::Box: {
+        const Vec3 q = c.axes.transpose() * (p - c.centre);
+        const Vec3 d = q.cwiseAbs() - c.halfExtents;
+        if ((d.array() > 0.0).any()) {  // outside: to the nearest point of the box
+            const Vec3 outside = d.cwiseMax(0.0).cwiseProduct(q.cwiseSign());
+            normal = c.axes * outside.normalized();
+            return outside.norm();
+        }
+        int face = 0;  // inside: out through the nearest face
+        d.maxCoeff(&face);
+        Vec3 local = Vec3::Zero();
+        local[face] = q[face] < 0.0 ? -1.0 : 1.0;
+        normal = c.axes * local;
+        return d[face];
+    }
+    }
+    normal = Vec3::UnitY();
+    return 1e300;
+}
+
+ContactPoints meshContactPoints(const Lattice& lattice, const Mesh& mesh, int cells) {
+    ContactPoints points;
+    if (mesh.positions.empty())
+        return points;
+    const Bounds b = mesh.bounds();
+    const Vec3 size = (b.max - b.min).cwiseMax(1e-12);
+    // In each occupied cell the vertex nearest its centre: spread over the surface, and as symmetric as
+    // the mesh (a symmetric body lands symmetrically).
+    std::map<long long, std::pair<double, std::size_t>> nearest;
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const Vec3 p = mesh.positions[i].cast<double>();
+        long long key = 0;
+        Vec3 centre;
+        for (int a = 0; a < 3; ++a) {
+            const int c = std::clamp(int((p[a] - b.min[a]) / size[a] * cells), 0, cells - 1);
+            key = key * (cells + 1) + c;
+            centre[a] = b.min[a] + (c + 0.5) * size[a] / cells;
+        }
+        const double d = (p - centre).squaredNorm();
+        auto [it, inserted] = nearest.try_emplace(key, d, i);
+        if (!inserted && d < it->second.first)
+            it->second = {d, i};
+    }
+    points.start.push_back(0);
+    for (const auto& [key, choice] : nearest) {
+        for (const NodeWeight& w : lattice.weights(lattice.box().toParameters(mesh.positions[choice.second].cast<double>())))
+            if (w.weight != 0.0)
+                points.terms.push_back(w);
+        points.start.push_back(std::uint32_t(points.terms.size()));
+    }
+    return points;
+}
+
+namespace {
+
+/// The simulated nodes' bounding box.
+std::pair<Vec3, Vec3> nodeBounds(const BodyModel& model, const BodyState& state) {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        if (model.simulated[i]) {
+            lo = lo.cwiseMin(state.position[i]);
+            hi = hi.cwiseMax(state.position[i]);
+        }
+    return {lo, hi};
+}
+
+bool mayTouch(const Collider& c, const Vec3& lo, const Vec3& hi) {
+    return (c.centre.cwiseMax(lo).cwiseMin(hi) - c.centre).norm() <= boundingRadius(c);
+}
+
+}  // namespace
+
+bool collidersMayTouch(const BodyModel& model, std::span<const Collider> colliders, const BodyState& state) {
+    if (colliders.empty())
+        return false;
+    const auto [lo, hi] = nodeBounds(model, state);
+    for (const Collider& c : colliders)
+        if (mayTouch(c, lo, hi))
+            return true;
+    return false;
+}
+
+ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> colliders, BodyState& state,
+                              double restingSpeed, std::vector<ColliderImpulses>& impulses) {
+    ColliderPass pass;
+    const auto [lo, hi] = nodeBounds(model, state);  // see collidersMayTouch
+    const ContactPoints& points = model.contactPoints;
+    const bool atNodes = points.size() == 0;
+    const std::size_t count = atNodes ? model.nodeCount() : points.size();
+    // Applies a change of the point's position and velocity through its weights: node i takes
+    // w_i m_i⁻¹ / Σ_j w_j² m_j⁻¹ of it, which moves the point by exactly that much.
+    auto apply = [&](std::size_t q, const Vec3& dx, const Vec3& dv) {
+        if (atNodes) {
+            state.position[q] += dx;
+            state.velocity[q] += dv;
+            return;
+        }
+        double denominator = 0.0;
+        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
+            denominator += points.terms[t].weight * points.terms[t].weight * model.inverseMass[points.terms[t].node];
+        if (!(denominator > 0.0))
+            return;
+        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t) {
+            const NodeWeight& w = points.terms[t];
+            const double share = w.weight * model.inverseMass[w.node] / denominator;
+            state.position[w.node] += share * dx;
+            state.velocity[w.node] += share * dv;
+        }
+    };
+    struct Contact {
+        std::size_t point;
+        Vec3 normal;
+        double inverseMass;   ///< Σ w_i² m_i⁻¹: how the point's velocity answers an impulse on it.
+        double target;        ///< Normal velocity the contact ends with (restitution), m/s.
+        double normalImpulse; ///< Accumulated, >= 0.
+        Vec3 frictionImpulse; ///< Accumulated, |.| <= friction × normalImpulse.
+    };
+    std::vector<Contact> touching;
+    auto pointState = [&](std::size_t q, Vec3& x, Vec3& v) {
+        x.setZero();
+        v.setZero();
+        if (atNodes) {
+            x = state.position[q];
+            v = state.velocity[q];
+            return;
+        }
+        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t) {
+            x += points.terms[t].weight * state.position[points.terms[t].node];
+            v += points.terms[t].weight * state.velocity[points.terms[t].node];
+        }
+    };
+    auto pointInverseMass = [&](std::size_t q) {
+        if (atNodes)
+            return model.inverseMass[q];
+        double k = 0.0;
+        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
+            k += points.terms[t].weight * points.terms[t].weight * model.inverseMass[points.terms[t].node];
+        return k;
+    };
+    impulses.resize(colliders.size());
+    for (std::size_t ci = 0; ci < colliders.size(); ++ci) {
+        const Collider& c = colliders[ci];
+        ColliderImpulses& warm = impulses[ci];
+        warm.normal.resize(count, 0.0);
+        warm.friction.resize(count, Vec3::Zero());
+        if (!mayTouch(c, lo, hi)) {
+            std::fill(warm.normal.begin(), warm.normal.end(), 0.0);
+            continue;
+        }
+        // Positions: every point inside is pushed back onto the surface (Gauss-Seidel: points share nodes).
+        touching.clear();
+        for (int sweep = 0; sweep < kSweeps; ++sweep) {
+            for (std::size_t q = 0; q < count; ++q) {
+                if (atNodes && model.inverseMass[q] == 0.0)
+                    continue;
+                Vec3 x, v, n;
+                pointState(q, x, v);
+                const double depth = colliderDistance(c, x, n);
+                if (depth >= 0.0)
+                    continue;
+                if (sweep == 0) {
+                    ++pass.contacts;
+                    pass.deepest = std::max(pass.deepest, -depth);
+                    const double k = pointInverseMass(q);
+                    if (k > 0.0) {
+                        const double vn = v.dot(n);
+                        const double restitution = -vn < restingSpeed ? 0.0 : c.restitution;
+                        touching.push_back({q, n, k, vn < 0.0 ? -restitution * vn : 0.0, 0.0, Vec3::Zero()});
+                    }
+                }
+                apply(q, -depth * n, Vec3::Zero());
+            }
+        }
+        // Velocities: sequential impulses with accumulated, clamped impulses (E. Catto, "Iterative Dynamics
+        // with Temporal Coherence", GDC 2005): a normal impulse that only pushes in total, Coulomb friction
+        // bounded by it. Accumulating lets a later sweep take back what an earlier one overdid, so a body
+        // resting on many points settles instead of jittering.
+        // Warm start: each touching point begins with last substep's impulses (the normal one only if it still
+        // pushes, the friction one within its new bound); points no longer touching forget theirs.
+        thread_local std::vector<std::uint8_t> touched;
+        touched.assign(count, 0);
+        for (Contact& contact : touching) {
+            touched[contact.point] = 1;
+            contact.normalImpulse = std::max(0.0, warm.normal[contact.point]);
+            Vec3 friction = warm.friction[contact.point] - warm.friction[contact.point].dot(contact.normal) * contact.normal;
+            const double limit = c.friction * contact.normalImpulse;
+            if (friction.norm() > limit)
+                friction *= limit / std::max(friction.norm(), 1e-300);
+            contact.frictionImpulse = friction;
+            apply(contact.point, Vec3::Zero(),
+                  contact.inverseMass * (contact.normalImpulse * contact.normal + contact.frictionImpulse));
+        }
+        for (int sweep = 0; sweep < 4 * kSweeps; ++sweep) {
+            for (Contact& contact : touching) {
+                Vec3 x, v;
+                pointState(contact.point, x, v);
+                const double vn = v.dot(contact.normal);
+                const double accumulated = std::max(0.0, contact.normalImpulse + (contact.target - vn) / contact.inverseMass);
+                const double normalChange = accumulated - contact.normalImpulse;
+                contact.normalImpulse = accumulated;
+                const Vec3 tangent = v - vn * contact.normal;
+                Vec3 friction = contact.frictionImpulse - tangent / contact.inverseMass;
+                const double limit = c.friction * contact.normalImpulse;
+                if (friction.norm() > limit)
+                    friction *= limit / friction.norm();
+                const Vec3 frictionChange = friction - contact.frictionImpulse;
+                contact.frictionImpulse = friction;
+                // An impulse J on the point changes its velocity by k J: apply() takes that change.
+                apply(contact.point, Vec3::Zero(), contact.inverseMass * (normalChange * contact.normal + frictionChange));
+            }
+        }
+        for (std::size_t q = 0; q < count; ++q)
+            if (!touched[q]) {
+                warm.normal[q] = 0.0;
+                warm.friction[q].setZero();
+            }
+        for (const Contact& contact : touching) {
+            warm.normal[contact.point] = contact.normalImpulse;
+            warm.friction[contact.point] = contact.frictionImpulse;
+        }
+    }
+    return pass;
+}
+
+}  // namespace softtouch

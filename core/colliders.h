@@ -1,0 +1,84 @@
+#pragma once
+/// Colliders beyond planes: spheres, capsules and boxes (rocks, the tank's furniture, a stick), tested at
+/// points of the mesh's surface carried by the lattice, so a fin touches the rock rather than the lattice
+/// box (docs/lattice.md, "Colliders").
+
+#include "core/lattice.h"
+#include "core/mesh.h"
+#include "core/result.h"
+#include "core/types.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace softtouch {
+
+struct BodyModel;
+struct BodyState;
+
+/// The solid shapes a body collides with.
+enum class ColliderShape : std::uint8_t { Sphere, Capsule, Box };
+
+/// A static solid with the planes' contact response (restitution, Coulomb friction).
+struct Collider {
+    ColliderShape shape = ColliderShape::Sphere;
+    Vec3 centre = Vec3::Zero();                  ///< Centre, metres.
+    double radius = 0.5;                         ///< Sphere and capsule radius, metres, > 0.
+    Vec3 axis = Vec3::UnitY();                   ///< Capsule: unit direction of its segment.
+    double halfLength = 0.5;                     ///< Capsule: half its segment's length (end centres at ±), >= 0.
+    Vec3 halfExtents = Vec3::Constant(0.5);      ///< Box: half its edge lengths along `axes`, > 0.
+    Mat3 axes = Mat3::Identity();                ///< Box: orientation (columns unit, orthonormal).
+    double restitution = 0.0;                    ///< [0, 1]: 1 elastic, 0 sticks.
+    double friction = 0.5;                       ///< Coulomb coefficient, [0, 10].
+    /// Checks sizes and ranges and normalises the capsule's axis; errors name the field.
+    Status validate();
+    bool operator==(const Collider&) const = default;
+};
+
+/// "sphere", "capsule", "box".
+const char* colliderShapeName(ColliderShape shape);
+
+/// Signed distance from `p` to the collider's surface (negative inside), metres, and the outward unit
+/// normal of the nearest surface point.
+double colliderDistance(const Collider& collider, const Vec3& p, Vec3& normal);
+
+/// The points of a body where collisions are tested, each a material point given by its lattice weights.
+struct ContactPoints {
+    std::vector<std::uint32_t> start;  ///< Point q's weights are terms[start[q] .. start[q + 1]).
+    std::vector<NodeWeight> terms;
+    std::size_t size() const { return start.empty() ? 0 : start.size() - 1; }
+};
+
+/// Surface points of `mesh` for contact: one vertex per occupied cell of a `cells`³ grid over the mesh's
+/// bounds (a few hundred for a fish), with their lattice weights.
+ContactPoints meshContactPoints(const Lattice& lattice, const Mesh& mesh, int cells = 16);
+
+/// The impulses each contact point ended the last substep with, per collider: the next substep starts
+/// from them (warm starting), so a body resting on many points settles and sleeps.
+struct ColliderImpulses {
+    std::vector<double> normal;   ///< Per contact point, N·s.
+    std::vector<Vec3> friction;   ///< Per contact point, N·s.
+};
+
+/// What one contact pass did.
+struct ColliderPass {
+    int contacts = 0;          ///< Points found inside a collider.
+    double deepest = 0.0;      ///< Largest depth found, metres (before the correction).
+};
+
+/// False when no collider can touch the body: the mesh lies in the convex hull of the nodes (the basis is a
+/// partition of unity with non-negative values), so a collider whose bounding sphere misses the nodes'
+/// bounding box touches nothing. Cheap: one pass over the nodes.
+bool collidersMayTouch(const BodyModel& model, std::span<const Collider> colliders, const BodyState& state);
+
+/// Pushes every contact point of `model` that is inside a collider back onto its surface and gives it the
+/// planes' velocity response (the normal approach removed, times restitution reflected; friction on the
+/// tangential part), each correction spread to the free nodes by their weights and inverse masses as a
+/// drag's force is (the point moves by exactly the correction to first order). Four Gauss-Seidel sweeps.
+/// Without contact points (no mesh) the free nodes themselves are tested. `restingSpeed`: approach speeds
+/// below it do not bounce.
+ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> colliders, BodyState& state,
+                              double restingSpeed, std::vector<ColliderImpulses>& impulses);
+
+}  // namespace softtouch
