@@ -28,4 +28,13 @@ shot "$out/guide-modes.png" --show-mode 1 --camera 20,-55 "$scene"
 # 7. The exported swim cycle, rendered headless: first frame of the PNG sequence.
 ./build/bin/softtouch-cli render "$scene" --clip swim --out "$tmp/frames/" --size 640x360 --frames 1 --quiet >/dev/null
 cp "$tmp/frames/"*0000.png "$out/guide-render.png"
+# 8. The rock scene: the tail swung against the rock (frame 18, three quarters into the first second).
+./build/bin/softtouch-cli render presets/scenes/angelfish-rock.softtouch --out "$tmp/rock/" --size 640x360 --frames 19 --quiet >/dev/null
+cp "$tmp/rock/frame_0018.png" "$out/guide-rock.png"
+# 9. The preview page playing the skinned swim in headless Chromium (docs/formats.md, "Preview page").
+./build/bin/softtouch-cli bake "$scene" --clip swim --format skin --out "$tmp/swim-skin.glb" --quiet >/dev/null
+./build/bin/softtouch-cli preview "$tmp/swim-skin.glb" --out "$tmp/page" --quiet
+chromium --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader --hide-scrollbars \
+  --user-data-dir="$tmp/chromium" --window-size=960,600 --virtual-time-budget=3000 \
+  --screenshot="$out/preview-page.png" "file://$tmp/page/index.html" 2>/dev/null
 echo "wrote $(ls "$out"/guide-*.png "$out"/modes-*.png | wc -l) pictures to $out"
