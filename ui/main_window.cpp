@@ -354,6 +354,20 @@ void MainWindow::refreshOutliner() {
                                                                   .arg(plane.normal.z())
                                                                   .arg(plane.restitution)});
     }
+    if (!scene.world.colliders.empty()) {
+        auto* colliders = new QTreeWidgetItem(m_outliner, {tr("Colliders"), QString::number(scene.world.colliders.size())});
+        for (std::size_t k = 0; k < scene.world.colliders.size(); ++k) {
+            const Collider& c = scene.world.colliders[k];
+            const QString size = c.shape == ColliderShape::Box
+                                     ? tr("%1 × %2 × %3 m").arg(2 * c.halfExtents.x()).arg(2 * c.halfExtents.y()).arg(2 * c.halfExtents.z())
+                                     : c.shape == ColliderShape::Capsule
+                                           ? tr("r %1 m, %2 m long").arg(c.radius).arg(2 * c.halfLength + 2 * c.radius)
+                                           : tr("r %1 m").arg(c.radius);
+            new QTreeWidgetItem(colliders, {tr("%1 %2").arg(QString::fromUtf8(colliderShapeName(c.shape))).arg(k + 1),
+                                            tr("%1 at (%2, %3, %4)").arg(size).arg(c.centre.x()).arg(c.centre.y()).arg(c.centre.z())});
+        }
+        colliders->setExpanded(true);
+    }
     m_outliner->resizeColumnToContents(0);
 }
 

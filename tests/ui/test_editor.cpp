@@ -48,6 +48,7 @@
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QRegularExpression>
+#include <QTreeWidget>
 
 using namespace softtouch;
 using namespace softtouch::test;
@@ -139,6 +140,7 @@ private slots:
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
     void strainLimitsFromTheProperties();
+    void rockSceneListsItsCollider();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -356,6 +358,25 @@ void TestEditor::strainLimitsFromTheProperties() {
              qPrintable(QString("%1 m³ of a %2 m³ box").arg(kept.restVolume).arg(box.size.prod())));
     w.document()->undoStack()->undo();
     QVERIFY(!w.simulation()->simulation()->simulator(0).model().volume.active());
+}
+
+// The rock scene opens with its collider in the Outliner (shape, size, where) and the running body tests
+// contact at the fish's surface points.
+void TestEditor::rockSceneListsItsCollider() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-rock.softtouch")));
+    auto* outliner = w.findChild<QTreeWidget*>("outliner");
+    QVERIFY(outliner);
+    const auto found = outliner->findItems("Colliders", Qt::MatchExactly);
+    QCOMPARE(found.size(), 1);
+    QCOMPARE(found[0]->text(1), QString("1"));
+    QCOMPARE(found[0]->childCount(), 1);
+    QCOMPARE(found[0]->child(0)->text(0), QString("sphere 1"));
+    QVERIFY2(found[0]->child(0)->text(1).startsWith("r 0.2 m at (-0.42, 0, 0.3)"), qPrintable(found[0]->child(0)->text(1)));
+    QVERIFY(w.simulation()->simulation()->simulator(0).model().contactPoints.size() > 100);
+    // A scene without colliders lists none.
+    QVERIFY(w.openFile(kDefaultScene));
+    QVERIFY(outliner->findItems("Colliders", Qt::MatchExactly).isEmpty());
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
