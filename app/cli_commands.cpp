@@ -1,4 +1,5 @@
 #include "app/cli_commands.h"
+#include "app/bundled_paths.h"
 #include "app/cli_offscreen_gui.h"
 #include "app/cli_support.h"
 #include "core/ranges.h"
@@ -272,13 +273,11 @@ int runBench(const std::vector<std::string>& args) {
         return usage("unknown bench section '" + options.only + "'");
     std::optional<io::Project> star;
     if (options.only.empty() || options.only == "haptic") {
-        // The star scene from the working directory (the repository root), else beside the build.
+        // The star scene from the working directory (the repository root), else the bundled one.
         if (hapticScene.empty()) {
             hapticScene = "presets/scenes/star-drag.softtouch";
-            std::error_code ec;
-            const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-            if (!std::filesystem::exists(hapticScene) && !ec)
-                hapticScene = exe.parent_path() / "../../presets/scenes/star-drag.softtouch";
+            if (!std::filesystem::exists(hapticScene))
+                hapticScene = app::bundledFolder("presets", "presets") / "scenes/star-drag.softtouch";
         }
         auto project = io::loadProject(hapticScene);
         if (!project)

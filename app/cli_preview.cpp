@@ -1,4 +1,5 @@
 // softtouch-cli preview: a web page that plays an exported clip with three.js, as a game would.
+#include "app/bundled_paths.h"
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
 
@@ -39,18 +40,6 @@ size, matte draws a white silhouette on black, readback writes the canvas as a P
 )";
 
 int usage(const std::string& message) { return usageError(message, "preview"); }
-
-/// A bundled folder: <bin>/../share/softtouch/INSTALLED when installed, else the source tree's SOURCE.
-fs::path bundledFolder(const std::string& installed, const std::string& source) {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        const fs::path candidate = exe.parent_path() / "../share/softtouch" / installed;
-        if (fs::is_directory(candidate, ec))
-            return candidate.lexically_normal();
-    }
-    return fs::path(SOFTTOUCH_SOURCE_DIR) / source;
-}
 
 std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -99,7 +88,7 @@ int runPreview(const std::vector<std::string>& args) {
     camera.fovYDegrees = float(placement.fovY * 180.0 / M_PI);
     camera.nearPlane = placement.nearPlane;
     camera.farPlane = placement.farPlane;
-    const io::PreviewAssets assets{bundledFolder("web", "web"), bundledFolder("shaders", "io/shaders")};
+    const io::PreviewAssets assets{app::bundledFolder("web", "web"), app::bundledFolder("shaders", "io/shaders")};
     auto page = io::buildPreviewPage(clip.value(), camera, assets);
     if (!page)
         return fail(page.message());

@@ -2,19 +2,14 @@
 /// Where the editor finds its bundled files: next to the build tree's source (development) or in
 /// <prefix>/share/softtouch (installed).
 
-#include <QCoreApplication>
-#include <QDir>
-#include <QFileInfo>
+#include "app/bundled_paths.h"
+
+#include <QString>
 
 namespace softtouch::app {
 
 /// The presets/ folder.
-inline QString presetRoot() {
-    const QString installed = QCoreApplication::applicationDirPath() + "/../share/softtouch/presets";
-    if (QFileInfo::exists(installed))
-        return QDir(installed).absolutePath();
-    return QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets");
-}
+inline QString presetRoot() { return QString::fromStdString(bundledFolder("presets", "presets").string()); }
 
 /// The bundled default scene: the angelfish swim.
 inline QString defaultScenePath() { return presetRoot() + "/scenes/angelfish-swim.softtouch"; }

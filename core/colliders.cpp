@@ -176,22 +176,26 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
     const ContactPoints& points = model.contactPoints;
     const bool atNodes = points.size() == 0;
     const std::size_t count = atNodes ? model.nodeCount() : points.size();
-    // Applies a change of the point's position and velocity through its weights: node i takes
-    // w_i m_i⁻¹ / Σ_j w_j² m_j⁻¹ of it, which moves the point by exactly that much.
-    auto apply = [&](std::size_t q, const Vec3& dx, const Vec3& dv) {
+    // k = Σ_j w_j² m_j⁻¹: how point q's velocity answers an impulse on it (m⁻¹ of a node itself).
+    auto pointInverseMass = [&](std::size_t q) {
+        if (atNodes)
+            return model.inverseMass[q];
+        double k = 0.0;
+        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
+            k += points.terms[t].weight * points.terms[t].weight * model.inverseMass[points.terms[t].node];
+        return k;
+    };
+    // Applies a change of point q's position and velocity through its weights (k > 0 its pointInverseMass):
+    // node i takes w_i m_i⁻¹ / k of it, which moves the point by exactly that much.
+    auto apply = [&](std::size_t q, double k, const Vec3& dx, const Vec3& dv) {
         if (atNodes) {
             state.position[q] += dx;
             state.velocity[q] += dv;
             return;
         }
-        double denominator = 0.0;
-        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
-            denominator += points.terms[t].weight * points.terms[t].weight * model.inverseMass[points.terms[t].node];
-        if (!(denominator > 0.0))
-            return;
         for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t) {
             const NodeWeight& w = points.terms[t];
-            const double share = w.weight * model.inverseMass[w.node] / denominator;
+            const double share = w.weight * model.inverseMass[w.node] / k;
             state.position[w.node] += share * dx;
             state.velocity[w.node] += share * dv;
         }
@@ -206,25 +210,8 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
     };
     std::vector<Contact> touching;
     auto pointState = [&](std::size_t q, Vec3& x, Vec3& v) {
-        x.setZero();
-        v.setZero();
-        if (atNodes) {
-            x = state.position[q];
-            v = state.velocity[q];
-            return;
-        }
-        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t) {
-            x += points.terms[t].weight * state.position[points.terms[t].node];
-            v += points.terms[t].weight * state.velocity[points.terms[t].node];
-        }
-    };
-    auto pointInverseMass = [&](std::size_t q) {
-        if (atNodes)
-            return model.inverseMass[q];
-        double k = 0.0;
-        for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
-            k += points.terms[t].weight * points.terms[t].weight * model.inverseMass[points.terms[t].node];
-        return k;
+        x = atNodes ? state.position[q] : points.at(q, state.position);
+        v = atNodes ? state.velocity[q] : points.at(q, state.velocity);
     };
     impulses.resize(colliders.size());
     for (std::size_t ci = 0; ci < colliders.size(); ++ci) {
@@ -247,17 +234,18 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                 const double depth = colliderDistance(c, x, n);
                 if (depth >= 0.0)
                     continue;
+                const double k = pointInverseMass(q);
                 if (sweep == 0) {
                     ++pass.contacts;
                     pass.deepest = std::max(pass.deepest, -depth);
-                    const double k = pointInverseMass(q);
                     if (k > 0.0) {
                         const double vn = v.dot(n);
                         const double restitution = -vn < restingSpeed ? 0.0 : c.restitution;
                         touching.push_back({q, n, k, vn < 0.0 ? -restitution * vn : 0.0, 0.0, Vec3::Zero()});
                     }
                 }
-                apply(q, -depth * n, Vec3::Zero());
+                if (k > 0.0)
+                    apply(q, k, -depth * n, Vec3::Zero());
             }
         }
         // Velocities: sequential impulses with accumulated, clamped impulses (E. Catto, "Iterative Dynamics
@@ -276,7 +264,7 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
             if (friction.norm() > limit)
                 friction *= limit / std::max(friction.norm(), 1e-300);
             contact.frictionImpulse = friction;
-            apply(contact.point, Vec3::Zero(),
+            apply(contact.point, contact.inverseMass, Vec3::Zero(),
                   contact.inverseMass * (contact.normalImpulse * contact.normal + contact.frictionImpulse));
         }
         for (int sweep = 0; sweep < 4 * kSweeps; ++sweep) {
@@ -295,7 +283,8 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                 const Vec3 frictionChange = friction - contact.frictionImpulse;
                 contact.frictionImpulse = friction;
                 // An impulse J on the point changes its velocity by k J: apply() takes that change.
-                apply(contact.point, Vec3::Zero(), contact.inverseMass * (normalChange * contact.normal + frictionChange));
+                apply(contact.point, contact.inverseMass, Vec3::Zero(),
+                      contact.inverseMass * (normalChange * contact.normal + frictionChange));
             }
         }
         for (std::size_t q = 0; q < count; ++q)

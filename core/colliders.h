@@ -48,6 +48,13 @@ struct ContactPoints {
     std::vector<std::uint32_t> start;  ///< Point q's weights are terms[start[q] .. start[q + 1]).
     std::vector<NodeWeight> terms;
     std::size_t size() const { return start.empty() ? 0 : start.size() - 1; }
+    /// Point q's value of a per-node field (its position from node positions, its velocity from theirs).
+    Vec3 at(std::size_t q, std::span<const Vec3> nodeValues) const {
+        Vec3 sum = Vec3::Zero();
+        for (std::uint32_t t = start[q]; t < start[q + 1]; ++t)
+            sum += terms[t].weight * nodeValues[terms[t].node];
+        return sum;
+    }
 };
 
 /// Surface points of `mesh` for contact: one vertex per occupied cell of a `cells`³ grid over the mesh's

@@ -345,45 +345,46 @@ StepReport Simulator::step(const ExternalForces& external) {
             m_account.work += work.external;
             m_account.dissipated += work.dissipated;
         }
-        const auto resolveContacts = [&] {
+        // Runs a constraint pass; for the energy guard, books the change of H̃ it made into `account`.
+        const auto booked = [&](double& account, auto&& pass) {
+            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
+            pass();
             if (accountEnergy)
-                resolveContactsAccounted(external, h);
-            else
-                resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+                account += energyParts(external, h).modified - before;
         };
         if (keepVolume) {
             // Planes first, so the volume is restored around them; nodes resting on a plane move only along
             // it. A correction can carry a node near a plane through it, which the next contact pass takes
             // back with some volume, so with planes the two alternate a few times (the final contact pass
             // below ends it).
-            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
-            for (int round = 0; round < (contacts ? 3 : 1); ++round) {
-                if (contacts)
-                    resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
-                (void)enforceVolume(*m_model, m_state, h, m_volumeScratch, external.planes);
-            }
-            if (accountEnergy)
-                m_account.volume += energyParts(external, h).modified - before;
+            booked(m_account.volume, [&] {
+                for (int round = 0; round < (contacts ? 3 : 1); ++round) {
+                    if (contacts)
+                        resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+                    (void)enforceVolume(*m_model, m_state, h, m_volumeScratch, external.planes);
+                }
+            });
         }
         if (limits && strainLimitsViolated(*m_model, m_model->strainLimits, m_state)) {
-            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
-            const StrainLimitPass pass = enforceStrainLimits(*m_model, m_model->strainLimits, m_state);
-            report.strainCorrections += pass.corrections;
-            report.worstStrainExcess = std::max(report.worstStrainExcess, pass.worstExcess);
-            if (accountEnergy)
-                m_account.limits += energyParts(external, h).modified - before;
+            booked(m_account.limits, [&] {
+                const StrainLimitPass pass = enforceStrainLimits(*m_model, m_model->strainLimits, m_state);
+                report.strainCorrections += pass.corrections;
+                report.worstStrainExcess = std::max(report.worstStrainExcess, pass.worstExcess);
+            });
         }
-        if (contacts)
-            resolveContacts();
-        if (collidersMayTouch(*m_model, external.colliders, m_state)) {
-            const double before = accountEnergy ? energyParts(external, h).modified : 0.0;
-            const ColliderPass pass =
-                resolveColliders(*m_model, external.colliders, m_state, restingContactSpeed(external.gravity, h),
-                                 m_colliderImpulses);
-            report.colliderContacts += pass.contacts;
-            report.deepestContact = std::max(report.deepestContact, pass.deepest);
+        if (contacts) {
             if (accountEnergy)
-                m_account.contacts += energyParts(external, h).modified - before;
+                resolveContactsAccounted(external, h);
+            else
+                resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+        }
+        if (collidersMayTouch(*m_model, external.colliders, m_state)) {
+            booked(m_account.contacts, [&] {
+                const ColliderPass pass = resolveColliders(*m_model, external.colliders, m_state,
+                                                           restingContactSpeed(external.gravity, h), m_colliderImpulses);
+                report.colliderContacts += pass.contacts;
+                report.deepestContact = std::max(report.deepestContact, pass.deepest);
+            });
         } else {
             m_colliderImpulses.clear();  // out of reach: the next contact starts without a stale warm start
         }

@@ -25,10 +25,10 @@ double crossedBound(const StrainLimits& limits, double length, double rest) {
 }  // namespace
 
 Status validateStrainLimits(const StrainLimits& limits) {
-    if (!(limits.stretch == 0.0 || (limits.stretch >= 1.01 && limits.stretch <= 100.0)))
+    if (!(limits.stretch == 0.0 || (limits.stretch >= kMinStretchLimit && limits.stretch <= kMaxStretchLimit)))
         return Status::error("stretch limit must be 0 (off) or in [1.01, 100] times the rest length, got " +
                              std::to_string(limits.stretch));
-    if (!(limits.squash == 0.0 || (limits.squash >= 0.01 && limits.squash <= 0.99)))
+    if (!(limits.squash == 0.0 || (limits.squash >= kMinSquashLimit && limits.squash <= kMaxSquashLimit)))
         return Status::error("squash limit must be 0 (off) or in [0.01, 0.99] times the rest length, got " +
                              std::to_string(limits.squash));
     return Status::success();

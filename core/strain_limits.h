@@ -11,10 +11,14 @@ namespace softtouch {
 struct BodyModel;
 struct BodyState;
 
+/// The ranges of the limits (besides 0, off): one place for validation, the project reader and the editor.
+inline constexpr double kMinStretchLimit = 1.01, kMaxStretchLimit = 100.0;
+inline constexpr double kMinSquashLimit = 0.01, kMaxSquashLimit = 0.99;
+
 /// Bounds on every spring's length as a multiple of its rest length. 0 turns a bound off.
 struct StrainLimits {
-    double stretch = 0.0;  ///< Longest length / rest length: 0 (off) or [1.01, 100].
-    double squash = 0.0;   ///< Shortest length / rest length: 0 (off) or [0.01, 0.99].
+    double stretch = 0.0;  ///< Longest length / rest length: 0 (off) or [kMinStretchLimit, kMaxStretchLimit].
+    double squash = 0.0;   ///< Shortest length / rest length: 0 (off) or [kMinSquashLimit, kMaxSquashLimit].
     bool any() const { return stretch > 0.0 || squash > 0.0; }
     bool operator==(const StrainLimits&) const = default;
 };

@@ -98,14 +98,16 @@ double sampledVolume(const VolumeConstraint& volume, std::span<const Vec3> x, st
         return 0.0;
     const int nu = volume.nodes[0], nv = volume.nodes[1], nw = volume.nodes[2];
     // Nodes as [w][v][u] (the lattice's order, u fastest) → work arrays with the contracted axis first.
-    // Tangent k (0: x_u, 1: x_v, 2: x_w) uses the slope table on axis k and values on the others.
+    // Tangent k: 0 x_u, 1 x_v, 2 x_w.
     // Work arrays kept per thread: after the first call a substep allocates nothing.
     thread_local std::array<std::vector<Vec3>, 3> tangent;
     thread_local std::vector<Vec3> a, b, c;
+    // Tangent k's table on `axis`: the slopes on axis k, the values on the others.
+    const auto table = [&](int axis, int k) -> const std::vector<double>& {
+        return axis == k ? volume.slope[std::size_t(axis)] : volume.value[std::size_t(axis)];
+    };
     for (int k = 0; k < 3; ++k) {
-        const auto& tw = k == 2 ? volume.slope[2] : volume.value[2];
-        const auto& tv = k == 1 ? volume.slope[1] : volume.value[1];
-        const auto& tu = k == 0 ? volume.slope[0] : volume.value[0];
+        const auto &tu = table(0, k), &tv = table(1, k), &tw = table(2, k);
         a.assign(x.begin(), x.end());                       // [w][v][u]
         b.resize(std::size_t(G) * nv * nu);
         contract(tw, G, nw, std::size_t(nv) * nu, a.data(), b.data());  // [gw][v][u]
@@ -143,9 +145,7 @@ double sampledVolume(const VolumeConstraint& volume, std::span<const Vec3> x, st
     // ∂V/∂x_i = Σ_k Σ_q (tables of tangent k at q for node i) seed_k[q]: the contractions transposed, in
     // reverse order, back to [w][v][u].
     for (int k = 0; k < 3; ++k) {
-        const auto& tw = k == 2 ? volume.slope[2] : volume.value[2];
-        const auto& tv = k == 1 ? volume.slope[1] : volume.value[1];
-        const auto& tu = k == 0 ? volume.slope[0] : volume.value[0];
+        const auto &tu = table(0, k), &tv = table(1, k), &tw = table(2, k);
         a.assign(std::size_t(nu) * G * G, Vec3::Zero());
         contractTransposed(tu, G, nu, std::size_t(G) * G, seed[std::size_t(k)].data(), a.data());  // [u][gw][gv]
         rotate(a, nu, G, G, b);                             // [gw][gv][u]

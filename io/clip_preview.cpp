@@ -102,6 +102,14 @@ Result<Bounds> positionBounds(const tinygltf::Model& model, const fs::path& path
     return b;
 }
 
+/// The rest bounds of the glTF mesh at `path` (a VAT's or a lattice cache's mesh).
+Result<Bounds> meshFileBounds(const fs::path& path) {
+    auto model = loadGltf(path);
+    if (!model)
+        return Status::error(model.message());
+    return positionBounds(model.value(), path);
+}
+
 /// Frames and rate of the first animation: one key per frame (as SoftTouch writes them).
 Status readAnimationTiming(const tinygltf::Model& model, const fs::path& path, PreviewClip& clip) {
     if (model.animations.empty() || model.animations[0].samplers.empty())
@@ -191,10 +199,7 @@ Result<PreviewClip> inspectVat(const fs::path& json) {
     }
     clip.main = data["mesh"].get<std::string>();
     clip.files.insert(clip.files.begin(), json);
-    auto model = loadGltf(clip.files[1]);
-    if (!model)
-        return Status::error(model.message());
-    auto bounds = positionBounds(model.value(), clip.files[1]);
+    auto bounds = meshFileBounds(clip.files[1]);
     if (!bounds)
         return Status::error(bounds.message());
     clip.restBounds = bounds.value();
@@ -210,12 +215,6 @@ Result<PreviewClip> inspectLattice(const fs::path& bin) {
     if (!cache)
         return Status::error(cache.message());
     const LatticeCache& c = cache.value();
-    auto bytes = readFile(bin, kMaxPreviewFileBytes);
-    if (!bytes)
-        return Status::error(bytes.message());
-    std::uint32_t headerBytes = 0;
-    for (int k = 0; k < 4; ++k)
-        headerBytes |= std::uint32_t(std::uint8_t(bytes.value()[std::size_t(8 + k)])) << (8 * k);
     PreviewClip clip;
     clip.kind = PreviewKind::Lattice;
     clip.name = bin.filename().string();
@@ -223,10 +222,7 @@ Result<PreviewClip> inspectLattice(const fs::path& bin) {
     clip.frames = int(c.frameCount);
     clip.fps = c.fps;
     clip.files = {bin, bin.parent_path() / c.mesh};
-    auto model = loadGltf(clip.files[1]);
-    if (!model)
-        return Status::error(model.message());
-    auto bounds = positionBounds(model.value(), clip.files[1]);
+    auto bounds = meshFileBounds(clip.files[1]);
     if (!bounds)
         return Status::error(bounds.message());
     clip.restBounds = bounds.value();
@@ -248,7 +244,7 @@ Result<PreviewClip> inspectLattice(const fs::path& bin) {
     }
     const nlohmann::json data = {{"mesh", c.mesh},
                                  {"nodesFile", clip.name},
-                                 {"nodeDataOffset", 12 + headerBytes},
+                                 {"nodeDataOffset", c.nodeDataOffset},
                                  {"nodesPerFrame", nodesPerFrame},
                                  {"nodeCount", nodesPerFrame * c.frameCount},
                                  {"objects", objects}};

@@ -277,6 +277,7 @@ Result<LatticeCache> readLatticeCache(const std::filesystem::path& path) {
     JsonIssues issues(path.string());
     const JsonValue root(&json, "", &issues);
     LatticeCache cache;
+    cache.nodeDataOffset = kPrefixBytes + headerBytes;
     if (root["format"].string(true).value_or("") != "softtouch-lattice-cache")
         root["format"].problem("expected \"softtouch-lattice-cache\"");
     root["version"].integer(1, 1, true);

@@ -39,6 +39,7 @@ struct LatticeCache {
     double fps = 0.0;                         ///< Frames per second, > 0.
     std::size_t frameCount = 0;               ///< Frames.
     std::string mesh;                         ///< File name of the mesh (beside the .bin).
+    std::size_t nodeDataOffset = 0;           ///< Byte where the frames' nodes start (12 + headerBytes).
     std::vector<LatticeCacheObject> objects;  ///< Objects in vertex order.
     /// frames[f] holds every object's nodes in order (object 0's nodes first; within an object
     /// index = i + nx*(j + ny*k)), metres.

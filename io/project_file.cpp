@@ -8,6 +8,7 @@
 #include "io/atomic_file.h"
 #include "io/mesh_import.h"
 #include "io/trajectory_file.h"
+#include "io/vertex_cache_internal.h"
 
 #include <algorithm>
 #include <cmath>
@@ -155,21 +156,20 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     }
     if (auto x = v["heavyAnchorRatio"].number(1.0, 1e9))
         m.heavyAnchorRatio = *x;
-    // Length / rest length of every spring; 0 (or absent) is no limit.
-    if (auto x = v["stretchLimit"].number(0.0, 100.0)) {
-        if (*x != 0.0 && *x < 1.01)
-            v["stretchLimit"].problem("expected 0 (off) or a limit in [1.01, 100] times the rest length");
-        else
-            m.strainLimits.stretch = *x;
-    }
+    // Length / rest length of every spring: 0 (or absent) is no limit, otherwise within core's range.
+    auto readLimit = [&](const char* key, double low, double high, double& into) {
+        if (auto x = v[key].number(0.0, high)) {
+            if (*x != 0.0 && *x < low)
+                v[key].problem("expected 0 (off) or a limit in [" + detail::formatNumber(low) + ", " +
+                               detail::formatNumber(high) + "] times the rest length");
+            else
+                into = *x;
+        }
+    };
+    readLimit("stretchLimit", kMinStretchLimit, kMaxStretchLimit, m.strainLimits.stretch);
+    readLimit("squashLimit", kMinSquashLimit, kMaxSquashLimit, m.strainLimits.squash);
     if (auto x = v["volumePreservation"].number(0.0, 1.0))
         m.volumePreservation = *x;
-    if (auto x = v["squashLimit"].number(0.0, 0.99)) {
-        if (*x != 0.0 && *x < 0.01)
-            v["squashLimit"].problem("expected 0 (off) or a limit in [0.01, 0.99] times the rest length");
-        else
-            m.strainLimits.squash = *x;
-    }
 }
 
 std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {

@@ -57,6 +57,46 @@ void setFlatLayout() {
     glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(7 * sizeof(float)));
 }
 
+/// Triangles for the flat program, rebuilt on the CPU and uploaded before the next draw that needs them
+/// (the collision planes; the colliders).
+struct FlatTriangles {
+    GLuint vao = 0;
+    GLuint buffer = 0;
+    std::vector<float> vertices;  ///< kFlatStride floats per vertex; uploaded when `dirty`.
+    GLsizei count = 0;            ///< Vertices uploaded or pending.
+    bool dirty = false;
+
+    void create() {
+        glGenVertexArrays(1, &vao);
+        glGenBuffers(1, &buffer);
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, buffer);
+        setFlatLayout();
+    }
+    void release() {
+        glDeleteVertexArrays(1, &vao);
+        glDeleteBuffers(1, &buffer);
+    }
+    /// After `vertices` was rebuilt.
+    void changed() {
+        count = GLsizei(vertices.size() / kFlatStride);
+        dirty = true;
+    }
+    /// Uploads if changed and draws, with the flat program already in use.
+    void draw() {
+        if (dirty) {
+            glBindBuffer(GL_ARRAY_BUFFER, buffer);
+            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_DYNAMIC_DRAW);
+            glBindBuffer(GL_ARRAY_BUFFER, 0);
+            dirty = false;
+        }
+        if (count > 0) {
+            glBindVertexArray(vao);
+            glDrawArrays(GL_TRIANGLES, 0, count);
+        }
+    }
+};
+
 }  // namespace
 
 /// GL objects shared by every object.
@@ -65,16 +105,8 @@ struct MeshRenderer::Shared {
     GlProgram flat;              ///< Overlay points and lines, planes.
     GlProgram background;        ///< Gradient.
     GLuint emptyVao = 0;         ///< For attribute-less draws (background).
-    GLuint planeVao = 0;         ///< Plane quads.
-    GLuint planeBuffer = 0;
-    GLuint colliderVao = 0;      ///< Collider triangles (flat program, opaque).
-    GLuint colliderBuffer = 0;
-    GLsizei colliderVertexCount = 0;
-    std::vector<float> colliderVertices; ///< Pending upload.
-    bool collidersDirty = false;
-    GLsizei planeVertexCount = 0;
-    std::vector<float> planeVertices; ///< Pending upload (kFlatStride floats per vertex).
-    bool planesDirty = false;
+    FlatTriangles planes;        ///< Plane quads, translucent.
+    FlatTriangles colliders;     ///< Collider triangles, opaque.
 };
 
 /// One uploaded mesh and its lattice.
@@ -155,16 +187,8 @@ Status MeshRenderer::initialize() {
     glUseProgram(0);
 
     glGenVertexArrays(1, &shared->emptyVao);
-    glGenVertexArrays(1, &shared->planeVao);
-    glGenBuffers(1, &shared->planeBuffer);
-    glBindVertexArray(shared->planeVao);
-    glBindBuffer(GL_ARRAY_BUFFER, shared->planeBuffer);
-    setFlatLayout();
-    glGenVertexArrays(1, &shared->colliderVao);
-    glGenBuffers(1, &shared->colliderBuffer);
-    glBindVertexArray(shared->colliderVao);
-    glBindBuffer(GL_ARRAY_BUFFER, shared->colliderBuffer);
-    setFlatLayout();
+    shared->planes.create();
+    shared->colliders.create();
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     m_shared = std::move(shared);
@@ -180,10 +204,9 @@ void MeshRenderer::release() {
     m_shared->mesh.release();
     m_shared->flat.release();
     m_shared->background.release();
-    const GLuint arrays[] = {m_shared->emptyVao, m_shared->planeVao, m_shared->colliderVao};
-    glDeleteVertexArrays(3, arrays);
-    const GLuint buffers[] = {m_shared->planeBuffer, m_shared->colliderBuffer};
-    glDeleteBuffers(2, buffers);
+    glDeleteVertexArrays(1, &m_shared->emptyVao);
+    m_shared->planes.release();
+    m_shared->colliders.release();
     m_shared.reset();
 }
 
@@ -383,7 +406,7 @@ void MeshRenderer::uploadOverlay(Object& object) {
 void MeshRenderer::setColliders(std::span<const Collider> colliders) {
     if (!m_shared)
         return;
-    std::vector<float>& out = m_shared->colliderVertices;
+    std::vector<float>& out = m_shared->colliders.vertices;
     out.clear();
     // A dark slate: it reads against the light grey background the renders use.
     const Eigen::Vector3f stone(0.38f, 0.35f, 0.31f), light = Eigen::Vector3f(-0.5f, 0.7f, 0.6f).normalized();
@@ -395,6 +418,10 @@ void MeshRenderer::setColliders(std::span<const Collider> colliders) {
         for (const Vec3* p : {&a, &b, &c})
             pushFlat(out, p->cast<float>(), colour);
     };
+    // Spheres and capsules start from a unit sphere with its poles on y (an odd ring count: no vertex on the
+    // equator), scaled by the radius, each half moved out along the axis by the capsule's half length, and
+    // turned onto the axis.
+    const Mesh unit = makeUvEllipsoid(13, 24, Vec3::Ones());
     for (const Collider& c : colliders) {
         if (c.shape == ColliderShape::Box) {
             Vec3 corner[8];
@@ -408,9 +435,6 @@ void MeshRenderer::setColliders(std::span<const Collider> colliders) {
             }
             continue;
         }
-        // A unit sphere with its poles on y (an odd ring count: no vertex on the equator), then scaled by the
-        // radius, each half moved out along the axis by the capsule's half length, and turned onto the axis.
-        const Mesh unit = makeUvEllipsoid(13, 24, Vec3::Ones());
         const Vec3 axis = c.shape == ColliderShape::Capsule ? c.axis.normalized() : Vec3::UnitY();
         const Mat3 turn = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), axis).toRotationMatrix();
         std::vector<Vec3> p(unit.positions.size());
@@ -422,14 +446,13 @@ void MeshRenderer::setColliders(std::span<const Collider> colliders) {
         for (const auto& t : unit.triangles)
             triangle(p[t[0]], p[t[1]], p[t[2]]);
     }
-    m_shared->colliderVertexCount = GLsizei(out.size() / kFlatStride);
-    m_shared->collidersDirty = true;
+    m_shared->colliders.changed();
 }
 
 void MeshRenderer::setPlanes(std::span<const CollisionPlane> planes, float halfSize) {
     if (!m_shared)
         return;
-    std::vector<float>& out = m_shared->planeVertices;
+    std::vector<float>& out = m_shared->planes.vertices;
     out.clear();
     const Eigen::Vector4f colour(0.55f, 0.75f, 0.95f, 0.28f);
     for (const CollisionPlane& plane : planes) {
@@ -444,8 +467,7 @@ void MeshRenderer::setPlanes(std::span<const CollisionPlane> planes, float halfS
         for (int k : {0, 1, 2, 0, 2, 3})
             pushFlat(out, corners[k], colour);
     }
-    m_shared->planeVertexCount = GLsizei(out.size() / kFlatStride);
-    m_shared->planesDirty = true;
+    m_shared->planes.changed();
 }
 
 void MeshRenderer::draw(const Camera& camera, int widthPixels, int heightPixels) {
@@ -498,20 +520,12 @@ void MeshRenderer::draw(const Camera& camera, int widthPixels, int heightPixels)
         }
     }
     // Colliders are opaque: drawn with the meshes, before anything translucent.
-    if (sh.collidersDirty) {
-        glBindBuffer(GL_ARRAY_BUFFER, sh.colliderBuffer);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sh.colliderVertices.size() * sizeof(float)), sh.colliderVertices.data(),
-                     GL_DYNAMIC_DRAW);
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
-        sh.collidersDirty = false;
-    }
-    if (sh.colliderVertexCount > 0) {
+    if (sh.colliders.count > 0) {
         glUseProgram(sh.flat.id);
         glUniformMatrix4fv(sh.flat.uniform("uView"), 1, GL_FALSE, camera.view.data());
         glUniformMatrix4fv(sh.flat.uniform("uProjection"), 1, GL_FALSE, camera.projection.data());
         glUniform1i(sh.flat.uniform("uPoints"), 0);
-        glBindVertexArray(sh.colliderVao);
-        glDrawArrays(GL_TRIANGLES, 0, sh.colliderVertexCount);
+        sh.colliders.draw();
         glUseProgram(sh.mesh.id);
     }
     glEnable(GL_BLEND);
@@ -526,17 +540,7 @@ void MeshRenderer::draw(const Camera& camera, int widthPixels, int heightPixels)
     glUniformMatrix4fv(sh.flat.uniform("uProjection"), 1, GL_FALSE, camera.projection.data());
     const GLint pointsLocation = sh.flat.uniform("uPoints");
     glUniform1i(pointsLocation, 0);
-    if (sh.planesDirty) {
-        glBindBuffer(GL_ARRAY_BUFFER, sh.planeBuffer);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sh.planeVertices.size() * sizeof(float)), sh.planeVertices.data(),
-                     GL_DYNAMIC_DRAW);
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
-        sh.planesDirty = false;
-    }
-    if (sh.planeVertexCount > 0) {
-        glBindVertexArray(sh.planeVao);
-        glDrawArrays(GL_TRIANGLES, 0, sh.planeVertexCount);
-    }
+    sh.planes.draw();
     // The lattice overlay stays visible through the mesh: it is what the animator edits.
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_PROGRAM_POINT_SIZE);

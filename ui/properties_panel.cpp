@@ -215,14 +215,15 @@ QWidget* PropertiesPanel::buildMaterial() {
         });
     }
     form->addRow(tr("Anisotropy"), aniso);
-    // Stretch and squash limits (core/strain_limits.h): each spin box's minimum is "off".
-    m_stretchLimit = spin(1.0, 100.0, 2, tr(" × rest"), 0.05);
+    // Stretch and squash limits (core/strain_limits.h): each spin box's minimum, just below the limit's
+    // range, reads "off".
+    m_stretchLimit = spin(1.0, kMaxStretchLimit, 2, tr(" × rest"), 0.05);
     m_stretchLimit->setObjectName("stretchLimit");
     m_stretchLimit->setSpecialValueText(tr("off"));
     m_stretchLimit->setToolTip(tr("No spring of the lattice gets longer than this many times its rest length, "
                                   "however hard it is pulled (a constraint after every step; it only ever takes energy out)."));
     form->addRow(tr("Stretch limit"), m_stretchLimit);
-    m_squashLimit = spin(0.0, 0.99, 2, tr(" × rest"), 0.05);
+    m_squashLimit = spin(0.0, kMaxSquashLimit, 2, tr(" × rest"), 0.05);
     m_squashLimit->setObjectName("squashLimit");
     m_squashLimit->setSpecialValueText(tr("off"));
     m_squashLimit->setToolTip(tr("No spring of the lattice gets shorter than this fraction of its rest length."));
@@ -241,12 +242,12 @@ QWidget* PropertiesPanel::buildMaterial() {
     connect(m_stretchLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
         if (!m_refreshing)
             editMaterial(tr("Set stretch limit"), kMergeStrainLimits,
-                         [x](LatticeMaterial& m) { m.strainLimits.stretch = x < 1.01 ? 0.0 : x; });
+                         [x](LatticeMaterial& m) { m.strainLimits.stretch = x < kMinStretchLimit ? 0.0 : x; });
     });
     connect(m_squashLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
         if (!m_refreshing)
             editMaterial(tr("Set squash limit"), kMergeStrainLimits,
-                         [x](LatticeMaterial& m) { m.strainLimits.squash = x < 0.01 ? 0.0 : x; });
+                         [x](LatticeMaterial& m) { m.strainLimits.squash = x < kMinSquashLimit ? 0.0 : x; });
     });
 
     connect(m_frequency, &QDoubleSpinBox::valueChanged, this, [this](double hz) {

@@ -32,18 +32,20 @@ function fail(error) {
     document.title = 'error: ' + message;
 }
 
-function fileBytes(name) {
-    const text = atob(clip.files[name]);
+// Every embedded file decoded once (the loaders only read it), and as a blob URL, so a .gltf's external
+// buffers resolve by name.
+const decoded = {};
+for (const [name, base64] of Object.entries(clip.files)) {
+    const text = atob(base64);
     const bytes = new Uint8Array(text.length);
     for (let i = 0; i < text.length; ++i) bytes[i] = text.charCodeAt(i);
-    return bytes.buffer;
+    decoded[name] = bytes.buffer;
 }
-
-// Every embedded file as a blob URL, so a .gltf's external buffers resolve by name.
+const fileBytes = (name) => decoded[name];
 const manager = new THREE.LoadingManager();
 const blobUrls = {};
-for (const name of Object.keys(clip.files))
-    blobUrls[name] = URL.createObjectURL(new Blob([fileBytes(name)]));
+for (const name of Object.keys(decoded))
+    blobUrls[name] = URL.createObjectURL(new Blob([decoded[name]]));
 manager.setURLModifier((url) => blobUrls[url.split('/').pop()] || url);
 
 function loadGltf(name) {

@@ -134,10 +134,8 @@ private slots:
             problems += !r.problem.empty();
             const ContactPoints& points = body->contactPoints;
             for (std::size_t q = 0; q < points.size(); ++q) {
-                Vec3 x = Vec3::Zero(), n;
-                for (std::uint32_t t = points.start[q]; t < points.start[q + 1]; ++t)
-                    x += points.terms[t].weight * sim.state().position[points.terms[t].node];
-                deepestSample = std::max(deepestSample, -colliderDistance(c, x, n));
+                Vec3 n;
+                deepestSample = std::max(deepestSample, -colliderDistance(c, points.at(q, sim.state().position), n));
             }
             binding.evaluate(sim.state().position, positions, normals, 1);
             for (const Vec3f& p : positions) {

@@ -252,10 +252,8 @@ void TestProject::rockSampleSquashesTheTail() {
         sim->advanceTo(frame / 24.0, &problems);
         const auto& x = sim->simulator(0).state().position;
         for (std::size_t q = 0; q < body.contactPoints.size(); ++q) {
-            Vec3 p = Vec3::Zero(), n;
-            for (std::uint32_t t = body.contactPoints.start[q]; t < body.contactPoints.start[q + 1]; ++t)
-                p += body.contactPoints.terms[t].weight * x[body.contactPoints.terms[t].node];
-            const double d = colliderDistance(rock, p, n);
+            Vec3 n;
+            const double d = colliderDistance(rock, body.contactPoints.at(q, x), n);
             deepest = std::max(deepest, -d);
             nearest = std::min(nearest, d);
         }
