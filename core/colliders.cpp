@@ -2,6 +2,7 @@
 
 #include "core/body_model.h"
 #include "core/forces.h"
+#include "core/mesh_surface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,10 @@ double boundingRadius(const Collider& c) {
     case ColliderShape::Sphere: return c.radius;
     case ColliderShape::Capsule: return c.radius + c.halfLength;
     case ColliderShape::Box: return c.halfExtents.norm();
+    case ColliderShape::Mesh: {
+        const Bounds& b = c.surface->bounds();
+        return c.scale * (0.5 * (b.min + b.max).norm() + c.surface->boundingRadius());
+    }
     }
     return 0.0;
 }
@@ -40,6 +45,7 @@ const char* colliderShapeName(ColliderShape shape) {
     case ColliderShape::Sphere: return "sphere";
     case ColliderShape::Capsule: return "capsule";
     case ColliderShape::Box: return "box";
+    case ColliderShape::Mesh: return "mesh";
     }
     return "sphere";
 }
@@ -63,6 +69,14 @@ Status Collider::validate() {
         if (!(radius > 0.0 && radius <= 1e6))
             return Status::error(std::string("a ") + colliderShapeName(shape) + "'s radius must be in (0, 1e6] m, got " +
                                  std::to_string(radius));
+        break;
+    case ColliderShape::Mesh:
+        if (!surface)
+            return Status::error("a mesh collider needs a mesh");
+        if (!(scale > 0.0 && scale <= 1e6))
+            return Status::error("a mesh collider's scale must be in (0, 1e6], got " + std::to_string(scale));
+        if (!axes.allFinite() || (axes.transpose() * axes - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+            return Status::error("a mesh collider's axes must be orthonormal");
         break;
     case ColliderShape::Box:
         if (!finite(halfExtents) || (halfExtents.array() <= 0.0).any() || (halfExtents.array() > 1e6).any())
@@ -101,6 +115,12 @@ double colliderDistance(const Collider& c, const Vec3& p, Vec3& normal) {
         local[face] = q[face] < 0.0 ? -1.0 : 1.0;
         normal = c.axes * local;
         return d[face];
+    }
+    case ColliderShape::Mesh: {
+        Vec3 local;
+        const double d = c.surface->signedDistance(c.axes.transpose() * (p - c.centre) / c.scale, local);
+        normal = c.axes * local;
+        return c.scale * d;
     }
     }
     normal = Vec3::UnitY();

@@ -1,5 +1,5 @@
 #pragma once
-/// Colliders beyond planes: spheres, capsules and boxes (rocks, the tank's furniture, a stick), tested at
+/// Colliders beyond planes: spheres, capsules, boxes and static meshes (rocks, the tank's furniture, a stick), tested at
 /// points of the mesh's surface carried by the lattice, so a fin touches the rock rather than the lattice
 /// box (docs/lattice.md, "Colliders").
 
@@ -9,6 +9,7 @@
 #include "core/types.h"
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -16,9 +17,10 @@ namespace softtouch {
 
 struct BodyModel;
 struct BodyState;
+class MeshSurface;
 
 /// The solid shapes a body collides with.
-enum class ColliderShape : std::uint8_t { Sphere, Capsule, Box };
+enum class ColliderShape : std::uint8_t { Sphere, Capsule, Box, Mesh };
 
 /// A static solid with the planes' contact response (restitution, Coulomb friction).
 struct Collider {
@@ -28,7 +30,10 @@ struct Collider {
     Vec3 axis = Vec3::UnitY();                   ///< Capsule: unit direction of its segment.
     double halfLength = 0.5;                     ///< Capsule: half its segment's length (end centres at ±), >= 0.
     Vec3 halfExtents = Vec3::Constant(0.5);      ///< Box: half its edge lengths along `axes`, > 0.
-    Mat3 axes = Mat3::Identity();                ///< Box: orientation (columns unit, orthonormal).
+    Mat3 axes = Mat3::Identity();                ///< Box and mesh: orientation (columns unit, orthonormal).
+    std::shared_ptr<const MeshSurface> surface;  ///< Mesh: its closed surface in its own frame, metres.
+    double scale = 1.0;                          ///< Mesh: uniform scale of that frame, (0, 1e6]; world point =
+                                                 ///< centre + axes × scale × mesh point.
     double restitution = 0.0;                    ///< [0, 1]: 1 elastic, 0 sticks.
     double friction = 0.5;                       ///< Coulomb coefficient, [0, 10].
     /// Checks sizes and ranges and normalises the capsule's axis; errors name the field.
@@ -36,7 +41,7 @@ struct Collider {
     bool operator==(const Collider&) const = default;
 };
 
-/// "sphere", "capsule", "box".
+/// "sphere", "capsule", "box", "mesh".
 const char* colliderShapeName(ColliderShape shape);
 
 /// Signed distance from `p` to the collider's surface (negative inside), metres, and the outward unit

@@ -1,5 +1,6 @@
 #include "core/scene.h"
 
+#include "core/mesh_surface.h"
 #include "core/oriented_box.h"
 #include "core/ranges.h"
 
@@ -33,7 +34,7 @@ Status WorldSettings::validate() {
     for (std::size_t i = 0; i < colliders.size(); ++i)
         if (Status s = colliders[i].validate(); !s)
             return Status::error("collider " + std::to_string(i) + ": " + s.message());
-    return Status::success();
+    return bodyCollisions.validate();
 }
 
 SimulationSettings newSceneSimulation(const Scene& scene) {
@@ -126,9 +127,16 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
         auto model = buildLatticeBody(object.lattice, object.material, &object.mesh);
         if (!model)
             return Status::error(where + model.message());
+        std::shared_ptr<const MeshSurface> restSurface;
+        if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh.triangles.empty()) {
+            auto surface = MeshSurface::create(object.mesh);
+            if (!surface)
+                return Status::error(where + surface.message());
+            restSurface = surface.value();
+        }
         sim.m_objects.push_back(Runtime{&object,
                                         Binding::create(object.lattice, object.mesh.positions, object.mesh.normals),
-                                        Simulator(model.value(), scene->world.simulation), {}});
+                                        Simulator(model.value(), scene->world.simulation), {}, std::move(restSurface)});
     }
     return sim;
 }
@@ -149,23 +157,67 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
 
 void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* problems) {
     const double dt = m_scene->world.simulation.dt;
-    for (std::size_t i = 0; i < m_objects.size(); ++i) {
+    // A step is due while it ends at or before `seconds` (a relative tolerance absorbs rounding of
+    // seconds = frame / fps).
+    const auto due = [&](const Simulator& sim) { return double(sim.stepCount() + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12; };
+    const auto stepObject = [&](std::size_t i) {
         Simulator& sim = m_objects[i].simulator;
-        // Step while the next step ends at or before `seconds` (a relative tolerance absorbs rounding
-        // of seconds = frame / fps).
-        while (double(sim.stepCount() + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12) {
-            // Forces are sampled at the start of the step.
-            const StepReport report = sim.step(forcesAt(i, sim.time()));
-            if (report.problem.empty())
-                continue;
-            const std::string problem =
-                "object '" + m_objects[i].source->name + "' at t=" + std::to_string(sim.time()) + " s: " + report.problem;
-            if (report.refused && m_refusal.empty())
-                m_refusal = problem;
-            if (problems)
-                problems->push_back(problem);
-        }
+        const StepReport report = sim.step(forcesAt(i, sim.time()));  // forces sampled at the step's start
+        if (report.problem.empty())
+            return;
+        const std::string problem =
+            "object '" + m_objects[i].source->name + "' at t=" + std::to_string(sim.time()) + " s: " + report.problem;
+        if (report.refused && m_refusal.empty())
+            m_refusal = problem;
+        if (problems)
+            problems->push_back(problem);
+    };
+    if (!m_scene->world.bodyCollisions.enabled || m_objects.size() < 2) {
+        for (std::size_t i = 0; i < m_objects.size(); ++i)  // independent: each runs to the end alone
+            while (due(m_objects[i].simulator))
+                stepObject(i);
+        return;
     }
+    while (due(m_objects.front().simulator)) {  // every object takes the same steps
+        const double start = m_objects.front().simulator.time();
+        for (std::size_t i = 0; i < m_objects.size(); ++i)
+            stepObject(i);
+        resolveBodyContacts(start);
+    }
+}
+
+void SceneSimulation::resolveBodyContacts(double stepStart) {
+    m_lastBodyContacts = {};
+    const WorldSettings& world = m_scene->world;
+    // Working copies only for objects that touch another: a scene whose objects are apart pays one bounds
+    // pass per pair.
+    std::vector<BodyState> states(m_objects.size());
+    std::vector<ContactBody> bodies(m_objects.size());
+    for (std::size_t i = 0; i < m_objects.size(); ++i) {
+        const Runtime& r = m_objects[i];
+        bodies[i] = {&r.simulator.model(), &r.source->lattice, r.restSurface.get(), const_cast<BodyState*>(&r.simulator.state())};
+    }
+    std::vector<std::uint8_t> changed(m_objects.size(), 0);
+    for (std::size_t i = 0; i < m_objects.size(); ++i)
+        for (std::size_t j = i + 1; j < m_objects.size(); ++j) {
+            if (!bodiesMayTouch(bodies[i], bodies[j]))
+                continue;
+            for (std::size_t k : {i, j})
+                if (!changed[k]) {
+                    states[k] = m_objects[k].simulator.state();
+                    bodies[k].state = &states[k];
+                    changed[k] = 1;
+                }
+            const BodyContactPass pass = softtouch::resolveBodyContacts(
+                bodies[i], bodies[j], world.bodyCollisions, restingContactSpeed(world.gravity, world.simulation.dt));
+            m_lastBodyContacts.contacts += pass.contacts;
+            m_lastBodyContacts.deepest = std::max(m_lastBodyContacts.deepest, pass.deepest);
+        }
+    if (m_lastBodyContacts.contacts == 0)
+        return;
+    for (std::size_t i = 0; i < m_objects.size(); ++i)
+        if (changed[i])
+            m_objects[i].simulator.applyCorrection(states[i], forcesAt(i, stepStart));
 }
 
 double SceneSimulation::time() const {

@@ -4,6 +4,7 @@
 /// no gravity, no gravity term; a body at rest sleeps.
 
 #include "core/binding.h"
+#include "core/body_contacts.h"
 #include "core/drivers.h"
 #include "core/lattice_body.h"
 #include "core/simulator.h"
@@ -26,7 +27,8 @@ struct SceneObject {
 struct WorldSettings {
     Vec3 gravity = Vec3::Zero();              ///< m/s^2.
     std::vector<CollisionPlane> planes;       ///< Collision planes.
-    std::vector<Collider> colliders;          ///< Spheres, capsules and boxes.
+    std::vector<Collider> colliders;          ///< Spheres, capsules, boxes and meshes.
+    BodyCollisionSettings bodyCollisions;     ///< Objects against each other; off by default.
     SimulationSettings simulation;            ///< Integrator, dt, guards.
     int frames = 48;                          ///< Default clip length, frames. [1, 1e6].
     double fps = 24.0;                        ///< Default clip rate, frames per second. (0, 1000].
@@ -76,7 +78,8 @@ public:
     };
 
     /// Steps every object until the simulated time reaches `seconds` (fixed dt; a step is taken when
-    /// its end time is <= seconds). Problems reported by any step are appended to `problems`.
+    /// its end time is <= seconds). Problems reported by any step are appended to `problems`. With body
+    /// collisions on, the objects step together and touching ones are pushed apart after each step.
     void advanceTo(double seconds, std::vector<std::string>* problems = nullptr);
     /// The first step refused since creation or reset() (it needed more than maxSubsteps substeps, so
     /// the body stood still), as "object 'x' at t=… s: …"; empty when none. A bake fails on it: a frozen
@@ -110,6 +113,8 @@ public:
     void evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
     /// Total vertex count over all objects (the order of a concatenated cache).
     std::size_t totalVertexCount() const;
+    /// What the body contacts did in the last step (zero when off or apart).
+    const BodyContactPass& lastBodyContacts() const { return m_lastBodyContacts; }
 
 private:
     struct Runtime {
@@ -117,11 +122,16 @@ private:
         Binding binding;
         Simulator simulator;
         std::vector<DragSpring> interactive;
+        std::shared_ptr<const MeshSurface> restSurface; ///< Its rest mesh, for body contacts (when on).
     };
+
+    /// Pushes touching objects apart after a step that started at `stepStart` seconds.
+    void resolveBodyContacts(double stepStart);
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Runtime> m_objects;
     std::string m_refusal;
+    BodyContactPass m_lastBodyContacts;
 };
 
 }  // namespace softtouch

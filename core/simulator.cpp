@@ -307,6 +307,18 @@ bool Simulator::forcesChanged(const ExternalForces& e) const {
     return false;
 }
 
+void Simulator::applyCorrection(const BodyState& corrected, const ExternalForces& external) {
+    assert(corrected.position.size() == m_state.position.size());
+    const bool account = accountsEnergy() && m_accountStep > 0.0;
+    const double before = account ? energyParts(external, m_accountStep).modified : 0.0;
+    m_state = corrected;
+    updateVoidNodes(*m_model, m_state);
+    if (account)
+        m_account.contacts += energyParts(external, m_accountStep).modified - before;
+    m_sleeping = false;
+    m_quietSteps = 0;
+}
+
 StepReport Simulator::step(const ExternalForces& external) {
     StepReport report;
     if (m_sleeping) {

@@ -91,6 +91,12 @@ public:
     /// Advances one step of dt under the given forces.
     StepReport step(const ExternalForces& external);
 
+    /// Takes a state that a pass outside the step corrected (the scene's body contacts: same node count),
+    /// keeping the time. The energy account books what the correction changed as contact work, so the
+    /// guard does not take it for energy from nowhere; void nodes follow; a sleeping body wakes.
+    /// `external`: the forces of the step just taken.
+    void applyCorrection(const BodyState& corrected, const ExternalForces& external);
+
     /// Largest stable explicit substep for these forces, seconds: safety × 2/ω_max × (√(1+ζ²) − ζ),
     /// with ω_max² the largest eigenvalue of M⁻¹K (springs plus drags) and ζ its damping ratio. K is
     /// the rest stiffness, or the current state's tangent stiffness where that is stiffer (tracked

@@ -1,5 +1,6 @@
 #include "io/project_file.h"
 
+#include "core/mesh_surface.h"
 #include "core/mesh_volume.h"
 #include "core/ranges.h"
 #include "core/integrator.h"
@@ -414,7 +415,7 @@ std::optional<Lattice> readLattice(const JsonValue& v, const Mesh& mesh) {
 void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, JsonIssues& issues) {
     if (!v.expectObject(true))
         return;
-    v.checkKeys({"name", "mesh", "lattice", "material", "anchors", "voids", "drivers"});
+    v.checkKeys({"name", "mesh", "position", "lattice", "material", "anchors", "voids", "drivers"});
     SceneObject object;
     object.name = v["name"].string().value_or("object " + std::to_string(project.scene.objects.size()));
     const auto meshRef = v["mesh"].string(true);
@@ -426,6 +427,17 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
         return;
     }
     object.mesh = std::move(mesh.value());
+    // Where the mesh goes in the scene: its file's coordinates moved by this (a lattice "box", like
+    // everything else in the file, is in scene coordinates).
+    Vec3 offset = Vec3::Zero();
+    if (auto x = v["position"].vec3()) {
+        if (x->norm() > ranges::kMaxMeshSize)
+            v["position"].problem("expected at most 1e5 m from the origin");
+        else
+            offset = *x;
+    }
+    for (Vec3f& p : object.mesh.positions)
+        p += offset.cast<float>();
     auto lattice = readLattice(v["lattice"], object.mesh);
     if (!lattice)
         return;
@@ -468,12 +480,14 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
         }
     }
     project.meshReferences.push_back(*meshRef);
+    project.meshOffsets.resize(project.meshReferences.size() - 1, Vec3::Zero());
+    project.meshOffsets.push_back(offset);
     project.scene.objects.push_back(std::move(object));
 }
 
-void readWorld(const JsonValue& root, WorldSettings& w) {
+void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w) {
     if (const JsonValue world = root["world"]; world.expectObject()) {
-        world.checkKeys({"gravity", "planes", "colliders"});
+        world.checkKeys({"gravity", "planes", "colliders", "bodyCollisions"});
         if (auto g = world["gravity"].vec3()) {
             if (g->norm() > ranges::kMaxGravity)
                 world["gravity"].problem("expected at most 1e4 m/s² (a thousand g), got a magnitude of " + std::to_string(g->norm()));
@@ -500,7 +514,14 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
             if (auto x = p["friction"].number(0.0, 10.0)) plane.friction = *x;
             w.planes.push_back(plane);
         }
-        // Spheres, capsules and boxes (core/colliders.h); each shape has its own size keys.
+        // Objects against each other (core/body_contacts.h): off unless the file turns them on.
+        if (const JsonValue bodies = world["bodyCollisions"]; bodies.exists() && bodies.expectObject()) {
+            bodies.checkKeys({"enabled", "restitution", "friction"});
+            if (auto x = bodies["enabled"].boolean()) w.bodyCollisions.enabled = *x;
+            if (auto x = bodies["restitution"].number(0.0, 1.0)) w.bodyCollisions.restitution = *x;
+            if (auto x = bodies["friction"].number(0.0, 10.0)) w.bodyCollisions.friction = *x;
+        }
+        // Spheres, capsules, boxes and meshes (core/colliders.h); each shape has its own size keys.
         const JsonValue colliders = world["colliders"];
         if (colliders.exists() && !colliders.isArray())
             colliders.problem("expected an array of colliders");
@@ -510,19 +531,34 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
                 continue;
             Collider c;
             const auto shape = v["shape"].string();
-            if (!shape || (*shape != "sphere" && *shape != "capsule" && *shape != "box")) {
-                v["shape"].problem("expected \"sphere\", \"capsule\" or \"box\"");
+            if (!shape || (*shape != "sphere" && *shape != "capsule" && *shape != "box" && *shape != "mesh")) {
+                v["shape"].problem("expected \"sphere\", \"capsule\", \"box\" or \"mesh\"");
                 continue;
             }
-            c.shape = *shape == "sphere" ? ColliderShape::Sphere : *shape == "capsule" ? ColliderShape::Capsule : ColliderShape::Box;
-            if (c.shape == ColliderShape::Sphere)
+            c.shape = *shape == "sphere"    ? ColliderShape::Sphere
+                      : *shape == "capsule" ? ColliderShape::Capsule
+                      : *shape == "box"     ? ColliderShape::Box
+                                            : ColliderShape::Mesh;
+            if (c.shape == ColliderShape::Mesh) {
+                v.checkKeys({"shape", "mesh", "centre", "axes", "scale", "restitution", "friction"});
+                if (const auto ref = v["mesh"].string(true)) {
+                    auto mesh = importMesh(baseDir / *ref);
+                    auto surface = mesh ? MeshSurface::create(std::move(mesh.value()), *ref)
+                                        : Result<std::shared_ptr<const MeshSurface>>(Status::error(mesh.message()));
+                    if (surface)
+                        c.surface = surface.value();
+                    else
+                        v["mesh"].problem(surface.message());
+                }
+                if (auto x = v["scale"].number(1e-6, 1e6)) c.scale = *x;
+            } else if (c.shape == ColliderShape::Sphere)
                 v.checkKeys({"shape", "centre", "radius", "restitution", "friction"});
             else if (c.shape == ColliderShape::Capsule)
                 v.checkKeys({"shape", "centre", "radius", "axis", "halfLength", "restitution", "friction"});
             else
                 v.checkKeys({"shape", "centre", "halfExtents", "axes", "restitution", "friction"});
             if (auto x = v["centre"].vec3(true)) c.centre = *x;
-            if (c.shape != ColliderShape::Box)
+            if (c.shape == ColliderShape::Sphere || c.shape == ColliderShape::Capsule)
                 if (auto x = v["radius"].number(1e-6, 1e6, "m", true)) c.radius = *x;
             if (c.shape == ColliderShape::Capsule) {
                 if (auto x = v["halfLength"].number(0.0, 1e6, "m", true)) c.halfLength = *x;
@@ -533,13 +569,14 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
                         c.axis = a->normalized();
                 }
             }
-            if (c.shape == ColliderShape::Box) {
-                if (auto h = v["halfExtents"].vec3(true)) {
-                    if ((h->array() <= 0.0).any() || (h->array() > 1e6).any())
-                        v["halfExtents"].problem("each half extent must be in (0, 1e6] m");
-                    else
-                        c.halfExtents = *h;
-                }
+            if (c.shape == ColliderShape::Box || c.shape == ColliderShape::Mesh) {
+                if (c.shape == ColliderShape::Box)
+                    if (auto h = v["halfExtents"].vec3(true)) {
+                        if ((h->array() <= 0.0).any() || (h->array() > 1e6).any())
+                            v["halfExtents"].problem("each half extent must be in (0, 1e6] m");
+                        else
+                            c.halfExtents = *h;
+                    }
                 const JsonValue axes = v["axes"];
                 if (axes.exists()) {
                     if (!axes.isArray() || axes.size() != 3) {
@@ -555,6 +592,8 @@ void readWorld(const JsonValue& root, WorldSettings& w) {
             }
             if (auto x = v["restitution"].number(0.0, 1.0)) c.restitution = *x;
             if (auto x = v["friction"].number(0.0, 10.0)) c.friction = *x;
+            if (c.shape == ColliderShape::Mesh && !c.surface)
+                continue;  // its mesh's problem is reported
             w.colliders.push_back(c);
         }
     }
@@ -879,7 +918,7 @@ std::optional<Project> readProject(const fs::path& path, JsonIssues& issues) {
     if (!objects.isArray() || objects.size() == 0)
         objects.problem("expected a non-empty array of objects");
     // The world first: an object's body is built (and checked) only where the solver can run it.
-    readWorld(root, project.scene.world);
+    readWorld(root, baseDir, project.scene.world);
     for (std::size_t i = 0; i < objects.size(); ++i)
         readObject(objects.at(i), baseDir, project, issues);
     // The library refers to the objects' lattices: read it only onto a valid scene.
@@ -1162,6 +1201,8 @@ Status saveProject(const Project& project, const fs::path& path) {
                        {"mesh", rebased(i < project.meshReferences.size() ? project.meshReferences[i] : std::string())},
                        {"lattice", lattice},
                        {"drivers", drivers}};
+        if (i < project.meshOffsets.size() && !project.meshOffsets[i].isZero())
+            object["position"] = vec(project.meshOffsets[i]);
         writeMaterial(o.lattice, o.material, object);
         objects.push_back(object);
     }
@@ -1173,16 +1214,20 @@ Status saveProject(const Project& project, const fs::path& path) {
     json colliders = json::array();
     for (const Collider& c : w.colliders) {
         json entry = {{"shape", colliderShapeName(c.shape)}, {"centre", vec(c.centre)}};
-        if (c.shape != ColliderShape::Box)
+        if (c.shape == ColliderShape::Sphere || c.shape == ColliderShape::Capsule)
             entry["radius"] = c.radius;
         if (c.shape == ColliderShape::Capsule) {
             entry["axis"] = vec(c.axis);
             entry["halfLength"] = c.halfLength;
         }
-        if (c.shape == ColliderShape::Box) {
+        if (c.shape == ColliderShape::Box)
             entry["halfExtents"] = vec(c.halfExtents);
-            entry["axes"] = {vec(c.axes.col(0)), vec(c.axes.col(1)), vec(c.axes.col(2))};
+        if (c.shape == ColliderShape::Mesh) {
+            entry["mesh"] = rebased(c.surface->source());
+            entry["scale"] = c.scale;
         }
+        if (c.shape == ColliderShape::Box || c.shape == ColliderShape::Mesh)
+            entry["axes"] = {vec(c.axes.col(0)), vec(c.axes.col(1)), vec(c.axes.col(2))};
         entry["restitution"] = c.restitution;
         entry["friction"] = c.friction;
         colliders.push_back(entry);
@@ -1190,6 +1235,10 @@ Status saveProject(const Project& project, const fs::path& path) {
     json world = {{"gravity", vec(w.gravity)}, {"planes", planes}};
     if (!colliders.empty())
         world["colliders"] = colliders;
+    if (w.bodyCollisions.enabled)
+        world["bodyCollisions"] = {{"enabled", true},
+                                   {"restitution", w.bodyCollisions.restitution},
+                                   {"friction", w.bodyCollisions.friction}};
     json doc = {{"format", kProjectFormat},
                       {"version", kProjectVersion},
                       {"objects", objects},

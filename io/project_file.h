@@ -25,6 +25,8 @@ struct Project {
     std::filesystem::path path;              ///< The file it was loaded from.
     Scene scene;                             ///< Everything the engine needs.
     std::vector<std::string> meshReferences; ///< Per object, the mesh path as written (relative to the project).
+    std::vector<Vec3> meshOffsets;           ///< Per object, the "position" its mesh was moved by on load (two fish
+                                             ///< from one file); missing entries are zero.
     ClipLibrary clips;                       ///< Clips, sessions and keyframe sets (version 2); validated on load.
 };
 

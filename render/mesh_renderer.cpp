@@ -1,5 +1,6 @@
 #include "render/mesh_renderer.h"
 
+#include "core/mesh_surface.h"
 #include "core/primitives.h"
 
 #include "render/gl.h"
@@ -433,6 +434,15 @@ void MeshRenderer::setColliders(std::span<const Collider> colliders) {
                 triangle(corner[f[0]], corner[f[1]], corner[f[2]]);
                 triangle(corner[f[0]], corner[f[2]], corner[f[3]]);
             }
+            continue;
+        }
+        if (c.shape == ColliderShape::Mesh) {  // the rock itself, placed, turned and scaled
+            const Mesh& mesh = c.surface->mesh();
+            std::vector<Vec3> p(mesh.positions.size());
+            for (std::size_t i = 0; i < p.size(); ++i)
+                p[i] = c.centre + c.axes * (c.scale * mesh.positions[i].cast<double>());
+            for (const auto& t : mesh.triangles)
+                triangle(p[t[0]], p[t[1]], p[t[2]]);
             continue;
         }
         const Vec3 axis = c.shape == ColliderShape::Capsule ? c.axis.normalized() : Vec3::UnitY();

@@ -11,6 +11,7 @@ packages=(
   libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe and EGL surfaceless platform: OpenGL without a GPU or X
   xvfb xauth              # the editor's GUI tests run under a virtual X server
   libeigen3-dev           # core maths
+  libfcl-dev              # distance queries to collider meshes (core/mesh_surface.cpp)
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
   fonts-dejavu-core       # text in plots rendered headless (study)

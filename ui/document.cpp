@@ -98,6 +98,7 @@ void Document::setWorld(const WorldSettings& world) {
 void Document::setProjectContent(const io::Project& project) {
     m_project.scene = project.scene;
     m_project.meshReferences = project.meshReferences;
+    m_project.meshOffsets = project.meshOffsets;
     m_project.clips = project.clips;
     emit sceneReplaced();
 }

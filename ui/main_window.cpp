@@ -1,5 +1,7 @@
 #include "ui/main_window.h"
 
+#include "core/mesh_surface.h"
+
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
 #include "ui/presets_panel.h"
@@ -360,6 +362,11 @@ void MainWindow::refreshOutliner() {
             const Collider& c = scene.world.colliders[k];
             const QString size = c.shape == ColliderShape::Box
                                      ? tr("%1 × %2 × %3 m").arg(2 * c.halfExtents.x()).arg(2 * c.halfExtents.y()).arg(2 * c.halfExtents.z())
+                                 : c.shape == ColliderShape::Mesh
+                                     ? tr("%1, %2 triangles, scale %3")
+                                           .arg(QString::fromStdString(c.surface->source()))
+                                           .arg(c.surface->mesh().triangles.size())
+                                           .arg(c.scale)
                                      : c.shape == ColliderShape::Capsule
                                            ? tr("r %1 m, %2 m long").arg(c.radius).arg(2 * c.halfLength + 2 * c.radius)
                                            : tr("r %1 m").arg(c.radius);

@@ -1,4 +1,5 @@
 // Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
+#include "core/mesh_surface.h"
 #include "core/mode_accuracy.h"
 #include "core/modes.h"
 #include "io/mesh_import.h"
@@ -58,6 +59,8 @@ private slots:
     void strainLimitsRoundTripAndBind();
     void collidersRoundTrip();
     void rockSampleSquashesTheTail();
+    void pairSampleTailsMeetAndPart();
+    void meshColliderFromAFile();
     void scalarNodeDampingIsAUniformMap_data();
     void scalarNodeDampingIsAUniformMap();
     void massFromTheMeshSitsWhereTheFishIs();
@@ -238,6 +241,99 @@ void TestProject::collidersRoundTrip() {
 
 // presets/scenes/angelfish-rock.softtouch: the swimming tail reaches the rock, and the fin (the mesh's
 // surface points, not the lattice box) stays out of it.
+// The pair sample: two angelfish from one mesh file ("position" moves the second 22 cm aside), tails wagging
+// towards each other. With body collisions (as the file has them) the tails meet and push apart: no sample
+// point ends a frame inside the other fish's deformed mesh by more than 1% of its size (measured on the
+// deformed meshes themselves); with them off, the same wag puts one tail deep inside the other.
+void TestProject::pairSampleTailsMeetAndPart() {
+    auto project = loadProject(kPresets / "scenes/angelfish-pair.softtouch");
+    QVERIFY2(project.ok(), project.message().c_str());
+    QCOMPARE(int(project->scene.objects.size()), 2);
+    QVERIFY(project->scene.world.bodyCollisions.enabled);
+    const Bounds near = project->scene.objects[0].mesh.bounds(), far = project->scene.objects[1].mesh.bounds();
+    QVERIFY(std::abs((far.min - near.min).z() - 0.22) < 1e-6);
+    const double size = near.diagonal();
+    double deepestOn = 0.0, deepestOff = 0.0;
+    int contacts = 0;
+    for (bool on : {true, false}) {
+        Scene scene = project->scene;
+        scene.world.bodyCollisions.enabled = on;
+        auto sim = SceneSimulation::create(scene);
+        QVERIFY2(sim.ok(), sim.message().c_str());
+        std::vector<std::string> problems;
+        std::vector<std::vector<Vec3f>> deformed(2);
+        std::vector<Vec3f> normals;
+        for (int frame = 1; frame <= 48; ++frame) {
+            sim->advanceTo(frame / 24.0, &problems);
+            contacts += on ? sim->lastBodyContacts().contacts : 0;
+            if (frame % 2)
+                continue;  // every other frame: each check builds a surface of the deformed fish
+            for (std::size_t b = 0; b < 2; ++b) {
+                deformed[b].resize(scene.objects[b].mesh.positions.size());
+                normals.resize(deformed[b].size());
+                sim->evaluate(b, deformed[b], normals, 1);
+            }
+            for (std::size_t b = 0; b < 2; ++b) {
+                Mesh other = scene.objects[1 - b].mesh;
+                other.positions = deformed[1 - b];
+                const auto surface = MeshSurface::create(other).value();
+                const ContactPoints& points = sim->simulator(b).model().contactPoints;
+                for (std::size_t q = 0; q < points.size(); ++q) {
+                    Vec3 n;
+                    const double d = -surface->signedDistance(points.at(q, sim->simulator(b).state().position), n);
+                    (on ? deepestOn : deepestOff) = std::max(on ? deepestOn : deepestOff, d);
+                }
+            }
+        }
+        QVERIFY(problems.empty());
+    }
+    qInfo("fish %.3f m across: with body collisions %d contacts, deepest sample %.4f m (%.2f%%); without, %.4f m",
+          size, contacts, deepestOn, 100.0 * deepestOn / size, deepestOff);
+    QVERIFY(contacts > 0);
+    QVERIFY(deepestOn <= 0.01 * size);
+    QVERIFY(deepestOff > 0.03 * size);
+}
+
+// A mesh collider reads its mesh through assimp, relative to the project; a save elsewhere keeps it found.
+void TestProject::meshColliderFromAFile() {
+    QTemporaryDir dir;
+    const std::filesystem::path root = dir.path().toStdString();
+    std::filesystem::create_directories(root / "rocks");
+    std::ofstream(root / "rocks/cube.obj") << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                              "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
+                                              "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+    const std::string scene = R"({"format": "softtouch-project", "version": 2,
+        "objects": [{"name": "fish", "mesh": ")" + (kPresets / "meshes/angelfish.obj").generic_string() + R"("}],
+        "world": {"colliders": [{"shape": "mesh", "mesh": "rocks/cube.obj", "centre": [0, -1.5, 0], "scale": 0.5,
+                                 "axes": [[0, 0, -1], [0, 1, 0], [1, 0, 0]], "friction": 0.7}]}})";
+    std::ofstream(root / "scene.softtouch") << scene;
+    auto project = loadProject(root / "scene.softtouch");
+    QVERIFY2(project.ok(), project.message().c_str());
+    const Collider& c = project->scene.world.colliders.at(0);
+    QCOMPARE(c.shape, ColliderShape::Mesh);
+    QCOMPARE(int(c.surface->mesh().triangles.size()), 12);
+    QCOMPARE(c.scale, 0.5);
+    QCOMPARE(c.friction, 0.7);
+    Vec3 n;  // the cube of side 2, halved, 1.5 m down: its top at y = -1, facing up
+    QVERIFY(std::abs(colliderDistance(c, Vec3(0.1, -0.9, 0.2), n) - 0.1) < 1e-6);
+    QVERIFY((n - Vec3::UnitY()).norm() < 1e-6);
+    QVERIFY(colliderDistance(c, Vec3(0, -1.2, 0), n) < 0.0);
+
+    std::filesystem::create_directories(root / "elsewhere/deeper");
+    QVERIFY(saveProject(project.value(), root / "elsewhere/deeper/copy.softtouch").ok());
+    auto again = loadProject(root / "elsewhere/deeper/copy.softtouch");
+    QVERIFY2(again.ok(), again.message().c_str());
+    const Collider& d = again->scene.world.colliders.at(0);
+    QCOMPARE(d.surface->source(), std::string("../../rocks/cube.obj"));
+    QCOMPARE(d.scale, c.scale);
+    QVERIFY((d.axes - c.axes).norm() < 1e-12);
+
+    std::filesystem::remove(root / "rocks/cube.obj");
+    const auto missing = loadProject(root / "scene.softtouch");
+    QVERIFY(!missing.ok());
+    QVERIFY2(missing.message().find("/world/colliders/0/mesh") != std::string::npos, missing.message().c_str());
+}
+
 void TestProject::rockSampleSquashesTheTail() {
     auto project = loadProject(kPresets / "scenes/angelfish-rock.softtouch");
     QVERIFY2(project.ok(), project.message().c_str());
@@ -401,7 +497,13 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
         << "/objects/0/material/volumePreservation|got 1.5";
     QTest::newRow("collider of unknown shape")
         << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "cone", "centre": [0, 0, 0]}]})"))
-        << "/world/colliders/0/shape|\"sphere\", \"capsule\" or \"box\"";
+        << "/world/colliders/0/shape|\"sphere\", \"capsule\", \"box\" or \"mesh\"";
+    QTest::newRow("mesh collider without a mesh")
+        << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "mesh", "centre": [0, 0, 0]}]})"))
+        << "/world/colliders/0/mesh";
+    QTest::newRow("body collisions with a negative friction")
+        << QString::fromStdString(projectText("", R"(, "world": {"bodyCollisions": {"enabled": true, "friction": -1}})"))
+        << "/world/bodyCollisions/friction";
     QTest::newRow("sphere without a radius")
         << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "sphere", "centre": [0, 0, 0]}]})"))
         << "/world/colliders/0/radius";
