@@ -6,8 +6,11 @@
 #include "bench/timer.h"
 #include "core/binding.h"
 #include "core/lattice_body.h"
+#include "core/mesh_surface.h"
 #include "core/node_change.h"
 #include "core/parallel.h"
+#include "core/primitives.h"
+#include "core/scene.h"
 #include "core/simulator.h"
 
 #include <cstdio>
@@ -174,6 +177,51 @@ double frameMicroseconds(bool sleeping, double minSeconds) {
     return 1e6 * bestSecondsPerUnit(frame, 1, minSeconds);
 }
 
+/// Microseconds per scene step of two soft ellipsoids (4x4x4 Bezier, 500-vertex meshes, symplectic Euler):
+/// side by side (1 m apart) without and with body collisions, and one resting on the other (whose bottom is
+/// pinned) under gravity, after a second to settle.
+json bodyContactCosts(double minSeconds, std::ostream& out) {
+    const auto scene = [](bool collide, double gap) {
+        Scene s;
+        for (int k = 0; k < 2; ++k) {
+            SceneObject o;
+            o.name = k == 0 ? "below" : "above";
+            const Vec3 radii(0.15, 0.06, 0.1), centre(k == 0 ? 0.0 : gap, k == 0 ? 0.0 : 0.125, 0.0);
+            o.mesh = makeUvEllipsoid(16, 32, radii, centre);
+            OrientedBox box;
+            box.origin = centre - 1.1 * radii;
+            box.size = 2.2 * radii;
+            o.lattice = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, box).value();
+            o.material = uniformMaterial(o.lattice, 0.01, 60.0, 0.05);
+            if (k == 0)
+                for (int n = 0; n < o.lattice.nodeCount(); ++n)
+                    if (o.lattice.coords(n)[1] == 0)
+                        o.material.anchor[std::size_t(n)] = AnchorMode::Pinned;
+            s.objects.push_back(std::move(o));
+        }
+        s.world.gravity = Vec3(0, -9.81, 0);
+        s.world.simulation.integrator = IntegratorKind::SymplecticEuler;
+        s.world.simulation.sleep = false;
+        s.world.bodyCollisions.enabled = collide;
+        return s;
+    };
+    const auto perStep = [&](bool collide, double gap) {
+        auto created = SceneSimulation::create(scene(collide, gap));
+        SceneSimulation sim = std::move(created.value());
+        sim.advanceTo(1.0);
+        const double dt = 1.0 / 240.0;
+        return 1e6 * bestSecondsPerUnit([&] { sim.advanceTo(sim.time() + dt); }, 1, minSeconds);
+    };
+    const double off = perStep(false, 1.0), apart = perStep(true, 1.0), resting = perStep(true, 0.0);
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "  two bodies (500 vertices each), us per scene step: body collisions off %.2f, on and apart %.2f "
+                  "(%.2fx), one resting on the other %.2f (%.2fx)\n",
+                  off, apart, apart / off, resting, resting / off);
+    out << line;
+    return {{"off_us", off}, {"apart_us", apart}, {"resting_us", resting}};
+}
+
 json features(double minSeconds, std::ostream& out) {
     // Only what a scene uses costs anything: gravity and planes add passes, a sleeping body costs nothing.
     const LatticeShape shape;
@@ -228,6 +276,21 @@ json features(double minSeconds, std::ostream& out) {
     std::snprintf(line, sizeof line, "  sphere collider out of reach %.2f (%.2fx), touching %.2f (%.2fx)\n", withFarRock,
                   withFarRock / base, withNearRock, withNearRock / base);
     out << line;
+    // The same rocks as meshes (a sphere of 1,984 triangles): FCL's queries where the grid cannot rule a
+    // point out.
+    const auto rockMesh = MeshSurface::create(makeUvEllipsoid(32, 32, Vec3::Ones())).value();
+    for (ExternalForces* f : {&farRock, &nearRock}) {
+        Collider& c = f->colliders.front();
+        c.shape = ColliderShape::Mesh;
+        c.surface = rockMesh;
+        c.scale = c.radius;
+    }
+    const double withFarMesh = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, farRock, false, minSeconds);
+    const double withNearMesh = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, nearRock, false, minSeconds);
+    std::snprintf(line, sizeof line, "  mesh collider (%zu triangles) out of reach %.2f (%.2fx), touching %.2f (%.2fx)\n",
+                  rockMesh->mesh().triangles.size(), withFarMesh, withFarMesh / base, withNearMesh, withNearMesh / base);
+    out << line;
+    const json bodies = bodyContactCosts(minSeconds, out);
     // What of that is the energy guard booking the pass (two energy evaluations a substep).
     const double hardUnguarded = stepMicroseconds(shape, IntegratorKind::SymplecticEuler, none, false, minSeconds, false, {{}, 1.0});
     std::snprintf(line, sizeof line, "  volume preservation 1, symplectic-euler, energy guard off: %.2f (%.2fx the guarded step without it)\n",
@@ -245,7 +308,9 @@ json features(double minSeconds, std::ostream& out) {
             {"sleeping_us", asleep},     {"frame_moving_us", frameAwake},    {"frame_sleeping_us", frameAsleep},
             {"energy_guard_off_us", unguarded}, {"strain_limits_idle_us", limitsIdle},
             {"strain_limits_binding_us", limitsBinding}, {"volume_preservation", volume},
-            {"collider_out_of_reach_us", withFarRock}, {"collider_touching_us", withNearRock}};
+            {"collider_out_of_reach_us", withFarRock}, {"collider_touching_us", withNearRock},
+            {"mesh_collider_out_of_reach_us", withFarMesh}, {"mesh_collider_touching_us", withNearMesh},
+            {"body_contacts", bodies}};
 }
 
 }  // namespace
