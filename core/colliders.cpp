@@ -24,8 +24,9 @@ Vec3 perpendicular(const Vec3& n) {
     return n.cross(helper).normalized();
 }
 
-/// Radius of a sphere around the collider's centre that holds it.
-double boundingRadius(const Collider& c) {
+}  // namespace
+
+double colliderBoundingRadius(const Collider& c) {
     switch (c.shape) {
     case ColliderShape::Sphere: return c.radius;
     case ColliderShape::Capsule: return c.radius + c.halfLength;
@@ -37,8 +38,6 @@ double boundingRadius(const Collider& c) {
     }
     return 0.0;
 }
-
-}  // namespace
 
 const char* colliderShapeName(ColliderShape shape) {
     switch (shape) {
@@ -174,7 +173,7 @@ std::pair<Vec3, Vec3> nodeBounds(const BodyModel& model, const BodyState& state)
 }
 
 bool mayTouch(const Collider& c, const Vec3& lo, const Vec3& hi) {
-    return (c.centre.cwiseMax(lo).cwiseMin(hi) - c.centre).norm() <= boundingRadius(c);
+    return (c.centre.cwiseMax(lo).cwiseMin(hi) - c.centre).norm() <= colliderBoundingRadius(c);
 }
 
 }  // namespace

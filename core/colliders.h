@@ -44,6 +44,9 @@ struct Collider {
 /// "sphere", "capsule", "box", "mesh".
 const char* colliderShapeName(ColliderShape shape);
 
+/// Radius of a sphere about `collider.centre` that holds the whole collider, metres.
+double colliderBoundingRadius(const Collider& collider);
+
 /// Signed distance from `p` to the collider's surface (negative inside), metres, and the outward unit
 /// normal of the nearest surface point.
 double colliderDistance(const Collider& collider, const Vec3& p, Vec3& normal);

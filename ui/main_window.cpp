@@ -1,7 +1,8 @@
 #include "ui/main_window.h"
 
 #include "core/mesh_surface.h"
-
+#include "io/mesh_import.h"
+#include "ui/edit_commands.h"
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
 #include "ui/presets_panel.h"
@@ -15,6 +16,7 @@
 #include <QApplication>
 #include <QCloseEvent>
 #include <QDockWidget>
+#include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QInputDialog>
@@ -151,6 +153,24 @@ void MainWindow::buildActions() {
     redo->setShortcuts({QKeySequence(tr("Ctrl+Y")), QKeySequence(tr("Ctrl+Shift+Z"))});
     edit->addAction(undo);
     edit->addAction(redo);
+    edit->addSeparator();
+    QMenu* addCollider = edit->addMenu(tr("Add &Collider"));
+    for (ColliderShape shape : {ColliderShape::Sphere, ColliderShape::Capsule, ColliderShape::Box, ColliderShape::Mesh}) {
+        const QString name = QString::fromUtf8(colliderShapeName(shape));
+        QAction* a = addCollider->addAction(shape == ColliderShape::Mesh ? tr("Mesh…") : name.left(1).toUpper() + name.mid(1));
+        a->setObjectName("actionAdd" + name.left(1).toUpper() + name.mid(1) + "Collider");
+        connect(a, &QAction::triggered, this, [this, shape] {
+            if (shape != ColliderShape::Mesh) {
+                (void)this->addCollider(shape);  // shown to the user when it fails
+                return;
+            }
+            const QString path = QFileDialog::getOpenFileName(
+                this, tr("Mesh Collider"), QFileInfo(m_document->filePath()).path(),
+                tr("Meshes (*.obj *.fbx *.gltf *.glb *.ply *.stl *.dae *.3ds *.blend);;All files (*)"));
+            if (!path.isEmpty())
+                (void)this->addCollider(shape, path);
+        });
+    }
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
     auto* shading = new QActionGroup(this);
@@ -198,7 +218,9 @@ void MainWindow::buildActions() {
         {tr("Anchor"), Tool::Anchor, "A", tr("Click a node to pin it (or make it heavy); drag a box for many, Ctrl+box clears.")},
         {tr("Void"), Tool::Void, "V", tr("Click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")},
         {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")},
-        {tr("Lattice"), Tool::Lattice, "L", tr("Drag to move the lattice box; Shift+drag scales it, Ctrl+drag turns it.")}};
+        {tr("Lattice"), Tool::Lattice, "L", tr("Drag to move the lattice box; Shift+drag scales it, Ctrl+drag turns it.")},
+        {tr("Collider"), Tool::Collider, "C",
+         tr("Drag a collider to move it; Shift+drag scales it, Delete removes it (Edit ▸ Add Collider adds one).")}};
     for (const auto& [name, tool, key, tip] : toolList) {
         QAction* a = new QAction(name, this);
         a->setObjectName("tool" + name);
@@ -347,6 +369,11 @@ void MainWindow::refreshOutliner() {
         drivers->setData(0, Qt::UserRole, int(i));
         item->setExpanded(true);
     }
+    if (scene.objects.size() > 1) {
+        const BodyCollisionSettings& bodies = scene.world.bodyCollisions;
+        new QTreeWidgetItem(m_outliner, {tr("Bodies collide"), bodies.enabled ? tr("yes (Kr %1, μ %2)").arg(bodies.restitution).arg(bodies.friction)
+                                                                           : tr("no (they pass through)")});
+    }
     auto* planes = new QTreeWidgetItem(m_outliner, {tr("Collision planes"), QString::number(scene.world.planes.size())});
     for (std::size_t p = 0; p < scene.world.planes.size(); ++p) {
         const CollisionPlane& plane = scene.world.planes[p];
@@ -436,6 +463,56 @@ void MainWindow::importMesh() {
         return;
     if (Status s = m_document->importMesh(path); !s)
         showError(tr("Cannot import mesh"), QString::fromStdString(s.message()));
+}
+
+Status MainWindow::addCollider(ColliderShape shape, const QString& meshPath) {
+    const Scene& scene = m_document->scene();
+    if (scene.objects.empty())
+        return Status::error("no object to place the collider by");
+    // Below the current object, a quarter of its size: in view, and not touching it yet.
+    const int current = std::clamp(m_viewport->currentObject(), 0, int(scene.objects.size()) - 1);
+    const Bounds b = scene.objects[std::size_t(current)].mesh.bounds();
+    const double size = std::max(b.diagonal(), 1e-3);
+    const Vec3 middle = 0.5 * (b.min + b.max);
+    Collider c;
+    c.shape = shape;
+    c.radius = 0.25 * size;
+    c.halfLength = 0.25 * size;
+    c.axis = Vec3::UnitX();
+    c.halfExtents = Vec3(0.5 * size, 0.1 * size, 0.5 * size);
+    const double below = shape == ColliderShape::Box ? c.halfExtents.y() : c.radius;
+    c.centre = Vec3(middle.x(), b.min.y() - 0.1 * size - below, middle.z());
+    if (shape == ColliderShape::Mesh) {
+        auto mesh = io::importMesh(meshPath.toStdString());
+        if (!mesh) {
+            showError(tr("Cannot add the mesh collider"), QString::fromStdString(mesh.message()));
+            return Status::error(mesh.message());
+        }
+        // The project names the file relative to itself once it has a folder, like an object's mesh.
+        const QString folder = QFileInfo(m_document->filePath()).path();
+        const QString reference =
+            m_document->filePath().isEmpty() ? QFileInfo(meshPath).absoluteFilePath() : QDir(folder).relativeFilePath(meshPath);
+        auto surface = MeshSurface::create(std::move(mesh.value()), reference.toStdString());
+        if (!surface) {
+            showError(tr("Cannot add the mesh collider"), QString::fromStdString(surface.message()));
+            return Status::error(surface.message());
+        }
+        c.surface = surface.value();
+        // Scaled to half the object's size, its top just below the object.
+        const Bounds m = c.surface->bounds();
+        c.scale = 0.5 * size / std::max(m.diagonal(), 1e-9);
+        const Vec3 meshMiddle = 0.5 * (m.min + m.max);
+        c.centre = Vec3(middle.x(), b.min.y() - 0.1 * size, middle.z()) -
+                   c.scale * Vec3(meshMiddle.x(), m.max.y(), meshMiddle.z());
+    }
+    WorldSettings after = scene.world;
+    after.colliders.push_back(c);
+    m_document->undoStack()->push(new WorldEditCommand(m_document, scene.world, after,
+                                                       tr("Add %1 collider").arg(QString::fromUtf8(colliderShapeName(shape)))));
+    if (QAction* tool = findChild<QAction*>("toolCollider"))
+        tool->trigger();
+    m_viewport->setCurrentCollider(int(after.colliders.size()) - 1);
+    return Status::success();
 }
 
 bool MainWindow::save() {

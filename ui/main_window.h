@@ -62,6 +62,9 @@ public slots:
     bool saveAs();
     void open();
     void importMesh();
+    /// Adds a collider of `shape` below the current object (a mesh collider reads `meshPath`), selects it
+    /// for the collider tool and switches to that tool; one undo step. Errors are shown and returned.
+    Status addCollider(ColliderShape shape, const QString& meshPath = {});
 
 protected:
     void closeEvent(QCloseEvent* event) override;

@@ -460,6 +460,13 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
         m_gesture = Gesture::Place;
         m_strokeKey = m_nextStrokeKey++;
         break;
+    case Tool::Collider:
+        setCurrentCollider(colliderAt(event->position()));
+        if (m_collider >= 0) {
+            m_gesture = Gesture::MoveCollider;
+            m_strokeKey = m_nextStrokeKey++;
+        }
+        break;
     }
 }
 
@@ -474,6 +481,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     case Gesture::Drag: moveDrag(pos); break;
     case Gesture::Paint: paintDab(pos); break;
     case Gesture::Place: placeLattice(pos - delta, pos); break;
+    case Gesture::MoveCollider: moveCollider(pos - delta, pos); break;
     case Gesture::Box: break;
     case Gesture::None: return;
     }
@@ -529,6 +537,14 @@ void Viewport::tabletEvent(QTabletEvent* event) {
 void Viewport::keyPressEvent(QKeyEvent* event) {
     switch (event->key()) {
     case Qt::Key_F: frameSelection(); break;
+    case Qt::Key_Delete:
+    case Qt::Key_Backspace:
+        if (m_tool != Tool::Collider || m_collider < 0) {
+            QOpenGLWidget::keyPressEvent(event);
+            return;
+        }
+        deleteCollider();
+        break;
     case Qt::Key_1: viewFront(); break;
     case Qt::Key_3: viewSide(); break;
     case Qt::Key_7: viewTop(); break;
@@ -641,6 +657,72 @@ void Viewport::placeLattice(const QPointF& from, const QPointF& to) {
         return;
     m_document->undoStack()->push(new LatticeEditCommand(m_document, m_object, o.lattice, o.material, lattice.value(),
                                                          o.material, tr("Place lattice"), m_strokeKey));
+}
+
+int Viewport::colliderAt(const QPointF& pos) const {
+    const auto& colliders = m_document->scene().world.colliders;
+    int best = -1;
+    double bestDistance = 1e300;
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+        const Collider& c = colliders[k];
+        const Vec3& centre = c.centre;
+        // Its size on screen at its centre's depth: the view plane's metres per pixel there.
+        const QPointF at = toWidget(centre);
+        const Vec3 a = m_camera.pointOnViewPlane(at.x(), at.y(), width(), height(), centre);
+        const Vec3 b = m_camera.pointOnViewPlane(at.x() + 1.0, at.y(), width(), height(), centre);
+        const double pixels = colliderBoundingRadius(c) / std::max((b - a).norm(), 1e-12);
+        const double distance = std::hypot(pos.x() - at.x(), pos.y() - at.y());
+        if (distance <= std::max(30.0, pixels) && distance < bestDistance) {
+            best = int(k);
+            bestDistance = distance;
+        }
+    }
+    return best;
+}
+
+void Viewport::setCurrentCollider(int index) {
+    m_collider = index;
+    const auto& colliders = m_document->scene().world.colliders;
+    if (index >= 0 && std::size_t(index) < colliders.size())
+        emit hint(tr("%1 %2: drag to move, Shift+drag to scale, Delete to remove.")
+                      .arg(QString::fromUtf8(colliderShapeName(colliders[std::size_t(index)].shape)))
+                      .arg(index + 1));
+}
+
+void Viewport::moveCollider(const QPointF& from, const QPointF& to) {
+    const WorldSettings& before = m_document->scene().world;
+    if (m_collider < 0 || std::size_t(m_collider) >= before.colliders.size())
+        return;
+    WorldSettings after = before;
+    Collider& c = after.colliders[std::size_t(m_collider)];
+    if (m_pressModifiers & Qt::ShiftModifier) {
+        // Scale about its centre: up grows, down shrinks (each shape's own sizes, by the same factor).
+        const double factor = std::exp(-0.005 * (to.y() - from.y()));
+        c.radius *= factor;
+        c.halfLength *= factor;
+        c.halfExtents *= factor;
+        c.scale *= factor;
+    } else {
+        // Move in the view plane at its centre's depth, so it follows the cursor.
+        const Vec3 a = m_camera.pointOnViewPlane(from.x(), from.y(), width(), height(), c.centre);
+        const Vec3 b = m_camera.pointOnViewPlane(to.x(), to.y(), width(), height(), c.centre);
+        c.centre += b - a;
+    }
+    if (!c.validate().ok())
+        return;  // scaled past a limit: keep the last good size
+    m_document->undoStack()->push(new WorldEditCommand(m_document, before, after,
+                                                       (m_pressModifiers & Qt::ShiftModifier) ? tr("Scale collider") : tr("Move collider"),
+                                                       m_strokeKey));
+}
+
+void Viewport::deleteCollider() {
+    const WorldSettings& before = m_document->scene().world;
+    if (m_collider < 0 || std::size_t(m_collider) >= before.colliders.size())
+        return;
+    WorldSettings after = before;
+    after.colliders.erase(after.colliders.begin() + m_collider);
+    m_collider = -1;
+    m_document->undoStack()->push(new WorldEditCommand(m_document, before, after, tr("Delete collider")));
 }
 
 void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {

@@ -4,7 +4,8 @@
 /// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
 /// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
 /// (click or box), select (for numeric entry, fill and smooth), lattice (move the box in the view
-/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step). The mode
+/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step), collider
+/// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it). The mode
 /// view animates one object's lattice in one of its vibration modes, for display only.
 
 #include "core/modes.h"
@@ -25,7 +26,7 @@ class QLabel;
 namespace softtouch::ui {
 
 /// What the left mouse button does.
-enum class Tool { Drag, Paint, Anchor, Void, Select, Lattice };
+enum class Tool { Drag, Paint, Anchor, Void, Select, Lattice, Collider };
 
 /// Which camera conventions the mouse follows.
 enum class NavigationStyle {
@@ -62,6 +63,8 @@ public:
     const std::set<int>& selection() const { return m_selection; }
     /// The object the tools act on.
     int currentObject() const { return m_object; }
+    /// The collider the collider tool last picked (index into world.colliders), -1 when none.
+    int currentCollider() const { return m_collider; }
     /// Mean time to draw a frame, milliseconds (CPU side, including the node upload).
     double frameMilliseconds() const { return m_frameMs; }
     /// Why the viewport cannot draw (no OpenGL 3.3, shader error); empty when it can.
@@ -100,6 +103,8 @@ public slots:
     void setOverlayVisible(bool visible);
     void setAnchorMode(softtouch::AnchorMode mode);
     void setCurrentObject(int object);
+    /// Makes collider `index` the one the collider tool acts on (-1: none).
+    void setCurrentCollider(int index);
     void setSelection(const std::set<int>& nodes);
     /// Frames every object.
     void frameAll();
@@ -129,7 +134,7 @@ protected:
     void keyPressEvent(QKeyEvent* event) override;
 
 private:
-    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place };
+    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place, MoveCollider };
     void uploadScene();
 public slots:
     /// Shows the painted field's range (call after changing brush().field).
@@ -146,6 +151,10 @@ private:
     void moveDrag(const QPointF& pos);
     void paintDab(const QPointF& pos);
     void placeLattice(const QPointF& from, const QPointF& to);
+    /// The collider under `pos` (within its drawn size, or 30 pixels of its centre), -1 when none.
+    int colliderAt(const QPointF& pos) const;
+    void moveCollider(const QPointF& from, const QPointF& to);
+    void deleteCollider();
     void applyNodeTool(const std::vector<int>& nodes, bool clear);
     std::vector<int> nodesInRect(const QRectF& rect) const;
     int grabSlotDragged() const { return m_dragSlot; }
@@ -167,6 +176,7 @@ private:
     BrushSettings m_brush;
     DragToolSettings m_drag;
     std::set<int> m_selection;
+    int m_collider = -1;
     int m_object = 0;
 
     Gesture m_gesture = Gesture::None;

@@ -3,6 +3,7 @@
 // projects survive save and reopen, an autosave survives a killed session, a corrupt project gives
 // an error dialog, the speed/accuracy dock measures the open scene and applies its pick, and the
 // viewport draws the fish in shaded and wireframe modes.
+#include "core/mesh_surface.h"
 #include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
 #include "io/video_encoder.h"
@@ -143,6 +144,7 @@ private slots:
     void rockSceneListsItsCollider();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
+    void colliderToolAddsMovesScalesAndDeletes();
     void mouseDragPullsAndReleaseSwingsBack();
     void restingFishIsNotRedrawn();
     void secondHandHoldsAndPenPressureScalesTheSpring();
@@ -497,6 +499,69 @@ void TestEditor::latticeToolMovesAndScalesTheBox() {
     w.document()->undoStack()->undo();
     w.document()->undoStack()->undo();
     QVERIFY(w.document()->scene().objects[0].lattice.box().origin == before.origin);
+}
+
+// Edit ▸ Add Collider puts a sphere below the fish and picks the collider tool; dragging it moves it with the
+// cursor, Shift+drag scales it, Delete removes it, each one undo step; a mesh collider reads its file.
+void TestEditor::colliderToolAddsMovesScalesAndDeletes() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    const std::size_t before = w.document()->scene().world.colliders.size();
+    w.findChild<QAction*>("actionAddSphereCollider")->trigger();
+    const auto& colliders = [&]() -> const std::vector<Collider>& { return w.document()->scene().world.colliders; };
+    QCOMPARE(colliders().size(), before + 1);
+    QCOMPARE(view->tool(), Tool::Collider);
+    QCOMPARE(view->currentCollider(), int(before));
+    const Collider added = colliders().back();
+    QCOMPARE(added.shape, ColliderShape::Sphere);
+    const Bounds fish = w.document()->scene().objects[0].mesh.bounds();
+    QVERIFY(added.centre.y() + added.radius < fish.min.y());  // below the fish, not touching it
+    QTRY_VERIFY(view->isVisible());
+
+    view->frameAll();
+    const QPoint start = view->toWidget(added.centre).toPoint();
+    const int undoBefore = w.document()->undoStack()->index();
+    QTest::mousePress(view, Qt::LeftButton, {}, start);
+    for (int i = 1; i <= 4; ++i)
+        QTest::mouseMove(view, start + QPoint(10 * i, 0));
+    QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(40, 0));
+    const QPointF now = view->toWidget(colliders().back().centre);
+    QVERIFY2(std::abs(now.x() - (start.x() + 40)) < 2.0 && std::abs(now.y() - start.y()) < 2.0,
+             qPrintable(QString("centre at %1,%2").arg(now.x()).arg(now.y())));
+    QCOMPARE(colliders().back().radius, added.radius);
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
+
+    QTest::mousePress(view, Qt::LeftButton, Qt::ShiftModifier, now.toPoint());
+    QTest::mouseMove(view, now.toPoint() + QPoint(0, -40));
+    QTest::mouseRelease(view, Qt::LeftButton, Qt::ShiftModifier, now.toPoint() + QPoint(0, -40));
+    QVERIFY(colliders().back().radius > added.radius * 1.1);
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 2);
+
+    QTest::keyClick(view, Qt::Key_Delete);
+    QCOMPARE(colliders().size(), before);
+    w.document()->undoStack()->undo();  // back, where it was scaled
+    QCOMPARE(colliders().size(), before + 1);
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QVERIFY(colliders().back().centre == added.centre);
+
+    // A mesh collider: an OBJ cube, scaled to half the fish's size, its top just below the fish.
+    const QString cube = m_dir->filePath("cube.obj");
+    QFile file(cube);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write("v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+               "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
+    file.close();
+    QVERIFY(w.addCollider(ColliderShape::Mesh, cube).ok());
+    const Collider& rock = colliders().back();
+    QCOMPARE(rock.shape, ColliderShape::Mesh);
+    QCOMPARE(int(rock.surface->mesh().triangles.size()), 12);
+    Vec3 n;
+    QVERIFY(colliderDistance(rock, Vec3(0.5 * (fish.min.x() + fish.max.x()), fish.min.y(), 0.5 * (fish.min.z() + fish.max.z())), n) > 0.0);
+    w.document()->undoStack()->undo();
+    QCOMPARE(colliders().size(), before + 1);  // the sphere's own add is still done
+    w.document()->undoStack()->undo();          // and the scene is as the next test expects it
+    QCOMPARE(colliders().size(), before);
 }
 
 void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
