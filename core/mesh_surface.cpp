@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <mutex>
 
 namespace softtouch {
 
@@ -92,7 +94,8 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
             const double angle = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
             if (std::isfinite(angle))
                 s->m_vertexNormals[tri[c]] += angle * normal;
-            edgeSum[edgeKey(tri[c], tri[(c + 1) % 3])] += normal;
+            // try_emplace with a zero: an Eigen vector default-constructs uninitialised.
+            edgeSum.try_emplace(edgeKey(tri[c], tri[(c + 1) % 3]), Vec3::Zero()).first->second += normal;
         }
     }
     s->m_edgeNormals.resize(n);
@@ -138,6 +141,43 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
                 s->m_gridDistance[index++] = float(s->exactDistance(node, normal));
             }
     return Made(std::shared_ptr<const MeshSurface>(std::move(s)));
+}
+
+Result<std::shared_ptr<const MeshSurface>> MeshSurface::shared(const Mesh& mesh) {
+    // Keyed by an FNV-1a hash of the positions and triangles; a hit is confirmed by comparing them.
+    std::uint64_t hash = 1469598103934665603ull;
+    const auto mix = [&](const void* data, std::size_t bytes) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < bytes; ++i)
+            hash = (hash ^ p[i]) * 1099511628211ull;
+    };
+    mix(mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
+    mix(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+    static std::mutex mutex;
+    static std::multimap<std::uint64_t, std::weak_ptr<const MeshSurface>> cache;
+    std::lock_guard lock(mutex);
+    for (auto it = cache.begin(); it != cache.end();) {  // forget surfaces nobody holds
+        if (it->second.expired())
+            it = cache.erase(it);
+        else
+            ++it;
+    }
+    const auto [first, last] = cache.equal_range(hash);
+    for (auto it = first; it != last; ++it)
+        if (auto held = it->second.lock()) {
+            const Mesh& m = held->mesh();
+            if (m.positions.size() == mesh.positions.size() && m.triangles.size() == mesh.triangles.size() &&
+                std::memcmp(m.positions.data(), mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f)) == 0 &&
+                std::memcmp(m.triangles.data(), mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0])) == 0)
+                return held;
+        }
+    Mesh geometry;  // only what the surface needs: not normals, parts or UVs
+    geometry.positions = mesh.positions;
+    geometry.triangles = mesh.triangles;
+    auto made = create(std::move(geometry));
+    if (made)
+        cache.emplace(hash, made.value());
+    return made;
 }
 
 double MeshSurface::signedDistance(const Vec3& p, Vec3& normal, double reach) const {

@@ -129,7 +129,7 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             return Status::error(where + model.message());
         std::shared_ptr<const MeshSurface> restSurface;
         if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh.triangles.empty()) {
-            auto surface = MeshSurface::create(object.mesh);
+            auto surface = MeshSurface::shared(object.mesh);
             if (!surface)
                 return Status::error(where + surface.message());
             restSurface = surface.value();

@@ -158,6 +158,14 @@ private slots:
                 QCOMPARE(d < 0.0, truth < 0.0);
         }
 
+        // One surface per distinct mesh while it is held (the editor's rebuilds find it built).
+        const Mesh ball = makeUvEllipsoid(8, 16, Vec3::Constant(radius));
+        const auto a = MeshSurface::shared(ball), b = MeshSurface::shared(ball);
+        QVERIFY(a && b && a.value() == b.value());
+        Mesh moved = ball;
+        moved.positions[3].x() += 1e-3f;
+        QVERIFY(MeshSurface::shared(moved).value() != a.value());
+
         QVERIFY(!MeshSurface::create(Mesh{}));
         Mesh broken = boxMesh(half);
         broken.triangles[3][1] = 99;

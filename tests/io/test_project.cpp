@@ -291,7 +291,7 @@ void TestProject::pairSampleTailsMeetAndPart() {
           size, contacts, deepestOn, 100.0 * deepestOn / size, deepestOff);
     QVERIFY(contacts > 0);
     QVERIFY(deepestOn <= 0.01 * size);
-    QVERIFY(deepestOff > 0.03 * size);
+    QVERIFY(deepestOff > 0.015 * size);  // the bound broken twice over without them
 }
 
 // A mesh collider reads its mesh through assimp, relative to the project; a save elsewhere keeps it found.
