@@ -38,7 +38,7 @@ void mapWithJacobian(const Lattice& lattice, std::span<const Vec3> nodes, const 
 
 /// u ≈ meanU + inverse (p − meanP): the affine map that best fits the nodes' current positions to their
 /// rest parameters (least squares). Newton starts from it, so a body that swam far from where it was
-/// bound, or turned, is still found in a few iterations.
+/// bound, or turned, starts near its answer.
 struct AffineGuess {
     Vec3 meanU = Vec3::Constant(0.5), meanP = Vec3::Zero();
     Mat3 inverse = Mat3::Identity();
@@ -156,7 +156,7 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
         if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any())
             continue;
         Vec3 uvw = guess(x);
-        // The affine guess is within a few hundredths of the truth unless the body is bent hard: a point
+        // The affine guess is near the truth unless the body is bent hard: a point
         // it puts well outside the box is outside, with no Newton iterations.
         constexpr double kGuessMargin = 0.25;
         if ((uvw.array() < -kGuessMargin).any() || (uvw.array() > 1.0 + kGuessMargin).any())
@@ -223,7 +223,7 @@ Status BodyCollisionSettings::validate() const {
 
 bool latticeParameters(const Lattice& lattice, std::span<const Vec3> nodes, const Vec3& p, Vec3& uvw, Mat3& jacobian) {
     // 1e-8 of the box is far below anything a contact resolves (3 nm on a 30 cm fish) and Newton gets there
-    // in two or three iterations from the affine guess.
+    // from the affine guess (latticeParametersInvertTheMap checks it converges on a bent lattice).
     const double tolerance = 1e-8 * lattice.box().diagonal();
     for (int iteration = 0; iteration < kNewtonIterations; ++iteration) {
         Vec3 x;
