@@ -391,7 +391,7 @@ void MainWindow::refreshOutliner() {
                                      ? tr("%1 × %2 × %3 m").arg(2 * c.halfExtents.x()).arg(2 * c.halfExtents.y()).arg(2 * c.halfExtents.z())
                                  : c.shape == ColliderShape::Mesh
                                      ? tr("%1, %2 triangles, scale %3")
-                                           .arg(QString::fromStdString(c.surface->source()))
+                                           .arg(QFileInfo(QString::fromStdString(c.surface->source())).fileName())
                                            .arg(c.surface->mesh().triangles.size())
                                            .arg(c.scale)
                                      : c.shape == ColliderShape::Capsule
