@@ -96,6 +96,16 @@ QWidget* PropertiesPanel::buildSimulation() {
             }
         });
     });
+    m_bodiesCollide = new QCheckBox(tr("Objects collide with each other"));
+    m_bodiesCollide->setObjectName("bodiesCollide");
+    m_bodiesCollide->setToolTip(tr("Off, objects pass through each other (an eye sunk into a head stays put)."));
+    form->addRow(m_bodiesCollide);
+    connect(m_bodiesCollide, &QCheckBox::toggled, this, [this](bool on) {
+        if (m_refreshing)
+            return;
+        editWorld(on ? tr("Objects collide") : tr("Objects pass through"), kNoMerge,
+                  [on](WorldSettings& w) { w.bodyCollisions.enabled = on; });
+    });
     m_drivers = new QCheckBox(tr("Drivers act (swim, scripted drags)"));
     m_drivers->setChecked(true);
     form->addRow(m_drivers);
@@ -531,6 +541,8 @@ void PropertiesPanel::refresh() {
     setQuietly(m_stepsPerSecond, std::round(1.0 / w.simulation.dt));
     m_gravity->setChecked(w.gravity.squaredNorm() > 0.0);
     m_groundPlane->setChecked(!w.planes.empty());
+    m_bodiesCollide->setChecked(w.bodyCollisions.enabled);
+    m_bodiesCollide->setVisible(scene.objects.size() > 1);  // one object has nothing to collide with
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.lattice, o.material);

@@ -89,6 +89,7 @@ private:
     QDoubleSpinBox* m_latticeScale = nullptr;
     QDoubleSpinBox* m_latticeTurn = nullptr;
     QCheckBox* m_groundPlane = nullptr;
+    QCheckBox* m_bodiesCollide = nullptr;
 
     QComboBox* m_brushField = nullptr;
     QDoubleSpinBox* m_brushValue = nullptr;

@@ -18,6 +18,7 @@
 
 #include <QAbstractButton>
 #include <QAction>
+#include <QCheckBox>
 #include <QListWidget>
 #include <QApplication>
 #include <QScrollArea>
@@ -145,6 +146,7 @@ private slots:
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void colliderToolAddsMovesScalesAndDeletes();
+    void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();
     void restingFishIsNotRedrawn();
     void secondHandHoldsAndPenPressureScalesTheSpring();
@@ -562,6 +564,28 @@ void TestEditor::colliderToolAddsMovesScalesAndDeletes() {
     QCOMPARE(colliders().size(), before + 1);  // the sphere's own add is still done
     w.document()->undoStack()->undo();          // and the scene is as the next test expects it
     QCOMPARE(colliders().size(), before);
+}
+
+// The pair sample opens with its objects colliding (Properties and Outliner say so); the checkbox turns it
+// off as one undo step. A scene of one object does not offer it.
+void TestEditor::pairSceneTogglesBodyCollisions() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-pair.softtouch")));
+    auto* box = w.findChild<QCheckBox*>("bodiesCollide");
+    QVERIFY(box);
+    QVERIFY(box->isVisibleTo(&w) && box->isChecked());
+    auto* outliner = w.findChild<QTreeWidget*>("outliner");
+    const auto row = outliner->findItems("Bodies collide", Qt::MatchExactly);
+    QCOMPARE(row.size(), 1);
+    QVERIFY(row[0]->text(1).startsWith("yes"));
+    box->click();
+    QVERIFY(!w.document()->scene().world.bodyCollisions.enabled);
+    QVERIFY(outliner->findItems("Bodies collide", Qt::MatchExactly)[0]->text(1).startsWith("no"));
+    w.document()->undoStack()->undo();
+    QVERIFY(w.document()->scene().world.bodyCollisions.enabled);
+    QVERIFY(box->isChecked());
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-rock.softtouch")));
+    QVERIFY(!box->isVisibleTo(&w));
 }
 
 void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
