@@ -205,7 +205,7 @@ private slots:
         c.axis = Vec3::UnitX();  // a log lying across
         c.halfLength = 0.5;
         c.halfExtents = Vec3(0.5, 0.3, 0.5);
-        if (c.shape == ColliderShape::Mesh)  // a rock: the sphere again, as 4,000 triangles
+        if (c.shape == ColliderShape::Mesh)  // a rock: the sphere again, as 3,968 triangles
             c.surface = MeshSurface::create(makeUvEllipsoid(32, 64, Vec3::Constant(0.3))).value();
         c.friction = 1.0;
         QVERIFY(c.validate().ok());
