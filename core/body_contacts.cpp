@@ -139,8 +139,10 @@ Side makeSide(ContactBody& body, std::vector<NodeWeight> weights) {
 /// Finds the contact points of `a` inside `b` and pushes each out at once (Gauss-Seidel: the next point sees
 /// the bodies as this one left them). A point found for the first time is added to `contacts` with its
 /// velocity target; `known[q]` holds its index there (−1: not yet found). Returns how many points were inside.
+/// `near`: the points the first sweep (`pass` given) found in b's box; later sweeps look only at them.
 int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& settings, double restingSpeed,
-            std::vector<int>& known, std::vector<Contact>& contacts, BodyContactPass* pass) {
+            std::vector<int>& known, std::vector<std::uint32_t>& near, std::vector<Contact>& contacts,
+            BodyContactPass* pass) {
     const auto [lo, hi] = allNodeBounds(*b.state);
     const AffineGuess guess = fitAffine(*b.lattice, b.state->position);
     const ContactPoints& points = a.model->contactPoints;
@@ -149,7 +151,11 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
     known.resize(count, -1);
     int inside = 0;
     const OrientedBox& box = b.lattice->box();
-    for (std::size_t q = 0; q < count; ++q) {
+    const bool first = pass != nullptr;
+    if (first)
+        near.clear();
+    for (std::size_t k = 0; k < (first ? count : near.size()); ++k) {
+        const std::size_t q = first ? k : near[k];
         if (atNodes && a.model->inverseMass[q] == 0.0)
             continue;
         const Vec3 x = atNodes ? a.state->position[q] : points.at(q, a.state->position);
@@ -164,6 +170,8 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
         Mat3 jacobian;
         if (!latticeParameters(*b.lattice, b.state->position, x, uvw, jacobian))
             continue;
+        if (first)
+            near.push_back(std::uint32_t(q));
         constexpr double kEdge = 1e-9;
         if ((uvw.array() < -kEdge).any() || (uvw.array() > 1.0 + kEdge).any())
             continue;
@@ -253,16 +261,16 @@ BodyContactPass resolveBodyContacts(ContactBody& a, ContactBody& b, const BodyCo
     BodyContactPass pass;
     thread_local std::vector<Contact> contacts;
     thread_local std::vector<int> knownA, knownB;
+    thread_local std::vector<std::uint32_t> nearA, nearB;
     contacts.clear();
     knownA.clear();
     knownB.clear();
-    // Positions: every point inside the other body is pushed out, found afresh in each sweep (a push moves
-    // the body's other points too, and can carry one that was outside in; looking again only at the points
-    // found near in the first sweep left implicit Euler's fish of test_core_body_contacts stuck together).
-    // The first sweep's findings are the pass's report.
+    // Positions: every point inside the other body is pushed out, looked for again in each sweep among the
+    // points the first sweep found in the other's box (a push moves the body's other points too, and can
+    // carry one that was outside in). The first sweep's findings are the pass's report.
     for (int sweep = 0; sweep < kPositionSweeps; ++sweep) {
-        const int inside = pushOut(a, b, settings, restingSpeed, knownA, contacts, sweep == 0 ? &pass : nullptr) +
-                           pushOut(b, a, settings, restingSpeed, knownB, contacts, sweep == 0 ? &pass : nullptr);
+        const int inside = pushOut(a, b, settings, restingSpeed, knownA, nearA, contacts, sweep == 0 ? &pass : nullptr) +
+                           pushOut(b, a, settings, restingSpeed, knownB, nearB, contacts, sweep == 0 ? &pass : nullptr);
         if (inside == 0)
             break;
     }
