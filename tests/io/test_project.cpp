@@ -237,6 +237,17 @@ void TestProject::collidersRoundTrip() {
     QVERIFY(saveProject(plain.value(), saved).ok());
     std::ifstream in(saved);
     QVERIFY(!nlohmann::json::parse(in)["world"].contains("colliders"));
+    QVERIFY(!nlohmann::json::parse(std::ifstream(saved))["world"].contains("bodyCollisions"));
+    // Body collisions and an object's position survive a save elsewhere (the pair sample).
+    auto pair = loadProject(kPresets / "scenes/angelfish-pair.softtouch");
+    QVERIFY2(pair.ok(), pair.message().c_str());
+    pair->scene.world.bodyCollisions.restitution = 0.4;
+    QVERIFY(saveProject(pair.value(), saved).ok());
+    auto pairAgain = loadProject(saved);
+    QVERIFY2(pairAgain.ok(), pairAgain.message().c_str());
+    QVERIFY(pairAgain->scene.world.bodyCollisions == pair->scene.world.bodyCollisions);
+    QCOMPARE(pairAgain->meshOffsets.at(1), Vec3(0.0, 0.0, 0.22));
+    QVERIFY(pairAgain->scene.objects[1].mesh.positions == pair->scene.objects[1].mesh.positions);
 }
 
 // presets/scenes/angelfish-rock.softtouch: the swimming tail reaches the rock, and the fin (the mesh's
