@@ -1,6 +1,8 @@
 #include "core/body_contacts.h"
 
 #include "core/body_model.h"
+#include "core/colliders.h"
+#include "core/contact_impulse.h"
 #include "core/forces.h"
 #include "core/mesh_surface.h"
 
@@ -81,17 +83,12 @@ double restDistance(const ContactBody& body, const Vec3& rest, Vec3& normal) {
     if (body.restSurface)
         return body.restSurface->signedDistance(rest, normal);
     const OrientedBox& box = body.lattice->box();
-    const Vec3 local = box.axes.transpose() * (rest - box.origin);
-    double best = -1e300;
-    for (int a = 0; a < 3; ++a)
-        for (double side : {-1.0, 1.0}) {
-            const double d = side < 0.0 ? -local[a] : local[a] - box.size[a];
-            if (d > best) {
-                best = d;
-                normal = side * box.axes.col(a);
-            }
-        }
-    return best;
+    Collider solid;
+    solid.shape = ColliderShape::Box;
+    solid.centre = box.toWorld(Vec3::Constant(0.5));
+    solid.halfExtents = 0.5 * box.size;
+    solid.axes = box.axes;
+    return colliderDistance(solid, rest, normal);
 }
 
 /// A material point of one body: its node weights and how its velocity answers an impulse on it.
@@ -116,14 +113,11 @@ struct Side {
 };
 
 struct Contact {
-    Side point;             ///< The sample found inside the other body.
-    Side other;             ///< The other body's material point where it was found.
-    Vec3 normal;            ///< Out of the other body: the way `point` is pushed.
-    double depth = 0.0;     ///< How far inside, metres.
-    double target = 0.0;    ///< Normal relative velocity the contact ends with (restitution), m/s.
-    double normalImpulse = 0.0;
-    Vec3 frictionImpulse = Vec3::Zero();
-    double inverseMass() const { return point.inverseMass + other.inverseMass; }
+    Side point;              ///< The sample found inside the other body.
+    Side other;              ///< The other body's material point where it was found.
+    double depth = 0.0;      ///< How far inside, metres.
+    ContactImpulse impulse;  ///< normal: out of the other body, the way `point` is pushed; inverseMass: both
+                             ///< sides' (the relative velocity answers an impulse on both).
 };
 
 Side makeSide(ContactBody& body, std::vector<NodeWeight> weights) {
@@ -193,26 +187,26 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
         Contact c;
         c.point = makeSide(a, std::move(own));
         c.other = makeSide(b, b.lattice->weights(uvw));
-        if (c.inverseMass() <= 0.0)
+        c.impulse.inverseMass = c.point.inverseMass + c.other.inverseMass;
+        if (c.impulse.inverseMass <= 0.0)
             continue;  // both sides held: nothing can move
-        c.normal = gradient.normalized();
+        c.impulse.normal = gradient.normalized();
         c.depth = -restDepth / gradient.norm();
         ++inside;
         if (pass) {
             ++pass->contacts;
             pass->deepest = std::max(pass->deepest, c.depth);
         }
-        const double lambda = c.depth / c.inverseMass();
-        c.point.push(a.state->position, lambda * c.normal);
-        c.other.push(b.state->position, -lambda * c.normal);
+        const double lambda = c.depth / c.impulse.inverseMass;
+        c.point.push(a.state->position, lambda * c.impulse.normal);
+        c.other.push(b.state->position, -lambda * c.impulse.normal);
         if (known[q] >= 0) {
             Contact& previous = contacts[std::size_t(known[q])];  // found again: take the newer normal
-            previous.normal = c.normal;
+            previous.impulse.normal = c.impulse.normal;
             continue;
         }
-        const double vn = c.normal.dot(c.point.at(a.state->velocity) - c.other.at(b.state->velocity));
-        const double restitution = -vn < restingSpeed ? 0.0 : settings.restitution;
-        c.target = vn < 0.0 ? -restitution * vn : 0.0;
+        const double vn = c.impulse.normal.dot(c.point.at(a.state->velocity) - c.other.at(b.state->velocity));
+        c.impulse.target = contactTargetSpeed(vn, restingSpeed, settings.restitution);
         known[q] = int(contacts.size());
         contacts.push_back(std::move(c));
     }
@@ -276,22 +270,12 @@ BodyContactPass resolveBodyContacts(ContactBody& a, ContactBody& b, const BodyCo
     }
     if (contacts.empty())
         return pass;
-    // Velocities: sequential impulses with accumulated, clamped impulses (as resolveColliders), on the
-    // relative velocity of the two material points; each impulse acts on both with opposite signs.
+    // Velocities: sequential impulses (core/contact_impulse.h, as resolveColliders) on the relative velocity
+    // of the two material points; each impulse acts on both with opposite signs.
     for (int sweep = 0; sweep < 4 * kSweeps; ++sweep)
         for (Contact& c : contacts) {
             const Vec3 relative = c.point.at(c.point.body->state->velocity) - c.other.at(c.other.body->state->velocity);
-            const double k = c.inverseMass();
-            const double vn = relative.dot(c.normal);
-            const double accumulated = std::max(0.0, c.normalImpulse + (c.target - vn) / k);
-            const double normalChange = accumulated - c.normalImpulse;
-            c.normalImpulse = accumulated;
-            Vec3 friction = c.frictionImpulse - (relative - vn * c.normal) / k;
-            const double limit = settings.friction * c.normalImpulse;
-            if (friction.norm() > limit)
-                friction *= limit / friction.norm();
-            const Vec3 impulse = normalChange * c.normal + (friction - c.frictionImpulse);
-            c.frictionImpulse = friction;
+            const Vec3 impulse = sequentialImpulse(c.impulse, relative, settings.friction);
             c.point.push(c.point.body->state->velocity, impulse);
             c.other.push(c.other.body->state->velocity, -impulse);
         }

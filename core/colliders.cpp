@@ -1,6 +1,7 @@
 #include "core/colliders.h"
 
 #include "core/body_model.h"
+#include "core/contact_impulse.h"
 #include "core/forces.h"
 #include "core/mesh_surface.h"
 
@@ -221,11 +222,7 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
     };
     struct Contact {
         std::size_t point;
-        Vec3 normal;
-        double inverseMass;   ///< Σ w_i² m_i⁻¹: how the point's velocity answers an impulse on it.
-        double target;        ///< Normal velocity the contact ends with (restitution), m/s.
-        double normalImpulse; ///< Accumulated, >= 0.
-        Vec3 frictionImpulse; ///< Accumulated, |.| <= friction × normalImpulse.
+        ContactImpulse impulse;  ///< inverseMass: Σ w_i² m_i⁻¹ of the point (the collider does not move).
     };
     std::vector<Contact> touching;
     auto pointState = [&](std::size_t q, Vec3& x, Vec3& v) {
@@ -259,51 +256,37 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                     pass.deepest = std::max(pass.deepest, -depth);
                     if (k > 0.0) {
                         const double vn = v.dot(n);
-                        const double restitution = -vn < restingSpeed ? 0.0 : c.restitution;
-                        touching.push_back({q, n, k, vn < 0.0 ? -restitution * vn : 0.0, 0.0, Vec3::Zero()});
+                        touching.push_back({q, {n, k, contactTargetSpeed(vn, restingSpeed, c.restitution)}});
                     }
                 }
                 if (k > 0.0)
                     apply(q, k, -depth * n, Vec3::Zero());
             }
         }
-        // Velocities: sequential impulses with accumulated, clamped impulses (E. Catto, "Iterative Dynamics
-        // with Temporal Coherence", GDC 2005): a normal impulse that only pushes in total, Coulomb friction
-        // bounded by it. Accumulating lets a later sweep take back what an earlier one overdid, so a body
-        // resting on many points settles instead of jittering.
+        // Velocities: sequential impulses (core/contact_impulse.h). Accumulating lets a later sweep take back
+        // what an earlier one overdid, so a body resting on many points settles instead of jittering.
         // Warm start: each touching point begins with last substep's impulses (the normal one only if it still
         // pushes, the friction one within its new bound); points no longer touching forget theirs.
         thread_local std::vector<std::uint8_t> touched;
         touched.assign(count, 0);
         for (Contact& contact : touching) {
+            ContactImpulse& i = contact.impulse;
             touched[contact.point] = 1;
-            contact.normalImpulse = std::max(0.0, warm.normal[contact.point]);
-            Vec3 friction = warm.friction[contact.point] - warm.friction[contact.point].dot(contact.normal) * contact.normal;
-            const double limit = c.friction * contact.normalImpulse;
+            i.normalImpulse = std::max(0.0, warm.normal[contact.point]);
+            Vec3 friction = warm.friction[contact.point] - warm.friction[contact.point].dot(i.normal) * i.normal;
+            const double limit = c.friction * i.normalImpulse;
             if (friction.norm() > limit)
                 friction *= limit / std::max(friction.norm(), 1e-300);
-            contact.frictionImpulse = friction;
-            apply(contact.point, contact.inverseMass, Vec3::Zero(),
-                  contact.inverseMass * (contact.normalImpulse * contact.normal + contact.frictionImpulse));
+            i.frictionImpulse = friction;
+            apply(contact.point, i.inverseMass, Vec3::Zero(), i.inverseMass * (i.normalImpulse * i.normal + i.frictionImpulse));
         }
         for (int sweep = 0; sweep < 4 * kSweeps; ++sweep) {
             for (Contact& contact : touching) {
                 Vec3 x, v;
                 pointState(contact.point, x, v);
-                const double vn = v.dot(contact.normal);
-                const double accumulated = std::max(0.0, contact.normalImpulse + (contact.target - vn) / contact.inverseMass);
-                const double normalChange = accumulated - contact.normalImpulse;
-                contact.normalImpulse = accumulated;
-                const Vec3 tangent = v - vn * contact.normal;
-                Vec3 friction = contact.frictionImpulse - tangent / contact.inverseMass;
-                const double limit = c.friction * contact.normalImpulse;
-                if (friction.norm() > limit)
-                    friction *= limit / friction.norm();
-                const Vec3 frictionChange = friction - contact.frictionImpulse;
-                contact.frictionImpulse = friction;
+                const Vec3 impulse = sequentialImpulse(contact.impulse, v, c.friction);
                 // An impulse J on the point changes its velocity by k J: apply() takes that change.
-                apply(contact.point, contact.inverseMass, Vec3::Zero(),
-                      contact.inverseMass * (normalChange * contact.normal + frictionChange));
+                apply(contact.point, contact.impulse.inverseMass, Vec3::Zero(), contact.impulse.inverseMass * impulse);
             }
         }
         for (std::size_t q = 0; q < count; ++q)
@@ -312,8 +295,8 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                 warm.friction[q].setZero();
             }
         for (const Contact& contact : touching) {
-            warm.normal[contact.point] = contact.normalImpulse;
-            warm.friction[contact.point] = contact.frictionImpulse;
+            warm.normal[contact.point] = contact.impulse.normalImpulse;
+            warm.friction[contact.point] = contact.impulse.frictionImpulse;
         }
     }
     return pass;
