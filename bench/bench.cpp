@@ -35,7 +35,7 @@ struct CartoonControls {
 std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const CartoonControls& controls = {}) {
     LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, 0.9);
     m.strainLimits = controls.limits;
-    m.volumePreservation = controls.volumePreservation;
+    setVolumePreservation(m, controls.volumePreservation);
     for (int k = 0; k < lattice.count(2); ++k)
         for (int j = 0; j < lattice.count(1); ++j)
             m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;

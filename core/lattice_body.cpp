@@ -22,6 +22,7 @@ LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, doub
     m.stiffness.assign(n, stiffness);
     m.damping.assign(n, damping);
     m.nodeDamping.assign(n, 0.0);
+    m.volumePreservation.assign(n, 0.0);
     m.anchor.assign(n, AnchorMode::Free);
     m.isVoid.assign(n, 0);
     return m;
@@ -86,6 +87,17 @@ std::array<std::vector<double>, 3> cellSpacings(const Lattice& lattice) {
 constexpr double kModulusPerCoefficient = 61.0 / 117.0;
 
 }  // namespace
+
+double largestVolumePreservation(const LatticeMaterial& material) {
+    double largest = 0.0;
+    for (double p : material.volumePreservation)
+        largest = std::max(largest, p);
+    return largest;
+}
+
+void setVolumePreservation(LatticeMaterial& material, double p) {
+    material.volumePreservation.assign(material.mass.size(), p);
+}
 
 double solidMean(const std::vector<double>& values, const LatticeMaterial& material) {
     double sum = 0.0;
@@ -233,6 +245,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     if (Status s = sized(m.nodeDamping.size(), "node damping"); !s) return s;
     if (Status s = sized(m.anchor.size(), "anchor"); !s) return s;
     if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
+    if (!m.volumePreservation.empty())
+        if (Status s = sized(m.volumePreservation.size(), "volume preservation"); !s) return s;
     const MaterialRanges& range = materialRanges(m.model);
     auto formatNumber = [](double x) {
         std::ostringstream out;
@@ -245,7 +259,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
             return Status::success();
         const std::string label = r.label;
         const std::string field = label == r.name ? label : label + " (" + r.name + ")";
-        return Status::error(node + " " + field + " " + formatNumber(x) + " " + r.unit + " is outside [" +
+        const std::string unit = *r.unit ? std::string(" ") + r.unit : std::string();
+        return Status::error(node + " " + field + " " + formatNumber(x) + unit + " is outside [" +
                              formatNumber(r.low) + ", " + formatNumber(r.high) + "]");
     };
     for (std::size_t i = 0; i < n; ++i) {
@@ -256,6 +271,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
         if (Status s = check(m.stiffness[i], range.stiffness, node); !s) return s;
         if (Status s = check(m.damping[i], range.damping, node); !s) return s;
         if (Status s = check(m.nodeDamping[i], range.nodeDamping, node); !s) return s;
+        if (!m.volumePreservation.empty())
+            if (Status s = check(m.volumePreservation[i], kVolumePreservationRange, node); !s) return s;
     }
     for (int a = 0; a < 3; ++a) {
         const double s = m.kindScale[std::size_t(a)];
@@ -274,8 +291,6 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
                                                           const Mesh* mesh) {
     if (Status s = validateMaterial(lattice, material); !s)
         return s;
-    if (!(material.volumePreservation >= 0.0 && material.volumePreservation <= 1.0))
-        return Status::error("volume preservation must be in [0, 1], got " + std::to_string(material.volumePreservation));
     BodyDescription d;
     d.restPositions = lattice.restNodes();
     d.mass = nodeMasses(lattice, material);
@@ -327,7 +342,7 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     }
     if (mesh && !mesh->positions.empty())
         d.contactPoints = meshContactPoints(lattice, *mesh);
-    if (material.volumePreservation > 0.0) {
+    if (largestVolumePreservation(material) > 0.0) {
         // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).
         double modulus = 0.0;
         int counted = 0;
@@ -414,6 +429,7 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     out.nodeDamping.assign(n, 0.0);
     out.anchor.assign(n, AnchorMode::Free);
     out.isVoid.assign(n, 0);
+    out.volumePreservation.assign(n, 0.0);
     // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
     // A continuum's values are per volume or per area already: nothing to rescale.
     keepContinuum = keepContinuum && material.model == MaterialModel::LatticeSprings;
@@ -431,6 +447,8 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
         out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
         out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
         out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
+        if (!material.volumePreservation.empty())
+            out.volumePreservation[k] = material.volumePreservation[source];  // a fraction: the same on any lattice
     }
     resampleNodeFlags(from, material.anchor, to, out.anchor, AnchorMode::Free);
     resampleNodeFlags(from, material.isVoid, to, out.isVoid, std::uint8_t(0));

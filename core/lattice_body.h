@@ -53,8 +53,10 @@ struct LatticeMaterial {
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
     StrainLimits strainLimits;           ///< No spring beyond stretch × (or under squash ×) its rest length; off.
-    double volumePreservation = 0.0;     ///< How stiffly the mesh's volume is kept, [0, 1]: 0 off, 1 hard
-                                         ///< (core/volume_preservation.h).
+    std::vector<double> volumePreservation; ///< Per node, [0, 1]: how stiffly the mesh's volume around the node
+                                         ///< is kept, 0 off, 1 hard (core/volume_preservation.h). Empty: 0
+                                         ///< everywhere. Painted like stiffness; the body's largest value sets
+                                         ///< the stiffness and each region counts by its value.
 };
 
 /// Name, valid range and unit of each field under a model: one table for validation, the project
@@ -66,6 +68,8 @@ struct MaterialRange {
     double high = 0.0;
     const char* unit = "";
 };
+/// The painted volume preservation, the same under both models (a fraction, no unit).
+inline constexpr MaterialRange kVolumePreservationRange{"volumePreservation", "volume preservation", 0.0, 1.0, ""};
 struct MaterialRanges {
     const char* model = "";  ///< The model's name in files: "lattice-springs" or "continuum".
     MaterialRange mass, stiffness, damping, nodeDamping;
@@ -82,6 +86,11 @@ LatticeMaterial defaultMaterial(const Lattice& lattice, MaterialModel model = Ma
 
 /// A resolution-independent material with the same values everywhere.
 LatticeMaterial continuumMaterial(const Lattice& lattice, double density, double modulus, double viscosity);
+
+/// The largest volume preservation of the material's non-void nodes (0: the body keeps no volume).
+double largestVolumePreservation(const LatticeMaterial& material);
+/// Every node's volume preservation set to `p` (a uniform map; 0 turns it off).
+void setVolumePreservation(LatticeMaterial& material, double p);
 
 /// Mean of a per-node field over the material's non-void nodes (0 when every node is void).
 double solidMean(const std::vector<double>& values, const LatticeMaterial& material);

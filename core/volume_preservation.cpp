@@ -12,10 +12,15 @@ int volumeSampleCells(const Lattice& lattice) {
     return std::max({4, lattice.count(0), lattice.count(1), lattice.count(2)});
 }
 
-VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector<double>& occupancy, double preservation,
-                                       double modulus) {
+VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector<double>& occupancy,
+                                       std::span<const double> preservation, double modulus) {
     VolumeConstraint c;
-    c.preservation = std::clamp(preservation, 0.0, 1.0);
+    double largest = 0.0, smallest = 1.0;
+    for (double p : preservation) {
+        largest = std::max(largest, std::clamp(p, 0.0, 1.0));
+        smallest = std::min(smallest, std::clamp(p, 0.0, 1.0));
+    }
+    c.preservation = largest;
     if (c.preservation == 0.0 || !(modulus > 0.0))
         return c;
     const int G = volumeSampleCells(lattice);
@@ -38,7 +43,37 @@ VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector
     c.weight.assign(points, 0.0);
     for (std::size_t q = 0; q < points; ++q)
         c.weight[q] = (wholeBox ? 1.0 : occupancy[q]) / double(points);  // of the unit parameter box
+    if (smallest < largest && preservation.size() == std::size_t(lattice.nodeCount())) {
+        // A painted map: each sample counts by the map carried to it through the lattice's basis,
+        // p(u_q) = Σ_i N_i(u_q) p_i, over the largest p (the basis is a partition of unity, so a uniform
+        // map leaves every weight as it is and is not applied at all).
+        const int nu = c.nodes[0], nv = c.nodes[1], nw = c.nodes[2];
+        const auto &tu = c.value[0], &tv = c.value[1], &tw = c.value[2];
+        for (int gw = 0; gw < G; ++gw)
+            for (int gv = 0; gv < G; ++gv)
+                for (int gu = 0; gu < G; ++gu) {
+                    double painted = 0.0;
+                    for (int k = 0; k < nw; ++k) {
+                        const double bw = tw[std::size_t(gw * nw + k)];
+                        if (bw == 0.0)
+                            continue;
+                        for (int j = 0; j < nv; ++j) {
+                            const double bv = tv[std::size_t(gv * nv + j)];
+                            if (bv == 0.0)
+                                continue;
+                            for (int i = 0; i < nu; ++i)
+                                painted += bw * bv * tu[std::size_t(gu * nu + i)] *
+                                           preservation[std::size_t(lattice.index(i, j, k))];
+                        }
+                    }
+                    c.weight[std::size_t(gu + G * (gv + G * gw))] *= std::clamp(painted / largest, 0.0, 1.0);
+                }
+    }
     c.restVolume = sampledVolume(c, lattice.restNodes());
+    if (!(c.restVolume > 0.0)) {  // painted only where the mesh is not: nothing to keep
+        c.weight.clear();
+        return c;
+    }
     // K = E p / (1 − p); α = V0 / K (0 when hard).
     c.compliance = c.preservation >= 1.0 ? 0.0 : c.restVolume * (1.0 - c.preservation) / (modulus * c.preservation);
     return c;

@@ -19,6 +19,12 @@
 /// springs) and p ∈ [0, 1] the material's `volumePreservation`: p = 1/2 resists a volume change as much
 /// as the springs resist a stretch, p = 0.9 nine times as much, and p = 1 is a hard constraint (α = 0:
 /// Newton iterations until |C| < 1e-6 V0).
+///
+/// p is painted per node. The body keeps one constraint, stiff as its largest p, over a volume in which
+/// each sample counts by the painted map carried to it through the lattice basis, p(u_q) / max p: where
+/// the map is 0 the mesh's volume is not kept (a fin squashes flat), where it is highest it counts fully,
+/// and a squashed painted region bulges within itself and the regions painted beside it. Every sample's
+/// det J is unchanged by a translation, so Σ_i ∇_i C = 0 for any map and the correction keeps momentum.
 
 #include "core/lattice.h"
 #include "core/types.h"
@@ -36,7 +42,7 @@ struct CollisionPlane;
 
 /// The sampled volume of a body and how stiffly it is kept. Empty (inactive) when preservation is 0.
 struct VolumeConstraint {
-    double preservation = 0.0;          ///< p in [0, 1]; 0: off.
+    double preservation = 0.0;          ///< The largest painted p, [0, 1]; 0: off.
     double restVolume = 0.0;            ///< V0, m³ (the mesh's volume; the box's when there is no mesh).
     double compliance = 0.0;            ///< α = V0 / K, m³/Pa; 0 at p = 1 (hard).
     int cells = 0;                      ///< G: samples per box axis.
@@ -44,7 +50,7 @@ struct VolumeConstraint {
     /// Per axis: basis values and slopes of every node at the G sample parameters, [g * nodes + i].
     std::array<std::vector<double>, 3> value, slope;
     std::vector<double> weight;         ///< w_q on the G³ grid (q = gu + G·(gv + G·gw)): parameter volume ×
-                                        ///< the fraction inside the mesh; 0 outside it.
+                                        ///< the fraction inside the mesh × p(u_q) / max p; 0 outside it.
     bool active() const { return preservation > 0.0 && !weight.empty() && restVolume > 0.0; }
 };
 
@@ -52,9 +58,10 @@ struct VolumeConstraint {
 int volumeSampleCells(const Lattice& lattice);
 
 /// The constraint of `lattice` sampled on G³ cells (G = volumeSampleCells) with `occupancy` the fraction
-/// of each cell inside the mesh (index cu + G·(cv + G·cw); empty: the whole box). `modulus` E in Pa (> 0).
+/// of each cell inside the mesh (index cu + G·(cv + G·cw); empty: the whole box). `preservation`: p per
+/// lattice node (see above; a uniform map weighs every sample alike). `modulus` E in Pa (> 0).
 VolumeConstraint buildVolumeConstraint(const Lattice& lattice, const std::vector<double>& occupancy,
-                                       double preservation, double modulus);
+                                       std::span<const double> preservation, double modulus);
 
 /// V(x) = Σ_q w_q det J(u_q) of node positions `x`; with `gradient` (one entry per node, zeroed here)
 /// also ∂V/∂x_i. The tangents x_u, x_v, x_w on the whole grid are sums over one axis at a time (a

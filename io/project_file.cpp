@@ -169,8 +169,13 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     };
     readLimit("stretchLimit", kMinStretchLimit, kMaxStretchLimit, m.strainLimits.stretch);
     readLimit("squashLimit", kMinSquashLimit, kMaxSquashLimit, m.strainLimits.squash);
-    if (auto x = v["volumePreservation"].number(0.0, 1.0))
-        m.volumePreservation = *x;
+    // One number (a uniform map, as every file before painting had) or a painted map; all 0 is off.
+    if (v[kVolumePreservationRange.name].exists()) {
+        std::vector<double> painted(m.mass.size(), 0.0);
+        readPerNode(v[kVolumePreservationRange.name], painted, kVolumePreservationRange.low,
+                    kVolumePreservationRange.high, kVolumePreservationRange.unit);
+        m.volumePreservation = std::move(painted);
+    }
 }
 
 std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {
@@ -953,7 +958,8 @@ Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
                 std::optional<double> total;
                 const JsonValue material = root["material"];
                 for (const char* field :
-                     {"mass", "stiffness", "damping", "airDamping", "density", "modulus", "viscosity", "dampingRate"}) {
+                     {"mass", "stiffness", "damping", "airDamping", "density", "modulus", "viscosity", "dampingRate",
+                      kVolumePreservationRange.name}) {
                     if (material[field].isArray())
                         material[field].problem("a preset holds one value for every node, not an array");
                 }
@@ -1153,8 +1159,8 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
         object["material"]["stretchLimit"] = m.strainLimits.stretch;
     if (m.strainLimits.squash > 0.0)
         object["material"]["squashLimit"] = m.strainLimits.squash;
-    if (m.volumePreservation > 0.0)
-        object["material"]["volumePreservation"] = m.volumePreservation;
+    if (largestVolumePreservation(m) > 0.0)
+        object["material"][kVolumePreservationRange.name] = perNode(m.volumePreservation);
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -1274,6 +1280,10 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
         material.stiffness[std::size_t(n)] = m.stiffness[std::size_t(n)];
         material.damping[std::size_t(n)] = m.damping[std::size_t(n)];
         material.nodeDamping[std::size_t(n)] = m.nodeDamping[std::size_t(n)];
+        if (!m.volumePreservation.empty() || !material.volumePreservation.empty()) {
+            material.volumePreservation.resize(material.mass.size(), 0.0);
+            material.volumePreservation[std::size_t(n)] = m.volumePreservation.empty() ? 0.0 : m.volumePreservation[std::size_t(n)];
+        }
     }
     return Status::success();
 }
@@ -1317,8 +1327,9 @@ Status saveMaterialPreset(const std::string& name, const std::string& descriptio
         values["stretchLimit"] = material.strainLimits.stretch;
     if (material.strainLimits.squash > 0.0)
         values["squashLimit"] = material.strainLimits.squash;
-    if (material.volumePreservation > 0.0)
-        values["volumePreservation"] = material.volumePreservation;
+    // A preset holds one value: a painted map's mean over the solid nodes.
+    if (largestVolumePreservation(material) > 0.0)
+        values[kVolumePreservationRange.name] = solidMean(material.volumePreservation, material);
     const json doc = {{"format", kPresetFormat},
                       {"version", kPresetVersion},
                       {"kind", "material"},

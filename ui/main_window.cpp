@@ -214,7 +214,7 @@ void MainWindow::buildActions() {
     auto* toolGroup = new QActionGroup(this);
     const std::tuple<QString, Tool, QString, QString> toolList[] = {
         {tr("Drag"), Tool::Drag, "D", tr("Pull the surface with a spring; Ctrl+drag adds a second hand that holds.")},
-        {tr("Paint"), Tool::Paint, "P", tr("Paint mass, stiffness or damping on lattice nodes; one stroke is one undo step.")},
+        {tr("Paint"), Tool::Paint, "P", tr("Paint mass, stiffness, damping or volume preservation on lattice nodes; one stroke is one undo step.")},
         {tr("Anchor"), Tool::Anchor, "A", tr("Click a node to pin it (or make it heavy); drag a box for many, Ctrl+box clears.")},
         {tr("Void"), Tool::Void, "V", tr("Click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")},
         {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")},

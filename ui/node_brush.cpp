@@ -11,15 +11,26 @@ std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
     case PaintField::Stiffness: return material.stiffness;
     case PaintField::Damping: return material.damping;
     case PaintField::NodeDamping: return material.nodeDamping;
+    case PaintField::VolumePreservation:
+        material.volumePreservation.resize(material.mass.size(), 0.0);
+        return material.volumePreservation;
     }
     return material.stiffness;
 }
 
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field) {
-    return fieldValues(const_cast<LatticeMaterial&>(material), field);
+    switch (field) {
+    case PaintField::Mass: return material.mass;
+    case PaintField::Stiffness: return material.stiffness;
+    case PaintField::Damping: return material.damping;
+    case PaintField::NodeDamping: return material.nodeDamping;
+    case PaintField::VolumePreservation:
+        // Every material the editor holds has the map sized (uniformMaterial, the project reader, resampling).
+        return material.volumePreservation;
+    }
+    return material.stiffness;
 }
 
-namespace {
 const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     const MaterialRanges& range = materialRanges(model);
     switch (field) {
@@ -27,10 +38,20 @@ const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     case PaintField::Stiffness: return range.stiffness;
     case PaintField::Damping: return range.damping;
     case PaintField::NodeDamping: return range.nodeDamping;
+    case PaintField::VolumePreservation: return kVolumePreservationRange;
     }
     return range.stiffness;
 }
-}  // namespace
+
+void setLargestVolumePreservation(LatticeMaterial& material, double p) {
+    const double largest = largestVolumePreservation(material);
+    if (largest <= 0.0 || p <= 0.0 || material.volumePreservation.size() != material.mass.size()) {
+        setVolumePreservation(material, std::clamp(p, 0.0, 1.0));
+        return;
+    }
+    for (double& x : material.volumePreservation)
+        x = std::clamp(x * p / largest, 0.0, 1.0);
+}
 
 const char* fieldName(PaintField field, MaterialModel model) { return fieldRange(field, model).label; }
 
@@ -51,6 +72,8 @@ double brushWeight(double distancePixels, const BrushSettings& brush) {
 bool applyDab(LatticeMaterial& material, std::span<const Eigen::Vector2d> nodeScreen, const Eigen::Vector2d& centre,
               const BrushSettings& brush) {
     std::vector<double>& values = fieldValues(material, brush.field);
+    const MaterialRange& range = fieldRange(brush.field, material.model);
+    const double target = std::clamp(brush.value, range.low, range.high);
     bool changed = false;
     for (std::size_t n = 0; n < nodeScreen.size() && n < values.size(); ++n) {
         if (material.isVoid[n])
@@ -58,7 +81,7 @@ bool applyDab(LatticeMaterial& material, std::span<const Eigen::Vector2d> nodeSc
         const double w = brush.strength * brushWeight((nodeScreen[n] - centre).norm(), brush);
         if (w <= 0.0)
             continue;
-        const double next = values[n] + w * (brush.value - values[n]);
+        const double next = values[n] + w * (target - values[n]);
         if (next != values[n]) {
             values[n] = next;
             changed = true;
@@ -69,8 +92,9 @@ bool applyDab(LatticeMaterial& material, std::span<const Eigen::Vector2d> nodeSc
 
 void fillNodes(LatticeMaterial& material, PaintField field, std::span<const int> nodes, double value) {
     std::vector<double>& values = fieldValues(material, field);
+    const MaterialRange& range = fieldRange(field, material.model);
     for (int n : nodes)
-        values[std::size_t(n)] = value;
+        values[std::size_t(n)] = std::clamp(value, range.low, range.high);
 }
 
 void smoothNodes(LatticeMaterial& material, const Lattice& lattice, PaintField field, std::span<const int> nodes) {

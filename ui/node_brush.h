@@ -17,6 +17,7 @@ enum class PaintField {
     Stiffness,
     Damping,     ///< Spring damping (relative velocity along a spring).
     NodeDamping, ///< Node damping (each node's absolute velocity: the paper's D).
+    VolumePreservation, ///< How stiffly the mesh's volume around the node is kept, [0, 1].
 };
 
 /// How a dab's effect fades from its centre to its rim.
@@ -31,12 +32,17 @@ struct BrushSettings {
     BrushFalloff falloff = BrushFalloff::Smooth; ///< Fade towards the rim.
 };
 
-/// The per-node array of a field.
+/// The per-node array of a field (volume preservation is sized to the nodes first when a material has none).
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
 /// Human name and unit of a field under a material model ("stiffness", "N/m"; "Young's modulus", "Pa";
 /// "node damping rate", "1/s").
 const char* fieldName(PaintField field, MaterialModel model);
+/// The field's range and unit under a material model (materialRanges(), kVolumePreservationRange).
+const MaterialRange& fieldRange(PaintField field, MaterialModel model);
+/// Volume preservation scaled so its largest node value is `p`, the painted ratios kept (a map of zeros
+/// becomes `p` everywhere; p = 0 turns it off).
+void setLargestVolumePreservation(LatticeMaterial& material, double p);
 const char* fieldUnit(PaintField field, MaterialModel model);
 
 /// Weight of a dab at `distance` pixels from its centre: 1 at the centre, 0 from the radius on.

@@ -243,11 +243,13 @@ QWidget* PropertiesPanel::buildMaterial() {
     m_volumePreservation->setSpecialValueText(tr("off"));
     m_volumePreservation->setToolTip(tr("Keeps the mesh's volume: a squashed body bulges sideways. 0.5 resists a "
                                         "volume change as much as the springs resist a stretch, 0.9 nine times as "
-                                        "much, 1 holds it exactly."));
-    form->addRow(tr("Volume preservation"), m_volumePreservation);
+                                        "much, 1 holds it exactly. Paint it (Paint tool, Volume preservation) to keep "
+                                        "some parts and let others squash; this sets the largest painted value and "
+                                        "scales the others with it."));
+    form->addRow(tr("Volume preservation (largest)"), m_volumePreservation);
     connect(m_volumePreservation, &QDoubleSpinBox::valueChanged, this, [this](double p) {
         if (!m_refreshing)
-            editMaterial(tr("Set volume preservation"), kMergeVolume, [p](LatticeMaterial& m) { m.volumePreservation = p; });
+            editMaterial(tr("Set volume preservation"), kMergeVolume, [p](LatticeMaterial& m) { setLargestVolumePreservation(m, p); });
     });
     connect(m_stretchLimit, &QDoubleSpinBox::valueChanged, this, [this](double x) {
         if (!m_refreshing)
@@ -355,6 +357,7 @@ QWidget* PropertiesPanel::buildTools() {
     m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
     m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
     m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
+    m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
     form->addRow(tr("Paint"), m_brushField);
     m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
     m_brushValue->setValue(m_viewport->brush().value);
@@ -556,7 +559,7 @@ void PropertiesPanel::refresh() {
             setQuietly(m_anisotropy[std::size_t(a)], o.material.anisotropy[a]);
         setQuietly(m_stretchLimit, o.material.strainLimits.stretch > 0.0 ? o.material.strainLimits.stretch : 1.0);
         setQuietly(m_squashLimit, o.material.strainLimits.squash);
-        setQuietly(m_volumePreservation, o.material.volumePreservation);
+        setQuietly(m_volumePreservation, largestVolumePreservation(o.material));
         m_latticeKind->setCurrentIndex(m_latticeKind->findData(int(o.lattice.shape().kind)));
         for (int a = 0; a < 3; ++a)
             m_latticeNodes[std::size_t(a)]->setValue(o.lattice.count(a));
@@ -566,6 +569,10 @@ void PropertiesPanel::refresh() {
                                               : tr("%n node(s)", nullptr, int(sel.size())));
         if (!sel.empty())
             setQuietly(m_selectionValue, fieldValues(o.material, field)[std::size_t(*sel.begin())]);
+        // Mass must stay above 0; every other field may be painted down to its range's low end (0).
+        const MaterialRange& range = fieldRange(field, o.material.model);
+        m_selectionValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
+        m_brushValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
         m_selectionValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
         m_brushValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
         // A brush value in kg means nothing on a density map: when the field or what its values mean
@@ -577,7 +584,9 @@ void PropertiesPanel::refresh() {
             double mean = 0.0;
             for (double x : values)
                 mean += x / double(values.size());
-            if (mean > 0.0)
+            if (field == PaintField::VolumePreservation)
+                m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume"
+            else if (mean > 0.0)
                 m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
         }
     }

@@ -198,16 +198,34 @@ void TestProject::strainLimitsRoundTripAndBind() {
     auto reloaded = loadProject(saved);
     QVERIFY2(reloaded.ok(), reloaded.message().c_str());
     QCOMPARE(reloaded->scene.objects[0].material.strainLimits, (StrainLimits{1.25, 0.75}));
-    QCOMPARE(reloaded->scene.objects[0].material.volumePreservation, 0.8);
+    QCOMPARE(largestVolumePreservation(reloaded->scene.objects[0].material), 0.8);
     auto body = buildLatticeBody(reloaded->scene.objects[0].lattice, reloaded->scene.objects[0].material);
     QVERIFY(body.ok());
     QCOMPARE(body.value()->strainLimits, (StrainLimits{1.25, 0.75}));
+    // Volume preservation painted per node: written as an array, read back node for node, and the body's
+    // constraint is as stiff as its largest value.
+    LatticeMaterial& painted = project->scene.objects[0].material;
+    for (std::size_t n = 0; n < painted.volumePreservation.size(); ++n)
+        painted.volumePreservation[n] = n % 3 == 0 ? 0.0 : 0.25 * double(n % 5);
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream paintedIn(saved);
+    const nlohmann::json paintedDoc = nlohmann::json::parse(paintedIn);
+    QVERIFY(paintedDoc["objects"][0]["material"]["volumePreservation"].is_array());
+    auto paintedBack = loadProject(saved);
+    QVERIFY2(paintedBack.ok(), paintedBack.message().c_str());
+    QCOMPARE(paintedBack->scene.objects[0].material.volumePreservation, painted.volumePreservation);
+    auto paintedBody = buildLatticeBody(paintedBack->scene.objects[0].lattice, paintedBack->scene.objects[0].material);
+    QVERIFY(paintedBody.ok());
+    QCOMPARE(paintedBody.value()->volume.preservation, 1.0);
+    QVERIFY(paintedBody.value()->volume.active());
     // A file without the keys has no limits and writes none.
     auto plain = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
     QVERIFY(plain.ok() && !plain->scene.objects[0].material.strainLimits.any());
     QVERIFY(saveProject(plain.value(), saved).ok());
     std::ifstream again(saved);
-    QVERIFY(!nlohmann::json::parse(again)["objects"][0]["material"].contains("stretchLimit"));
+    const nlohmann::json plainDoc = nlohmann::json::parse(again);
+    QVERIFY(!plainDoc["objects"][0]["material"].contains("stretchLimit"));
+    QVERIFY(!plainDoc["objects"][0]["material"].contains("volumePreservation"));
 }
 
 // World colliders: each shape with its own keys, saved and read back as written; the body built from a
@@ -506,6 +524,15 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::newRow("volume preservation above 1")
         << QString::fromStdString(projectText(R"(, "material": {"volumePreservation": 1.5})"))
         << "/objects/0/material/volumePreservation|got 1.5";
+    QTest::newRow("painted volume preservation of the wrong length")
+        << QString::fromStdString(projectText(R"(, "material": {"volumePreservation": [0, 0.5, 1]})"))
+        << "/objects/0/material/volumePreservation|one value per lattice node";
+    std::string negative = "[0";  // 64 nodes, the 22nd painted below 0
+    for (int n = 1; n < 64; ++n)
+        negative += n == 21 ? ", -0.5" : ", 0.5";
+    QTest::newRow("painted volume preservation below 0")
+        << QString::fromStdString(projectText(R"(, "material": {"volumePreservation": )" + negative + "]}"))
+        << "/objects/0/material/volumePreservation/21|got -0.5";
     QTest::newRow("collider of unknown shape")
         << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "cone", "centre": [0, 0, 0]}]})"))
         << "/world/colliders/0/shape|\"sphere\", \"capsule\", \"box\" or \"mesh\"";

@@ -97,7 +97,8 @@ double maxDistance(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b) {
 
 bool sameMaterial(const LatticeMaterial& a, const LatticeMaterial& b) {
     return a.mass == b.mass && a.stiffness == b.stiffness && a.damping == b.damping && a.nodeDamping == b.nodeDamping &&
-           a.anchor == b.anchor && a.isVoid == b.isVoid && a.anisotropy == b.anisotropy && a.kindScale == b.kindScale;
+           a.anchor == b.anchor && a.isVoid == b.isVoid && a.anisotropy == b.anisotropy && a.kindScale == b.kindScale &&
+           a.volumePreservation == b.volumePreservation;
 }
 
 /// Fraction of pixels inside `region` that differ from the background of their row (the background
@@ -141,6 +142,7 @@ private slots:
     void paintStrokeIsOneUndoStep();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
+    void paintsVolumePreservation();
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
     void anchorToolPinsAClickedNode();
@@ -354,7 +356,7 @@ void TestEditor::strainLimitsFromTheProperties() {
     QVERIFY(volume);
     QCOMPARE(volume->text(), QString("off"));
     volume->setValue(0.9);
-    QCOMPARE(w.document()->scene().objects[0].material.volumePreservation, 0.9);
+    QCOMPARE(largestVolumePreservation(w.document()->scene().objects[0].material), 0.9);
     const VolumeConstraint& kept = w.simulation()->simulation()->simulator(0).model().volume;
     QVERIFY(kept.active());
     const OrientedBox& box = w.document()->scene().objects[0].lattice.box();
@@ -439,6 +441,58 @@ void TestEditor::paintsNodeDamping() {
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
     QVERIFY(!w.document()->isModified());
+}
+
+// Volume preservation is painted like the material: the brush starts at 1 (a fraction), a stroke paints
+// some nodes and not others in one undo step, the running body keeps the painted region's volume as
+// stiffly as the largest value, the Properties field shows that value and typing one scales the map.
+void TestEditor::paintsVolumePreservation() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    auto* field = w.findChild<QComboBox*>("brushField");
+    auto* largest = w.findChild<QDoubleSpinBox*>("volumePreservation");
+    QVERIFY(field && largest);
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    QCOMPARE(largestVolumePreservation(before), 0.0);
+    QVERIFY(!w.simulation()->simulation()->simulator(0).model().volume.active());
+    field->setCurrentIndex(field->findData(int(PaintField::VolumePreservation)));
+    QCOMPARE(view->brush().field, PaintField::VolumePreservation);
+    QCOMPARE(view->brush().value, 1.0);
+    view->brush().strength = 1.0;
+    view->brush().falloff = BrushFalloff::Constant;
+    const int undoBefore = w.document()->undoStack()->index();
+    paintStroke(view);
+
+    const LatticeMaterial after = w.document()->scene().objects[0].material;
+    int painted = 0;
+    for (double p : after.volumePreservation) {
+        QVERIFY(p >= 0.0 && p <= 1.0);
+        painted += p > 0.0 ? 1 : 0;
+    }
+    QVERIFY2(painted > 0 && painted < int(after.volumePreservation.size()), qPrintable(QString("%1 nodes painted").arg(painted)));
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
+    QCOMPARE(w.document()->undoStack()->undoText(), QString("Paint volume preservation"));
+    QVERIFY(after.stiffness == before.stiffness && after.mass == before.mass);
+    QVERIFY(std::abs(largest->value() - largestVolumePreservation(after)) < 0.005);  // the field shows 2 decimals
+    const VolumeConstraint& kept = w.simulation()->simulation()->simulator(0).model().volume;
+    QVERIFY(kept.active());
+    QCOMPARE(kept.preservation, largestVolumePreservation(after));
+
+    // Typing the largest value scales the map, the painted ratios kept; one undo step.
+    largest->setValue(0.4);
+    const LatticeMaterial scaled = w.document()->scene().objects[0].material;
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 2);
+    const double factor = 0.4 / largestVolumePreservation(after);
+    for (std::size_t n = 0; n < scaled.volumePreservation.size(); ++n)
+        QVERIFY(std::abs(scaled.volumePreservation[n] - factor * after.volumePreservation[n]) < 1e-12);
+    QCOMPARE(w.simulation()->simulation()->simulator(0).model().volume.preservation, 0.4);
+
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+    QVERIFY(!w.simulation()->simulation()->simulator(0).model().volume.active());
+    field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
 }
 
 void TestEditor::anchorToolPinsAClickedNode() {
