@@ -27,6 +27,7 @@ public:
         m_sharedVelocity.resize(external.drags.size());
         for (std::size_t d = 0; d < external.drags.size(); ++d)
             m_sharedVelocity[d] = sharedVelocity(model, external.drags[d], state);
+        m_nodeForcePower = nodeForcePower(model, external, state);
     }
     void end(const BodyModel& model, const ExternalForces& external, const BodyState& state,
              const SpringScratch& scratch, double h) {
@@ -36,6 +37,8 @@ public:
             const Vec3 after = sharedVelocity(model, external.drags[d], state);
             work.external += 0.5 * h * m_pull[d].dot(m_sharedVelocity[d] + after);
         }
+        // Node forces held over the substep work h F·(v + v')/2 on each free node, as a drag's pull does.
+        work.external += 0.5 * h * (m_nodeForcePower + nodeForcePower(model, external, state));
         if (model.anySpringDamping)
             work.dissipated += springDampingLoss(model.springTable, scratch, state.velocity, h);
     }
@@ -46,6 +49,16 @@ private:
         forEachDragShare(model, drag, [&](std::uint32_t node, double share) { v += share * state.velocity[node]; });
         return v;
     }
+    static double nodeForcePower(const BodyModel& model, const ExternalForces& external, const BodyState& state) {
+        if (external.nodeForces.size() != model.nodeCount())
+            return 0.0;
+        double power = 0.0;
+        for (std::size_t i = 0; i < model.nodeCount(); ++i)
+            if (model.inverseMass[i] > 0.0)
+                power += external.nodeForces[i].dot(state.velocity[i]);
+        return power;
+    }
+    double m_nodeForcePower = 0.0;       ///< Σ F·v over the free nodes at the start of the substep, W.
     std::vector<Vec3> m_pull;            ///< N per drag, held over the substep.
     std::vector<Vec3> m_sharedVelocity;  ///< m/s per drag, Σ share · v over the free support at the start.
 };

@@ -33,6 +33,9 @@ std::string ExternalForces::firstNonFinite() const {
                 return "drag " + std::to_string(i) + " weights";
         }
     }
+    for (std::size_t i = 0; i < nodeForces.size(); ++i)
+        if (!isFinite(nodeForces[i]))
+            return "node force " + std::to_string(i);
     for (std::size_t i = 0; i < planes.size(); ++i) {
         const CollisionPlane& p = planes[i];
         if (!isFinite(p.point) || !isFinite(p.normal) || !std::isfinite(p.restitution) || !std::isfinite(p.friction))
@@ -68,6 +71,9 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
         if (terms.nodeDamping && model.anyNodeDamping)
             f[i] -= model.nodeDamping[i] * v[i];
     }
+    if (external.nodeForces.size() == n)
+        for (std::size_t i = 0; i < n; ++i)
+            f[i] += external.nodeForces[i];
     if (terms.springs)
         addSpringForces(model.springTable, x, v, f, scratch);
     for (std::size_t d = 0; d < external.drags.size(); ++d) {

@@ -48,6 +48,10 @@ struct ExternalForces {
     std::vector<DragSpring> drags;          ///< Any number (two hands, drivers).
     std::vector<CollisionPlane> planes;     ///< Empty: no collision pass.
     std::vector<Collider> colliders;        ///< Spheres, capsules, boxes; empty: no collider pass.
+    /// A force on each node (one entry per node, N), held over the step: the inertia of a body that follows
+    /// a base animation, seen from the animation (core/base_motion.h). Empty: none. Booked by the energy
+    /// account as external work, like the drags'.
+    std::vector<Vec3> nodeForces;
     /// Names the first non-finite input, or returns an empty string when all are finite.
     std::string firstNonFinite() const;
 };
@@ -59,7 +63,7 @@ struct ForceTerms {
 };
 
 /// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, node
-/// damping, gravity (m·g), drags. Only free nodes' forces are meaningful; pinned and void nodes get
+/// damping, gravity (m·g), node forces, drags. Only free nodes' forces are meaningful; pinned and void nodes get
 /// gravity and damping but no spring or drag force. `scratch` is the caller's, so nothing is allocated.
 /// When `dragPulls` is given (one entry per drag), it receives each drag's pull F = Ks·d + Kd·v, N.
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,

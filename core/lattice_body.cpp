@@ -23,6 +23,7 @@ LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, doub
     m.damping.assign(n, damping);
     m.nodeDamping.assign(n, 0.0);
     m.volumePreservation.assign(n, 0.0);
+    m.goalWeight.assign(n, 0.0);
     m.anchor.assign(n, AnchorMode::Free);
     m.isVoid.assign(n, 0);
     return m;
@@ -247,6 +248,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
     if (!m.volumePreservation.empty())
         if (Status s = sized(m.volumePreservation.size(), "volume preservation"); !s) return s;
+    if (!m.goalWeight.empty())
+        if (Status s = sized(m.goalWeight.size(), "goal weight"); !s) return s;
     const MaterialRanges& range = materialRanges(m.model);
     auto formatNumber = [](double x) {
         std::ostringstream out;
@@ -273,6 +276,8 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
         if (Status s = check(m.nodeDamping[i], range.nodeDamping, node); !s) return s;
         if (!m.volumePreservation.empty())
             if (Status s = check(m.volumePreservation[i], kVolumePreservationRange, node); !s) return s;
+        if (!m.goalWeight.empty())
+            if (Status s = check(m.goalWeight[i], kGoalWeightRange, node); !s) return s;
     }
     for (int a = 0; a < 3; ++a) {
         const double s = m.kindScale[std::size_t(a)];
@@ -430,6 +435,7 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     out.anchor.assign(n, AnchorMode::Free);
     out.isVoid.assign(n, 0);
     out.volumePreservation.assign(n, 0.0);
+    out.goalWeight.assign(n, 0.0);
     // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
     // A continuum's values are per volume or per area already: nothing to rescale.
     keepContinuum = keepContinuum && material.model == MaterialModel::LatticeSprings;
@@ -449,6 +455,8 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
         out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
         if (!material.volumePreservation.empty())
             out.volumePreservation[k] = material.volumePreservation[source];  // a fraction: the same on any lattice
+        if (!material.goalWeight.empty())
+            out.goalWeight[k] = material.goalWeight[source];
     }
     resampleNodeFlags(from, material.anchor, to, out.anchor, AnchorMode::Free);
     resampleNodeFlags(from, material.isVoid, to, out.isVoid, std::uint8_t(0));

@@ -52,6 +52,8 @@ struct LatticeMaterial {
                                          ///< direction d (box frame) gets Σ d_a² s_a. Paper's transversely
                                          ///< isotropic material: (1, 0.1, 1). [1e-6, 1e6] each.
     double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors (paper: 10,000x). [1, 1e9].
+    std::vector<double> goalWeight;      ///< Per node, [0, 1]: how closely the node follows a base animation
+                                         ///< (core/base_motion.h): 0 free, 1 exactly. Empty: 0 everywhere.
     StrainLimits strainLimits;           ///< No spring beyond stretch × (or under squash ×) its rest length; off.
     std::vector<double> volumePreservation; ///< Per node, [0, 1]: how stiffly the mesh's volume around the node
                                          ///< is kept, 0 off, 1 hard (core/volume_preservation.h). Empty: 0
@@ -68,8 +70,9 @@ struct MaterialRange {
     double high = 0.0;
     const char* unit = "";
 };
-/// The painted volume preservation, the same under both models (a fraction, no unit).
+/// The painted volume preservation and goal weight, the same under both models (fractions, no unit).
 inline constexpr MaterialRange kVolumePreservationRange{"volumePreservation", "volume preservation", 0.0, 1.0, ""};
+inline constexpr MaterialRange kGoalWeightRange{"goalWeight", "goal weight", 0.0, 1.0, ""};
 struct MaterialRanges {
     const char* model = "";  ///< The model's name in files: "lattice-springs" or "continuum".
     MaterialRange mass, stiffness, damping, nodeDamping;

@@ -26,7 +26,8 @@ Status Mesh::validate() const {
     return Status::success();
 }
 
-void Mesh::computeNormals() {
+void areaWeightedNormals(std::span<const Vec3f> positions, std::span<const std::array<std::uint32_t, 3>> triangles,
+                         std::span<Vec3f> normals) {
     std::vector<Eigen::Vector3d> sum(positions.size(), Eigen::Vector3d::Zero());
     for (const auto& tri : triangles) {
         const Eigen::Vector3d a = positions[tri[0]].cast<double>();
@@ -37,11 +38,15 @@ void Mesh::computeNormals() {
         for (std::uint32_t index : tri)
             sum[index] += n;
     }
-    normals.resize(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) {
+    for (std::size_t i = 0; i < positions.size() && i < normals.size(); ++i) {
         const double length = sum[i].norm();
         normals[i] = length > 0.0 ? Vec3f((sum[i] / length).cast<float>()) : Vec3f(Vec3f::UnitZ());
     }
+}
+
+void Mesh::computeNormals() {
+    normals.resize(positions.size());
+    areaWeightedNormals(positions, triangles, normals);
 }
 
 Bounds Mesh::bounds() const {

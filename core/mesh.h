@@ -6,6 +6,7 @@
 
 #include <array>
 #include <string>
+#include <span>
 #include <vector>
 
 namespace softtouch {
@@ -26,6 +27,10 @@ struct Bounds {
 };
 
 /// Indexed triangle mesh. Vertex order is the order every vertex cache uses.
+/// Unit vertex normals from the triangles around each vertex, weighted by their areas (+z where none).
+void areaWeightedNormals(std::span<const Vec3f> positions, std::span<const std::array<std::uint32_t, 3>> triangles,
+                         std::span<Vec3f> normals);
+
 struct Mesh {
     std::vector<Vec3f> positions;                      ///< Rest positions (metres).
     std::vector<Vec3f> normals;                        ///< Unit rest normals, one per vertex (or empty).

@@ -124,7 +124,9 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             if (Status s = validateDriver(object.drivers[d]); !s)
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
         }
-        auto model = buildLatticeBody(object.lattice, object.material, &object.mesh);
+        const bool animated = object.baseAnimation != nullptr;
+        auto model = buildLatticeBody(object.lattice, animated ? followingMaterial(object.material) : object.material,
+                                      &object.mesh);
         if (!model)
             return Status::error(where + model.message());
         std::shared_ptr<const MeshSurface> restSurface;
@@ -134,9 +136,17 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
                 return Status::error(where + surface.message());
             restSurface = surface.value();
         }
-        sim.m_objects.push_back(Runtime{&object,
-                                        Binding::create(object.lattice, object.mesh.positions, object.mesh.normals),
-                                        Simulator(model.value(), scene->world.simulation), {}, std::move(restSurface)});
+        Binding binding = Binding::create(object.lattice, object.mesh.positions, object.mesh.normals);
+        std::shared_ptr<BaseMotion> motion;
+        if (animated) {
+            auto created = BaseMotion::create(object.lattice, object.mesh.positions, binding.parameters(),
+                                              object.baseAnimation, object.material.goalWeight, object.follow);
+            if (!created)
+                return Status::error(where + created.message());
+            motion = created.value();
+        }
+        sim.m_objects.push_back(Runtime{&object, std::move(binding), Simulator(model.value(), scene->world.simulation), {},
+                                        std::move(restSurface), std::move(motion)});
     }
     return sim;
 }
@@ -152,6 +162,13 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
             f.drags.push_back(std::move(*drag));
     }
     f.drags.insert(f.drags.end(), m_objects[i].interactive.begin(), m_objects[i].interactive.end());
+    if (const auto& motion = m_objects[i].motion) {
+        // The body is the deviation from the base animation, in the base's frame: world planes and colliders
+        // do not apply to it (docs/lattice.md, "Secondary motion on a base animation").
+        f.planes.clear();
+        f.colliders.clear();
+        motion->addForces(seconds, m_scene->world.simulation.dt, m_objects[i].simulator.model(), f);
+    }
     return f;
 }
 
@@ -200,7 +217,8 @@ void SceneSimulation::resolveBodyContacts(double stepStart) {
     std::vector<std::uint8_t> changed(m_objects.size(), 0);
     for (std::size_t i = 0; i < m_objects.size(); ++i)
         for (std::size_t j = i + 1; j < m_objects.size(); ++j) {
-            if (!bodiesMayTouch(bodies[i], bodies[j]))
+            // A body on a base animation lives in its base's frame: not yet tested against others.
+            if (m_objects[i].motion || m_objects[j].motion || !bodiesMayTouch(bodies[i], bodies[j]))
                 continue;
             for (std::size_t k : {i, j})
                 if (!changed[k]) {
@@ -257,7 +275,12 @@ void SceneSimulation::reset() {
 }
 
 void SceneSimulation::evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
-    m_objects[i].binding.evaluate(m_objects[i].simulator.state().position, positions, normals, threads);
+    const Runtime& r = m_objects[i];
+    if (r.motion)
+        r.motion->deform(r.simulator.time(), r.binding, r.simulator.state().position, r.source->mesh.triangles, positions,
+                         normals);
+    else
+        r.binding.evaluate(r.simulator.state().position, positions, normals, threads);
 }
 
 std::size_t SceneSimulation::totalVertexCount() const {

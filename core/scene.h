@@ -3,6 +3,7 @@
 /// runtime that simulates them. Only what a scene uses is computed: no planes, no collision pass;
 /// no gravity, no gravity term; a body at rest sleeps.
 
+#include "core/base_motion.h"
 #include "core/binding.h"
 #include "core/body_contacts.h"
 #include "core/drivers.h"
@@ -21,6 +22,10 @@ struct SceneObject {
     Lattice lattice;                  ///< Lattice around the mesh.
     LatticeMaterial material;         ///< Painted values, anchors, voids.
     std::vector<Driver> drivers;      ///< Headless motion sources.
+    /// The mesh's own animation, when it came with one: the body adds secondary motion on top of it
+    /// (core/base_motion.h; goal weights are the material's). The mesh above is its first sample.
+    std::shared_ptr<const BaseAnimation> baseAnimation;
+    FollowSettings follow;            ///< Goal springs toward the base animation.
 };
 
 /// Settings shared by every object.
@@ -109,7 +114,8 @@ public:
     /// Object i's name, mesh, lattice and simulator.
     const SceneObject& object(std::size_t i) const { return *m_objects[i].source; }
     const Simulator& simulator(std::size_t i) const { return m_objects[i].simulator; }
-    /// Deformed positions and (optional) normals of object i, in its mesh order.
+    /// Deformed positions and (optional) normals of object i, in its mesh order (on a base animation: the
+    /// base mesh at the current time plus the body's deviation, core/base_motion.h).
     void evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
     /// Total vertex count over all objects (the order of a concatenated cache).
     std::size_t totalVertexCount() const;
@@ -123,6 +129,7 @@ private:
         Simulator simulator;
         std::vector<DragSpring> interactive;
         std::shared_ptr<const MeshSurface> restSurface; ///< Its rest mesh, for body contacts (when on).
+        std::shared_ptr<BaseMotion> motion;  ///< On a base animation: its goals and the output's base.
     };
 
     /// Pushes touching objects apart after a step that started at `stepStart` seconds.

@@ -285,7 +285,7 @@ int Simulator::substepsFor(const ExternalForces& external) const {
 bool Simulator::forcesChanged(const ExternalForces& e) const {
     const ExternalForces& s = m_sleepForces;
     if (e.gravity != s.gravity || e.drags.size() != s.drags.size() || e.planes.size() != s.planes.size() ||
-        e.colliders != s.colliders)
+        e.colliders != s.colliders || e.nodeForces != s.nodeForces)
         return true;
     for (std::size_t i = 0; i < e.drags.size(); ++i) {
         const DragSpring& a = e.drags[i];

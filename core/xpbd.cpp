@@ -26,6 +26,9 @@ public:
         ExternalForces withoutDrags;  // drags are constraints below
         withoutDrags.gravity = external.gravity;
         accumulateForces(model, withoutDrags, state.position, state.velocity, m_force, m_scratch, terms);
+        if (external.nodeForces.size() == n)
+            for (std::size_t i = 0; i < n; ++i)
+                m_force[i] += external.nodeForces[i];
         for (std::size_t i = 0; i < n; ++i) {
             m_previous[i] = state.position[i];
             if (model.inverseMass[i] == 0.0)

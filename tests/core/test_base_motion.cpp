@@ -1,0 +1,197 @@
+// Secondary motion on a base animation (core/base_motion.h, core/goal_fit.h): the goal fit is exact on
+// affine motion, goal weight 1 reproduces the base animation, and the lag and overshoot of a body driven by
+// its base match the driven damped oscillator of its lowest mode.
+
+#include "physics_fixture.h"
+
+#include "core/base_motion.h"
+#include "core/modes.h"
+#include "core/primitives.h"
+#include "core/scene.h"
+
+#include <QtTest>
+
+#include <cmath>
+
+using namespace softtouch;
+using namespace softtouch::test;
+
+namespace {
+
+/// A fish-sized ellipsoid (0.6 × 0.2 × 0.1 m) in a fitted 4x4x4 Bezier lattice.
+Scene ellipsoidScene() {
+    Mesh mesh = makeUvEllipsoid(16, 32, Vec3(0.3, 0.1, 0.05));
+    mesh.computeNormals();
+    Scene scene = newScene("body", std::move(mesh)).value();
+    scene.world.simulation.integrator = IntegratorKind::Verlet;
+    return scene;
+}
+
+/// A base animation of `mesh` sampled at `rate` over `seconds` from `motion(p, t)`.
+std::shared_ptr<BaseAnimation> sampled(const Mesh& mesh, double rate, double seconds, bool loop,
+                                       const std::function<Vec3f(const Vec3f&, double)>& motion) {
+    auto animation = std::make_shared<BaseAnimation>();
+    animation->rate = rate;
+    animation->loop = loop;
+    const int count = int(std::lround(seconds * rate)) + (loop ? 0 : 1);
+    for (int k = 0; k < count; ++k) {
+        std::vector<Vec3f> p(mesh.positions.size());
+        for (std::size_t v = 0; v < p.size(); ++v)
+            p[v] = motion(mesh.positions[v], k / rate);
+        animation->samples.push_back(std::move(p));
+    }
+    return animation;
+}
+
+}  // namespace
+
+class TestBaseMotion : public QObject {
+    Q_OBJECT
+
+private slots:
+    // The basis reproduces affine maps, so the fitted lattice of an affinely moved mesh is the rest lattice
+    // moved the same way, and the rotation is the map's.
+    void goalFitIsExactOnAffineMotion() {
+        const Scene scene = ellipsoidScene();
+        const SceneObject& o = scene.objects[0];
+        const Binding binding = Binding::create(o.lattice, o.mesh.positions, o.mesh.normals);
+        auto fit = GoalFit::create(o.lattice, o.mesh.positions, binding.parameters());
+        QVERIFY2(fit.ok(), fit.message().c_str());
+        const Mat3 turn = Eigen::AngleAxisd(0.7, Vec3(0.2, 1.0, 0.3).normalized()).toRotationMatrix();
+        const Mat3 stretch = Vec3(1.2, 0.9, 1.0).asDiagonal();
+        const Vec3 shift(0.3, -0.1, 2.0);
+        std::vector<Vec3f> moved;
+        for (const Vec3f& p : o.mesh.positions)
+            moved.push_back((turn * stretch * p.cast<double>() + shift).cast<float>());
+        std::vector<Vec3> nodes;
+        Mat3 rotation;
+        fit->fit(moved, nodes, rotation);
+        double worst = 0.0;
+        for (std::size_t i = 0; i < nodes.size(); ++i)
+            worst = std::max(worst, (nodes[i] - (turn * stretch * o.lattice.restNodes()[i] + shift)).norm());
+        qInfo("largest node error %.3g m (mesh positions are float), rotation error %.3g", worst, (rotation - turn).norm());
+        // The moved mesh is float (2.4e-7 m at 2 m): nodes the mesh barely reaches carry that a hundredfold.
+        QVERIFY(worst < 1e-4 * o.mesh.bounds().diagonal());
+        QVERIFY((rotation - turn).norm() < 1e-6);
+    }
+
+    void weightOneReproducesTheBase_data() { addIntegratorRows(); }
+
+    // Goal weight 1 everywhere: every node follows its goal exactly, so the output is the base animation
+    // itself (a bending wave the lattice cannot represent, moved and turned), to float precision.
+    void weightOneReproducesTheBase() {
+        QFETCH(int, integrator);
+        Scene scene = ellipsoidScene();
+        scene.world.simulation.integrator = IntegratorKind(integrator);
+        SceneObject& o = scene.objects[0];
+        scene.objects[0].baseAnimation = sampled(o.mesh, 240.0, 1.0, true, [](const Vec3f& p, double t) {
+            const double phase = 2.0 * M_PI * t;
+            const Mat3 turn = Eigen::AngleAxisd(0.3 * std::sin(phase), Vec3::UnitY()).toRotationMatrix();
+            const Vec3 wave(0.0, 0.0, 0.04 * std::sin(phase + 12.0 * p.x()));  // finer than the lattice
+            return Vec3f((turn * (p.cast<double>() + wave) + Vec3(0.2 * std::sin(phase), 0, 0)).cast<float>());
+        });
+        o.material.goalWeight.assign(o.material.mass.size(), 1.0);
+        auto sim = SceneSimulation::create(scene);
+        QVERIFY2(sim.ok(), sim.message().c_str());
+        const double diagonal = o.mesh.bounds().diagonal();
+        std::vector<Vec3f> out(o.mesh.positions.size()), base(out.size());
+        double worst = 0.0;
+        for (int frame = 1; frame <= 24; ++frame) {
+            sim->advanceTo(frame / 24.0);
+            sim->evaluate(0, out, {});
+            scene.objects[0].baseAnimation->positionsAt(frame / 24.0, base);
+            for (std::size_t v = 0; v < out.size(); ++v)
+                worst = std::max(worst, double((out[v] - base[v]).norm()));
+        }
+        qInfo("%s: largest distance from the base %.3g of the diagonal", QTest::currentDataTag(), worst / diagonal);
+        QCOMPARE(worst, 0.0);
+    }
+
+    // A bar anchored at one end (the anchors follow the animation) is carried sideways by its base,
+    // x_b(t) = A sin(Ωt), with goal weight 0 on the rest. In the base's frame it feels −m ẍ_b, so its lowest
+    // mode is driven like a damped oscillator: q̈ + 2ζω q̇ + ω² q = Γ A Ω² sin(Ωt), Γ = φᵀM ê / φᵀMφ. The free
+    // end's steady lag and overshoot match Γ A Ω² / √((ω² − Ω²)² + (2ζωΩ)²) · |φ_tip| within 10%.
+    void drivenLagMatchesTheLowestMode_data() { addIntegratorRows(); }
+    void drivenLagMatchesTheLowestMode() {
+        QFETCH(int, integrator);
+        Scene scene = ellipsoidScene();
+        scene.world.simulation.integrator = IntegratorKind(integrator);
+        SceneObject& o = scene.objects[0];
+        for (int node = 0; node < o.lattice.nodeCount(); ++node)
+            if (o.lattice.coords(node)[0] == 0)
+                o.material.anchor[std::size_t(node)] = AnchorMode::Pinned;
+        // Some node damping so the start-up transient is gone after a few seconds.
+        o.material.nodeDamping.assign(o.material.mass.size(), 2.0);
+        const auto model = buildLatticeBody(o.lattice, followingMaterial(o.material), &o.mesh).value();
+        const auto modes = analyseModes(*model, 1).value();
+        const VibrationMode& first = modes.modes.front();
+        const double omega = 2.0 * M_PI * first.frequencyHz;
+        // Its main direction: the one its shape moves most along (the bar's thin side).
+        Vec3 direction = Vec3::Zero();
+        std::size_t tip = 0;
+        for (std::size_t i = 0; i < first.shape.size(); ++i) {
+            if (first.shape[i].norm() > first.shape[tip].norm())
+                tip = i;
+        }
+        direction = first.shape[tip].normalized();
+        double projected = 0.0, modal = 0.0;
+        for (std::size_t i = 0; i < first.shape.size(); ++i) {
+            projected += model->mass[i] * first.shape[i].dot(direction);
+            modal += model->mass[i] * first.shape[i].squaredNorm();
+        }
+        const double participation = projected / modal;
+        const double drive = 0.7 * omega, amplitude = 0.02;
+        const double predicted = participation * amplitude * drive * drive /
+                                 std::hypot(omega * omega - drive * drive, 2.0 * first.dampingRatio * omega * drive) *
+                                 first.shape[tip].norm();
+        o.baseAnimation = sampled(o.mesh, 240.0, 8.0, false, [&](const Vec3f& p, double t) {
+            return Vec3f((p.cast<double>() + amplitude * std::sin(drive * t) * direction).cast<float>());
+        });
+        auto sim = SceneSimulation::create(scene);
+        QVERIFY2(sim.ok(), sim.message().c_str());
+        double measured = 0.0;
+        for (int step = 1; step <= 8 * 240; ++step) {
+            sim->advanceTo(step / 240.0);
+            if (step > 5 * 240)  // steady state: the transient has decayed by e^(−ζω·5 s)
+                measured = std::max(measured, std::abs((sim->simulator(0).state().position[tip] - model->restPositions[tip]).dot(direction)));
+        }
+        qInfo("%s: lowest mode %.3f Hz, ζ %.3f, Γ %.3f; driven at %.3f Hz by ±%.3f m: tip lags ±%.4f m, "
+              "the mode's oscillator gives ±%.4f m (%+.1f%%)",
+              QTest::currentDataTag(), first.frequencyHz, first.dampingRatio, participation, drive / (2 * M_PI), amplitude,
+              measured, predicted, 100.0 * (measured / predicted - 1.0));
+        QVERIFY(first.dampingRatio > 0.05 && first.dampingRatio < 0.5);
+        QVERIFY2(std::abs(measured / predicted - 1.0) <= 0.10, "lag within 10% of the lowest mode's oscillator");
+    }
+
+    // Goal weights pull each node back to its goal with a spring that means the same on every lattice
+    // (mass-proportional): a node of weight ½ alone swings at the set frequency.
+    void goalSpringsAreMassProportional() {
+        Scene scene = ellipsoidScene();
+        SceneObject& o = scene.objects[0];
+        o.baseAnimation = sampled(o.mesh, 240.0, 1.0, true, [](const Vec3f& p, double) { return p; });
+        o.material.goalWeight.assign(o.material.mass.size(), 0.5);
+        o.material.goalWeight[0] = 0.0;
+        o.follow.frequency = 3.0;
+        auto sim = SceneSimulation::create(scene);
+        QVERIFY2(sim.ok(), sim.message().c_str());
+        const ExternalForces f = sim->forcesAt(0, 0.0);
+        QCOMPARE(f.drags.size(), o.material.mass.size() - 1);
+        const BodyModel& model = sim->simulator(0).model();
+        for (const DragSpring& d : f.drags) {
+            const std::uint32_t node = d.support.front().node;
+            QVERIFY(std::abs(d.stiffness / model.mass[node] - std::pow(2.0 * M_PI * 3.0, 2)) < 1e-9 * d.stiffness);
+            QVERIFY((d.target - model.restPositions[node]).norm() == 0.0);
+        }
+        // A still base: no inertia at all, so a still body stays at rest.
+        for (const Vec3& force : f.nodeForces)
+            QVERIFY(force.norm() < 1e-9);
+        sim->advanceTo(1.0);
+        double moved = 0.0;
+        for (std::size_t i = 0; i < model.nodeCount(); ++i)
+            moved = std::max(moved, (sim->simulator(0).state().position[i] - model.restPositions[i]).norm());
+        QVERIFY2(moved < 1e-9, qPrintable(QString("moved %1 m").arg(moved)));
+    }
+};
+
+QTEST_GUILESS_MAIN(TestBaseMotion)
+#include "test_base_motion.moc"
