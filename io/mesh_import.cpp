@@ -1,7 +1,9 @@
 #include "io/mesh_import.h"
+#include "io/isolated_import.h"
 
 #include "io/input_file.h"
 #include "io/mesh_file_check.h"
+#include "io/scene_units.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -12,6 +14,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <system_error>
 
@@ -65,6 +68,11 @@ Result<Mesh> readWithAssimp(const std::filesystem::path& path, const std::string
     }
     if (mesh.triangles.empty())
         return Status::error("mesh file " + name + " has no triangles");
+    // In metres, whatever unit the file is in (an FBX in centimetres would otherwise come in 100x too large).
+    const SceneUnit unit = sceneUnit(*scene, path.string());
+    if (unit.metresPerUnit != 1.0)
+        for (Vec3f& p : mesh.positions)
+            p *= float(unit.metresPerUnit);
     if (!allHaveNormals)
         mesh.computeNormals();
     else {
@@ -83,17 +91,6 @@ Result<Mesh> readWithAssimp(const std::filesystem::path& path, const std::string
     if (Status s = mesh.validate(); !s)
         return Status::error("mesh file " + name + ": " + s.message());
     return mesh;
-}
-
-// The bytes a child process sends back: the message of a failure, or the mesh.
-template <typename T>
-void put(std::string& out, const T& value) {
-    out.append(reinterpret_cast<const char*>(&value), sizeof value);
-}
-template <typename T>
-void putVector(std::string& out, const std::vector<T>& values) {
-    put(out, std::uint64_t(values.size()));
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
 }
 
 std::string encode(const Result<Mesh>& result) {
@@ -117,42 +114,6 @@ std::string encode(const Result<Mesh>& result) {
     }
     return out;
 }
-
-/// Reads what encode() wrote; nullopt when the bytes are cut short.
-class Decoder {
-public:
-    explicit Decoder(const std::string& bytes) : m_bytes(bytes) {}
-    template <typename T>
-    bool get(T& value) {
-        if (m_bytes.size() - m_at < sizeof value)
-            return false;
-        std::memcpy(&value, m_bytes.data() + m_at, sizeof value);
-        m_at += sizeof value;
-        return true;
-    }
-    bool getBytes(std::string& out) {
-        std::uint64_t n = 0;
-        if (!get(n) || m_bytes.size() - m_at < n)
-            return false;
-        out.assign(m_bytes.data() + m_at, std::size_t(n));
-        m_at += std::size_t(n);
-        return true;
-    }
-    template <typename T>
-    bool getVector(std::vector<T>& values) {
-        std::uint64_t n = 0;
-        if (!get(n) || (m_bytes.size() - m_at) / sizeof(T) < n)
-            return false;
-        values.resize(std::size_t(n));
-        std::memcpy(static_cast<void*>(values.data()), m_bytes.data() + m_at, std::size_t(n) * sizeof(T));
-        m_at += std::size_t(n) * sizeof(T);
-        return true;
-    }
-
-private:
-    const std::string& m_bytes;
-    std::size_t m_at = 0;
-};
 
 std::optional<Result<Mesh>> decode(const std::string& bytes) {
     Decoder in(bytes);
@@ -178,24 +139,24 @@ std::optional<Result<Mesh>> decode(const std::string& bytes) {
     return Result<Mesh>(std::move(mesh));
 }
 
-/// Runs readWithAssimp in a child process. Debian's assimp 5.2 aborts, or reads past its buffers, on
-/// some corrupt files (fuzz_mesh found a PLY whose post-processing calls abort()); in a child, that
-/// crash becomes an error message instead of taking the editor, and the user's unsaved work, with it.
-Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& name) {
+}  // namespace
+
+Result<std::string> runIsolated(const std::filesystem::path& path, const std::string& name,
+                                const std::function<std::string()>& produce) {
     int fds[2], errs[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
-        return readWithAssimp(path, name);  // no pipe: read in this process rather than not at all
+        return produce();  // no pipe: read in this process rather than not at all
     if (::pipe2(errs, O_CLOEXEC) != 0) {
         ::close(fds[0]);
         ::close(fds[1]);
-        return readWithAssimp(path, name);
+        return produce();
     }
     std::fflush(nullptr);
     const pid_t child = ::fork();
     if (child < 0) {
         for (int fd : {fds[0], fds[1], errs[0], errs[1]})
             ::close(fd);
-        return readWithAssimp(path, name);
+        return produce();
     }
     if (child == 0) {
         // A crash in the child must end the child and nothing else: handlers inherited from the parent
@@ -207,7 +168,7 @@ Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& 
         ::dup2(errs[1], STDERR_FILENO);
         ::close(fds[0]);
         ::close(errs[0]);
-        const std::string bytes = encode(readWithAssimp(path, name));
+        const std::string bytes = produce();
         for (std::size_t done = 0; done < bytes.size();) {
             const ssize_t n = ::write(fds[1], bytes.data() + done, bytes.size() - done);
             if (n <= 0)
@@ -264,13 +225,14 @@ Result<Mesh> readIsolated(const std::filesystem::path& path, const std::string& 
         return Status::error("cannot read mesh " + name + ": the importer (assimp) crashed on it (signal " +
                              std::to_string(WTERMSIG(status)) + (said.empty() ? "" : ": " + said) +
                              "); the file is corrupt or in a form assimp cannot read");
-    auto decoded = WIFEXITED(status) && WEXITSTATUS(status) == 0 ? decode(bytes) : std::nullopt;
-    if (!decoded)
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
         return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (exit status " +
                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
                              "); the file is corrupt or in a form assimp cannot read");
-    return std::move(*decoded);
+    return bytes;
 }
+
+namespace {
 
 }  // namespace
 
@@ -284,7 +246,16 @@ Result<Mesh> importMesh(const std::filesystem::path& path) {
     if (Status s = checkMeshFileIsWhole(path); !s)
         return Status::error("mesh file " + name + ": " + s.message());
 
-    return readIsolated(path, name);
+    // Debian's assimp 5.2 aborts, or reads past its buffers, on some corrupt files (fuzz_mesh found a PLY
+    // whose post-processing calls abort()): read in a child process (runIsolated).
+    auto bytes = runIsolated(path, name, [&] { return encode(readWithAssimp(path, name)); });
+    if (!bytes)
+        return bytes.status();
+    auto decoded = decode(bytes.value());
+    if (!decoded)
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (its answer was cut "
+                             "short); the file is corrupt or in a form assimp cannot read");
+    return std::move(*decoded);
 }
 
 }  // namespace softtouch::io

@@ -666,22 +666,29 @@ void TestProject::meshImportExportedFormats_data() {
     QTest::addColumn<QString>("formatId");
     QTest::addColumn<QString>("extension");
     // ASCII FBX: assimp 5.2 cannot re-read its own binary FBX export ("block offset is out of range").
-    QTest::newRow("fbx (ascii)") << "fbxa" << "fbx";
-    QTest::newRow("glb") << "glb2" << "glb";
-    QTest::newRow("dae") << "collada" << "dae";
+    // assimp's FBX exporter declares centimetres (UnitScaleFactor 1), as Blender's default export does: the
+    // guppy written in centimetres (×100) comes back at its size in metres, as the glTF (metres) does.
+    QTest::addColumn<double>("unitsPerMetre");
+    QTest::newRow("fbx (ascii, centimetres)") << "fbxa" << "fbx" << 100.0;
+    QTest::newRow("glb (metres)") << "glb2" << "glb" << 1.0;
+    QTest::newRow("dae") << "collada" << "dae" << 1.0;
 }
 
 void TestProject::meshImportExportedFormats() {
     // The guppy, written by assimp's own exporters, reads back with the same vertex and triangle counts
-    // and the same bounds (all meshes of the file, node transforms applied).
+    // and the same bounds in metres (all meshes of the file, node transforms applied, the file's unit).
     QFETCH(QString, formatId);
     QFETCH(QString, extension);
+    QFETCH(double, unitsPerMetre);
     const auto source = kPresets / "meshes/guppy.obj";
     auto reference = importMesh(source);
     QVERIFY(reference.ok());
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFile(source.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     QVERIFY(scene);
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+        for (unsigned v = 0; v < scene->mMeshes[m]->mNumVertices; ++v)
+            scene->mMeshes[m]->mVertices[v] *= ai_real(unitsPerMetre);
     QTemporaryDir dir;
     const std::string out = dir.filePath("guppy." + extension).toStdString();
     Assimp::Exporter exporter;
