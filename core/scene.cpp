@@ -275,12 +275,16 @@ void SceneSimulation::reset() {
 }
 
 void SceneSimulation::evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
+    evaluateNodes(i, m_objects[i].simulator.state().position, m_objects[i].simulator.time(), positions, normals, threads);
+}
+
+void SceneSimulation::evaluateNodes(std::size_t i, std::span<const Vec3> nodes, double seconds, std::span<Vec3f> positions,
+                                    std::span<Vec3f> normals, int threads) const {
     const Runtime& r = m_objects[i];
     if (r.motion)
-        r.motion->deform(r.simulator.time(), r.binding, r.simulator.state().position, r.source->mesh.triangles, positions,
-                         normals);
+        r.motion->deform(seconds, r.binding, nodes, r.source->mesh.triangles, positions, normals);
     else
-        r.binding.evaluate(r.simulator.state().position, positions, normals, threads);
+        r.binding.evaluate(nodes, positions, normals, threads);
 }
 
 std::size_t SceneSimulation::totalVertexCount() const {

@@ -117,6 +117,11 @@ public:
     /// Deformed positions and (optional) normals of object i, in its mesh order (on a base animation: the
     /// base mesh at the current time plus the body's deviation, core/base_motion.h).
     void evaluate(std::size_t i, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
+    /// The same for given node positions of object i at scene time `seconds` (a clip's frame).
+    void evaluateNodes(std::size_t i, std::span<const Vec3> nodes, double seconds, std::span<Vec3f> positions,
+                       std::span<Vec3f> normals, int threads = 0) const;
+    /// Object i follows a base animation: its mesh moves even where its nodes stand still.
+    bool followsBaseAnimation(std::size_t i) const { return m_objects[i].motion != nullptr; }
     /// Total vertex count over all objects (the order of a concatenated cache).
     std::size_t totalVertexCount() const;
     /// What the body contacts did in the last step (zero when off or apart).

@@ -90,6 +90,13 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         removeStaleTemporaries(target);
 
     auto writer = makeClipWriter(options.format, options.exportOptions);
+    if (writer->needsNodes())
+        for (std::size_t i = 0; i < sim.objectCount(); ++i)
+            if (sim.followsBaseAnimation(i))
+                return Status::error("object '" + sim.object(i).name + "' moves with its own base animation, which its "
+                                     "lattice cannot carry (the cache holds lattice nodes only, and a rig bends the "
+                                     "mesh in ways the lattice cannot follow); export it as pc2, mdd, obj, glTF, skin, "
+                                     "pca or vat");
     setup.info.pointCount = rest.positions.size();
     setup.info.frameCount = std::size_t(frames);
     setup.info.fps = source.fps();
@@ -117,7 +124,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
             const std::size_t n = sim.object(i).mesh.positions.size();
             const std::span<Vec3f> objectNormals =
                 normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
-            if (moved[i].changed(source.nodes(i))) {
+            if (moved[i].changed(source.nodes(i)) || sim.followsBaseAnimation(i)) {
                 source.evaluate(i, std::span<Vec3f>(positions).subspan(offset, n), objectNormals, options.threads);
                 ++result.meshEvaluations;
             }

@@ -43,13 +43,8 @@ Result<FrameSource> FrameSource::create(const Scene& scene, const FrameRequest& 
             return Status::error("clip '" + clip->name + "' has no frames");
         if (clip->loop && int(source.m_clipFrames.nodes.size()) == clip->frames && source.m_clipFrames.nodes.size() >= 3)
             source.m_seam = measureSeam(source.m_clipFrames);
-        for (std::size_t i = 0; i < source.m_sim.objectCount(); ++i) {
-            Mesh m = source.m_sim.object(i).mesh;
-            if (m.normals.size() != m.positions.size())
-                m.computeNormals();
-            source.m_bindings.push_back(Binding::create(source.m_sim.object(i).lattice, m.positions, m.normals));
-        }
         source.m_isClip = true;
+        source.m_clipStart = clip->startSeconds;
         source.m_loop = clip->loop;
         source.m_clipName = clip->name;
         source.m_fps = clip->fps;
@@ -82,8 +77,8 @@ std::span<const Vec3> FrameSource::nodes(std::size_t object) const {
 }
 
 void FrameSource::evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
-    if (m_isClip)
-        m_bindings[object].evaluate(nodes(object), positions, normals, threads);
+    if (m_isClip)  // frame i of a clip is at its start + i/fps (what a base animation is played at)
+        m_sim.evaluateNodes(object, nodes(object), m_clipStart + double(m_current) / m_fps, positions, normals, threads);
     else
         m_sim.evaluate(object, positions, normals, threads);
 }

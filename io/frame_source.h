@@ -54,7 +54,7 @@ private:
 
     SceneSimulation m_sim;
     NodeFrames m_clipFrames;          ///< Empty for the drivers.
-    std::vector<Binding> m_bindings;  ///< Per object, for clip frames.
+    double m_clipStart = 0.0;         ///< Scene time of the clip's first frame, seconds.
     bool m_isClip = false;
     bool m_loop = false;
     int m_current = 0;                ///< Clip frame shown.

@@ -1,4 +1,5 @@
 #include "io/project_file.h"
+#include "io/animation_import.h"
 
 #include "core/mesh_surface.h"
 #include "core/mesh_volume.h"
@@ -99,11 +100,11 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     if (allowPreset)
         v.checkKeys({"preset", "model", "mass", "totalMass", "massDistribution", "stiffness", "damping", "airDamping",
                      "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio",
-                     "stretchLimit", "squashLimit", "volumePreservation"});
+                     "stretchLimit", "squashLimit", "volumePreservation", "goalWeight"});
     else
         v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
                      "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio", "stretchLimit",
-                     "squashLimit", "volumePreservation"});
+                     "squashLimit", "volumePreservation", "goalWeight"});
     if (allowPreset)
         applyPreset(v["preset"], m, totalMass, baseDir);
     // Each model has its own keys (materialRanges().name), so a file can never give kilograms where a
@@ -169,6 +170,12 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     };
     readLimit("stretchLimit", kMinStretchLimit, kMaxStretchLimit, m.strainLimits.stretch);
     readLimit("squashLimit", kMinSquashLimit, kMaxSquashLimit, m.strainLimits.squash);
+    // How closely each node follows a base animation: one number or a painted map (core/base_motion.h).
+    if (v[kGoalWeightRange.name].exists()) {
+        std::vector<double> painted(m.mass.size(), 0.0);
+        readPerNode(v[kGoalWeightRange.name], painted, kGoalWeightRange.low, kGoalWeightRange.high, kGoalWeightRange.unit);
+        m.goalWeight = std::move(painted);
+    }
     // One number (a uniform map, as every file before painting had) or a painted map; all 0 is off.
     if (v[kVolumePreservationRange.name].exists()) {
         std::vector<double> painted(m.mass.size(), 0.0);
@@ -417,21 +424,69 @@ std::optional<Lattice> readLattice(const JsonValue& v, const Mesh& mesh) {
     return lattice.value();
 }
 
+/// An object's "animation": which take of its mesh file, which part of it, how it is sampled, and how the
+/// body follows it (its "goal" springs).
+std::optional<AnimationRequest> readAnimationRequest(const JsonValue& a, FollowSettings& follow) {
+    if (!a.expectObject())
+        return std::nullopt;
+    a.checkKeys({"take", "start", "end", "loop", "sampleRate", "goal"});
+    AnimationRequest request;
+    request.take = a["take"].string().value_or("");
+    if (auto x = a["start"].number(0.0, ranges::kMaxClipStart, "s"))
+        request.start = *x;
+    if (auto x = a["end"].number(0.0, ranges::kMaxClipStart, "s")) {
+        if (*x <= request.start)
+            a["end"].problem("expected an end after \"start\" (" + detail::formatNumber(request.start) + " s)");
+        request.end = *x;
+    }
+    request.loop = a["loop"].boolean().value_or(true);
+    if (auto x = a["sampleRate"].number(1.0, 1000.0, "samples/s"))
+        request.rate = *x;
+    if (const JsonValue g = a["goal"]; g.expectObject()) {
+        g.checkKeys({"frequency", "dampingRatio"});
+        if (auto x = g["frequency"].number(1e-3, 1000.0, "Hz"))
+            follow.frequency = *x;
+        if (auto x = g["dampingRatio"].number(0.0, 100.0))
+            follow.dampingRatio = *x;
+    }
+    return request;
+}
+
 void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, JsonIssues& issues) {
     if (!v.expectObject(true))
         return;
-    v.checkKeys({"name", "mesh", "position", "lattice", "material", "anchors", "voids", "drivers"});
+    v.checkKeys({"name", "mesh", "animation", "position", "lattice", "material", "anchors", "voids", "drivers"});
     SceneObject object;
     object.name = v["name"].string().value_or("object " + std::to_string(project.scene.objects.size()));
     const auto meshRef = v["mesh"].string(true);
     if (!meshRef)
         return;
-    auto mesh = importMesh(baseDir / *meshRef);
-    if (!mesh) {
-        v["mesh"].problem(mesh.message());
-        return;
+    if (const JsonValue a = v["animation"]; a.exists()) {
+        // The mesh's own animation: the mesh is its first sample (io/animation_import.h).
+        auto request = readAnimationRequest(a, object.follow);
+        if (!request)
+            return;
+        auto animated = importAnimatedMesh(baseDir / *meshRef, *request);
+        if (!animated) {
+            v["mesh"].problem(animated.message());
+            return;
+        }
+        object.mesh = std::move(animated->mesh);
+        object.baseAnimation = std::make_shared<BaseAnimation>(std::move(animated->animation));
+        project.importNotes.push_back(object.name + ": take \"" + object.baseAnimation->take + "\" from " +
+                                      detail::formatNumber(object.baseAnimation->start) + " s for " +
+                                      detail::formatNumber(object.baseAnimation->duration()) + " s at " +
+                                      detail::formatNumber(object.baseAnimation->rate) + " samples/s" +
+                                      (object.baseAnimation->loop ? ", looping" : "") + "; " +
+                                      std::to_string(object.mesh.positions.size()) + " vertices in " + animated->unit);
+    } else {
+        auto mesh = importMesh(baseDir / *meshRef);
+        if (!mesh) {
+            v["mesh"].problem(mesh.message());
+            return;
+        }
+        object.mesh = std::move(mesh.value());
     }
-    object.mesh = std::move(mesh.value());
     // Where the mesh goes in the scene: its file's coordinates moved by this (a lattice "box", like
     // everything else in the file, is in scene coordinates).
     Vec3 offset = Vec3::Zero();
@@ -443,6 +498,13 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     }
     for (Vec3f& p : object.mesh.positions)
         p += offset.cast<float>();
+    if (object.baseAnimation && !offset.isZero()) {
+        auto moved = std::make_shared<BaseAnimation>(*object.baseAnimation);
+        for (auto& sample : moved->samples)
+            for (Vec3f& p : sample)
+                p += offset.cast<float>();
+        object.baseAnimation = std::move(moved);
+    }
     auto lattice = readLattice(v["lattice"], object.mesh);
     if (!lattice)
         return;
@@ -1161,6 +1223,8 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
         object["material"]["squashLimit"] = m.strainLimits.squash;
     if (largestVolumePreservation(m) > 0.0)
         object["material"][kVolumePreservationRange.name] = perNode(m.volumePreservation);
+    if (std::any_of(m.goalWeight.begin(), m.goalWeight.end(), [](double w) { return w > 0.0; }))
+        object["material"][kGoalWeightRange.name] = perNode(m.goalWeight);
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);
@@ -1209,6 +1273,13 @@ Status saveProject(const Project& project, const fs::path& path) {
                        {"drivers", drivers}};
         if (i < project.meshOffsets.size() && !project.meshOffsets[i].isZero())
             object["position"] = vec(project.meshOffsets[i]);
+        if (const auto& a = o.baseAnimation)
+            object["animation"] = {{"take", a->take},
+                                   {"start", a->start},
+                                   {"end", a->start + a->duration()},
+                                   {"loop", a->loop},
+                                   {"sampleRate", a->rate},
+                                   {"goal", {{"frequency", o.follow.frequency}, {"dampingRatio", o.follow.dampingRatio}}}};
         writeMaterial(o.lattice, o.material, object);
         objects.push_back(object);
     }

@@ -28,6 +28,8 @@ struct Project {
     std::vector<Vec3> meshOffsets;           ///< Per object, the "position" its mesh was moved by on load (two fish
                                              ///< from one file); missing entries are zero.
     ClipLibrary clips;                       ///< Clips, sessions and keyframe sets (version 2); validated on load.
+    std::vector<std::string> importNotes;    ///< Per animated object, what its import found ("guppy: take 'swim'
+                                             ///< 0-1 s at 120 samples/s, metres (glTF)"), for the CLI and editor.
 };
 
 /// A shareable material: scalar values that apply to any lattice.

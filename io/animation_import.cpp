@@ -1,0 +1,412 @@
+#include "io/animation_import.h"
+
+#include "io/input_file.h"
+#include "io/isolated_import.h"
+#include "io/mesh_file_check.h"
+#include "io/scene_units.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <sstream>
+
+namespace softtouch::io {
+
+namespace {
+
+/// Most vertex positions the samples may hold (12 bytes each: 384 MiB).
+constexpr double kMaxSampledPositions = 32e6;
+
+/// The key pair around `ticks` and how far between them: (index, fraction); past either end, that end.
+template <typename Key>
+std::pair<unsigned, double> bracket(const Key* keys, unsigned count, double ticks) {
+    if (count <= 1 || ticks <= keys[0].mTime)
+        return {0u, 0.0};
+    if (ticks >= keys[count - 1].mTime)
+        return {count - 1, 0.0};
+    unsigned lo = 0, hi = count - 1;
+    while (hi - lo > 1) {
+        const unsigned mid = (lo + hi) / 2;
+        (keys[mid].mTime <= ticks ? lo : hi) = mid;
+    }
+    const double span = keys[hi].mTime - keys[lo].mTime;
+    return {lo, span > 0.0 ? (ticks - keys[lo].mTime) / span : 0.0};
+}
+
+/// A node's transform at `ticks`: its channel's keys (positions and scales linear, rotations slerped), or
+/// its own transform where the take does not key it.
+aiMatrix4x4 localTransform(const aiNode& node, const aiNodeAnim* channel, double ticks) {
+    if (!channel)
+        return node.mTransformation;
+    aiVector3D scaling(1, 1, 1), position(0, 0, 0);
+    aiQuaternion rotation;
+    aiVector3D nodeScaling, nodePosition;
+    aiQuaternion nodeRotation;
+    node.mTransformation.Decompose(nodeScaling, nodeRotation, nodePosition);
+    auto vectorAt = [&](const aiVectorKey* keys, unsigned count, const aiVector3D& otherwise) {
+        if (count == 0)
+            return otherwise;
+        const auto [k, f] = bracket(keys, count, ticks);
+        if (f == 0.0)
+            return keys[k].mValue;
+        return keys[k].mValue + ai_real(f) * (keys[k + 1].mValue - keys[k].mValue);
+    };
+    position = vectorAt(channel->mPositionKeys, channel->mNumPositionKeys, nodePosition);
+    scaling = vectorAt(channel->mScalingKeys, channel->mNumScalingKeys, nodeScaling);
+    if (channel->mNumRotationKeys == 0) {
+        rotation = nodeRotation;
+    } else {
+        const auto [k, f] = bracket(channel->mRotationKeys, channel->mNumRotationKeys, ticks);
+        if (f == 0.0)
+            rotation = channel->mRotationKeys[k].mValue;
+        else
+            aiQuaternion::Interpolate(rotation, channel->mRotationKeys[k].mValue, channel->mRotationKeys[k + 1].mValue,
+                                      ai_real(f));
+        rotation.Normalize();
+    }
+    return aiMatrix4x4(scaling, rotation, position);
+}
+
+/// One placement of a mesh in the node hierarchy.
+struct Instance {
+    unsigned mesh = 0;
+    int node = 0;
+    std::uint32_t firstVertex = 0;
+};
+
+/// The file's node hierarchy flattened depth first, its triangle meshes as placed, and one take.
+class Rig {
+public:
+    Rig(const aiScene& scene, const aiAnimation* take, double metresPerUnit)
+        : m_scene(scene), m_take(take), m_scale(ai_real(metresPerUnit)) {
+        add(scene.mRootNode, -1);
+        if (take)
+            for (unsigned c = 0; c < take->mNumChannels; ++c)
+                if (auto it = m_byName.find(take->mChannels[c]->mNodeName.C_Str()); it != m_byName.end())
+                    m_channel[std::size_t(it->second)] = take->mChannels[c];
+        std::uint32_t vertices = 0;
+        for (std::size_t n = 0; n < m_nodes.size(); ++n)
+            for (unsigned i = 0; i < m_nodes[n]->mNumMeshes; ++i) {
+                const aiMesh* mesh = scene.mMeshes[m_nodes[n]->mMeshes[i]];
+                if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || mesh->mNumFaces == 0)
+                    continue;
+                m_instances.push_back({m_nodes[n]->mMeshes[i], int(n), vertices});
+                vertices += mesh->mNumVertices;
+            }
+        m_vertexCount = vertices;
+    }
+
+    std::size_t vertexCount() const { return m_vertexCount; }
+    const std::vector<Instance>& instances() const { return m_instances; }
+    const aiNode& node(int n) const { return *m_nodes[std::size_t(n)]; }
+
+    /// Every vertex at `seconds` of the take, metres.
+    void positionsAt(double seconds, std::vector<Vec3f>& out) const {
+        const double ticksPerSecond = m_take && m_take->mTicksPerSecond > 0.0 ? m_take->mTicksPerSecond : 25.0;
+        const double ticks = seconds * ticksPerSecond;
+        std::vector<aiMatrix4x4> global(m_nodes.size());
+        for (std::size_t n = 0; n < m_nodes.size(); ++n) {
+            const aiMatrix4x4 local = localTransform(*m_nodes[n], m_channel.count(n) ? m_channel.at(n) : nullptr, ticks);
+            global[n] = m_parent[n] < 0 ? local : global[std::size_t(m_parent[n])] * local;
+        }
+        out.resize(m_vertexCount);
+        std::vector<aiVector3D> morphed;
+        for (const Instance& instance : m_instances) {
+            const aiMesh& mesh = *m_scene.mMeshes[instance.mesh];
+            morphed.assign(mesh.mVertices, mesh.mVertices + mesh.mNumVertices);
+            applyMorphs(mesh, node(instance.node), ticks, morphed);
+            Vec3f* target = out.data() + instance.firstVertex;
+            if (!mesh.HasBones()) {
+                const aiMatrix4x4& m = global[std::size_t(instance.node)];
+                for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+                    const aiVector3D p = m * morphed[v];
+                    target[v] = Vec3f(p.x, p.y, p.z) * float(m_scale);
+                }
+                continue;
+            }
+            // Skinning: p = Σ_b w_b (bone's global transform × its offset, the inverse bind matrix) p_mesh.
+            std::vector<aiVector3D> sum(mesh.mNumVertices, aiVector3D(0, 0, 0));
+            std::vector<ai_real> weight(mesh.mNumVertices, 0);
+            for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+                const aiBone& bone = *mesh.mBones[b];
+                const auto it = m_byName.find(bone.mName.C_Str());
+                if (it == m_byName.end())
+                    continue;
+                const aiMatrix4x4 skin = global[std::size_t(it->second)] * bone.mOffsetMatrix;
+                for (unsigned w = 0; w < bone.mNumWeights; ++w) {
+                    const aiVertexWeight& vw = bone.mWeights[w];
+                    if (vw.mVertexId >= mesh.mNumVertices)
+                        continue;
+                    sum[vw.mVertexId] += vw.mWeight * (skin * morphed[vw.mVertexId]);
+                    weight[vw.mVertexId] += vw.mWeight;
+                }
+            }
+            const aiMatrix4x4& rigid = global[std::size_t(instance.node)];
+            for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+                // Weights are meant to sum to 1; a vertex no bone holds follows its node.
+                const aiVector3D p = weight[v] > ai_real(1e-6) ? sum[v] / weight[v] : rigid * morphed[v];
+                target[v] = Vec3f(p.x, p.y, p.z) * float(m_scale);
+            }
+        }
+    }
+
+private:
+    void add(const aiNode* node, int parent) {
+        const int index = int(m_nodes.size());
+        m_nodes.push_back(node);
+        m_parent.push_back(parent);
+        m_byName.emplace(node->mName.C_Str(), index);
+        for (unsigned c = 0; c < node->mNumChildren; ++c)
+            add(node->mChildren[c], index);
+    }
+
+    /// Blend shapes: p + Σ_k w_k (target_k − p), the weights keyed by the take (channel named after the mesh's
+    /// node) or each target's own default.
+    void applyMorphs(const aiMesh& mesh, const aiNode& placed, double ticks, std::vector<aiVector3D>& p) const {
+        if (mesh.mNumAnimMeshes == 0)
+            return;
+        std::vector<double> weights(mesh.mNumAnimMeshes, 0.0);
+        for (unsigned k = 0; k < mesh.mNumAnimMeshes; ++k)
+            weights[k] = mesh.mAnimMeshes[k]->mWeight;
+        if (const aiMeshMorphAnim* channel = morphChannel(placed)) {
+            std::fill(weights.begin(), weights.end(), 0.0);
+            const auto [k, f] = bracket(channel->mKeys, channel->mNumKeys, ticks);
+            auto addKey = [&](const aiMeshMorphKey& key, double share) {
+                for (unsigned i = 0; i < key.mNumValuesAndWeights; ++i)
+                    if (key.mValues[i] < weights.size())
+                        weights[key.mValues[i]] += share * key.mWeights[i];
+            };
+            addKey(channel->mKeys[k], 1.0 - f);
+            if (f > 0.0)
+                addKey(channel->mKeys[k + 1], f);
+        }
+        const std::vector<aiVector3D> base = p;
+        for (unsigned k = 0; k < mesh.mNumAnimMeshes; ++k) {
+            const aiAnimMesh& target = *mesh.mAnimMeshes[k];
+            if (weights[k] == 0.0 || !target.mVertices || target.mNumVertices != mesh.mNumVertices)
+                continue;
+            for (unsigned v = 0; v < mesh.mNumVertices; ++v)
+                p[v] += ai_real(weights[k]) * (target.mVertices[v] - base[v]);
+        }
+    }
+
+    const aiMeshMorphAnim* morphChannel(const aiNode& placed) const {
+        if (!m_take)
+            return nullptr;
+        const std::string name = placed.mName.C_Str();
+        for (unsigned c = 0; c < m_take->mNumMorphMeshChannels; ++c) {
+            const std::string channel = m_take->mMorphMeshChannels[c]->mName.C_Str();
+            // glTF names the channel after the node, some writers add "*index".
+            if (channel == name || channel.rfind(name + "*", 0) == 0)
+                return m_take->mMorphMeshChannels[c];
+        }
+        return nullptr;
+    }
+
+    const aiScene& m_scene;
+    const aiAnimation* m_take;
+    ai_real m_scale;
+    std::vector<const aiNode*> m_nodes;
+    std::vector<int> m_parent;
+    std::map<std::string, int> m_byName;
+    std::map<std::size_t, const aiNodeAnim*> m_channel;
+    std::vector<Instance> m_instances;
+    std::size_t m_vertexCount = 0;
+};
+
+std::string formatSeconds(double s) {
+    std::ostringstream out;
+    out << s;
+    return out.str();
+}
+
+Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request) {
+    Assimp::Importer importer;
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                           aiProcess_ValidateDataStructure;
+    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    if (!scene || !scene->mRootNode)
+        return Status::error("cannot read mesh " + name + ": " + importer.GetErrorString());
+    AnimatedMesh result;
+    for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
+        const aiAnimation& take = *scene->mAnimations[a];
+        const double tps = take.mTicksPerSecond > 0.0 ? take.mTicksPerSecond : 25.0;
+        result.takes.emplace_back(take.mName.C_Str(), take.mDuration / tps);
+    }
+    if (result.takes.empty())
+        return Status::error("mesh file " + name + " has no animation (no keyed transforms, skeleton or blend-shape "
+                             "weights): import it as a still mesh");
+    int chosen = request.take.empty() ? 0 : -1;
+    for (std::size_t a = 0; a < result.takes.size() && chosen < 0; ++a)
+        if (result.takes[a].first == request.take)
+            chosen = int(a);
+    if (chosen < 0) {
+        std::string names;
+        for (const auto& [takeName, seconds] : result.takes)
+            names += (names.empty() ? "\"" : ", \"") + takeName + "\" (" + formatSeconds(seconds) + " s)";
+        return Status::error("mesh file " + name + " has no take \"" + request.take + "\"; it has " + names);
+    }
+    const double length = result.takes[std::size_t(chosen)].second;
+    const double end = request.end < 0.0 ? length : request.end;
+    if (!(request.start >= 0.0 && end > request.start && end <= length * (1.0 + 1e-9) + 1e-9))
+        return Status::error("mesh file " + name + ": the range " + formatSeconds(request.start) + " to " +
+                             formatSeconds(end) + " s is not inside take \"" + result.takes[std::size_t(chosen)].first +
+                             "\" (0 to " + formatSeconds(length) + " s)");
+    if (!(request.rate >= 1.0 && request.rate <= 1000.0))
+        return Status::error("animation sample rate must be in [1, 1000] per second, got " + formatSeconds(request.rate));
+    const SceneUnit unit = sceneUnit(*scene, path.string());
+    result.unit = unit.description;
+    const Rig rig(*scene, scene->mAnimations[chosen], unit.metresPerUnit);
+    if (rig.vertexCount() == 0)
+        return Status::error("mesh file " + name + " has no triangles");
+    const double span = (end - request.start) * request.rate;
+    const auto count = request.loop ? std::max<long long>(2, std::llround(span)) : (long long)(std::floor(span + 1e-9)) + 1;
+    if (double(count) * double(rig.vertexCount()) > kMaxSampledPositions)
+        return Status::error("mesh file " + name + ": " + std::to_string(count) + " samples of " +
+                             std::to_string(rig.vertexCount()) + " vertices is more than SoftTouch keeps (32 million " +
+                             "positions): sample a shorter range or at a lower rate");
+    BaseAnimation& animation = result.animation;
+    animation.take = result.takes[std::size_t(chosen)].first;
+    animation.start = request.start;
+    animation.rate = request.rate;
+    animation.loop = request.loop;
+    animation.samples.resize(std::size_t(count));
+    for (long long k = 0; k < count; ++k)
+        rig.positionsAt(std::min(end, request.start + double(k) / request.rate), animation.samples[std::size_t(k)]);
+    // The rest mesh: the first sample, with the file's triangles.
+    Mesh& mesh = result.mesh;
+    mesh.positions = animation.samples.front();
+    for (const Instance& instance : rig.instances()) {
+        const aiMesh& source = *scene->mMeshes[instance.mesh];
+        MeshPart part;
+        part.name = source.mName.C_Str();
+        part.firstVertex = instance.firstVertex;
+        part.vertexCount = source.mNumVertices;
+        mesh.parts.push_back(part);
+        for (unsigned f = 0; f < source.mNumFaces; ++f) {
+            const aiFace& face = source.mFaces[f];
+            if (face.mNumIndices == 3)
+                mesh.triangles.push_back({instance.firstVertex + face.mIndices[0], instance.firstVertex + face.mIndices[1],
+                                          instance.firstVertex + face.mIndices[2]});
+        }
+    }
+    mesh.computeNormals();
+    if (Status s = mesh.validate(); !s)
+        return Status::error("mesh file " + name + ": " + s.message());
+    if (Status s = animation.validate(mesh.positions.size()); !s)
+        return Status::error("mesh file " + name + ": " + s.message());
+    return result;
+}
+
+std::string encode(const Result<AnimatedMesh>& result) {
+    std::string out;
+    put(out, std::uint8_t(result.ok()));
+    if (!result.ok()) {
+        put(out, std::uint64_t(result.message().size()));
+        out += result.message();
+        return out;
+    }
+    const AnimatedMesh& a = result.value();
+    putVector(out, a.mesh.positions);
+    putVector(out, a.mesh.normals);
+    putVector(out, a.mesh.triangles);
+    put(out, std::uint64_t(a.mesh.parts.size()));
+    for (const MeshPart& part : a.mesh.parts) {
+        put(out, std::uint64_t(part.name.size()));
+        out += part.name;
+        put(out, part.firstVertex);
+        put(out, part.vertexCount);
+    }
+    put(out, std::uint64_t(a.animation.take.size()));
+    out += a.animation.take;
+    put(out, a.animation.start);
+    put(out, a.animation.rate);
+    put(out, std::uint8_t(a.animation.loop));
+    put(out, std::uint64_t(a.animation.samples.size()));
+    for (const auto& sample : a.animation.samples)
+        putVector(out, sample);
+    put(out, std::uint64_t(a.takes.size()));
+    for (const auto& [takeName, seconds] : a.takes) {
+        put(out, std::uint64_t(takeName.size()));
+        out += takeName;
+        put(out, seconds);
+    }
+    put(out, std::uint64_t(a.unit.size()));
+    out += a.unit;
+    return out;
+}
+
+std::optional<Result<AnimatedMesh>> decode(const std::string& bytes) {
+    Decoder in(bytes);
+    std::uint8_t ok = 0;
+    if (!in.get(ok))
+        return std::nullopt;
+    if (!ok) {
+        std::string message;
+        if (!in.getBytes(message))
+            return std::nullopt;
+        return Result<AnimatedMesh>(Status::error(message));
+    }
+    AnimatedMesh a;
+    std::uint64_t parts = 0, samples = 0, takes = 0;
+    std::uint8_t loop = 0;
+    if (!in.getVector(a.mesh.positions) || !in.getVector(a.mesh.normals) || !in.getVector(a.mesh.triangles) || !in.get(parts))
+        return std::nullopt;
+    for (std::uint64_t i = 0; i < parts; ++i) {
+        MeshPart part;
+        if (!in.getBytes(part.name) || !in.get(part.firstVertex) || !in.get(part.vertexCount))
+            return std::nullopt;
+        a.mesh.parts.push_back(std::move(part));
+    }
+    if (!in.getBytes(a.animation.take) || !in.get(a.animation.start) || !in.get(a.animation.rate) || !in.get(loop) ||
+        !in.get(samples))
+        return std::nullopt;
+    a.animation.loop = loop != 0;
+    for (std::uint64_t k = 0; k < samples; ++k) {
+        std::vector<Vec3f> sample;
+        if (!in.getVector(sample))
+            return std::nullopt;
+        a.animation.samples.push_back(std::move(sample));
+    }
+    if (!in.get(takes))
+        return std::nullopt;
+    for (std::uint64_t t = 0; t < takes; ++t) {
+        std::string takeName;
+        double seconds = 0.0;
+        if (!in.getBytes(takeName) || !in.get(seconds))
+            return std::nullopt;
+        a.takes.emplace_back(std::move(takeName), seconds);
+    }
+    if (!in.getBytes(a.unit))
+        return std::nullopt;
+    return Result<AnimatedMesh>(std::move(a));
+}
+
+}  // namespace
+
+Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request) {
+    const std::string name = "'" + path.string() + "'";
+    if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
+        return Status::error("mesh file " + name + " " + s.message());
+    std::error_code ec;
+    if (std::filesystem::file_size(path, ec) == 0)
+        return Status::error("mesh file " + name + " is empty (0 bytes)");
+    if (Status s = checkMeshFileIsWhole(path); !s)
+        return Status::error("mesh file " + name + ": " + s.message());
+    auto bytes = runIsolated(path, name, [&] { return encode(readAnimated(path, name, request)); });
+    if (!bytes)
+        return bytes.status();
+    auto decoded = decode(bytes.value());
+    if (!decoded)
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (its answer was cut "
+                             "short); the file is corrupt or in a form assimp cannot read");
+    return std::move(*decoded);
+}
+
+}  // namespace softtouch::io

@@ -1,0 +1,41 @@
+#pragma once
+/// Importing a mesh with its own animation through assimp (glTF/GLB, FBX, COLLADA, …): keyed node
+/// transforms, skeletons with skinned meshes and morph-target (blend shape) weights, in any mix. The rig is
+/// evaluated here, at a fixed rate over the chosen part of one take, into vertex positions (core's
+/// BaseAnimation); the soft body adds its secondary motion on top (core/base_motion.h).
+///
+/// Vertex order: every triangle mesh of the file, in the order the node hierarchy reaches them (depth
+/// first), each as often as nodes instance it; the first sample is the object's rest mesh.
+
+#include "core/base_animation.h"
+#include "core/mesh.h"
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace softtouch::io {
+
+/// Which part of which take to sample.
+struct AnimationRequest {
+    std::string take;      ///< The take's name; empty: the file's first take.
+    double start = 0.0;    ///< Seconds into the take, >= 0.
+    double end = -1.0;     ///< Seconds into the take, > start; negative: the take's end.
+    double rate = 120.0;   ///< Samples per second, [1, 1000] (bake frame rates that divide it land on samples).
+    bool loop = true;      ///< The take repeats: the range's end runs on into its start.
+};
+
+/// What the import found.
+struct AnimatedMesh {
+    Mesh mesh;                       ///< The first sample, metres, with normals: the object's rest mesh.
+    BaseAnimation animation;         ///< Every sample, metres.
+    std::vector<std::pair<std::string, double>> takes; ///< Every take of the file and its length, seconds.
+    std::string unit;                ///< The unit the file was read in and why ("centimetres (FBX UnitScaleFactor 1)").
+};
+
+/// Imports `path` and samples `request`. Errors name the file and what is wrong: no animation, an unknown
+/// take (listing the file's takes), a range outside the take, a sample count above the memory limit.
+Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request);
+
+}  // namespace softtouch::io

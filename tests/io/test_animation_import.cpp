@@ -1,0 +1,213 @@
+// Animated imports (io/animation_import.h) and bakes on a base animation (core/base_motion.h): keyed
+// transforms, a skinned bar and a blend shape, written as GLB by the test with a known motion, import to
+// that motion; with goal weight 1 everywhere a PC2 bake is the base animation itself; bad requests fail
+// naming the file and what is wrong.
+
+#include "rigged_gltf.h"
+
+#include "io/animation_import.h"
+#include "io/bake.h"
+#include "io/project_file.h"
+#include "io/vertex_cache.h"
+
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include <fstream>
+
+using namespace softtouch;
+using namespace softtouch::io;
+using namespace softtouch::test;
+
+namespace {
+
+const std::filesystem::path kPresets = SOFTTOUCH_SOURCE_DIR "/presets";
+
+/// For each imported vertex, the written vertex at the same place (assimp joins the duplicates of the
+/// written faces' shared edges, which move alike).
+std::vector<std::size_t> matchVertices(const std::vector<Vec3f>& imported, const std::vector<Vec3f>& written) {
+    std::vector<std::size_t> match(imported.size());
+    for (std::size_t v = 0; v < imported.size(); ++v) {
+        double best = 1e30;
+        for (std::size_t w = 0; w < written.size(); ++w) {
+            const double d = (imported[v] - written[w]).squaredNorm();
+            if (d < best)
+                best = d, match[v] = w;
+        }
+    }
+    return match;
+}
+
+double diagonalOf(const std::vector<Vec3f>& p) {
+    Vec3f lo = p.front(), hi = p.front();
+    for (const Vec3f& x : p)
+        lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    return double((hi - lo).norm());
+}
+
+void addRigRows() {
+    QTest::addColumn<int>("kind");
+    QTest::newRow("keyed transforms") << int(RigKind::Keyed);
+    QTest::newRow("skinned") << int(RigKind::Skinned);
+    QTest::newRow("morph targets") << int(RigKind::Morph);
+}
+
+std::string projectFor(const std::string& glb, const std::string& extra = "") {
+    return R"({"format": "softtouch-project", "version": 4,
+      "objects": [{"name": "rig", "mesh": ")" + glb + R"(",
+                   "animation": {"take": "take", "loop": false, "sampleRate": 120},
+                   "lattice": {"nodes": [4, 4, 4]},
+                   "material": {"goalWeight": 1)" + extra + R"(}}],
+      "simulation": {"integrator": "verlet"},
+      "clip": {"frames": 24, "fps": 24}})";
+}
+
+}  // namespace
+
+class TestAnimationImport : public QObject {
+    Q_OBJECT
+
+private slots:
+    void importsTheRigsMotion_data() { addRigRows(); }
+
+    // Every sample on a key is where the rig puts the vertex (assimp's reading, SoftTouch's evaluation of
+    // the hierarchy, skin and blend shapes), to float precision.
+    void importsTheRigsMotion() {
+        QFETCH(int, kind);
+        QTemporaryDir dir;
+        const std::string path = dir.filePath("rig.glb").toStdString();
+        const RiggedFile rig = writeRiggedGlb(RigKind(kind), path);
+        AnimationRequest request;
+        request.loop = false;
+        auto imported = importAnimatedMesh(path, request);
+        QVERIFY2(imported.ok(), imported.message().c_str());
+        QCOMPARE(imported->takes.size(), std::size_t(1));
+        QCOMPARE(QString::fromStdString(imported->takes[0].first), QString("take"));
+        QVERIFY(std::abs(imported->takes[0].second - 1.0) < 1e-6);
+        QCOMPARE(QString::fromStdString(imported->unit), QString("metres (glTF)"));
+        const BaseAnimation& a = imported->animation;
+        QCOMPARE(a.samples.size(), std::size_t(121));
+        const auto match = matchVertices(imported->mesh.positions, rig.rest);
+        const double diagonal = diagonalOf(rig.rest);
+        double worst = 0.0;
+        for (int k = 0; k <= 24; ++k)
+            for (std::size_t v = 0; v < match.size(); ++v)
+                worst = std::max(worst, double((a.samples[std::size_t(5 * k)][v] - rig.expected[std::size_t(k)][match[v]]).norm()));
+        qInfo("%s: %zu vertices (%zu written), worst sample %.3g of the diagonal from the rig's motion",
+              QTest::currentDataTag(), imported->mesh.positions.size(), rig.rest.size(), worst / diagonal);
+        QVERIFY(worst <= 1e-6 * diagonal);
+        // It moves: the motion is not the rest pose.
+        double moved = 0.0;
+        for (std::size_t v = 0; v < match.size(); ++v)
+            moved = std::max(moved, double((a.samples[30][v] - a.samples[0][v]).norm()));
+        QVERIFY(moved > 0.02 * diagonal);
+    }
+
+    void weightOneBakesTheBase_data() { addRigRows(); }
+
+    // The must-show: goal weight 1 everywhere, the bake (a PC2 through the whole project path) equals the
+    // base animation within 1e-6 of the diagonal.
+    void weightOneBakesTheBase() {
+        QFETCH(int, kind);
+        QTemporaryDir dir;
+        const std::string glb = dir.filePath("rig.glb").toStdString();
+        const RiggedFile rig = writeRiggedGlb(RigKind(kind), glb);
+        const std::filesystem::path projectPath = dir.filePath("rig.softtouch").toStdString();
+        std::ofstream(projectPath) << projectFor(glb);
+        auto project = loadProject(projectPath);
+        QVERIFY2(project.ok(), project.message().c_str());
+        QCOMPARE(project->importNotes.size(), std::size_t(1));
+        qInfo("%s", project->importNotes[0].c_str());
+        BakeOptions options;
+        options.output = dir.filePath("rig.pc2").toStdString();
+        auto baked = bake(project->scene, options);
+        QVERIFY2(baked.ok(), baked.message().c_str());
+        auto cache = readPc2(options.output);
+        QVERIFY2(cache.ok(), cache.message().c_str());
+        QCOMPARE(cache->frames.size(), std::size_t(24));
+        const auto match = matchVertices(project->scene.objects[0].mesh.positions, rig.rest);
+        const double diagonal = diagonalOf(rig.rest);
+        double worst = 0.0;
+        for (std::size_t f = 0; f < 24; ++f)
+            for (std::size_t v = 0; v < match.size(); ++v)
+                worst = std::max(worst, double((cache->frames[f][v] - rig.expected[f][match[v]]).norm()));
+        qInfo("%s: worst baked vertex %.3g of the diagonal from the base animation", QTest::currentDataTag(), worst / diagonal);
+        QVERIFY(worst <= 1e-6 * diagonal);
+        // Saved and read back, the project keeps its animation and goal weights.
+        const std::filesystem::path saved = dir.filePath("saved.softtouch").toStdString();
+        QVERIFY(saveProject(project.value(), saved).ok());
+        auto again = loadProject(saved);
+        QVERIFY2(again.ok(), again.message().c_str());
+        QVERIFY(again->scene.objects[0].baseAnimation);
+        QCOMPARE(again->scene.objects[0].baseAnimation->samples.size(), std::size_t(121));
+        QCOMPARE(again->scene.objects[0].material.goalWeight, project->scene.objects[0].material.goalWeight);
+    }
+
+    // With weight 0 and nothing pinned the body lags its base: the bake leaves the base animation.
+    void freeBodyLagsItsBase() {
+        QTemporaryDir dir;
+        const std::string glb = dir.filePath("rig.glb").toStdString();
+        const RiggedFile rig = writeRiggedGlb(RigKind::Keyed, glb);
+        const std::filesystem::path projectPath = dir.filePath("rig.softtouch").toStdString();
+        std::ofstream(projectPath) << projectFor(glb).replace(projectFor(glb).find("\"goalWeight\": 1"), 15, "\"goalWeight\": 0.3");
+        auto project = loadProject(projectPath);
+        QVERIFY2(project.ok(), project.message().c_str());
+        BakeOptions options;
+        options.output = dir.filePath("rig.pc2").toStdString();
+        QVERIFY(bake(project->scene, options).ok());
+        auto cache = readPc2(options.output);
+        QVERIFY(cache.ok());
+        const auto match = matchVertices(project->scene.objects[0].mesh.positions, rig.rest);
+        double worst = 0.0;
+        for (std::size_t f = 0; f < 24; ++f)
+            for (std::size_t v = 0; v < match.size(); ++v)
+                worst = std::max(worst, double((cache->frames[f][v] - rig.expected[f][match[v]]).norm()));
+        qInfo("goal weight 0.3: the body leaves its base by up to %.3g m", worst);
+        QVERIFY(worst > 0.01 * diagonalOf(rig.rest));
+    }
+
+    // What cannot be done says so: a still mesh has no animation, a take that is not there lists those that
+    // are, a range outside the take, and the lattice cache, which cannot carry a rig's motion.
+    void badRequestsFailClearly() {
+        QTemporaryDir dir;
+        const std::string glb = dir.filePath("rig.glb").toStdString();
+        (void)writeRiggedGlb(RigKind::Skinned, glb);
+        auto still = importAnimatedMesh(kPresets / "meshes/guppy.obj", {});
+        QVERIFY(!still.ok());
+        QVERIFY2(still.message().find("guppy.obj' has no animation") != std::string::npos, still.message().c_str());
+        AnimationRequest request;
+        request.take = "walk";
+        auto missing = importAnimatedMesh(glb, request);
+        QVERIFY(!missing.ok());
+        QVERIFY2(missing.message().find("has no take \"walk\"; it has \"take\" (1 s)") != std::string::npos,
+                 missing.message().c_str());
+        request.take = "take";
+        request.start = 0.5;
+        request.end = 2.0;
+        auto outside = importAnimatedMesh(glb, request);
+        QVERIFY(!outside.ok());
+        QVERIFY2(outside.message().find("0.5 to 2 s is not inside take \"take\" (0 to 1 s)") != std::string::npos,
+                 outside.message().c_str());
+
+        const std::filesystem::path projectPath = dir.filePath("rig.softtouch").toStdString();
+        std::ofstream(projectPath) << projectFor(glb);
+        auto project = loadProject(projectPath);
+        QVERIFY2(project.ok(), project.message().c_str());
+        BakeOptions options;
+        options.output = dir.filePath("rig-lattice").toStdString();
+        options.format = CacheFormat::Lattice;
+        auto refused = bake(project->scene, options);
+        QVERIFY(!refused.ok());
+        QVERIFY2(refused.message().find("object 'rig' moves with its own base animation") != std::string::npos,
+                 refused.message().c_str());
+        QVERIFY(!std::filesystem::exists(dir.filePath("rig-lattice.glb").toStdString()));
+        // A goal weight outside [0, 1] names the key.
+        std::ofstream(projectPath) << projectFor(glb).replace(projectFor(glb).find("\"goalWeight\": 1"), 15, "\"goalWeight\": 2");
+        auto bad = loadProject(projectPath);
+        QVERIFY(!bad.ok());
+        QVERIFY2(bad.message().find("/objects/0/material/goalWeight") != std::string::npos, bad.message().c_str());
+    }
+};
+
+QTEST_GUILESS_MAIN(TestAnimationImport)
+#include "test_animation_import.moc"
