@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Procedural sample meshes for SoftTouch (presets/meshes/).
 
-Writes angelfish.obj, demekin.obj, guppy.obj and star.obj next to this file.
+Writes angelfish.obj, demekin.obj, guppy.obj and star.obj next to this file, and
+guppy-rigged.glb: the guppy with a spine of six joints, smooth skin weights and a
+one-second swim cycle (take "swim"), for secondary motion on a base animation.
 Pure Python 3 standard library and fully deterministic (no randomness), so
 re-running it produces byte-identical files.
 
@@ -19,8 +21,10 @@ Usage
     python3 generate_samples.py --check   # validate the OBJ files on disk
 """
 import bisect
+import json
 import math
 import os
+import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -534,6 +538,121 @@ def write_obj(path, parts):
         f.write("\n".join(lines) + "\n")
 
 
+
+# ------------------------------------------------------------ rigged guppy
+GUPPY_JOINTS = [0.42, 0.28, 0.14, 0.0, -0.14, -0.28]   # x of each spine joint, head first
+GUPPY_SWING = [0.03, 0.06, 0.09, 0.12, 0.16, 0.20]     # yaw amplitude of each joint, rad
+GUPPY_LAG = 0.9                                          # phase lag per joint, rad: a wave to the tail
+GUPPY_KEYS = 120                                         # keys over the one-second cycle
+
+
+def guppy_skin(x):
+    """(joint, weight) pairs of a vertex at x: between two joints it blends linearly
+    from the one ahead to the one behind, so the body bends smoothly."""
+    j = GUPPY_JOINTS
+    if x >= j[0]:
+        return [(0, 1.0)]
+    for k in range(len(j) - 1):
+        if x >= j[k + 1]:
+            t = (x - j[k + 1]) / (j[k] - j[k + 1])
+            return [(k, t), (k + 1, 1.0 - t)]
+    return [(len(j) - 1, 1.0)]
+
+
+def write_rigged_guppy(path):
+    """The guppy as one skinned glTF mesh with a spine of joints (each the child of
+    the one ahead of it) and a looping swim: every joint yaws about +Y, the swing
+    growing and lagging toward the tail."""
+    verts, tris, normals = [], [], []
+    for part in guppy():
+        base = len(verts)
+        n = [(0.0, 0.0, 0.0)] * len(part.verts)
+        for a, b, c in part.tris:
+            fn = cross(sub(part.verts[b], part.verts[a]), sub(part.verts[c], part.verts[a]))
+            for i in (a, b, c):
+                n[i] = add(n[i], fn)
+        verts += part.verts
+        normals += [normalize(v) for v in n]
+        tris += [(a + base, b + base, c + base) for a, b, c in part.tris]
+    joints, weights = [], []
+    for v in verts:
+        skin = guppy_skin(v[0]) + [(0, 0.0)] * 2
+        joints += [skin[0][0], skin[1][0], 0, 0]
+        weights += [skin[0][1], skin[1][1], 0.0, 0.0]
+    bin_ = bytearray()
+    views, accessors = [], []
+
+    def add_view(data, target=None):
+        while len(bin_) % 4:
+            bin_.append(0)
+        view = {"buffer": 0, "byteOffset": len(bin_), "byteLength": len(data)}
+        if target:
+            view["target"] = target
+        bin_.extend(data)
+        views.append(view)
+        return len(views) - 1
+
+    def add_accessor(fmt, values, count, kind, component, target=None, bounds=None):
+        acc = {"bufferView": add_view(struct.pack("<%d%s" % (len(values), fmt), *values), target),
+               "componentType": component, "count": count, "type": kind}
+        if bounds:
+            acc["min"], acc["max"] = bounds
+        accessors.append(acc)
+        return len(accessors) - 1
+
+    flat = [c for v in verts for c in v]
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    hi = [max(v[i] for v in verts) for i in range(3)]
+    position = add_accessor("f", flat, len(verts), "VEC3", 5126, 34962, (lo, hi))
+    normal = add_accessor("f", [c for n in normals for c in n], len(verts), "VEC3", 5126, 34962)
+    joint = add_accessor("B", joints, len(verts), "VEC4", 5121, 34962)
+    weight = add_accessor("f", weights, len(verts), "VEC4", 5126, 34962)
+    index = add_accessor("I", [i for t in tris for i in t], 3 * len(tris), "SCALAR", 5125, 34963)
+    ibm = []
+    for x in GUPPY_JOINTS:   # the inverse of each joint's bind transform, a translation to x
+        ibm += [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -x, 0, 0, 1]
+    inverse_bind = add_accessor("f", ibm, len(GUPPY_JOINTS), "MAT4", 5126)
+    times = [k / GUPPY_KEYS for k in range(GUPPY_KEYS + 1)]
+    time = add_accessor("f", times, len(times), "SCALAR", 5126, bounds=([0.0], [1.0]))
+    nodes = [{"name": "guppy", "mesh": 0, "skin": 0}]
+    samplers, channels = [], []
+    for k, x in enumerate(GUPPY_JOINTS):
+        node = {"name": "spine%d" % k,
+                "translation": [x if k == 0 else x - GUPPY_JOINTS[k - 1], 0.0, 0.0]}
+        if k + 1 < len(GUPPY_JOINTS):
+            node["children"] = [len(nodes) + 1]
+        nodes.append(node)
+        rotation = []
+        for t in times:
+            angle = GUPPY_SWING[k] * math.sin(2 * math.pi * t - GUPPY_LAG * k)
+            rotation += [0.0, math.sin(angle / 2), 0.0, math.cos(angle / 2)]
+        out = add_accessor("f", rotation, len(times), "VEC4", 5126)
+        samplers.append({"input": time, "output": out, "interpolation": "LINEAR"})
+        channels.append({"sampler": k, "target": {"node": len(nodes) - 1, "path": "rotation"}})
+    doc = {
+        "asset": {"version": "2.0", "generator": "SoftTouch generate_samples.py"},
+        "scene": 0, "scenes": [{"nodes": [0, 1]}], "nodes": nodes,
+        "meshes": [{"name": "guppy", "primitives": [{
+            "attributes": {"POSITION": position, "NORMAL": normal, "JOINTS_0": joint, "WEIGHTS_0": weight},
+            "indices": index, "mode": 4}]}],
+        "skins": [{"joints": list(range(1, 1 + len(GUPPY_JOINTS))), "inverseBindMatrices": inverse_bind,
+                   "skeleton": 1}],
+        "animations": [{"name": "swim", "samplers": samplers, "channels": channels}],
+        "buffers": [{"byteLength": len(bin_)}],
+        "bufferViews": views, "accessors": accessors,
+    }
+    text = json.dumps(doc, separators=(",", ":"), sort_keys=True).encode()
+    text += b" " * (-len(text) % 4)
+    while len(bin_) % 4:
+        bin_.append(0)
+    glb = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(bin_))
+    glb += struct.pack("<II", len(text), 0x4E4F534A) + text
+    glb += struct.pack("<II", len(bin_), 0x004E4942) + bytes(bin_)
+    with open(path, "wb") as f:
+        f.write(glb)
+    print("%-18s %5d triangles, %d joints, take 'swim' (1 s, %d keys)" %
+          (os.path.basename(path), len(tris), len(GUPPY_JOINTS), GUPPY_KEYS + 1))
+
 # ------------------------------------------------------------------ check
 FILES = {  # name: (builder, (min_tris, max_tris), star?)
     "angelfish.obj": (angelfish, (5000, 8000), False),
@@ -615,6 +734,7 @@ def main():
         write_obj(os.path.join(HERE, fname), parts)
         print("%-14s %5d triangles (%s)" % (fname, sum(len(p.tris) for p in parts),
                                             ", ".join("%s %d" % (p.name, len(p.tris)) for p in parts)))
+    write_rigged_guppy(os.path.join(HERE, "guppy-rigged.glb"))
     return 0
 
 

@@ -7,6 +7,7 @@
 
 #include "io/animation_import.h"
 #include "io/bake.h"
+#include "io/frame_source.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 
@@ -141,6 +142,54 @@ private slots:
         QVERIFY(again->scene.objects[0].baseAnimation);
         QCOMPARE(again->scene.objects[0].baseAnimation->samples.size(), std::size_t(121));
         QCOMPARE(again->scene.objects[0].material.goalWeight, project->scene.objects[0].material.goalWeight);
+    }
+
+    // The sample: presets/scenes/guppy-rigged.softtouch, the rigged guppy's one-second swim with its spine
+    // following (goal weight 1) and belly, flanks and tail fin on looser goals. Its swim clip loops (the mesh's
+    // seam is no larger than its median frame step) and the wobble shows (free nodes leave their goal by at
+    // least 2% of the mesh's diagonal at peak).
+    void riggedGuppyLoopsAndWobbles() {
+        auto project = loadProject(kPresets / "scenes/guppy-rigged.softtouch");
+        QVERIFY2(project.ok(), project.message().c_str());
+        const SceneObject& guppy = project->scene.objects[0];
+        QVERIFY(guppy.baseAnimation && guppy.baseAnimation->loop);
+        QCOMPARE(QString::fromStdString(guppy.baseAnimation->take), QString("swim"));
+        FrameRequest request;
+        request.clips = &project->clips;
+        request.clip = "swim";
+        auto source = FrameSource::create(project->scene, request);
+        QVERIFY2(source.ok(), source.message().c_str());
+        const std::size_t n = guppy.mesh.positions.size();
+        std::vector<std::vector<Vec3f>> frames;
+        double wobble = 0.0;
+        const std::vector<Vec3>& rest = guppy.lattice.restNodes();
+        for (int f = 0; f < source->frameCount(); ++f) {
+            source->seek(f);
+            frames.emplace_back(n);
+            source->evaluate(0, frames.back(), {});
+            const auto nodes = source->nodes(0);
+            for (std::size_t i = 0; i < rest.size(); ++i)
+                if (guppy.material.goalWeight[i] < 1.0)
+                    wobble = std::max(wobble, (nodes[i] - rest[i]).norm());
+        }
+        auto rms = [&](const std::vector<Vec3f>& a, const std::vector<Vec3f>& b) {
+            double sum = 0.0;
+            for (std::size_t v = 0; v < n; ++v)
+                sum += (a[v] - b[v]).squaredNorm();
+            return std::sqrt(sum / double(n));
+        };
+        std::vector<double> steps;
+        for (std::size_t f = 0; f + 1 < frames.size(); ++f)
+            steps.push_back(rms(frames[f], frames[f + 1]));
+        std::sort(steps.begin(), steps.end());
+        const double median = steps[steps.size() / 2], seam = rms(frames.back(), frames.front());
+        const double diagonal = guppy.mesh.bounds().diagonal();
+        qInfo("guppy swim clip, %zu frames: seam %.4f m against a median frame step of %.4f m (%.2fx); free nodes "
+              "leave their goal by up to %.4f m, %.1f%% of the diagonal",
+              frames.size(), seam, median, seam / median, wobble, 100.0 * wobble / diagonal);
+        QCOMPARE(int(frames.size()), 24);
+        QVERIFY(seam <= median);
+        QVERIFY(wobble >= 0.02 * diagonal);
     }
 
     // With weight 0 and nothing pinned the body lags its base: the bake leaves the base animation.
