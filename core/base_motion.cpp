@@ -105,6 +105,13 @@ void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, Ex
     }
 }
 
+void BaseMotion::shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out) const {
+    Mat3 rotation;
+    goal(seconds, out, rotation);
+    for (std::size_t i = 0; i < out.size() && i < nodes.size(); ++i)
+        out[i] += rotation * (nodes[i] - m_restNodes[i]);
+}
+
 void BaseMotion::deform(double seconds, const Binding& binding, std::span<const Vec3> nodes,
                         std::span<const std::array<std::uint32_t, 3>> triangles, std::span<Vec3f> positions,
                         std::span<Vec3f> normals) const {

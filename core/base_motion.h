@@ -60,6 +60,10 @@ public:
                 std::span<const std::array<std::uint32_t, 3>> triangles, std::span<Vec3f> positions,
                 std::span<Vec3f> normals) const;
 
+    /// Where the lattice is seen at `seconds` (overlays, pictures): the goal plus the turned deviation,
+    /// G + R (x − x_rest).
+    void shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out) const;
+
     /// The goal pose and rotation at `seconds` (cached: a step asks for three times, the next reuses two).
     void goal(double seconds, std::vector<Vec3>& nodes, Mat3& rotation) const;
 

@@ -287,6 +287,14 @@ void SceneSimulation::evaluateNodes(std::size_t i, std::span<const Vec3> nodes, 
         r.binding.evaluate(nodes, positions, normals, threads);
 }
 
+std::vector<Vec3> SceneSimulation::shownNodes(std::size_t i, std::span<const Vec3> nodes, double seconds) const {
+    if (!m_objects[i].motion)
+        return {nodes.begin(), nodes.end()};
+    std::vector<Vec3> shown;
+    m_objects[i].motion->shownNodes(seconds, nodes, shown);
+    return shown;
+}
+
 std::size_t SceneSimulation::totalVertexCount() const {
     std::size_t n = 0;
     for (const Runtime& r : m_objects)

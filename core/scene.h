@@ -120,6 +120,9 @@ public:
     /// The same for given node positions of object i at scene time `seconds` (a clip's frame).
     void evaluateNodes(std::size_t i, std::span<const Vec3> nodes, double seconds, std::span<Vec3f> positions,
                        std::span<Vec3f> normals, int threads = 0) const;
+    /// Object i's lattice as it is seen at scene time `seconds` for node positions `nodes`: the nodes
+    /// themselves, or on a base animation its goal plus the turned deviation (core/base_motion.h).
+    std::vector<Vec3> shownNodes(std::size_t i, std::span<const Vec3> nodes, double seconds) const;
     /// Object i follows a base animation: its mesh moves even where its nodes stand still.
     bool followsBaseAnimation(std::size_t i) const { return m_objects[i].motion != nullptr; }
     /// Total vertex count over all objects (the order of a concatenated cache).

@@ -76,9 +76,13 @@ std::span<const Vec3> FrameSource::nodes(std::size_t object) const {
     return m_sim.simulator(object).state().position;
 }
 
+double FrameSource::seconds() const {
+    return m_isClip ? m_clipStart + double(m_current) / m_fps : m_sim.time();
+}
+
 void FrameSource::evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
     if (m_isClip)  // frame i of a clip is at its start + i/fps (what a base animation is played at)
-        m_sim.evaluateNodes(object, nodes(object), m_clipStart + double(m_current) / m_fps, positions, normals, threads);
+        m_sim.evaluateNodes(object, nodes(object), seconds(), positions, normals, threads);
     else
         m_sim.evaluate(object, positions, normals, threads);
 }

@@ -46,6 +46,8 @@ public:
     void seek(int frame, std::vector<std::string>* warnings = nullptr);
     /// Lattice node positions of object i at the current frame.
     std::span<const Vec3> nodes(std::size_t object) const;
+    /// Scene time of the current frame, seconds.
+    double seconds() const;
     /// Deformed positions (and normals, when non-empty) of object i at the current frame.
     void evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
 

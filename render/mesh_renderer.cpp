@@ -132,6 +132,8 @@ struct MeshRenderer::Object {
     LatticeOverlay overlay;
     bool overlayVisible = false;
     bool overlayDirty = true;
+    bool direct = false;           ///< The attributes hold CPU-deformed positions and normals (setDeformed).
+    std::vector<float> directStaging;
     GLsizei overlayLineVertices = 0;
     GLsizei overlayPoints = 0;
 
@@ -344,6 +346,28 @@ void MeshRenderer::setNodes(int id, std::span<const Vec3> nodes) {
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
+void MeshRenderer::setDeformed(int id, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                               std::span<const Vec3> nodes) {
+    Object* object = find(id);
+    if (object == nullptr || positions.size() != std::size_t(object->vertexCount) || normals.size() != positions.size())
+        return;
+    object->directStaging.resize(positions.size() * 6);
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        float* out = object->directStaging.data() + 6 * v;
+        out[0] = positions[v].x(), out[1] = positions[v].y(), out[2] = positions[v].z();
+        out[3] = normals[v].x(), out[4] = normals[v].y(), out[5] = normals[v].z();
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, object->attributeBuffer);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(object->directStaging.size() * sizeof(float)), object->directStaging.data(),
+                 GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    object->direct = true;
+    if (nodes.size() == object->nodes.size()) {
+        object->nodes.assign(nodes.begin(), nodes.end());
+        object->overlayDirty = true;
+    }
+}
+
 void MeshRenderer::setStyle(int id, const MeshStyle& style) {
     if (Object* object = find(id))
         object->style = style;
@@ -512,6 +536,7 @@ void MeshRenderer::draw(const Camera& camera, int widthPixels, int heightPixels)
         glUniform3i(sh.mesh.uniform("uCount"), object.counts[0], object.counts[1], object.counts[2]);
         glUniform3i(sh.mesh.uniform("uDegree"), object.degrees[0], object.degrees[1], object.degrees[2]);
         glUniform3fv(sh.mesh.uniform("uOrigin"), 1, object.origin.data());
+        glUniform1i(sh.mesh.uniform("uDirect"), object.direct ? 1 : 0);
         glUniform3fv(colourLocation, 1, object.style.colour.data());
         glUniform1f(alphaLocation, alpha);
         glUniform1i(flatLocation, flat ? 1 : 0);
@@ -593,6 +618,7 @@ Status MeshRenderer::readDeformed(int id, std::vector<Vec3f>& positions, std::ve
     glUniform3i(sh.mesh.uniform("uCount"), object->counts[0], object->counts[1], object->counts[2]);
     glUniform3i(sh.mesh.uniform("uDegree"), object->degrees[0], object->degrees[1], object->degrees[2]);
     glUniform3fv(sh.mesh.uniform("uOrigin"), 1, object->origin.data());
+    glUniform1i(sh.mesh.uniform("uDirect"), object->direct ? 1 : 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, object->nodeTexture);
     glBindVertexArray(object->vao);

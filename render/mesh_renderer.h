@@ -75,6 +75,11 @@ public:
     /// Per frame: the object's lattice node positions (nodeCount() of its lattice), the only per-frame
     /// upload. Ignored (asserted in debug) when the count is wrong.
     void setNodes(int object, std::span<const Vec3> nodes);
+    /// Per frame, instead of setNodes(): the object's deformed positions and unit normals computed on the
+    /// CPU (a body on a base animation, whose rig moves the mesh in ways its lattice cannot; core/base_motion.h).
+    /// From the first call on the object draws these; `nodes` (its lattice as shown) places the overlay.
+    void setDeformed(int object, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                     std::span<const Vec3> nodes);
     /// Drawing mode and colour of an object.
     void setStyle(int object, const MeshStyle& style);
     /// Overlay contents; nodes are drawn at the positions given to setNodes().

@@ -98,6 +98,7 @@ std::string meshVertex() {
     return "#version 330 core\n" + deformFunction() + R"GLSL(
 uniform mat4 uView;
 uniform mat4 uProjection;
+uniform int uDirect;                        // 1: the attributes are the deformed position and normal
 layout(location = 0) in vec3 aParameters;   // (u,v,w) in the lattice box
 layout(location = 1) in vec3 aCofNormal;    // cof(A) n_rest, unit
 out vec3 vWorldPosition;
@@ -105,7 +106,12 @@ out vec3 vWorldNormal;
 out vec3 vViewPosition;
 out vec3 vViewNormal;
 void main() {
-    deformVertex(aParameters, aCofNormal, vWorldPosition, vWorldNormal);
+    if (uDirect != 0) {  // deformed on the CPU (a body on its base animation: MeshRenderer::setDeformed)
+        vWorldPosition = aParameters;
+        vWorldNormal = aCofNormal;
+    } else {
+        deformVertex(aParameters, aCofNormal, vWorldPosition, vWorldNormal);
+    }
     vec4 viewPosition = uView * vec4(vWorldPosition, 1.0);
     vViewPosition = viewPosition.xyz;
     vViewNormal = mat3(uView) * vWorldNormal;  // the view is rigid

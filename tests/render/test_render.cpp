@@ -61,6 +61,7 @@ private slots:
     void cleanupTestCase();
     void deformationMatchesBinding_data();
     void deformationMatchesBinding();
+    void cpuDeformedMeshIsDrawnAsGiven();
     void sphereCoversMiddleNotCorners();
     void collidersAreDrawnWhereTheyAre();
     void shadedAndWireframeDiffer();
@@ -152,6 +153,30 @@ void TestRender::deformationMatchesBinding() {
     for (std::size_t v = 0; v < mesh.positions.size(); ++v)
         restError = std::max(restError, double((gpuPositions[v] - mesh.positions[v]).norm()));
     QVERIFY2(restError <= 1e-5 * diagonal, qPrintable(QString("rest error %1").arg(restError)));
+    m_renderer.clearObjects();
+}
+
+// A body on a base animation is deformed on the CPU (the rig moves it) and drawn as given: the shader passes
+// the positions and normals through, bit for bit.
+void TestRender::cpuDeformedMeshIsDrawnAsGiven() {
+    const OrientedBox box = rotatedBox();
+    const Lattice lattice = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, box).value();
+    const Mesh mesh = meshInBox(box);
+    std::vector<Vec3f> positions(mesh.positions.size()), normals(mesh.positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Vec3f p = mesh.positions[v];
+        positions[v] = p + Vec3f(0.1f * std::sin(7.0f * p.y()), 0.0f, 0.05f * p.x());  // no lattice makes this
+        normals[v] = Vec3f(p.x(), 1.0f, 0.5f).normalized();
+    }
+    m_renderer.clearObjects();
+    auto id = m_renderer.addObject(mesh, lattice);
+    QVERIFY2(id.ok(), id.message().c_str());
+    m_renderer.setDeformed(id.value(), positions, normals, lattice.restNodes());
+    std::vector<Vec3f> gpuPositions, gpuNormals;
+    const Status read = m_renderer.readDeformed(id.value(), gpuPositions, gpuNormals);
+    QVERIFY2(read.ok(), read.message().c_str());
+    QCOMPARE(gpuPositions, positions);
+    QCOMPARE(gpuNormals, normals);
     m_renderer.clearObjects();
 }
 
