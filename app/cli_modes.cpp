@@ -105,7 +105,7 @@ int runModes(const std::vector<std::string>& args) {
         if (!objectName.empty() && object.name != objectName)
             continue;
         found = true;
-        auto body = buildLatticeBody(object.lattice, object.material);
+        auto body = buildLatticeBody(object.lattice, simulatedMaterial(object));
         if (!body)
             return fail(scenePath + ": object '" + object.name + "': " + body.message());
         auto modes = analyseModes(*body.value(), count);

@@ -26,7 +26,7 @@ Result<GoalFit> GoalFit::create(const Lattice& lattice, std::span<const Vec3f> r
     g.m_weights.resize(vertices, n);
     g.m_weights.setFromTriplets(entries.begin(), entries.end());
     Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(g.m_weights.transpose()) * g.m_weights;
-    g.m_lambda = 1e-6 * normal.diagonal().sum() / double(n);
+    g.m_lambda = kGoalFitRidge * normal.diagonal().sum() / double(n);
     Eigen::SparseMatrix<double> identity(n, n);
     identity.setIdentity();
     normal += g.m_lambda * identity;

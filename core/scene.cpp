@@ -72,6 +72,10 @@ Result<Scene> newScene(std::string name, Mesh mesh) {
     return scene;
 }
 
+LatticeMaterial simulatedMaterial(const SceneObject& object) {
+    return object.baseAnimation ? followingMaterial(object.material) : object.material;
+}
+
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
     const Bounds bounds = object.mesh.bounds();
     const double across = (bounds.max - bounds.min).norm();
@@ -125,8 +129,7 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
         }
         const bool animated = object.baseAnimation != nullptr;
-        auto model = buildLatticeBody(object.lattice, animated ? followingMaterial(object.material) : object.material,
-                                      &object.mesh);
+        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &object.mesh);
         if (!model)
             return Status::error(where + model.message());
         std::shared_ptr<const MeshSurface> restSurface;

@@ -28,6 +28,10 @@ struct SceneObject {
     FollowSettings follow;            ///< Goal springs toward the base animation.
 };
 
+/// The material an object's body is built from: its own, with the nodes of goal weight 1 pinned when it
+/// follows a base animation (followingMaterial()). Modes and step bounds shown for it use this.
+LatticeMaterial simulatedMaterial(const SceneObject& object);
+
 /// Settings shared by every object.
 struct WorldSettings {
     Vec3 gravity = Vec3::Zero();              ///< m/s^2.

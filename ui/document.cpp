@@ -1,8 +1,12 @@
 #include "ui/document.h"
 
+#include "io/animation_import.h"
 #include "io/mesh_import.h"
+#include "ui/edit_commands.h"
 
 #include <QFileInfo>
+
+#include <set>
 
 namespace softtouch::ui {
 
@@ -70,6 +74,42 @@ Status Document::importMesh(const QString& path) {
     project.scene = std::move(scene.value());
     project.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());
     replaceProject(std::move(project));
+    return Status::success();
+}
+
+Status Document::importAnimatedMesh(const QString& path, QString* report) {
+    auto animated = io::importAnimatedMesh(path.toStdString(), io::AnimationRequest{});
+    if (!animated)
+        return Status::error(animated.message());
+    // The object as a new scene would make it, moved into this scene beside the others.
+    auto made = newScene(QFileInfo(path).completeBaseName().toStdString(), std::move(animated->mesh));
+    if (!made)
+        return Status::error(path.toStdString() + ": " + made.message());
+    SceneObject object = std::move(made->objects.front());
+    object.baseAnimation = std::make_shared<BaseAnimation>(std::move(animated->animation));
+    object.material.goalWeight.assign(object.material.mass.size(), 0.5);
+    io::Project after = m_project;
+    std::set<std::string> names;
+    for (const SceneObject& o : after.scene.objects)
+        names.insert(o.name);
+    for (int k = 2; names.count(object.name); ++k)
+        object.name = QFileInfo(path).completeBaseName().toStdString() + " " + std::to_string(k);
+    if (report)
+        *report = tr("%1: take \"%2\", %3 s, %4 vertices, %5")
+                      .arg(QString::fromStdString(object.name), QString::fromStdString(object.baseAnimation->take))
+                      .arg(object.baseAnimation->duration())
+                      .arg(object.mesh.positions.size())
+                      .arg(QString::fromStdString(animated->unit));
+    if (after.scene.objects.empty())
+        after.scene.world.simulation = made->world.simulation;
+    after.scene.objects.push_back(std::move(object));
+    after.meshReferences.resize(after.scene.objects.size() - 1);
+    after.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());
+    after.meshOffsets.resize(after.scene.objects.size(), Vec3::Zero());
+    if (auto check = SceneSimulation::create(after.scene); !check)
+        return Status::error(path.toStdString() + ": " + check.message());
+    m_undo.push(new ProjectEditCommand(this, m_project, std::move(after),
+                                             tr("Import animated mesh %1").arg(QFileInfo(path).fileName())));
     return Status::success();
 }
 

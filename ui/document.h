@@ -36,6 +36,11 @@ public:
     /// lattice fitted to it, the default Continuum material and the new-scene integrator (Verlet unless
     /// the body is too stiff for it at 240 steps/s), written explicitly when saved.
     Status importMesh(const QString& path);
+    /// Adds an object (one undo step) made from a mesh file with its own animation (io/animation_import.h):
+    /// the file's first take, looping, sampled at 120 per second, on a fitted 4x4x4 Bezier lattice with the
+    /// default material and goal weight ½ on every node (core/base_motion.h). The scene's other objects stay.
+    /// `report` receives what the import found (take, length, vertices, unit).
+    Status importAnimatedMesh(const QString& path, QString* report = nullptr);
 
     const io::Project& project() const { return m_project; }
     const Scene& scene() const { return m_project.scene; }

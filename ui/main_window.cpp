@@ -137,6 +137,8 @@ void MainWindow::buildActions() {
     file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::open);
     m_recentMenu = file->addMenu(tr("Open &Recent"));
     file->addAction(tr("&Import Mesh…"), QKeySequence(tr("Ctrl+I")), this, &MainWindow::importMesh);
+    file->addAction(tr("Import &Animated Mesh…"), QKeySequence(tr("Ctrl+Shift+I")), this, &MainWindow::importAnimatedMesh)
+        ->setObjectName("importAnimatedMesh");
     file->addSeparator();
     file->addAction(tr("&Save"), QKeySequence::Save, this, &MainWindow::save);
     file->addAction(tr("Save &As…"), QKeySequence::SaveAs, this, &MainWindow::saveAs);
@@ -463,6 +465,27 @@ void MainWindow::importMesh() {
         return;
     if (Status s = m_document->importMesh(path); !s)
         showError(tr("Cannot import mesh"), QString::fromStdString(s.message()));
+}
+
+void MainWindow::importAnimatedMesh() {
+    const QString path = QFileDialog::getOpenFileName(
+        this, tr("Import Animated Mesh"), QString(),
+        tr("Animated meshes (*.gltf *.glb *.fbx *.dae);;All files (*)"));
+    if (!path.isEmpty())
+        (void)importAnimatedMeshFile(path);
+}
+
+Status MainWindow::importAnimatedMeshFile(const QString& path) {
+    QString report;
+    if (Status s = m_document->importAnimatedMesh(path, &report); !s) {
+        showError(tr("Cannot import animated mesh"), QString::fromStdString(s.message()));
+        return s;
+    }
+    // The new object plays its base animation with the goals painted at ½: Space plays it.
+    m_simulation->pause();
+    statusBar()->showMessage(tr("Imported %1. Paint 'Goal weight' where it should follow the animation exactly; "
+                                "Space plays it.").arg(report), 15000);
+    return Status::success();
 }
 
 Status MainWindow::addCollider(ColliderShape shape, const QString& meshPath) {

@@ -62,9 +62,15 @@ public slots:
     bool saveAs();
     void open();
     void importMesh();
+    /// File ▸ Import Animated Mesh: adds an object that follows the file's own animation (a rig, keyed
+    /// transforms or blend shapes) with secondary motion on top; the status bar reports what was found.
+    void importAnimatedMesh();
     /// Adds a collider of `shape` below the current object (a mesh collider reads `meshPath`), selects it
     /// for the collider tool and switches to that tool; one undo step. Errors are shown and returned.
     Status addCollider(ColliderShape shape, const QString& meshPath = {});
+    /// Adds an object from a mesh file with its own animation (what File ▸ Import Animated Mesh does after
+    /// its file dialog); errors are shown and returned.
+    Status importAnimatedMeshFile(const QString& path);
 
 protected:
     void closeEvent(QCloseEvent* event) override;

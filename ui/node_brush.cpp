@@ -14,6 +14,9 @@ std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
     case PaintField::VolumePreservation:
         material.volumePreservation.resize(material.mass.size(), 0.0);
         return material.volumePreservation;
+    case PaintField::GoalWeight:
+        material.goalWeight.resize(material.mass.size(), 0.0);
+        return material.goalWeight;
     }
     return material.stiffness;
 }
@@ -27,6 +30,7 @@ const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintFie
     case PaintField::VolumePreservation:
         // Every material the editor holds has the map sized (uniformMaterial, the project reader, resampling).
         return material.volumePreservation;
+    case PaintField::GoalWeight: return material.goalWeight;
     }
     return material.stiffness;
 }
@@ -39,6 +43,7 @@ const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     case PaintField::Damping: return range.damping;
     case PaintField::NodeDamping: return range.nodeDamping;
     case PaintField::VolumePreservation: return kVolumePreservationRange;
+    case PaintField::GoalWeight: return kGoalWeightRange;
     }
     return range.stiffness;
 }

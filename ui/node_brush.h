@@ -18,6 +18,7 @@ enum class PaintField {
     Damping,     ///< Spring damping (relative velocity along a spring).
     NodeDamping, ///< Node damping (each node's absolute velocity: the paper's D).
     VolumePreservation, ///< How stiffly the mesh's volume around the node is kept, [0, 1].
+    GoalWeight,  ///< How closely the node follows a base animation, [0, 1] (core/base_motion.h).
 };
 
 /// How a dab's effect fades from its centre to its rim.
@@ -32,7 +33,8 @@ struct BrushSettings {
     BrushFalloff falloff = BrushFalloff::Smooth; ///< Fade towards the rim.
 };
 
-/// The per-node array of a field (volume preservation is sized to the nodes first when a material has none).
+/// The per-node array of a field (volume preservation and goal weight are sized to the nodes first when a
+/// material has none).
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
 /// Human name and unit of a field under a material model ("stiffness", "N/m"; "Young's modulus", "Pa";

@@ -358,6 +358,7 @@ QWidget* PropertiesPanel::buildTools() {
     m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
     m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
     m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
+    m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
     form->addRow(tr("Paint"), m_brushField);
     m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
     m_brushValue->setValue(m_viewport->brush().value);
@@ -584,8 +585,8 @@ void PropertiesPanel::refresh() {
             double mean = 0.0;
             for (double x : values)
                 mean += x / double(values.size());
-            if (field == PaintField::VolumePreservation)
-                m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume"
+            if (field == PaintField::VolumePreservation || field == PaintField::GoalWeight)
+                m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume", "follow exactly"
             else if (mean > 0.0)
                 m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
         }
@@ -620,7 +621,7 @@ Lattice PropertiesPanel::currentLattice() const {
 }
 
 void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSettings& settings) {
-    auto body = buildLatticeBody(o.lattice, o.material);
+    auto body = buildLatticeBody(o.lattice, simulatedMaterial(o));
     int freeNodes = 0;
     if (body) {
         for (double w : body.value()->inverseMass)

@@ -208,6 +208,7 @@ private:
     double m_modeHeldSeconds = -1.0; ///< >= 0: frozen at this time into the cycle.
     QTimer m_modeTimer;              ///< Redraws the mode view at ~60 Hz.
     QLabel* m_modeCaption = nullptr; ///< Which mode is shown, its true frequency and ζ.
+    std::vector<Vec3f> m_basePositions, m_baseNormals; ///< Bodies on a base animation, deformed on the CPU.
 };
 
 }  // namespace softtouch::ui
