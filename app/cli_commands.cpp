@@ -193,6 +193,8 @@ int runBake(const std::vector<std::string>& args) {
     std::printf("rest mesh %s\n", result->restMesh.string().c_str());
     for (const std::string& note : result->notes)
         std::printf("%s\n", note.c_str());
+    for (const std::string& note : project->importNotes)  // what each animated import found (take, unit)
+        std::printf("base animation of %s\n", note.c_str());
     if (const int unchanged = result->frames * result->objects - result->meshEvaluations; unchanged > 0)
         std::printf("%d of %d object frames unchanged (asleep or held): their meshes were not deformed again\n",
                     unchanged, result->frames * result->objects);

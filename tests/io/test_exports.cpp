@@ -276,23 +276,28 @@ void TestExports::gltfRoundTrip_data() {
     QTest::addColumn<QString>("name");
     QTest::addColumn<bool>("linear");
     QTest::addColumn<bool>("normals");
-    QTest::newRow("glb linear with normals") << "clip.glb" << true << true;
-    QTest::newRow("gltf step without normals") << "clip.gltf" << false << false;
+    QTest::addColumn<QString>("sceneFile");  // empty: the angelfish swim
+    QTest::newRow("glb linear with normals") << "clip.glb" << true << true << "";
+    QTest::newRow("gltf step without normals") << "clip.gltf" << false << false << "";
+    // A body on a base animation (the rig moves the mesh, the lattice adds the wobble) exports the same way.
+    QTest::newRow("glb of the rigged guppy") << "clip.glb" << true << true << "guppy-rigged.softtouch";
 }
 
 void TestExports::gltfRoundTrip() {
     QFETCH(QString, name);
     QFETCH(bool, linear);
     QFETCH(bool, normals);
+    QFETCH(QString, sceneFile);
+    const Scene source = sceneFile.isEmpty() ? m_fish : loadScene(kSource / "presets/scenes" / sceneFile.toStdString());
     QTemporaryDir dir;
     const fs::path out = fs::path(dir.path().toStdString()) / name.toStdString();
     const CacheFormat format = *cacheFormatFromPath(out);
     ClipExportOptions options;
     options.gltfLinear = linear;
     options.gltfNormals = normals;
-    const BakeResult baked = bakeTo(m_fish, format, out, options);
+    const BakeResult baked = bakeTo(source, format, out, options);
     QCOMPARE(baked.files, std::vector<fs::path>{out});
-    bakeTo(m_fish, CacheFormat::Pc2, out.parent_path() / "clip.pc2");
+    bakeTo(source, CacheFormat::Pc2, out.parent_path() / "clip.pc2");
     const Result<VertexCache> pc2 = readPc2(out.parent_path() / "clip.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const VertexCache& reference = pc2.value();
@@ -333,7 +338,7 @@ void TestExports::gltfRoundTrip() {
     const double ticksPerSecond = animation->mTicksPerSecond > 0 ? animation->mTicksPerSecond : 1.0;
     for (int f = 0; f < kFrames; ++f) {
         const aiMeshMorphKey& key = channel->mKeys[f];
-        QVERIFY(std::abs(key.mTime / ticksPerSecond - f / m_fish.world.fps) < 1e-6);
+        QVERIFY(std::abs(key.mTime / ticksPerSecond - f / source.world.fps) < 1e-6);
         double sum = 0.0;
         bool found = false;
         for (unsigned k = 0; k < key.mNumValuesAndWeights; ++k) {
@@ -590,22 +595,26 @@ void TestExports::gltfWarnsAboutTargetCount() {
 
 void TestExports::vatRoundTrip_data() {
     QTest::addColumn<int>("maxWidth");
-    QTest::newRow("one row per frame") << 8192;
-    QTest::newRow("wrapped rows") << 1000;  // 3,656 vertices: 4 rows per frame, the last one partial
+    QTest::addColumn<QString>("scene");  // empty: the angelfish swim
+    QTest::newRow("one row per frame") << 8192 << "";
+    QTest::newRow("wrapped rows") << 1000 << "";  // 3,656 vertices: 4 rows per frame, the last one partial
+    QTest::newRow("the rigged guppy on its base animation") << 8192 << "guppy-rigged.softtouch";
 }
 
 void TestExports::vatRoundTrip() {
     QFETCH(int, maxWidth);
+    QFETCH(QString, scene);
+    const Scene source = scene.isEmpty() ? m_fish : loadScene(kSource / "presets/scenes" / scene.toStdString());
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / "swim";
     ClipExportOptions options;
     options.vatMaxWidth = maxWidth;
-    const BakeResult baked = bakeTo(m_fish, CacheFormat::Vat, base, options);
+    const BakeResult baked = bakeTo(source, CacheFormat::Vat, base, options);
     QCOMPARE(baked.files, exportOutputs(CacheFormat::Vat, base));
     for (const fs::path& file : baked.files)
         QVERIFY2(fs::is_regular_file(file), file.c_str());
-    bakeTo(m_fish, CacheFormat::Pc2, base.parent_path() / "swim.pc2");
-    bakeTo(m_fish, CacheFormat::Glb, base.parent_path() / "normals.glb");  // the bake's normals, as morph targets
+    bakeTo(source, CacheFormat::Pc2, base.parent_path() / "swim.pc2");
+    bakeTo(source, CacheFormat::Glb, base.parent_path() / "normals.glb");  // the bake's normals, as morph targets
     const tinygltf::Model morphs = loadGlb(base.parent_path() / "normals.glb");
     const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
     const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
@@ -617,7 +626,7 @@ void TestExports::vatRoundTrip() {
     // Everything below comes from the exported files alone: sidecar, mesh, textures.
     const nlohmann::json sidecar = nlohmann::json::parse(readText(base.string() + ".vat.json"));
     QCOMPARE(sidecar.at("frameCount").get<int>(), kFrames);
-    QCOMPARE(sidecar.at("fps").get<double>(), m_fish.world.fps);
+    QCOMPARE(sidecar.at("fps").get<double>(), source.world.fps);
     QCOMPARE(sidecar.at("vertexCount").get<std::size_t>(), vertices);
     const auto width = sidecar.at("textureWidth").get<std::size_t>();
     const auto height = sidecar.at("textureHeight").get<std::size_t>();
