@@ -37,4 +37,9 @@ cp "$tmp/rock/frame_0018.png" "$out/guide-rock.png"
 chromium --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader --hide-scrollbars \
   --user-data-dir="$tmp/chromium" --window-size=960,600 --virtual-time-budget=3000 \
   --screenshot="$out/preview-page.png" "file://$tmp/page/index.html" 2>/dev/null
+# 10. The rigged guppy on its own swim cycle (a skinned GLB) with the lattice's wobble on top, seen from
+#     above, a quarter into its cycle; and the same clip rendered headless.
+shot "$out/guide-animated.png" --seconds 2.25 --camera 0,80 presets/scenes/guppy-rigged.softtouch
+./build/bin/softtouch-cli render presets/scenes/guppy-rigged.softtouch --clip swim --out "$tmp/guppy/" --size 640x360 --frames 7 --quiet >/dev/null
+cp "$tmp/guppy/frame_0006.png" "$out/guide-animated-render.png"
 echo "wrote $(ls "$out"/guide-*.png "$out"/modes-*.png | wc -l) pictures to $out"

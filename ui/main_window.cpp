@@ -369,6 +369,14 @@ void MainWindow::refreshOutliner() {
         lattice->setData(0, Qt::UserRole, int(i));
         auto* drivers = new QTreeWidgetItem(item, {tr("Drivers"), QString::number(o.drivers.size())});
         drivers->setData(0, Qt::UserRole, int(i));
+        if (o.baseAnimation) {  // the mesh's own animation, with the soft body's wobble on top
+            const BaseAnimation& a = *o.baseAnimation;
+            auto* base = new QTreeWidgetItem(item, {tr("Base animation"), tr("\"%1\", %2 s%3")
+                                                                              .arg(QString::fromStdString(a.take))
+                                                                              .arg(a.duration(), 0, 'g', 3)
+                                                                              .arg(a.loop ? tr(", loops") : QString())});
+            base->setData(0, Qt::UserRole, int(i));
+        }
         item->setExpanded(true);
     }
     if (scene.objects.size() > 1) {

@@ -405,6 +405,9 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     QCOMPARE(guppy.material.goalWeight, std::vector<double>(guppy.material.mass.size(), 0.5));
     QVERIFY(w.simulation()->simulation()->followsBaseAnimation(1));
     QVERIFY2(w.statusBar()->currentMessage().contains("take \"swim\""), qPrintable(w.statusBar()->currentMessage()));
+    const auto listed = w.findChild<QTreeWidget*>("outliner")->findItems("Base animation", Qt::MatchExactly | Qt::MatchRecursive);
+    QCOMPARE(listed.size(), 1);
+    QCOMPARE(listed[0]->text(1), QString("\"swim\", 1 s, loops"));
     // It plays: a quarter of a second later the tail has swung.
     const std::vector<Vec3f> before = w.viewport()->deformedPositions(1);
     w.simulation()->advance(0.25);
