@@ -108,7 +108,7 @@ int runModes(const std::vector<std::string>& args) {
         auto body = buildLatticeBody(object.lattice, simulatedMaterial(object));
         if (!body)
             return fail(scenePath + ": object '" + object.name + "': " + body.message());
-        auto modes = analyseModes(*body.value(), count);
+        auto modes = objectModes(object, count);  // with goal springs on a base animation
         if (!modes)
             return fail(scenePath + ": object '" + object.name + "': " + modes.message());
         const double h = integrationStep(Simulator(body.value(), settings));

@@ -18,6 +18,22 @@ Status FollowSettings::validate() const {
     return Status::success();
 }
 
+NodeSprings goalSprings(const BodyModel& model, std::span<const double> goalWeight, const FollowSettings& settings) {
+    NodeSprings springs;
+    springs.stiffness.assign(model.nodeCount(), 0.0);
+    springs.damping.assign(model.nodeCount(), 0.0);
+    const double omega = 2.0 * M_PI * settings.frequency;
+    for (std::size_t i = 0; i < model.nodeCount() && i < goalWeight.size(); ++i) {
+        const double w = goalWeight[i];
+        if (!(w > 0.0) || w >= 1.0 || model.inverseMass[i] == 0.0)
+            continue;
+        const double ratio = w / (1.0 - w);
+        springs.stiffness[i] = model.mass[i] * omega * omega * ratio;
+        springs.damping[i] = 2.0 * settings.dampingRatio * model.mass[i] * omega * std::sqrt(ratio);
+    }
+    return springs;
+}
+
 LatticeMaterial followingMaterial(LatticeMaterial material) {
     for (std::size_t i = 0; i < material.goalWeight.size() && i < material.anchor.size(); ++i)
         if (material.goalWeight[i] >= 1.0 && !material.isVoid[i])
@@ -73,13 +89,15 @@ void BaseMotion::goal(double seconds, std::vector<Vec3>& nodes, Mat3& rotation) 
 
 void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, ExternalForces& forces) const {
     const std::size_t n = model.nodeCount();
-    // The goal's acceleration at the step's middle, a central difference over one step each side.
-    const double middle = seconds + 0.5 * dt;
+    // The goal's acceleration at the step's middle, a central difference over one step each side. The
+    // times are odd multiples of dt/2 computed from the step's index, so the next step asks for two of them
+    // bit for bit (one new fit a step) and a replay computes exactly what the first run did.
+    const long long half = 2 * std::llround(seconds / dt) + 1;
     std::vector<Vec3> before, at, after;
     Mat3 rotation, unused;
-    goal(middle - dt, before, unused);
-    goal(middle, at, rotation);
-    goal(middle + dt, after, unused);
+    goal(double(half - 2) * (0.5 * dt), before, unused);
+    goal(double(half) * (0.5 * dt), at, rotation);
+    goal(double(half + 2) * (0.5 * dt), after, unused);
     const Mat3 toLocal = rotation.transpose();
     const Vec3 gravity = forces.gravity;
     forces.gravity = Vec3::Zero();
@@ -90,17 +108,15 @@ void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, Ex
         const Vec3 acceleration = (after[i] - 2.0 * at[i] + before[i]) / (dt * dt);
         forces.nodeForces[i] = model.mass[i] * (toLocal * (gravity - acceleration));
     }
-    const double omega = 2.0 * M_PI * m_settings.frequency;
-    for (std::size_t i = 0; i < n && i < m_goalWeight.size(); ++i) {
-        const double w = m_goalWeight[i];
-        if (!(w > 0.0) || w >= 1.0 || model.inverseMass[i] == 0.0)
+    const NodeSprings springs = goalSprings(model, m_goalWeight, m_settings);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (springs.stiffness[i] == 0.0)
             continue;
-        const double ratio = w / (1.0 - w);
         DragSpring spring;
         spring.support = {NodeWeight{std::uint32_t(i), 1.0}};
         spring.target = m_restNodes[i];
-        spring.stiffness = model.mass[i] * omega * omega * ratio;
-        spring.damping = 2.0 * m_settings.dampingRatio * model.mass[i] * omega * std::sqrt(ratio);
+        spring.stiffness = springs.stiffness[i];
+        spring.damping = springs.damping[i];
         forces.drags.push_back(std::move(spring));
     }
 }

@@ -23,6 +23,7 @@
 #include "core/forces.h"
 #include "core/goal_fit.h"
 #include "core/lattice_body.h"
+#include "core/modes.h"
 
 #include <memory>
 #include <mutex>
@@ -35,6 +36,10 @@ struct FollowSettings {
     double dampingRatio = 0.5; ///< Of that swing, at every weight, [0, 100].
     Status validate() const;
 };
+
+/// The goal springs of a body built from followingMaterial(): per node, k = m ω² w/(1 − w) and
+/// c = 2 ζ m ω √(w/(1 − w)) for 0 < w < 1, zero elsewhere (pinned, void, or weight 0).
+NodeSprings goalSprings(const BodyModel& model, std::span<const double> goalWeight, const FollowSettings& settings);
 
 /// The material a following body is built from: nodes of goal weight 1 (or more) pinned.
 LatticeMaterial followingMaterial(LatticeMaterial material);

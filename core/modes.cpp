@@ -33,7 +33,7 @@ void addSpringBlock(Eigen::MatrixXd& matrix, int a, int b, const Mat3& block) {
 
 }  // namespace
 
-Result<ModalAnalysis> analyseModes(const BodyModel& model, int count) {
+Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const NodeSprings& springs) {
     const std::size_t n = model.nodeCount();
     std::vector<int> slot(n, -1);
     int freeNodes = 0;
@@ -68,7 +68,9 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count) {
             continue;
         for (int c = 0; c < 3; ++c) {
             invSqrtMass[3 * slot[i] + c] = std::sqrt(model.inverseMass[i]);
-            nodeDamping[3 * slot[i] + c] = model.nodeDamping[i];
+            nodeDamping[3 * slot[i] + c] = model.nodeDamping[i] + (i < springs.damping.size() ? springs.damping[i] : 0.0);
+            if (i < springs.stiffness.size())
+                stiffness(3 * slot[i] + c, 3 * slot[i] + c) += springs.stiffness[i];
         }
     }
     // K φ = ω² M φ  <=>  (M^-½ K M^-½) ψ = ω² ψ with φ = M^-½ ψ, ψ orthonormal (so φᵀ M φ = 1).

@@ -41,9 +41,16 @@ struct ModalAnalysis {
 /// Largest eigenproblem analyseModes() solves (dense; ~3 s at this size on one core).
 inline constexpr int kMaxModalUnknowns = 3000;
 
-/// The `count` lowest elastic modes of a body at rest. Fails, saying why, when no node is free or the
-/// problem exceeds kMaxModalUnknowns.
-Result<ModalAnalysis> analyseModes(const BodyModel& model, int count = 3);
+/// Springs from single nodes to fixed places (a body's goal springs toward its base animation,
+/// core/base_motion.h), per node: stiffness N/m and damping N·s/m, isotropic. Empty: none.
+struct NodeSprings {
+    std::vector<double> stiffness;
+    std::vector<double> damping;
+};
+
+/// The `count` lowest elastic modes of a body at rest (with `springs` added to each node's stiffness and its
+/// node damping). Fails, saying why, when no node is free or the problem exceeds kMaxModalUnknowns.
+Result<ModalAnalysis> analyseModes(const BodyModel& model, int count = 3, const NodeSprings& springs = {});
 
 /// How large the editor's mode view and `softtouch-cli modes --pictures` draw a mode: its largest node
 /// displacement as a fraction of the lattice box's largest side. A linear mode has no amplitude of its

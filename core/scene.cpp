@@ -76,6 +76,15 @@ LatticeMaterial simulatedMaterial(const SceneObject& object) {
     return object.baseAnimation ? followingMaterial(object.material) : object.material;
 }
 
+Result<ModalAnalysis> objectModes(const SceneObject& object, int count) {
+    auto body = buildLatticeBody(object.lattice, simulatedMaterial(object));
+    if (!body)
+        return body.status();
+    if (!object.baseAnimation)
+        return analyseModes(*body.value(), count);
+    return analyseModes(*body.value(), count, goalSprings(*body.value(), object.material.goalWeight, object.follow));
+}
+
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
     const Bounds bounds = object.mesh.bounds();
     const double across = (bounds.max - bounds.min).norm();

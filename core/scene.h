@@ -31,6 +31,9 @@ struct SceneObject {
 /// The material an object's body is built from: its own, with the nodes of goal weight 1 pinned when it
 /// follows a base animation (followingMaterial()). Modes and step bounds shown for it use this.
 LatticeMaterial simulatedMaterial(const SceneObject& object);
+/// The lowest `count` modes of an object's body as it is simulated: simulatedMaterial() and, on a base
+/// animation, its goal springs (core/base_motion.h).
+Result<ModalAnalysis> objectModes(const SceneObject& object, int count = 3);
 
 /// Settings shared by every object.
 struct WorldSettings {

@@ -640,7 +640,7 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
                             "'softtouch-cli modes' on the saved scene.").arg(3 * freeNodes));
         return;
     }
-    auto modes = analyseModes(*body.value(), 3);
+    auto modes = objectModes(o, 3);  // with its goal springs when it follows a base animation
     if (!modes || modes->modes.empty()) {
         showModeRows({});
         m_modes->setText(modes ? tr("No elastic mode: every node moves rigidly.")

@@ -182,11 +182,13 @@ Status SimulationController::scrub(const Session& session, double seconds) {
     return Status::success();
 }
 
-void SimulationController::showPose(const std::vector<std::vector<Vec3>>& nodes) {
+void SimulationController::showPose(const std::vector<std::vector<Vec3>>& nodes, double seconds) {
     if (!m_sim || nodes.size() != m_sim->objectCount())
         return;
     pause();
     SceneSimulation::Snapshot pose = m_sim->saveSnapshot();
+    if (seconds >= 0.0)
+        pose.step = std::llround(seconds / m_sim->simulator(0).settings().dt);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         if (nodes[i].size() != pose.bodies[i].position.size())
             return;

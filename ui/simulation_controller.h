@@ -66,7 +66,8 @@ public:
 
     /// Pauses and poses every object at the given node positions ([object][node], at rest velocity):
     /// previewing a clip frame. Play continues the simulation from that pose.
-    void showPose(const std::vector<std::vector<Vec3>>& nodes);
+    /// `seconds` >= 0 also moves the scene's time there (a clip's frame: what a base animation shows).
+    void showPose(const std::vector<std::vector<Vec3>>& nodes, double seconds = -1.0);
 
     /// Advances the simulation by `seconds` now (what a timer tick does; tests call it directly).
     void advance(double seconds);

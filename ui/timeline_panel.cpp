@@ -74,6 +74,10 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     m_time = new QLabel(tr("Record a take, then scrub it here; make a clip of it and export it."));
     m_time->setWordWrap(true);
     right->addWidget(m_time);
+    m_baseRange = new QLabel;  // the base animations the scene's objects follow (core/base_motion.h)
+    m_baseRange->setObjectName("baseAnimationRange");
+    m_baseRange->setWordWrap(true);
+    right->addWidget(m_baseRange);
     auto* buttons = new QHBoxLayout;
     auto* makeClipButton = new QPushButton(tr("Clip from take"));
     m_loop = new QCheckBox(tr("Loop"));
@@ -198,7 +202,7 @@ void TimelinePanel::showClipFrame(int index, int frame) {
     if (m_clipFrames.nodes.empty())
         return;
     const int f = std::clamp(frame, 0, int(m_clipFrames.nodes.size()) - 1);
-    m_simulation->showPose(m_clipFrames.nodes[std::size_t(f)]);
+    m_simulation->showPose(m_clipFrames.nodes[std::size_t(f)], clip.startSeconds + double(f) / clip.fps);
     m_time->setText(tr("clip %1 · frame %2 of %3 at %4 fps%5")
                         .arg(QString::fromStdString(clip.name))
                         .arg(f)
@@ -386,6 +390,16 @@ Status TimelinePanel::renderClipTo(int index, const QString& path, int width, in
 }
 
 void TimelinePanel::refreshLists() {
+    QStringList bases;
+    for (const SceneObject& o : m_document->scene().objects)
+        if (o.baseAnimation)
+            bases << tr("%1 follows \"%2\" from %3 to %4 s of its take%5")
+                         .arg(QString::fromStdString(o.name), QString::fromStdString(o.baseAnimation->take))
+                         .arg(o.baseAnimation->start, 0, 'g', 4)
+                         .arg(o.baseAnimation->start + o.baseAnimation->duration(), 0, 'g', 4)
+                         .arg(o.baseAnimation->loop ? tr(", looping") : QString());
+    m_baseRange->setText(bases.isEmpty() ? QString() : tr("Base animation: %1").arg(bases.join("; ")));
+    m_baseRange->setVisible(!bases.isEmpty());
     const ClipLibrary& library = m_document->project().clips;
     m_clipShown = -1;  // a clip may have changed: evaluate again
     const QSignalBlocker blockTakes(m_takes);

@@ -67,6 +67,7 @@ private:
     QCheckBox* m_loop = nullptr;
     QSlider* m_slider = nullptr;
     QLabel* m_time = nullptr;
+    QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
     int m_clipShown = -1;      ///< Which clip m_clipFrames holds.
 };

@@ -134,6 +134,13 @@ private slots:
                 worst = std::max(worst, double((cache->frames[f][v] - rig.expected[f][match[v]]).norm()));
         qInfo("%s: worst baked vertex %.3g of the diagonal from the base animation", QTest::currentDataTag(), worst / diagonal);
         QVERIFY(worst <= 1e-6 * diagonal);
+        // An MDD of the same bake holds the same frames.
+        options.output = dir.filePath("rig.mdd").toStdString();
+        options.format = CacheFormat::Mdd;
+        QVERIFY(bake(project->scene, options).ok());
+        auto mdd = readMdd(options.output);
+        QVERIFY2(mdd.ok(), mdd.message().c_str());
+        QCOMPARE(mdd->frames, cache->frames);
         // Saved and read back, the project keeps its animation and goal weights.
         const std::filesystem::path saved = dir.filePath("saved.softtouch").toStdString();
         QVERIFY(saveProject(project.value(), saved).ok());

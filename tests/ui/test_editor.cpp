@@ -408,6 +408,9 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     const auto listed = w.findChild<QTreeWidget*>("outliner")->findItems("Base animation", Qt::MatchExactly | Qt::MatchRecursive);
     QCOMPARE(listed.size(), 1);
     QCOMPARE(listed[0]->text(1), QString("\"swim\", 1 s, loops"));
+    auto* range = w.findChild<QLabel*>("baseAnimationRange");
+    QVERIFY(range && range->isVisibleTo(&w));
+    QCOMPARE(range->text(), QString("Base animation: guppy-rigged follows \"swim\" from 0 to 1 s of its take, looping"));
     // It plays: a quarter of a second later the tail has swung.
     const std::vector<Vec3f> before = w.viewport()->deformedPositions(1);
     w.simulation()->advance(0.25);
