@@ -1,8 +1,6 @@
 #include "io/animation_import.h"
 
-#include "io/input_file.h"
 #include "io/isolated_import.h"
-#include "io/mesh_file_check.h"
 #include "io/scene_units.h"
 
 #include <assimp/Importer.hpp>
@@ -304,27 +302,9 @@ Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::
     return result;
 }
 
-std::string encode(const Result<AnimatedMesh>& result) {
-    std::string out;
-    put(out, std::uint8_t(result.ok()));
-    if (!result.ok()) {
-        put(out, std::uint64_t(result.message().size()));
-        out += result.message();
-        return out;
-    }
-    const AnimatedMesh& a = result.value();
-    putVector(out, a.mesh.positions);
-    putVector(out, a.mesh.normals);
-    putVector(out, a.mesh.triangles);
-    put(out, std::uint64_t(a.mesh.parts.size()));
-    for (const MeshPart& part : a.mesh.parts) {
-        put(out, std::uint64_t(part.name.size()));
-        out += part.name;
-        put(out, part.firstVertex);
-        put(out, part.vertexCount);
-    }
-    put(out, std::uint64_t(a.animation.take.size()));
-    out += a.animation.take;
+void putAnimated(std::string& out, const AnimatedMesh& a) {
+    putMesh(out, a.mesh);
+    putString(out, a.animation.take);
     put(out, a.animation.start);
     put(out, a.animation.rate);
     put(out, std::uint8_t(a.animation.loop));
@@ -333,80 +313,42 @@ std::string encode(const Result<AnimatedMesh>& result) {
         putVector(out, sample);
     put(out, std::uint64_t(a.takes.size()));
     for (const auto& [takeName, seconds] : a.takes) {
-        put(out, std::uint64_t(takeName.size()));
-        out += takeName;
+        putString(out, takeName);
         put(out, seconds);
     }
-    put(out, std::uint64_t(a.unit.size()));
-    out += a.unit;
-    return out;
+    putString(out, a.unit);
 }
 
-std::optional<Result<AnimatedMesh>> decode(const std::string& bytes) {
-    Decoder in(bytes);
-    std::uint8_t ok = 0;
-    if (!in.get(ok))
-        return std::nullopt;
-    if (!ok) {
-        std::string message;
-        if (!in.getBytes(message))
-            return std::nullopt;
-        return Result<AnimatedMesh>(Status::error(message));
-    }
-    AnimatedMesh a;
-    std::uint64_t parts = 0, samples = 0, takes = 0;
+bool getAnimated(Decoder& in, AnimatedMesh& a) {
+    std::uint64_t samples = 0, takes = 0;
     std::uint8_t loop = 0;
-    if (!in.getVector(a.mesh.positions) || !in.getVector(a.mesh.normals) || !in.getVector(a.mesh.triangles) || !in.get(parts))
-        return std::nullopt;
-    for (std::uint64_t i = 0; i < parts; ++i) {
-        MeshPart part;
-        if (!in.getBytes(part.name) || !in.get(part.firstVertex) || !in.get(part.vertexCount))
-            return std::nullopt;
-        a.mesh.parts.push_back(std::move(part));
-    }
-    if (!in.getBytes(a.animation.take) || !in.get(a.animation.start) || !in.get(a.animation.rate) || !in.get(loop) ||
-        !in.get(samples))
-        return std::nullopt;
+    if (!getMesh(in, a.mesh) || !in.getBytes(a.animation.take) || !in.get(a.animation.start) || !in.get(a.animation.rate) ||
+        !in.get(loop) || !in.get(samples))
+        return false;
     a.animation.loop = loop != 0;
     for (std::uint64_t k = 0; k < samples; ++k) {
         std::vector<Vec3f> sample;
         if (!in.getVector(sample))
-            return std::nullopt;
+            return false;
         a.animation.samples.push_back(std::move(sample));
     }
     if (!in.get(takes))
-        return std::nullopt;
+        return false;
     for (std::uint64_t t = 0; t < takes; ++t) {
         std::string takeName;
         double seconds = 0.0;
         if (!in.getBytes(takeName) || !in.get(seconds))
-            return std::nullopt;
+            return false;
         a.takes.emplace_back(std::move(takeName), seconds);
     }
-    if (!in.getBytes(a.unit))
-        return std::nullopt;
-    return Result<AnimatedMesh>(std::move(a));
+    return in.getBytes(a.unit);
 }
 
 }  // namespace
 
 Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request) {
-    const std::string name = "'" + path.string() + "'";
-    if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
-        return Status::error("mesh file " + name + " " + s.message());
-    std::error_code ec;
-    if (std::filesystem::file_size(path, ec) == 0)
-        return Status::error("mesh file " + name + " is empty (0 bytes)");
-    if (Status s = checkMeshFileIsWhole(path); !s)
-        return Status::error("mesh file " + name + ": " + s.message());
-    auto bytes = runIsolated(path, name, [&] { return encode(readAnimated(path, name, request)); });
-    if (!bytes)
-        return bytes.status();
-    auto decoded = decode(bytes.value());
-    if (!decoded)
-        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (its answer was cut "
-                             "short); the file is corrupt or in a form assimp cannot read");
-    return std::move(*decoded);
+    return importIsolated<AnimatedMesh>(
+        path, [&](const std::string& name) { return readAnimated(path, name, request); }, putAnimated, getAnimated);
 }
 
 }  // namespace softtouch::io

@@ -3,12 +3,14 @@
 /// aborts, or reads past its buffers, on some corrupt files; in a child that crash becomes an error
 /// message instead of taking the editor, and the user's unsaved work, with it (io/mesh_import.cpp).
 
+#include "core/mesh.h"
 #include "core/result.h"
 
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,5 +69,84 @@ private:
     std::size_t m_at = 0;
 };
 
+/// A string, and a mesh (positions, normals, triangles, parts), as bytes; getMesh reads them back.
+inline void putString(std::string& out, const std::string& text) {
+    put(out, std::uint64_t(text.size()));
+    out += text;
+}
+inline void putMesh(std::string& out, const Mesh& mesh) {
+    putVector(out, mesh.positions);
+    putVector(out, mesh.normals);
+    putVector(out, mesh.triangles);
+    put(out, std::uint64_t(mesh.parts.size()));
+    for (const MeshPart& part : mesh.parts) {
+        putString(out, part.name);
+        put(out, part.firstVertex);
+        put(out, part.vertexCount);
+    }
+}
+inline bool getMesh(Decoder& in, Mesh& mesh) {
+    std::uint64_t parts = 0;
+    if (!in.getVector(mesh.positions) || !in.getVector(mesh.normals) || !in.getVector(mesh.triangles) || !in.get(parts))
+        return false;
+    for (std::uint64_t i = 0; i < parts; ++i) {
+        MeshPart part;
+        if (!in.getBytes(part.name) || !in.get(part.firstVertex) || !in.get(part.vertexCount))
+            return false;
+        mesh.parts.push_back(std::move(part));
+    }
+    return true;
+}
+
+/// What a child sends back: a failure's message, or what `putValue(out, value)` writes.
+template <typename T, typename Put>
+std::string encodeResult(const Result<T>& result, Put&& putValue) {
+    std::string out;
+    put(out, std::uint8_t(result.ok()));
+    if (!result.ok())
+        putString(out, result.message());
+    else
+        putValue(out, result.value());
+    return out;
+}
+/// Reads what encodeResult wrote with `getValue(decoder, value)`; nullopt when the bytes are cut short.
+template <typename T, typename Get>
+std::optional<Result<T>> decodeResult(const std::string& bytes, Get&& getValue) {
+    Decoder in(bytes);
+    std::uint8_t ok = 0;
+    if (!in.get(ok))
+        return std::nullopt;
+    if (!ok) {
+        std::string message;
+        if (!in.getBytes(message))
+            return std::nullopt;
+        return Result<T>(Status::error(message));
+    }
+    T value;
+    if (!getValue(in, value))
+        return std::nullopt;
+    return Result<T>(std::move(value));
+}
+
+/// Checks `path` as a mesh file (a regular file within the size limit, not empty, its header against its
+/// body), naming it `name` in errors.
+Status checkMeshFile(const std::filesystem::path& path, const std::string& name);
+
+/// Imports `path` in a child process: the file checked, `read(name)` run there, its result sent back with
+/// `putValue` and read with `getValue`. Every error names the file.
+template <typename T, typename Read, typename Put, typename Get>
+Result<T> importIsolated(const std::filesystem::path& path, Read&& read, Put&& putValue, Get&& getValue) {
+    const std::string name = "'" + path.string() + "'";
+    if (Status s = checkMeshFile(path, name); !s)
+        return s;
+    auto bytes = runIsolated(path, name, [&] { return encodeResult(read(name), putValue); });
+    if (!bytes)
+        return bytes.status();
+    auto decoded = decodeResult<T>(bytes.value(), getValue);
+    if (!decoded)
+        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (its answer was cut "
+                             "short); the file is corrupt or in a form assimp cannot read");
+    return std::move(*decoded);
+}
 
 }  // namespace softtouch::io

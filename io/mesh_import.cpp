@@ -93,51 +93,6 @@ Result<Mesh> readWithAssimp(const std::filesystem::path& path, const std::string
     return mesh;
 }
 
-std::string encode(const Result<Mesh>& result) {
-    std::string out;
-    put(out, std::uint8_t(result.ok()));
-    if (!result.ok()) {
-        put(out, std::uint64_t(result.message().size()));
-        out += result.message();
-        return out;
-    }
-    const Mesh& mesh = result.value();
-    putVector(out, mesh.positions);
-    putVector(out, mesh.normals);
-    putVector(out, mesh.triangles);
-    put(out, std::uint64_t(mesh.parts.size()));
-    for (const MeshPart& part : mesh.parts) {
-        put(out, std::uint64_t(part.name.size()));
-        out += part.name;
-        put(out, part.firstVertex);
-        put(out, part.vertexCount);
-    }
-    return out;
-}
-
-std::optional<Result<Mesh>> decode(const std::string& bytes) {
-    Decoder in(bytes);
-    std::uint8_t ok = 0;
-    if (!in.get(ok))
-        return std::nullopt;
-    if (!ok) {
-        std::string message;
-        if (!in.getBytes(message))
-            return std::nullopt;
-        return Result<Mesh>(Status::error(message));
-    }
-    Mesh mesh;
-    std::uint64_t parts = 0;
-    if (!in.getVector(mesh.positions) || !in.getVector(mesh.normals) || !in.getVector(mesh.triangles) || !in.get(parts))
-        return std::nullopt;
-    for (std::uint64_t i = 0; i < parts; ++i) {
-        MeshPart part;
-        if (!in.getBytes(part.name) || !in.get(part.firstVertex) || !in.get(part.vertexCount))
-            return std::nullopt;
-        mesh.parts.push_back(std::move(part));
-    }
-    return Result<Mesh>(std::move(mesh));
-}
 
 }  // namespace
 
@@ -232,12 +187,7 @@ Result<std::string> runIsolated(const std::filesystem::path& path, const std::st
     return bytes;
 }
 
-namespace {
-
-}  // namespace
-
-Result<Mesh> importMesh(const std::filesystem::path& path) {
-    const std::string name = "'" + path.string() + "'";
+Status checkMeshFile(const std::filesystem::path& path, const std::string& name) {
     if (Status s = checkInputFile(path, kMaxMeshFileBytes); !s)
         return Status::error("mesh file " + name + " " + s.message());
     std::error_code ec;
@@ -245,17 +195,12 @@ Result<Mesh> importMesh(const std::filesystem::path& path) {
         return Status::error("mesh file " + name + " is empty (0 bytes)");
     if (Status s = checkMeshFileIsWhole(path); !s)
         return Status::error("mesh file " + name + ": " + s.message());
+    return Status::success();
+}
 
-    // Debian's assimp 5.2 aborts, or reads past its buffers, on some corrupt files (fuzz_mesh found a PLY
-    // whose post-processing calls abort()): read in a child process (runIsolated).
-    auto bytes = runIsolated(path, name, [&] { return encode(readWithAssimp(path, name)); });
-    if (!bytes)
-        return bytes.status();
-    auto decoded = decode(bytes.value());
-    if (!decoded)
-        return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (its answer was cut "
-                             "short); the file is corrupt or in a form assimp cannot read");
-    return std::move(*decoded);
+Result<Mesh> importMesh(const std::filesystem::path& path) {
+    return importIsolated<Mesh>(
+        path, [&](const std::string& name) { return readWithAssimp(path, name); }, putMesh, getMesh);
 }
 
 }  // namespace softtouch::io

@@ -5,34 +5,31 @@
 
 namespace softtouch::ui {
 
-std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
+namespace {
+/// The field's array in a material or a const one (one switch for both).
+template <typename Material>
+auto& fieldOf(Material& material, PaintField field) {
     switch (field) {
     case PaintField::Mass: return material.mass;
     case PaintField::Stiffness: return material.stiffness;
     case PaintField::Damping: return material.damping;
     case PaintField::NodeDamping: return material.nodeDamping;
-    case PaintField::VolumePreservation:
-        material.volumePreservation.resize(material.mass.size(), 0.0);
-        return material.volumePreservation;
-    case PaintField::GoalWeight:
-        material.goalWeight.resize(material.mass.size(), 0.0);
-        return material.goalWeight;
-    }
-    return material.stiffness;
-}
-
-const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field) {
-    switch (field) {
-    case PaintField::Mass: return material.mass;
-    case PaintField::Stiffness: return material.stiffness;
-    case PaintField::Damping: return material.damping;
-    case PaintField::NodeDamping: return material.nodeDamping;
-    case PaintField::VolumePreservation:
-        // Every material the editor holds has the map sized (uniformMaterial, the project reader, resampling).
-        return material.volumePreservation;
+    case PaintField::VolumePreservation: return material.volumePreservation;
     case PaintField::GoalWeight: return material.goalWeight;
     }
     return material.stiffness;
+}
+}  // namespace
+
+std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
+    std::vector<double>& values = fieldOf(material, field);
+    values.resize(material.mass.size(), 0.0);  // a map a material was made without (0 everywhere)
+    return values;
+}
+
+const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field) {
+    // Every material the editor holds has its maps sized (uniformMaterial, the project reader, resampling).
+    return fieldOf(material, field);
 }
 
 const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
