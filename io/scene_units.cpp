@@ -40,6 +40,10 @@ SceneUnit sceneUnit(const aiScene& scene, const std::string& fileName) {
                                                   : std::string(text);
         return unit;
     }
+    if (extension == ".dae") {
+        unit.description = "metres (COLLADA's <unit>, applied by assimp)";
+        return unit;
+    }
     unit.description = "metres (the file names no unit)";
     return unit;
 }

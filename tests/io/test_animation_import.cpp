@@ -3,6 +3,7 @@
 // that motion; with goal weight 1 everywhere a PC2 bake is the base animation itself; bad requests fail
 // naming the file and what is wrong.
 
+#include "collada_box.h"
 #include "rigged_gltf.h"
 
 #include "io/animation_import.h"
@@ -197,6 +198,49 @@ private slots:
         QCOMPARE(int(frames.size()), 24);
         QVERIFY(seam <= median);
         QVERIFY(wobble >= 0.02 * diagonal);
+    }
+
+    // COLLADA, written here by hand (assimp's own COLLADA export of an animation is not read back by its
+    // importer): a box whose node's translation is keyed, in centimetres (<unit meter="0.01">), imports to that
+    // motion in metres.
+    void colladaKeyedTranslationImports() {
+        QTemporaryDir dir;
+        const std::string path = dir.filePath("box.dae").toStdString();
+        const std::vector<Vec3f> corners = {{-10, -5, -2}, {10, -5, -2}, {-10, 5, -2}, {10, 5, -2},
+                                            {-10, -5, 2},  {10, -5, 2},  {-10, 5, 2},  {10, 5, 2}};
+        std::string positions, keys, values;
+        for (const Vec3f& c : corners)
+            positions += std::to_string(c.x()) + " " + std::to_string(c.y()) + " " + std::to_string(c.z()) + " ";
+        std::vector<double> shift;  // centimetres along x at t = 0, 0.25, ..., 1 s
+        for (int k = 0; k <= 4; ++k) {
+            shift.push_back(30.0 * std::sin(0.5 * M_PI * k));
+            keys += std::to_string(0.25 * k) + " ";
+            values += std::to_string(shift.back()) + " 0 0 ";
+        }
+        writeKeyedColladaBox(path, positions, keys, values);
+        AnimationRequest request;
+        request.loop = false;
+        request.rate = 4.0;  // a sample on every key
+        auto imported = importAnimatedMesh(path, request);
+        QVERIFY2(imported.ok(), imported.message().c_str());
+        qInfo("%zu vertices, %zu samples, take \"%s\" of %.3f s, %s", imported->mesh.positions.size(),
+              imported->animation.samples.size(), imported->animation.take.c_str(), imported->takes.front().second,
+              imported->unit.c_str());
+        QCOMPARE(imported->animation.samples.size(), std::size_t(5));
+        QCOMPARE(QString::fromStdString(imported->unit), QString("metres (COLLADA's <unit>, applied by assimp)"));
+        double worst = 0.0;
+        for (std::size_t k = 0; k < 5; ++k)
+            for (std::size_t v = 0; v < imported->mesh.positions.size(); ++v) {
+                // Where the vertex was at rest, in metres, moved by the key's shift.
+                const Vec3f rest = imported->animation.samples[0][v];
+                const Vec3f expected = rest + Vec3f(float(0.01 * shift[k]), 0.0f, 0.0f);
+                worst = std::max(worst, double((imported->animation.samples[k][v] - expected).norm()));
+            }
+        const Bounds b = imported->mesh.bounds();
+        qInfo("box %.3f x %.3f x %.3f m; worst sample %.3g m from the keyed translation", b.max.x() - b.min.x(),
+              b.max.y() - b.min.y(), b.max.z() - b.min.z(), worst);
+        QVERIFY(std::abs((b.max.x() - b.min.x()) - 0.2) < 1e-5);  // 20 cm, in metres
+        QVERIFY(worst < 1e-6);
     }
 
     // With weight 0 and nothing pinned the body lags its base: the bake leaves the base animation.
