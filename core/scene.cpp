@@ -173,8 +173,27 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
         if (auto drag = driverDrag(driver, object.lattice, seconds))
             f.drags.push_back(std::move(*drag));
     }
+    const std::size_t firstInteractive = f.drags.size();
     f.drags.insert(f.drags.end(), m_objects[i].interactive.begin(), m_objects[i].interactive.end());
     if (const auto& motion = m_objects[i].motion) {
+        // A hand pulls where it sees the body, in the world: its target moves into the deviation frame by
+        // what separates it from the material point as shown, turned back by the base's rotation.
+        const std::vector<Vec3>& x = m_objects[i].simulator.state().position;
+        std::vector<Vec3> shown;
+        motion->shownNodes(seconds, x, shown);
+        Mat3 rotation;
+        std::vector<Vec3> unusedGoal;
+        motion->goal(seconds, unusedGoal, rotation);
+        for (std::size_t d = firstInteractive; d < f.drags.size(); ++d) {
+            DragSpring& drag = f.drags[d];
+            Vec3 local = Vec3::Zero(), world = Vec3::Zero();
+            for (const NodeWeight& w : drag.support) {
+                local += w.weight * x[w.node];
+                world += w.weight * shown[w.node];
+            }
+            drag.target = local + rotation.transpose() * (drag.target - world);
+            drag.targetVelocity = rotation.transpose() * drag.targetVelocity;
+        }
         // The body is the deviation from the base animation, in the base's frame: world planes and colliders
         // do not apply to it (docs/lattice.md, "Secondary motion on a base animation").
         f.planes.clear();

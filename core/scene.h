@@ -103,7 +103,8 @@ public:
     long long stepCount() const;
 
     /// Drag springs applied to object i on top of its drivers from the next step on (the editor's
-    /// mouse, a device); an empty list releases them.
+    /// mouse, a device); an empty list releases them. Targets are in the world as the body is shown (on a
+    /// base animation they are carried into the body's deviation frame each step).
     void setInteractiveDrags(std::size_t i, std::vector<DragSpring> drags);
     /// The interactive drags of object i.
     const std::vector<DragSpring>& interactiveDrags(std::size_t i) const { return m_objects[i].interactive; }
