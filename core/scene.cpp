@@ -77,12 +77,17 @@ LatticeMaterial simulatedMaterial(const SceneObject& object) {
 }
 
 Result<ModalAnalysis> objectModes(const SceneObject& object, int count) {
-    auto body = buildLatticeBody(object.lattice, simulatedMaterial(object));
+    return objectModes(object.lattice, object.material, object.baseAnimation ? &object.follow : nullptr, count);
+}
+
+Result<ModalAnalysis> objectModes(const Lattice& lattice, const LatticeMaterial& material, const FollowSettings* follow,
+                                  int count) {
+    auto body = buildLatticeBody(lattice, follow ? followingMaterial(material) : material);
     if (!body)
         return body.status();
-    if (!object.baseAnimation)
+    if (!follow)
         return analyseModes(*body.value(), count);
-    return analyseModes(*body.value(), count, goalSprings(*body.value(), object.material.goalWeight, object.follow));
+    return analyseModes(*body.value(), count, goalSprings(*body.value(), material.goalWeight, *follow));
 }
 
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {

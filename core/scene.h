@@ -34,6 +34,9 @@ LatticeMaterial simulatedMaterial(const SceneObject& object);
 /// The lowest `count` modes of an object's body as it is simulated: simulatedMaterial() and, on a base
 /// animation, its goal springs (core/base_motion.h).
 Result<ModalAnalysis> objectModes(const SceneObject& object, int count = 3);
+/// The same for a lattice and material, on a base animation followed with `follow` (nullptr: none).
+Result<ModalAnalysis> objectModes(const Lattice& lattice, const LatticeMaterial& material, const FollowSettings* follow,
+                                  int count = 3);
 
 /// Settings shared by every object.
 struct WorldSettings {

@@ -265,12 +265,16 @@ QWidget* PropertiesPanel::buildMaterial() {
     connect(m_frequency, &QDoubleSpinBox::valueChanged, this, [this](double hz) {
         if (!m_refreshing)
             editMaterial(tr("Set wobble frequency"), kMergeFrequency,
-                         [hz, lattice = currentLattice()](LatticeMaterial& m) { setFrequency(lattice, m, hz); });
+                         [hz, lattice = currentLattice(), follow = currentFollow()](LatticeMaterial& m) {
+                             setFrequency(lattice, m, hz, follow ? &*follow : nullptr);
+                         });
     });
     connect(m_dampingRatio, &QDoubleSpinBox::valueChanged, this, [this](double z) {
         if (!m_refreshing)
             editMaterial(tr("Set damping ratio"), kMergeDamping,
-                         [z, lattice = currentLattice()](LatticeMaterial& m) { setDampingRatio(lattice, m, z); });
+                         [z, lattice = currentLattice(), follow = currentFollow()](LatticeMaterial& m) {
+                             setDampingRatio(lattice, m, z, follow ? &*follow : nullptr);
+                         });
     });
     connect(m_totalMass, &QDoubleSpinBox::valueChanged, this, [this](double kg) {
         if (m_refreshing)
@@ -614,6 +618,11 @@ void PropertiesPanel::showMaterialUnits(MaterialModel model) {
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_nodeDamping)))
             label->setText(continuum ? tr("Node damping rate (mean)") : tr("Node damping (mean)"));
     }
+}
+
+std::optional<FollowSettings> PropertiesPanel::currentFollow() const {
+    const SceneObject& o = m_document->scene().objects[std::size_t(object())];
+    return o.baseAnimation ? std::optional<FollowSettings>(o.follow) : std::nullopt;
 }
 
 Lattice PropertiesPanel::currentLattice() const {

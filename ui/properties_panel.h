@@ -42,6 +42,8 @@ private:
     /// Shows `modes` in the rows (none: rows hidden).
     void showModeRows(const std::vector<VibrationMode>& modes);
     /// The current object's lattice (a copy, for edits that need its geometry).
+    /// The current object's goal springs when it follows a base animation (their stiffness is part of its modes).
+    std::optional<FollowSettings> currentFollow() const;
     Lattice currentLattice() const;
     /// What the current object's material values mean.
     MaterialModel currentModel() const;

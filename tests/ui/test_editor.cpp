@@ -46,6 +46,7 @@
 
 #include "../cli/cli_run.h"
 #include "core/modes.h"
+#include "ui/material_tuning.h"
 #include "core/primitives.h"
 
 #include <QComboBox>
@@ -419,6 +420,27 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     for (std::size_t v = 0; v < before.size(); ++v)
         moved = std::max(moved, double((after[v] - before[v]).norm()));
     QVERIFY2(moved > 0.05, qPrintable(QString("the swim moved the mesh by %1 m").arg(moved)));
+    // On goal weight ½ everywhere its lowest mode is the whole fish swinging on its goal springs, at their
+    // 2 Hz whatever its material: typing another wobble frequency changes nothing, and says so. On the
+    // sample's painted goals (head pinned, spine 0.7, belly and tail loose) the material decides, and a
+    // typed frequency lands its lowest mode, goal springs included.
+    {
+        QCOMPARE(objectModes(guppy, 1)->modes.front().frequencyHz, 2.0);
+        LatticeMaterial tuned = guppy.material;
+        QVERIFY(!setFrequency(guppy.lattice, tuned, 3.0, &guppy.follow));
+        QCOMPARE(tuned.stiffness, guppy.material.stiffness);
+        auto sample = io::loadProject(SOFTTOUCH_SOURCE_DIR "/presets/scenes/guppy-rigged.softtouch");
+        QVERIFY(sample.ok());
+        const SceneObject& painted = sample->scene.objects[0];
+        const double was = objectModes(painted, 1)->modes.front().frequencyHz;
+        tuned = painted.material;
+        QVERIFY(setFrequency(painted.lattice, tuned, 1.5 * was, &painted.follow));
+        SceneObject retuned = painted;
+        retuned.material = tuned;
+        const double landed = objectModes(retuned, 1)->modes.front().frequencyHz;
+        qInfo("lowest mode with its goal springs %.4f Hz, typed %.4f Hz, lands at %.4f Hz", was, 1.5 * was, landed);
+        QVERIFY(std::abs(landed / (1.5 * was) - 1.0) < 1e-3);
+    }
     // The goal weight is a Paint field.
     auto* field = w.findChild<QComboBox*>("brushField");
     QVERIFY(field && field->findData(int(PaintField::GoalWeight)) >= 0);
