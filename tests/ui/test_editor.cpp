@@ -421,7 +421,7 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
         moved = std::max(moved, double((after[v] - before[v]).norm()));
     QVERIFY2(moved > 0.05, qPrintable(QString("the swim moved the mesh by %1 m").arg(moved)));
     // On goal weight ½ everywhere its lowest mode is the whole fish swinging on its goal springs, at their
-    // 2 Hz whatever its material: typing another wobble frequency changes nothing, and says so. On the
+    // 2 Hz whatever its material: typing another wobble frequency leaves the material as it was. On the
     // sample's painted goals (head pinned, spine 0.7, belly and tail loose) the material decides, and a
     // typed frequency lands its lowest mode, goal springs included.
     {
