@@ -41,17 +41,17 @@ LatticeMaterial followingMaterial(LatticeMaterial material) {
     return material;
 }
 
-Result<std::shared_ptr<BaseMotion>> BaseMotion::create(const Lattice& lattice, std::span<const Vec3f> restPositions,
+Result<std::shared_ptr<BaseMotion>> BaseMotion::create(const Lattice& lattice, const BodyModel& model,
+                                                       std::span<const Vec3f> restPositions,
                                                        std::span<const Vec3> parameters,
                                                        std::shared_ptr<const BaseAnimation> animation,
-                                                       std::vector<double> goalWeight, const FollowSettings& settings) {
+                                                       std::span<const double> goalWeight, const FollowSettings& settings) {
     if (!animation)
         return Status::error("no base animation");
     if (Status s = animation->validate(restPositions.size()); !s)
         return s;
     if (Status s = settings.validate(); !s)
         return s;
-    goalWeight.resize(std::size_t(lattice.nodeCount()), 0.0);
     for (double w : goalWeight)
         if (!(w >= 0.0 && w <= 1.0))
             return Status::error("goal weight must be in [0, 1], got " + std::to_string(w));
@@ -62,8 +62,18 @@ Result<std::shared_ptr<BaseMotion>> BaseMotion::create(const Lattice& lattice, s
     motion->m_animation = std::move(animation);
     motion->m_fit = std::move(fit.value());
     motion->m_restNodes = lattice.restNodes();
-    motion->m_goalWeight = std::move(goalWeight);
-    motion->m_settings = settings;
+    // The goal springs do not change while the body runs: made once, appended to every step's drags.
+    const NodeSprings springs = goalSprings(model, goalWeight, settings);
+    for (std::size_t i = 0; i < model.nodeCount(); ++i) {
+        if (springs.stiffness[i] == 0.0)
+            continue;
+        DragSpring spring;
+        spring.support = {NodeWeight{std::uint32_t(i), 1.0}};
+        spring.target = motion->m_restNodes[i];
+        spring.stiffness = springs.stiffness[i];
+        spring.damping = springs.damping[i];
+        motion->m_goalSprings.push_back(std::move(spring));
+    }
     return motion;
 }
 
@@ -108,24 +118,16 @@ void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, Ex
         const Vec3 acceleration = (after[i] - 2.0 * at[i] + before[i]) / (dt * dt);
         forces.nodeForces[i] = model.mass[i] * (toLocal * (gravity - acceleration));
     }
-    const NodeSprings springs = goalSprings(model, m_goalWeight, m_settings);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (springs.stiffness[i] == 0.0)
-            continue;
-        DragSpring spring;
-        spring.support = {NodeWeight{std::uint32_t(i), 1.0}};
-        spring.target = m_restNodes[i];
-        spring.stiffness = springs.stiffness[i];
-        spring.damping = springs.damping[i];
-        forces.drags.push_back(std::move(spring));
-    }
+    forces.drags.insert(forces.drags.end(), m_goalSprings.begin(), m_goalSprings.end());
 }
 
-void BaseMotion::shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out) const {
-    Mat3 rotation;
-    goal(seconds, out, rotation);
+void BaseMotion::shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out, Mat3* rotation) const {
+    Mat3 turn;
+    goal(seconds, out, turn);
     for (std::size_t i = 0; i < out.size() && i < nodes.size(); ++i)
-        out[i] += rotation * (nodes[i] - m_restNodes[i]);
+        out[i] += turn * (nodes[i] - m_restNodes[i]);
+    if (rotation)
+        *rotation = turn;
 }
 
 void BaseMotion::deform(double seconds, const Binding& binding, std::span<const Vec3> nodes,

@@ -47,16 +47,18 @@ LatticeMaterial followingMaterial(LatticeMaterial material);
 /// The runtime of one object on a base animation.
 class BaseMotion {
 public:
+    /// `model`: the body built from followingMaterial() (its masses set the goal springs, made once here).
     /// `goalWeight`: per lattice node, [0, 1] (empty: 0 everywhere). `restPositions` is the mesh the
     /// animation moves (its first sample is where the lattice was fitted) and `parameters` its binding's.
-    static Result<std::shared_ptr<BaseMotion>> create(const Lattice& lattice, std::span<const Vec3f> restPositions,
+    static Result<std::shared_ptr<BaseMotion>> create(const Lattice& lattice, const BodyModel& model,
+                                                      std::span<const Vec3f> restPositions,
                                                       std::span<const Vec3> parameters,
                                                       std::shared_ptr<const BaseAnimation> animation,
-                                                      std::vector<double> goalWeight, const FollowSettings& settings);
+                                                      std::span<const double> goalWeight, const FollowSettings& settings);
 
     /// Adds the forces of a step of `dt` starting at `seconds` to `forces`: the inertia (node forces, with the
     /// world's gravity folded in, so `forces.gravity` is cleared) and the goal springs (drags to the rest
-    /// nodes). `model` is the body being stepped.
+    /// nodes). `model` is the body being stepped (the one given to create()).
     void addForces(double seconds, double dt, const BodyModel& model, ExternalForces& forces) const;
 
     /// The base mesh at `seconds` plus the deviation of `nodes` from rest (see above), turned with the base;
@@ -66,22 +68,20 @@ public:
                 std::span<Vec3f> normals) const;
 
     /// Where the lattice is seen at `seconds` (overlays, pictures): the goal plus the turned deviation,
-    /// G + R (x − x_rest).
-    void shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out) const;
+    /// G + R (x − x_rest); `rotation`, when given, receives R.
+    void shownNodes(double seconds, std::span<const Vec3> nodes, std::vector<Vec3>& out, Mat3* rotation = nullptr) const;
 
     /// The goal pose and rotation at `seconds` (cached: a step asks for three times, the next reuses two).
     void goal(double seconds, std::vector<Vec3>& nodes, Mat3& rotation) const;
 
     const BaseAnimation& animation() const { return *m_animation; }
-    const std::vector<double>& goalWeight() const { return m_goalWeight; }
 
 private:
     std::shared_ptr<const BaseAnimation> m_animation;
     GoalFit m_fit;
     std::vector<Vec3> m_restNodes;
     mutable std::vector<Vec3f> m_restEvaluated;  ///< B x_rest as the binding evaluates it (so weight 1 gives exactly 0).
-    std::vector<double> m_goalWeight;
-    FollowSettings m_settings;
+    std::vector<DragSpring> m_goalSprings;  ///< One per node of goal weight in (0, 1), to its rest place.
     struct Cached {
         double seconds = 0.0;
         std::vector<Vec3> nodes;

@@ -156,7 +156,7 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
         Binding binding = Binding::create(object.lattice, object.mesh.positions, object.mesh.normals);
         std::shared_ptr<BaseMotion> motion;
         if (animated) {
-            auto created = BaseMotion::create(object.lattice, object.mesh.positions, binding.parameters(),
+            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh.positions, binding.parameters(),
                                               object.baseAnimation, object.material.goalWeight, object.follow);
             if (!created)
                 return Status::error(where + created.message());
@@ -183,12 +183,12 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
     if (const auto& motion = m_objects[i].motion) {
         // A hand pulls where it sees the body, in the world: its target moves into the deviation frame by
         // what separates it from the material point as shown, turned back by the base's rotation.
+        // Only with a hand: the pose as shown at the step's start is a fit of its own.
         const std::vector<Vec3>& x = m_objects[i].simulator.state().position;
         std::vector<Vec3> shown;
-        motion->shownNodes(seconds, x, shown);
         Mat3 rotation;
-        std::vector<Vec3> unusedGoal;
-        motion->goal(seconds, unusedGoal, rotation);
+        if (f.drags.size() > firstInteractive)
+            motion->shownNodes(seconds, x, shown, &rotation);
         for (std::size_t d = firstInteractive; d < f.drags.size(); ++d) {
             DragSpring& drag = f.drags[d];
             Vec3 local = Vec3::Zero(), world = Vec3::Zero();
