@@ -170,18 +170,13 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     };
     readLimit("stretchLimit", kMinStretchLimit, kMaxStretchLimit, m.strainLimits.stretch);
     readLimit("squashLimit", kMinSquashLimit, kMaxSquashLimit, m.strainLimits.squash);
-    // How closely each node follows a base animation: one number or a painted map (core/base_motion.h).
-    if (v[kGoalWeightRange.name].exists()) {
-        std::vector<double> painted(m.mass.size(), 0.0);
-        readPerNode(v[kGoalWeightRange.name], painted, kGoalWeightRange.low, kGoalWeightRange.high, kGoalWeightRange.unit);
-        m.goalWeight = std::move(painted);
-    }
-    // One number (a uniform map, as every file before painting had) or a painted map; all 0 is off.
-    if (v[kVolumePreservationRange.name].exists()) {
-        std::vector<double> painted(m.mass.size(), 0.0);
-        readPerNode(v[kVolumePreservationRange.name], painted, kVolumePreservationRange.low,
-                    kVolumePreservationRange.high, kVolumePreservationRange.unit);
-        m.volumePreservation = std::move(painted);
+    // Fractions painted per node, one number or a map like the others (0 where a material has none yet):
+    // how closely each node follows a base animation (core/base_motion.h), and volume preservation (one
+    // number in every file before it was painted; all 0 is off).
+    for (auto [fraction, values] : {std::pair{&kGoalWeightRange, &m.goalWeight},
+                                    std::pair{&kVolumePreservationRange, &m.volumePreservation}}) {
+        values->resize(m.mass.size(), 0.0);
+        readField(*fraction, *values);
     }
 }
 
