@@ -32,10 +32,10 @@ SceneUnit sceneUnit(const aiScene& scene, const std::string& fileName) {
         if (!(std::isfinite(centimetres) && centimetres > 0.0))
             centimetres = 1.0, said = false;
         unit.metresPerUnit = centimetres / 100.0;
-        char text[96];
-        std::snprintf(text, sizeof text, "%g cm per unit (FBX UnitScaleFactor %s%g)", centimetres,
-                      said ? "" : "absent, FBX's default ", centimetres);
-        unit.description = centimetres == 1.0 ? std::string("centimetres (FBX UnitScaleFactor ") + (said ? "1)" : "absent: FBX's default)")
+        char text[64];
+        std::snprintf(text, sizeof text, "%g cm per unit (FBX UnitScaleFactor %g)", centimetres, centimetres);
+        unit.description = !said                 ? std::string("centimetres (FBX UnitScaleFactor absent: FBX's default)")
+                           : centimetres == 1.0   ? std::string("centimetres (FBX UnitScaleFactor 1)")
                            : centimetres == 100.0 ? std::string("metres (FBX UnitScaleFactor 100)")
                                                   : std::string(text);
         return unit;

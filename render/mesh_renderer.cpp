@@ -647,4 +647,17 @@ Status MeshRenderer::readDeformed(int id, std::vector<Vec3f>& positions, std::ve
     return Status::success();
 }
 
+void showSceneObject(MeshRenderer& renderer, int id, const SceneSimulation& sim, std::size_t i, std::span<const Vec3> nodes,
+                     double seconds, std::vector<Vec3f>& positions, std::vector<Vec3f>& normals) {
+    if (!sim.followsBaseAnimation(i)) {
+        renderer.setNodes(id, nodes);
+        return;
+    }
+    const std::size_t n = sim.object(i).mesh.positions.size();
+    positions.resize(n);
+    normals.resize(n);
+    sim.evaluateNodes(i, nodes, seconds, positions, normals);
+    renderer.setDeformed(id, positions, normals, sim.shownNodes(i, nodes, seconds));
+}
+
 }  // namespace softtouch::render

@@ -10,6 +10,7 @@
 #include "core/lattice.h"
 #include "core/mesh.h"
 #include "core/result.h"
+#include "core/scene.h"
 #include "render/camera.h"
 
 #include <cstdint>
@@ -109,5 +110,11 @@ private:
     std::unique_ptr<Shared> m_shared;               ///< Programs and shared buffers; null until initialize().
     std::vector<std::unique_ptr<Object>> m_objects; ///< Index = object id.
 };
+
+/// Shows object i of `sim` (renderer object `id`) with lattice nodes `nodes` at scene time `seconds`: the GPU
+/// deforms it from the nodes, or, on a base animation, it is deformed on the CPU (base + turned deviation,
+/// SceneSimulation::evaluateNodes) into the scratch buffers and drawn as is, its overlay where it is shown.
+void showSceneObject(MeshRenderer& renderer, int id, const SceneSimulation& sim, std::size_t i, std::span<const Vec3> nodes,
+                     double seconds, std::vector<Vec3f>& positions, std::vector<Vec3f>& normals);
 
 }  // namespace softtouch::render

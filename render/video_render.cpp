@@ -53,19 +53,8 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
     Status rendered = Status::success();
     for (int f = 0; f < frameCount && rendered; ++f) {
         source.seek(f, &result.warnings);
-        for (std::size_t i = 0; i < source.simulation().objectCount(); ++i) {
-            if (!source.simulation().followsBaseAnimation(i)) {
-                renderer.setNodes(int(i), source.nodes(i));
-                continue;
-            }
-            // A body on its base animation: the rig moves the mesh, so it is deformed here and drawn as is.
-            const std::size_t n = source.simulation().object(i).mesh.positions.size();
-            positions.resize(n);
-            normals.resize(n);
-            source.evaluate(i, positions, normals);
-            renderer.setDeformed(int(i), positions, normals,
-                                 source.simulation().shownNodes(i, source.nodes(i), source.seconds()));
-        }
+        for (std::size_t i = 0; i < source.simulation().objectCount(); ++i)
+            showSceneObject(renderer, int(i), source.simulation(), i, source.nodes(i), source.seconds(), positions, normals);
         context.value()->bindFramebuffer();
         renderer.draw(camera, settings.width, settings.height);
         rendered = context.value()->readPixels(pixels);

@@ -261,16 +261,7 @@ void Viewport::paintGL() {
             const bool inMode = m_modeView && m_modeView->object == int(i);
             const std::vector<Vec3> pose = inMode ? displayedNodes(int(i)) : std::vector<Vec3>{};
             const std::vector<Vec3>& nodes = inMode ? pose : sim->simulator(i).state().position;
-            if (sim->followsBaseAnimation(i) && !inMode) {
-                // The rig moves this body's mesh: deformed on the CPU (base + wobble) and drawn as is.
-                const std::size_t n = sim->object(i).mesh.positions.size();
-                m_basePositions.resize(n);
-                m_baseNormals.resize(n);
-                sim->evaluate(i, m_basePositions, m_baseNormals);
-                m_renderer.setDeformed(int(i), m_basePositions, m_baseNormals, sim->shownNodes(i, nodes, sim->time()));
-            } else {
-                m_renderer.setNodes(int(i), nodes);
-            }
+            render::showSceneObject(m_renderer, int(i), *sim, i, nodes, sim->time(), m_basePositions, m_baseNormals);
             render::MeshStyle style;
             style.mode = m_shadeMode;
             m_renderer.setStyle(int(i), style);
