@@ -26,7 +26,7 @@ rate and jitter, the largest force sent and a hash of the final lattice state.
   --device NAME        plugin to use: null, scripted, sdl2, openhaptics (default: the first connected
                        device, else null)
   --device-arg ARG     the device's argument (the scripted device's trajectory file, *.sttraj)
-  --plugins DIR        plugin folder (default: $SOFTTOUCH_PLUGIN_PATH, else <bin>/../plugins/devices)
+  --plugins DIR        plugin folder (default: $SOFTTOUCH_PLUGIN_PATH, else <bin>/../lib/softtouch/devices)
   --seconds S          how long to run (default 2)
   --grab U,V,W         material point grabbed, lattice parameters in [0,1] (default 0.5,1,0.5)
   --identity           use device coordinates as scene coordinates (default: fit the device

@@ -1,7 +1,7 @@
 // `softtouch-cli modes`: the lowest vibration modes of each object of a scene, with what the scene's
 // integrator and step do to them (core/modes.h, core/mode_accuracy.h), and pictures of their shapes
 // (render/mode_pictures.h). The editor's Properties show the same figures and animate the shapes.
-#include "app/cli_commands.h"
+#include "app/bench_commands.h"
 #include "app/cli_offscreen_gui.h"
 #include "app/cli_support.h"
 

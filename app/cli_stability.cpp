@@ -1,10 +1,10 @@
-// `softtouch-cli stability`: runs the stability grid (bench/stability_grid.h), prints the counts and
+// `softtouch-cli stability`: runs the stability grid (analysis/stability_grid.h), prints the counts and
 // writes the docs page.
-#include "app/cli_commands.h"
+#include "app/bench_commands.h"
 #include "app/cli_support.h"
 
-#include "bench/stability_grid.h"
-#include "bench/timer.h"
+#include "analysis/stability_grid.h"
+#include "analysis/timer.h"
 #include "io/atomic_file.h"
 
 #include <cstdio>
@@ -34,7 +34,7 @@ written, 2 on bad usage.
 }  // namespace
 
 int runStability(const std::vector<std::string>& args) {
-    bench::StabilityGridOptions options;
+    analysis::StabilityGridOptions options;
     std::string outPath;
     for (std::size_t i = 0; i < args.size(); ++i) {
         if (args[i] == "--help" || args[i] == "-h") {
@@ -64,8 +64,8 @@ int runStability(const std::vector<std::string>& args) {
 
     std::printf("stability grid (%s): running...\n", options.quick ? "quick" : "full");
     std::fflush(stdout);
-    const bench::Stopwatch watch;
-    const std::vector<bench::StabilityCell> cells = bench::runStabilityGrid(options);
+    const analysis::Stopwatch watch;
+    const std::vector<analysis::StabilityCell> cells = analysis::runStabilityGrid(options);
     const double seconds = watch.seconds();
 
     std::printf("%zu runs in %.1f s\n\n  %-18s %7s %7s %7s %7s %7s\n", cells.size(), seconds, "integrator", "stable",
@@ -74,7 +74,7 @@ int runStability(const std::vector<std::string>& args) {
     bool implicitAllStable = true;
     for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
                                 IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd}) {
-        const bench::OutcomeCounts c = bench::countOutcomes(cells, kind);
+        const analysis::OutcomeCounts c = analysis::countOutcomes(cells, kind);
         std::printf("  %-18s %7d %7d %7d %7d %7d\n", std::string(integratorName(kind)).c_str(), c.stable, c.bounded,
                     c.caught, c.failed, c.total());
         failed += c.failed;
@@ -93,7 +93,7 @@ int runStability(const std::vector<std::string>& args) {
         if (options.quick)
             command += " --quick";
         command += " --out " + outPath;
-        const std::string text = bench::stabilityMarkdown(cells, command);
+        const std::string text = analysis::stabilityMarkdown(cells, command);
         Status s = file->write(text.data(), text.size());
         if (s)
             s = file->commit();

@@ -1,14 +1,48 @@
-// softtouch-cli: the headless front end of SoftTouch (bake, render, validate). Parses the subcommand only.
+// softtouch-cli: the headless front end of SoftTouch (bake, render, validate, ...). Parses the subcommand
+// only. It links no Qt Gui and no benchmark peer, so a farm node needs neither: the measurements run in
+// softtouch-bench, which it starts in its place (app/cli_usage.h says which commands are whose).
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
+#include "app/cli_usage.h"
 #include "io/atomic_file.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace {
+
+using Run = int (*)(const std::vector<std::string>&);
+constexpr std::pair<std::string_view, Run> kRuns[] = {
+    {"bake", softtouch::cli::runBake},       {"render", softtouch::cli::runRender},   {"preview", softtouch::cli::runPreview},
+    {"validate", softtouch::cli::runValidate}, {"preset", softtouch::cli::runPreset}, {"upgrade", softtouch::cli::runUpgrade},
+    {"batch", softtouch::cli::runBatch},     {"haptic", softtouch::cli::runHaptic},
+};
+
+/// Replaces this process with softtouch-bench (beside this program, as built and as installed) running
+/// the same command line; returns only when that program cannot be started.
+int runInBenchProgram(char** argv) {
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::filesystem::path bench = self.parent_path() / "softtouch-bench";
+    if (ec || !std::filesystem::is_regular_file(bench, ec))
+        return softtouch::cli::fail(std::string("'") + argv[1] + "' runs in softtouch-bench, which is not beside softtouch-cli (" +
+                                    bench.string() + ")");
+    std::vector<char*> args{const_cast<char*>(bench.c_str())};
+    for (char** a = argv + 1; *a; ++a)
+        args.push_back(*a);
+    args.push_back(nullptr);
+    std::fflush(nullptr);
+    ::execv(bench.c_str(), args.data());
+    return softtouch::cli::fail("cannot run " + bench.string() + ": " + std::strerror(errno));
+}
 
 constexpr const char* kTitle = "softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches\n";
 
@@ -35,6 +69,9 @@ Commands:
   batch      Bake and render a clip library (scenes x presets x clips x formats) from a manifest, skipping
              what is up to date, locally or as a Slurm job array (docs/farm.md). 'softtouch-cli batch --help'.
   stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
+
+bench, study, stability and modes run in softtouch-bench, installed beside this program: it alone links
+the benchmarks' peers (Bullet) and Qt's painter for plots and pictures; this program starts it for them.
 
 Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad usage (the reason and
 the command's usage line).
@@ -68,29 +105,10 @@ int main(int argc, char** argv) {
         std::puts("softtouch-cli 0.1.0");
         return 0;
     }
-    if (command == "bake")
-        return softtouch::cli::runBake(args);
-    if (command == "render")
-        return softtouch::cli::runRender(args);
-    if (command == "preview")
-        return softtouch::cli::runPreview(args);
-    if (command == "validate")
-        return softtouch::cli::runValidate(args);
-    if (command == "preset")
-        return softtouch::cli::runPreset(args);
-    if (command == "bench")
-        return softtouch::cli::runBench(args);
-    if (command == "study")
-        return softtouch::cli::runStudy(args);
-    if (command == "stability")
-        return softtouch::cli::runStability(args);
-    if (command == "modes")
-        return softtouch::cli::runModes(args);
-    if (command == "upgrade")
-        return softtouch::cli::runUpgrade(args);
-    if (command == "batch")
-        return softtouch::cli::runBatch(args);
-    if (command == "haptic")
-        return softtouch::cli::runHaptic(args);
+    for (const auto& [name, run] : kRuns)
+        if (command == name)
+            return run(args);
+    if (const auto* entry = softtouch::cli::findCommand(command); entry && entry->program == softtouch::cli::Program::Bench)
+        return runInBenchProgram(argv);
     return softtouch::cli::usageError("unknown command '" + command + "'");
 }

@@ -3,7 +3,7 @@
 #include "bench/bullet_peer.h"
 #include "bench/reference_deform.h"
 #include "bench/table1_report.h"
-#include "bench/timer.h"
+#include "analysis/timer.h"
 #include "core/binding.h"
 #include "core/lattice_body.h"
 #include "core/mesh_surface.h"
@@ -94,7 +94,7 @@ double stepMicroseconds(const LatticeShape& shape, IntegratorKind integrator, co
         for (int i = 0; i < batch; ++i)
             body.step();
     };
-    return 1e6 * bestSecondsPerUnit(run, batch, minSeconds);
+    return 1e6 * analysis::bestSecondsPerUnit(run, batch, minSeconds);
 }
 
 json latticeSteps(const LatticeShape& shape, const char* label, double minSeconds, std::ostream& out) {
@@ -138,11 +138,11 @@ json deformation(const BenchOptions& options, std::ostream& out) {
         const double minSeconds = options.quick ? 0.05 : 0.3;
         for (bool withNormals : {false, true}) {
             const std::span<Vec3f> n = withNormals ? std::span<Vec3f>(outNormals) : std::span<Vec3f>();
-            const double refMs = 1e3 * bestSecondsPerUnit([&] { reference.evaluate(nodes, outPositions, n); }, 1, minSeconds);
+            const double refMs = 1e3 * analysis::bestSecondsPerUnit([&] { reference.evaluate(nodes, outPositions, n); }, 1, minSeconds);
             for (int threads : {1, all}) {
                 if (threads == 1 && all == 1 && rows.size() % 2 == 1)
                     continue;
-                const double ms = 1e3 * bestSecondsPerUnit([&] { binding.evaluate(nodes, outPositions, n, threads); }, 1, minSeconds);
+                const double ms = 1e3 * analysis::bestSecondsPerUnit([&] { binding.evaluate(nodes, outPositions, n, threads); }, 1, minSeconds);
                 rows.push_back({{"vertices", vertices}, {"threads", threads}, {"normals", withNormals}, {"ms", ms},
                                 {"reference_ms", refMs}});
                 char line[160];
@@ -174,7 +174,7 @@ double frameMicroseconds(bool sleeping, double minSeconds) {
         if (moved.changed(body.sim.state().position))
             binding.evaluate(body.sim.state().position, outPositions, outNormals, 1);
     };
-    return 1e6 * bestSecondsPerUnit(frame, 1, minSeconds);
+    return 1e6 * analysis::bestSecondsPerUnit(frame, 1, minSeconds);
 }
 
 /// Microseconds per scene step of two soft bodies (4x4x4 Bezier, 500-vertex ellipsoid meshes, symplectic
@@ -214,7 +214,7 @@ json bodyContactCosts(double minSeconds, std::ostream& out) {
         sim.advanceTo(1.0);
         touching = sim.lastBodyContacts().contacts;
         const double dt = 1.0 / 240.0;
-        return 1e6 * bestSecondsPerUnit([&] { sim.advanceTo(sim.time() + dt); }, 1, minSeconds);
+        return 1e6 * analysis::bestSecondsPerUnit([&] { sim.advanceTo(sim.time() + dt); }, 1, minSeconds);
     };
     const double off = perStep(false, 1.0), apart = perStep(true, 1.0), resting = perStep(true, 0.0);
     char line[220];

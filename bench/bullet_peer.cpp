@@ -2,7 +2,7 @@
 
 #ifdef SOFTTOUCH_HAVE_BULLET
 
-#include "bench/timer.h"
+#include "analysis/timer.h"
 
 // Bullet comes in as a system include (see bench/CMakeLists.txt), so its own warnings stay out of
 // the strict build.
@@ -250,7 +250,7 @@ std::optional<ContenderRun> runBullet(const InteractionScenario& s, const Bullet
     // Timed: the stepping and the position reads the screen needs, as for every contender. Not timed:
     // creating the world and the soft body (CreateFromTriMesh fills a vertices² table, a one-off cost
     // that says nothing about interaction).
-    Stopwatch watch;
+    analysis::Stopwatch watch;
     for (; run.steps < run.totalSteps; ++run.steps) {
         bullet.step(restPoint + s.dragOffsetAt(run.steps * s.dt), s.dt);
         if ((run.steps + 1) % perFrame == 0)

@@ -1,6 +1,6 @@
 #include "bench/contenders.h"
 
-#include "bench/timer.h"
+#include "analysis/timer.h"
 #include "core/lattice_body.h"
 #include "core/mesh_body.h"
 #include "core/simulator.h"
@@ -105,7 +105,7 @@ ContenderRun runContender(const InteractionScenario& s, const OurBody& body, con
     const int perFrame = s.stepsPerFrame(setting.stepDivision);
     run.totalSteps = s.steps(setting.stepDivision);
 
-    Stopwatch watch;
+    analysis::Stopwatch watch;
     while (run.steps < run.totalSteps) {
         drag.target = restPoint + s.dragOffsetAt(run.steps * settings.dt);
         forces.drags.assign(1, drag);

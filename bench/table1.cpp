@@ -2,7 +2,7 @@
 
 #include "bench/bullet_peer.h"
 #include "bench/static_response.h"
-#include "bench/trajectory_error.h"
+#include "analysis/trajectory_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +43,7 @@ double firstScale(const Table1Size* previous, Contender c) {
 double prefixError(const ContenderRun& run, const ContenderRun& reference, int frames, std::size_t vertices,
                    double diagonal) {
     const std::size_t n = std::size_t(std::min({frames, run.framesRun, reference.framesRun})) * vertices;
-    return trajectoryError(std::span<const Vec3f>(run.frames.data(), n), std::span<const Vec3f>(reference.frames.data(), n),
+    return analysis::trajectoryError(std::span<const Vec3f>(run.frames.data(), n), std::span<const Vec3f>(reference.frames.data(), n),
                            diagonal);
 }
 

@@ -13,7 +13,7 @@ QString DeviceRegistry::defaultFolder() {
     // Without a QCoreApplication (the CLI) the executable's folder comes from /proc (Linux).
     const QString bin = QCoreApplication::instance() ? QCoreApplication::applicationDirPath()
                                                      : QFileInfo(QStringLiteral("/proc/self/exe")).canonicalFilePath().section('/', 0, -2);
-    return QDir(bin).filePath("../plugins/devices");
+    return QDir(bin).filePath("../lib/softtouch/devices");
 }
 
 DeviceRegistry::DeviceRegistry(const QString& folder) {

@@ -14,7 +14,7 @@ namespace softtouch {
 class DeviceRegistry {
 public:
     /// The build's or the installation's plugin folder: $SOFTTOUCH_PLUGIN_PATH when set, otherwise
-    /// <executable folder>/../plugins/devices.
+    /// <executable folder>/../lib/softtouch/devices.
     static QString defaultFolder();
 
     /// Loads every library in `folder` that implements InputDevicePlugin; the others are skipped and

@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
+  dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
   qt6-base-dev            # Qt Core/Gui/Widgets/Test
   libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
   libgl-dev libegl-dev    # OpenGL 3.3 core through glvnd (render/), EGL for headless rendering

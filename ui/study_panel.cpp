@@ -1,6 +1,6 @@
 #include "ui/study_panel.h"
 
-#include "bench/study_plot.h"
+#include "ui/study_plot.h"
 #include "ui/edit_commands.h"
 
 #include <QComboBox>
@@ -20,7 +20,7 @@
 namespace softtouch::ui {
 namespace {
 
-/// The plot's margins, legend and fonts have fixed pixel sizes (bench/study_plot.cpp): below about this
+/// The plot's margins, legend and fonts have fixed pixel sizes (ui/study_plot.cpp): below about this
 /// size its title and axis labels run off the image. A smaller label gets it drawn at this size and
 /// scaled down, smaller text rather than cut text.
 constexpr QSize kPlotMinSize(640, 320);
@@ -37,14 +37,14 @@ QString cost(double secondsPerSecond) {
 }
 
 /// "verlet, 1/240 s, 4x4x4 bezier".
-QString settingName(const bench::StudySetting& setting) {
+QString settingName(const analysis::StudySetting& setting) {
     return QObject::tr("%1, 1/%2 s, %3")
         .arg(QString::fromLatin1(integratorName(setting.integrator).data()))
         .arg(std::lround(1.0 / setting.dt))
-        .arg(QString::fromStdString(bench::latticeShapeName(setting.lattice)));
+        .arg(QString::fromStdString(analysis::latticeShapeName(setting.lattice)));
 }
 
-QString errorName(bench::StudyError kind) { return QString::fromLatin1(bench::studyErrorName(kind).data()); }
+QString errorName(analysis::StudyError kind) { return QString::fromLatin1(analysis::studyErrorName(kind).data()); }
 
 }  // namespace
 
@@ -78,9 +78,9 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     form->addRow(tr("Error target"), m_target);
     m_errorKind = new QComboBox;
     m_errorKind->setObjectName("studyErrorKind");
-    m_errorKind->addItem(tr("total"), int(bench::StudyError::Total));
-    m_errorKind->addItem(tr("integration"), int(bench::StudyError::Integration));
-    m_errorKind->addItem(tr("model"), int(bench::StudyError::Model));
+    m_errorKind->addItem(tr("total"), int(analysis::StudyError::Total));
+    m_errorKind->addItem(tr("integration"), int(analysis::StudyError::Integration));
+    m_errorKind->addItem(tr("model"), int(analysis::StudyError::Model));
     m_errorKind->setToolTip(tr("total: against the finest lattice converged in time (what you see);\n"
                                "integration: what the integrator and time step cost on this lattice;\n"
                                "model: what the lattice resolution costs, the step aside."));
@@ -108,7 +108,7 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     m_check->setTextFormat(Qt::RichText);
     layout->addWidget(m_check);
 
-    // Only the first object is measured (bench::runStudy): edits of others leave the study valid.
+    // Only the first object is measured (analysis::runStudy): edits of others leave the study valid.
     connect(document, &Document::worldChanged, this, &StudyPanel::sceneChanged);
     connect(document, &Document::sceneReplaced, this, &StudyPanel::sceneChanged);
     connect(document, &Document::latticeChanged, this, [this](int object) {
@@ -122,8 +122,8 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     connect(m_target, &QDoubleSpinBox::valueChanged, this, &StudyPanel::refresh);
     connect(m_errorKind, &QComboBox::currentIndexChanged, this, [this] {
         // The pick, the plot's axis and its front follow the chosen kind (cheapestWithin and the plot read it).
-        m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
-        bench::markPareto(m_study);
+        m_study.error = analysis::StudyError(m_errorKind->currentData().toInt());
+        analysis::markPareto(m_study);
         refresh();
     });
     connect(m_measure, &QPushButton::clicked, this, &StudyPanel::measure);
@@ -140,12 +140,12 @@ StudyPanel::~StudyPanel() {
         m_worker.join();
 }
 
-const bench::StudyRow* StudyPanel::currentRow() const {
-    const auto it = std::find_if(m_study.rows.begin(), m_study.rows.end(), [](const bench::StudyRow& r) { return r.current; });
+const analysis::StudyRow* StudyPanel::currentRow() const {
+    const auto it = std::find_if(m_study.rows.begin(), m_study.rows.end(), [](const analysis::StudyRow& r) { return r.current; });
     return it == m_study.rows.end() ? nullptr : &*it;
 }
 
-const bench::StudyRow* StudyPanel::suggestion() const { return bench::cheapestWithin(m_study, target()); }
+const analysis::StudyRow* StudyPanel::suggestion() const { return analysis::cheapestWithin(m_study, target()); }
 
 double StudyPanel::target() const { return m_target->value() / 100.0; }
 
@@ -168,9 +168,9 @@ void StudyPanel::measure() {
     m_progress->setRange(0, 0);  // busy until the reference runs are done and the grid starts
     m_progress->setFormat(tr("Measuring… %p%"));
     startWorker([this, scene = m_document->scene()] {
-        bench::StudyOptions options;
+        analysis::StudyOptions options;
         options.quick = true;
-        options.error = bench::StudyError::Total;  // the plot's axis; picks follow the dock's choice
+        options.error = analysis::StudyError::Total;  // the plot's axis; picks follow the dock's choice
         options.progress = [this](double fraction) {
             post([this, fraction] {
                 m_progress->setRange(0, 1000);
@@ -179,7 +179,7 @@ void StudyPanel::measure() {
             return !m_cancel.load();
         };
         std::ostringstream log;  // the dock shows the result; the CLI's study prints this log
-        bench::StudyResult result = bench::runStudy(scene, options, log);
+        analysis::StudyResult result = analysis::runStudy(scene, options, log);
         post([this, result = std::move(result)]() mutable { studyDone(std::move(result)); });
     });
 }
@@ -192,7 +192,7 @@ void StudyPanel::cancel() {
     m_progress->setFormat(tr("Cancelling after the current run…"));
 }
 
-void StudyPanel::studyDone(bench::StudyResult result) {
+void StudyPanel::studyDone(analysis::StudyResult result) {
     m_worker.join();  // it has posted this as its last act
     if (result.cancelled) {
         m_notice = hasStudy() ? tr("Measurement cancelled: the previous measurement is still shown.")
@@ -201,8 +201,8 @@ void StudyPanel::studyDone(bench::StudyResult result) {
         m_notice = tr("The measurement gave no result: check that the scene plays (press Play) and measure again.");
     } else {
         m_study = std::move(result);
-        m_study.error = bench::StudyError(m_errorKind->currentData().toInt());
-        bench::markPareto(m_study);
+        m_study.error = analysis::StudyError(m_errorKind->currentData().toInt());
+        analysis::markPareto(m_study);
         m_studyEdits = m_runEdits;
         m_remeasured.reset();
         markCurrent();  // the scene may have changed while it ran
@@ -214,9 +214,9 @@ void StudyPanel::studyDone(bench::StudyResult result) {
 void StudyPanel::applySuggestion() {
     if (!applyBlocker().isEmpty())
         return;
-    const bench::StudyRow* pick = suggestion();
+    const analysis::StudyRow* pick = suggestion();
     const Scene& scene = m_document->scene();
-    auto next = bench::applySetting(scene, pick->setting());
+    auto next = analysis::applySetting(scene, pick->setting());
     if (!next) {
         m_check->setText(tr("Not applied: %1").arg(QString::fromStdString(next.message()).toHtmlEscaped()));
         return;
@@ -247,12 +247,12 @@ void StudyPanel::applySuggestion() {
     m_progress->setRange(0, 0);
     m_progress->setFormat(tr("Re-measuring…"));
     startWorker([this, scene = m_document->scene(), study = m_study] {
-        Result<bench::Remeasured> result = bench::remeasure(scene, study);
+        Result<analysis::Remeasured> result = analysis::remeasure(scene, study);
         post([this, result = std::move(result)] { remeasureDone(result); });
     });
 }
 
-void StudyPanel::remeasureDone(Result<bench::Remeasured> result) {
+void StudyPanel::remeasureDone(Result<analysis::Remeasured> result) {
     m_worker.join();  // it has posted this as its last act
     m_remeasuring = false;
     if (result) {
@@ -276,8 +276,8 @@ void StudyPanel::markCurrent() {
     // The mark follows the scene's setting (after a pick, after undo); isOutOfDate() says whether the
     // numbers still describe the scene.
     const Scene& scene = m_document->scene();
-    for (bench::StudyRow& r : m_study.rows)
-        r.current = !scene.objects.empty() && bench::sameSetting(r.setting(), bench::sceneSetting(scene));
+    for (analysis::StudyRow& r : m_study.rows)
+        r.current = !scene.objects.empty() && analysis::sameSetting(r.setting(), analysis::sceneSetting(scene));
 }
 
 QString StudyPanel::applyBlocker() const {
@@ -287,7 +287,7 @@ QString StudyPanel::applyBlocker() const {
         return tr("Measure this scene first.");
     if (isOutOfDate())
         return tr("The scene changed since it was measured: press <i>Measure again</i> first.");
-    const bench::StudyRow* pick = suggestion();
+    const analysis::StudyRow* pick = suggestion();
     if (!pick)
         return tr("No measured setting is within the target: raise the target or choose another error.");
     if (pick->current)
@@ -324,18 +324,18 @@ void StudyPanel::refresh() {
                    "doing nothing (the rest pose) would score %3.")
                     .arg(m_study.seconds, 0, 'g', 3)
                     .arg(percent(m_study.motionAmplitude), percent(m_study.restError));
-        if (const bench::StudyRow* current = currentRow())
+        if (const analysis::StudyRow* current = currentRow())
             text << tr("<b>Current</b> (%1): %2; error %3 total, %4 integration, %5 model.")
                         .arg(settingName(current->setting()), cost(current->costPerSecond), percent(current->rmsError),
                              percent(current->timeError), percent(current->modelError));
         else if (!scene.objects.empty())
-            text << tr("<b>Current</b> (%1): not measured; press <i>Measure again</i>.").arg(settingName(bench::sceneSetting(scene)));
+            text << tr("<b>Current</b> (%1): not measured; press <i>Measure again</i>.").arg(settingName(analysis::sceneSetting(scene)));
         const QString within = tr("within %1 (%2 error)").arg(percent(target()), errorName(m_study.error));
-        const bench::StudyRow* pick = suggestion();
+        const analysis::StudyRow* pick = suggestion();
         if (pick && pick->current) {
             text << tr("<b>Cheapest %1</b>: the current setting.").arg(within);
         } else if (pick) {
-            const bench::StudyRow* current = currentRow();
+            const analysis::StudyRow* current = currentRow();
             const double faster = current ? current->costPerSecond / pick->costPerSecond : 1.0;
             text << tr("<b>Cheapest %1</b>: %2; error %3, %4%5.")
                         .arg(within, settingName(pick->setting()), percent(pick->error(m_study.error)), cost(pick->costPerSecond),
@@ -343,8 +343,8 @@ void StudyPanel::refresh() {
                                            : QString());
         } else {
             // The lowest error measured, so the person knows how far to raise the target.
-            const bench::StudyRow* best = nullptr;
-            for (const bench::StudyRow& r : m_study.rows)
+            const analysis::StudyRow* best = nullptr;
+            for (const analysis::StudyRow& r : m_study.rows)
                 if (r.finite && (!best || r.error(m_study.error) < best->error(m_study.error)))
                     best = &r;
             text << (best ? tr("<b>No measured setting is %1</b>: the lowest is %2 (%3).")
@@ -375,14 +375,14 @@ void StudyPanel::refreshPlot() {
         m_plot->setText(tr("Error against cost, with the current setting marked, appears here once the scene is measured."));
         return;
     }
-    std::optional<bench::PlotMarker> marker;
-    if (const bench::StudyRow* current = currentRow())
-        marker = bench::PlotMarker{current->costPerSecond, current->error(m_study.error), "current"};
+    std::optional<PlotMarker> marker;
+    if (const analysis::StudyRow* current = currentRow())
+        marker = PlotMarker{current->costPerSecond, current->error(m_study.error), "current"};
     const QSize size = m_plot->size();
     const double enlarge = std::max({1.0, double(kPlotMinSize.width()) / std::max(1, size.width()),
                                      double(kPlotMinSize.height()) / std::max(1, size.height())});
     const int width = int(size.width() * enlarge), height = int(size.height() * enlarge);
-    const QImage image = bench::renderStudyPlot(m_study, width, height + kPlotTitleBand, marker);
+    const QImage image = renderStudyPlot(m_study, width, height + kPlotTitleBand, marker);
     if (image.isNull()) {
         m_plot->setPixmap({});
         m_plot->setText(tr("Nothing to plot: no measured setting ran without blowing up."));

@@ -1,10 +1,10 @@
 #pragma once
-/// The speed/accuracy dock: measures the open scene (bench::runStudy, quick grid, on a worker thread with
+/// The speed/accuracy dock: measures the open scene (analysis::runStudy, quick grid, on a worker thread with
 /// progress and Cancel), plots error against cost with the scene's own setting marked, names the
 /// cheapest measured setting within the user's error target, applies it as one undo step and re-measures
 /// the scene as it then stands, so the trade is chosen, and checked, by measurement on this scene.
 
-#include "bench/study.h"
+#include "analysis/study.h"
 #include "ui/document.h"
 
 #include <QWidget>
@@ -33,12 +33,12 @@ public:
     /// Whether a measurement of the scene finished (a cancelled one is not kept).
     bool hasStudy() const { return !m_study.rows.empty(); }
     /// The last finished measurement; its `error` is the kind chosen in the dock.
-    const bench::StudyResult& study() const { return m_study; }
+    const analysis::StudyResult& study() const { return m_study; }
     /// The measured row of the scene's own setting (integrator, step, lattice of its first object), or
     /// nullptr (not measured yet, or a setting the study did not measure).
-    const bench::StudyRow* currentRow() const;
+    const analysis::StudyRow* currentRow() const;
     /// The cheapest measured setting whose error (the chosen kind) is within the target, or nullptr.
-    const bench::StudyRow* suggestion() const;
+    const analysis::StudyRow* suggestion() const;
     /// The error target as a fraction of the box diagonal (the dock shows it in %).
     double target() const;
     /// A measurement or a re-measurement is running.
@@ -46,7 +46,7 @@ public:
     /// The scene changed (not by this dock's own pick) since it was measured.
     bool isOutOfDate() const { return hasStudy() && m_edits != m_studyEdits; }
     /// The scene's errors re-measured after the last pick was applied, against the study's reference.
-    std::optional<bench::Remeasured> remeasured() const { return m_remeasured; }
+    std::optional<analysis::Remeasured> remeasured() const { return m_remeasured; }
 
 public slots:
     /// Measures a copy of the scene on a worker thread ("Measure this scene"); emits finished().
@@ -70,8 +70,8 @@ private:
     void startWorker(std::function<void()> job);
     /// Queues `call` on the GUI thread (the worker's only way to touch the dock).
     void post(std::function<void()> call);
-    void studyDone(bench::StudyResult result);
-    void remeasureDone(Result<bench::Remeasured> result);
+    void studyDone(analysis::StudyResult result);
+    void remeasureDone(Result<analysis::Remeasured> result);
     void sceneChanged();
     /// Flags the row that measured the scene's own setting as current (none when none did).
     void markCurrent();
@@ -81,7 +81,7 @@ private:
     QString applyBlocker() const;
 
     Document* m_document;
-    bench::StudyResult m_study;
+    analysis::StudyResult m_study;
     std::thread m_worker;
     std::atomic<bool> m_cancel{false};  ///< Read by the worker's progress callback.
     // Staleness by counting the scene's changes: a result is current while the count is the one its
@@ -93,7 +93,7 @@ private:
     bool m_applying = false;          ///< Our own pick is being pushed: its change signals are expected.
     bool m_remeasuring = false;       ///< The running job is a re-measure (it cannot be cancelled).
     QString m_notice;                 ///< The last job's outcome when it gave nothing (cancelled, failed).
-    std::optional<bench::Remeasured> m_remeasured;
+    std::optional<analysis::Remeasured> m_remeasured;
     QLabel* m_plot = nullptr;
     QLabel* m_text = nullptr;
     QDoubleSpinBox* m_target = nullptr;

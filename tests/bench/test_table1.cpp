@@ -5,7 +5,7 @@
 #include "bench/equal_response.h"
 #include "bench/table1.h"
 #include "bench/table1_report.h"
-#include "bench/trajectory_error.h"
+#include "analysis/trajectory_error.h"
 
 #include <QtTest>
 
@@ -17,6 +17,7 @@
 
 using namespace softtouch;
 using namespace softtouch::bench;
+using softtouch::analysis::trajectoryError;
 
 namespace {
 

@@ -63,6 +63,7 @@ class TestCli : public QObject {
     Q_OBJECT
 private slots:
     void helpAndUsage();
+    void productionProgramLinksNoGuiAndNoBenchmarkPeer();
     void bakeEverySample_data();
     void bakeEverySample();
     void bakeFormats_data();
@@ -121,6 +122,36 @@ void TestCli::helpAndUsage() {
         QVERIFY2(help.out.contains(lines[1].mid(QString("Usage: ").size())), qPrintable(what));
         QVERIFY2(lines[2] == "See 'softtouch-cli " + args[0] + " --help'.", qPrintable(what));
     }
+}
+
+// What a farm node runs needs no Qt Gui, no D-Bus and no benchmark peer: the measurements that do (the
+// study plot, the mode pictures, Bullet) are softtouch-bench's, which softtouch-cli starts for them.
+void TestCli::productionProgramLinksNoGuiAndNoBenchmarkPeer() {
+    const auto libraries = [](const QString& program) {
+        QProcess ldd;
+        ldd.start("ldd", {program});
+        return ldd.waitForFinished(30000) && ldd.exitCode() == 0 ? QString::fromUtf8(ldd.readAllStandardOutput()) : QString();
+    };
+    const QString cli = libraries(test::kCli);
+    QVERIFY2(cli.contains("libQt6Core") && cli.contains("libavcodec"), qPrintable(cli));  // ldd read it
+    for (const char* absent : {"libQt6Gui", "libQt6DBus", "libQt6Widgets", "libBullet"})
+        QVERIFY2(!cli.contains(absent), qPrintable(QString(absent) + " in softtouch-cli:\n" + cli));
+    const QString bench = libraries(QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-bench"));
+    QVERIFY2(bench.contains("libQt6Gui"), qPrintable(bench));
+
+    // The forwarded commands answer as before, through the other program (exit code and output kept) ...
+    const Run modes = runCli({"modes", kScenes + "angelfish-swim.softtouch", "--count", "1"});
+    QVERIFY2(modes.exitCode == 0 && modes.out.contains("Hz"), qPrintable(modes.out + modes.err));
+    // ... and a CLI copied without it says what is missing instead of failing obscurely.
+    QTemporaryDir dir;
+    const QString lone = dir.filePath("softtouch-cli");
+    QVERIFY(QFile::copy(test::kCli, lone));
+    QProcess p;
+    p.start(lone, {"study", kScenes + "angelfish-swim.softtouch"});
+    QVERIFY(p.waitForFinished(30000));
+    const QString err = QString::fromUtf8(p.readAllStandardError());
+    QCOMPARE(p.exitCode(), 1);
+    QVERIFY2(err.contains("'study' runs in softtouch-bench, which is not beside softtouch-cli"), qPrintable(err));
 }
 
 void TestCli::bakeEverySample_data() {

@@ -1,7 +1,8 @@
-// The installed build works on its own: `cmake --install` into a fresh folder, then the CLI validates and
-// bakes the installed presets, finds the installed device plugins, builds the installed batch manifest's
-// library, and the editor opens its installed default scene (a screenshot) — nothing read from the
-// source or build tree.
+// The installed build works on its own, installed both ways a studio would: `cmake --install` into a fresh
+// folder, and the Debian package (cpack) unpacked into a clean one. Then the CLI validates and bakes the
+// installed presets, finds the installed device plugins, builds the installed batch manifest's library,
+// starts softtouch-bench for a measurement, and the editor opens its installed default scene (a
+// screenshot) — nothing read from the source or build tree.
 #include <QDir>
 #include <QFile>
 #include <QImage>
@@ -38,17 +39,49 @@ Output run(const QString& program, const QStringList& args, const QString& worki
 class TestInstall : public QObject {
     Q_OBJECT
 private slots:
+    void installedBuildRunsOnItsOwn_data();
     void installedBuildRunsOnItsOwn();
 };
 
+void TestInstall::installedBuildRunsOnItsOwn_data() {
+    QTest::addColumn<bool>("package");
+    QTest::newRow("cmake --install") << false;
+    QTest::newRow("Debian package") << true;
+}
+
 void TestInstall::installedBuildRunsOnItsOwn() {
+    QFETCH(bool, package);
     QTemporaryDir dir;
-    const QString prefix = dir.filePath("softtouch");
-    const Output installed = run(QStringLiteral(SOFTTOUCH_CMAKE), {"--install", QStringLiteral(SOFTTOUCH_BUILD_DIR), "--prefix", prefix},
-                                 dir.path());
-    QVERIFY2(installed.exitCode == 0, qPrintable(installed.text));
+    QString prefix = dir.filePath("softtouch");
+    if (!package) {
+        const Output installed = run(QStringLiteral(SOFTTOUCH_CMAKE), {"--install", QStringLiteral(SOFTTOUCH_BUILD_DIR), "--prefix", prefix},
+                                     dir.path());
+        QVERIFY2(installed.exitCode == 0, qPrintable(installed.text));
+    } else {
+        // The .deb as CPack makes it (cmake/SoftTouchPackage.cmake), unpacked into a clean folder: its /usr is the prefix.
+        const Output packed = run(QStringLiteral(SOFTTOUCH_CPACK), {"--config", QStringLiteral(SOFTTOUCH_BUILD_DIR "/CPackConfig.cmake"), "-B",
+                                                                    dir.filePath("package")},
+                                  dir.path());
+        QVERIFY2(packed.exitCode == 0, qPrintable(packed.text));
+        const QStringList debs = QDir(dir.filePath("package")).entryList({"softtouch_*.deb"}, QDir::Files);
+        QVERIFY2(debs.size() == 1, qPrintable(packed.text));
+        const QString deb = dir.filePath("package/" + debs.front());
+        const Output unpacked = run("dpkg-deb", {"-x", deb, dir.filePath("root")}, dir.path());
+        QVERIFY2(unpacked.exitCode == 0, qPrintable(unpacked.text));
+        prefix = dir.filePath("root/usr");
+        // Its Depends come from the binaries (dpkg-shlibdeps) and name packages that exist: every one is
+        // installed on this machine, which built and runs it.
+        const Output depends = run("dpkg-deb", {"--field", deb, "Depends"}, dir.path());
+        QVERIFY2(depends.exitCode == 0 && depends.text.contains("libqt6gui6") && depends.text.contains("libassimp5"),
+                 qPrintable(depends.text));
+        for (const QString& clause : depends.text.trimmed().split(',')) {
+            const QString name = clause.trimmed().section(' ', 0, 0).section('|', 0, 0).trimmed();
+            const Output known = run("dpkg-query", {"-W", "-f=${Status}", name}, dir.path());
+            QVERIFY2(known.text.contains("install ok installed"), qPrintable(name + ": " + known.text));
+        }
+    }
     const QString cli = prefix + "/bin/softtouch-cli", share = prefix + "/share/softtouch";
-    QVERIFY(QFile::exists(cli) && QFile::exists(prefix + "/bin/softtouch"));
+    QVERIFY(QFile::exists(cli) && QFile::exists(prefix + "/bin/softtouch") && QFile::exists(prefix + "/bin/softtouch-bench"));
     QVERIFY(QFile::exists(share + "/shaders/lattice_deform.glsl"));
     QVERIFY(QFile::exists(prefix + "/share/doc/softtouch/docs/farm.md"));
     // A working folder outside both trees.
@@ -69,6 +102,9 @@ void TestInstall::installedBuildRunsOnItsOwn() {
     QVERIFY2(haptic.exitCode == 0 && haptic.text.contains("plugin scripted"), qPrintable(haptic.text));
     const Output batch = run(cli, {"batch", "run", share + "/presets/batch/fish-library.stbatch", "--library", "library", "--jobs", "2"}, work);
     QVERIFY2(batch.exitCode == 0 && batch.text.contains("8 jobs: 8 ran"), qPrintable(batch.text));
+    // A measurement: softtouch-cli starts the installed softtouch-bench beside it.
+    const Output modes = run(cli, {"modes", share + "/presets/scenes/guppy-swim.softtouch", "--count", "1"}, work);
+    QVERIFY2(modes.exitCode == 0 && modes.text.contains("Hz"), qPrintable(modes.text));
     // The preview page from the installed player, three.js modules and shaders.
     QVERIFY(QFile::exists(share + "/web/preview.js") && QFile::exists(share + "/web/node_modules/three/build/three.module.js"));
     const Output lattice = run(cli, {"bake", share + "/presets/scenes/guppy-swim.softtouch", "--out", "guppy", "--format", "lattice",

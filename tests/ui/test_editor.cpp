@@ -1244,7 +1244,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(study->study().motionAmplitude > 0.0 && study->study().restError > 0.0);
 
     // The marked row is the scene's own setting.
-    const bench::StudyRow* current = study->currentRow();
+    const analysis::StudyRow* current = study->currentRow();
     QVERIFY(current != nullptr);
     QCOMPARE(current->integrator, scene.world.simulation.integrator);
     QCOMPARE(current->dt, scene.world.simulation.dt);
@@ -1257,18 +1257,18 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     for (int k = kind->count() - 1; k >= 0; --k) {
         kind->setCurrentIndex(k);
         QCOMPARE(int(study->study().error), kind->currentData().toInt());
-        if (const bench::StudyRow* pick = study->suggestion()) {
-            for (const bench::StudyRow& r : study->study().rows)
+        if (const analysis::StudyRow* pick = study->suggestion()) {
+            for (const analysis::StudyRow& r : study->study().rows)
                 QVERIFY(!r.finite || r.error(study->study().error) > study->target() || r.costPerSecond >= pick->costPerSecond);
             QVERIFY(pick->error(study->study().error) <= study->target());
         }
     }
-    QCOMPARE(study->study().error, bench::StudyError::Total);
+    QCOMPARE(study->study().error, analysis::StudyError::Total);
     // A target below every measured error says so and names the lowest.
     auto* target = study->findChild<QDoubleSpinBox*>("studyTarget");
     const double defaultTarget = target->value();
     double lowest = 1e300;
-    for (const bench::StudyRow& r : study->study().rows)
+    for (const analysis::StudyRow& r : study->study().rows)
         lowest = std::min(lowest, r.finite ? r.rmsError : 1e300);
     target->setValue(target->minimum());
     if (lowest > study->target()) {
@@ -1281,13 +1281,13 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     // that), and the current setting (Verlet, 1/240 s) costs far more than the cheapest that is.
     target->setValue(defaultTarget);
     QVERIFY(study->study().restError > study->target());
-    const bench::StudyRow* suggested = study->suggestion();
+    const analysis::StudyRow* suggested = study->suggestion();
     QVERIFY(suggested != nullptr);
     QVERIFY(suggested->rmsError <= study->target());
     QVERIFY(suggested != current);
     QVERIFY2(text->text().contains("Cheapest within"), qPrintable(text->text()));
     QVERIFY(apply->isEnabled());
-    const bench::StudyRow pick = *suggested;
+    const analysis::StudyRow pick = *suggested;
 
     // Applying it is one undo step that changes integrator, step and (when it differs) the lattice.
     const WorldSettings worldBefore = scene.world;

@@ -3,14 +3,14 @@
 /// by a line), drawn with Qt's raster painter on a QImage: written to a PNG by `softtouch-cli study`,
 /// and shown by the editor with the current settings marked on it.
 
-#include "bench/study.h"
+#include "analysis/study.h"
 
 #include <QImage>
 
 #include <optional>
 #include <string>
 
-namespace softtouch::bench {
+namespace softtouch::ui {
 
 /// A point to mark on the plot (the editor's current settings).
 struct PlotMarker {
@@ -21,10 +21,10 @@ struct PlotMarker {
 
 /// Draws the plot at the given size (pixels). Needs a QGuiApplication for text. A null image when no
 /// row is finite.
-QImage renderStudyPlot(const StudyResult& result, int width, int height, const std::optional<PlotMarker>& marker = {});
+QImage renderStudyPlot(const analysis::StudyResult& result, int width, int height, const std::optional<PlotMarker>& marker = {});
 
 /// Writes the 1000x700 plot as a PNG atomically (needs a QGuiApplication; headless:
 /// app/cli_offscreen_gui.h); returns an empty string or the reason it failed.
-std::string writeStudyPlot(const StudyResult& result, const std::string& path);
+std::string writeStudyPlot(const analysis::StudyResult& result, const std::string& path);
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::ui

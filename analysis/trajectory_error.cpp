@@ -1,11 +1,11 @@
-#include "bench/trajectory_error.h"
+#include "analysis/trajectory_error.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 
 TrajectoryDistance trajectoryDistance(std::span<const Vec3f> run, std::span<const Vec3f> reference, double diagonal) {
     assert(run.size() == reference.size() && diagonal > 0.0);
@@ -20,4 +20,4 @@ TrajectoryDistance trajectoryDistance(std::span<const Vec3f> run, std::span<cons
     return {std::sqrt(sum / double(run.size())) / diagonal, std::sqrt(worst) / diagonal};
 }
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <vector>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 
 /// Seconds since construction.
 class Stopwatch {
@@ -32,4 +32,4 @@ double bestSecondsPerUnit(Body&& body, int batch, double minSeconds, int minRuns
     return best;
 }
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

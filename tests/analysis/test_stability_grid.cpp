@@ -1,6 +1,6 @@
-// Stability at the extremes: the quick grid of bench/stability_grid.h, asserted cell by cell. The full
+// Stability at the extremes: the quick grid of analysis/stability_grid.h, asserted cell by cell. The full
 // grid is docs/stability.md (softtouch-cli stability --out docs/stability.md).
-#include "bench/stability_grid.h"
+#include "analysis/stability_grid.h"
 
 #include <QtTest>
 
@@ -9,7 +9,7 @@
 #include <string>
 
 using namespace softtouch;
-using namespace softtouch::bench;
+using namespace softtouch::analysis;
 using Outcome = StabilityCell::Outcome;
 
 namespace {

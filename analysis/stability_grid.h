@@ -21,7 +21,7 @@
 #include <string_view>
 #include <vector>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 
 /// One run of the grid and how it ended.
 struct StabilityCell {
@@ -94,4 +94,4 @@ OutcomeCounts countOutcomes(const std::vector<StabilityCell>& cells, IntegratorK
 /// compact table per integrator, every Failed cell, and `command`, the command that produced it.
 std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std::string& command);
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

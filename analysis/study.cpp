@@ -1,7 +1,7 @@
-#include "bench/study.h"
+#include "analysis/study.h"
 
-#include "bench/timer.h"
-#include "bench/trajectory_error.h"
+#include "analysis/timer.h"
+#include "analysis/trajectory_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 namespace {
 
 using Frames = std::vector<Vec3f>;  ///< Mesh positions of every frame, one frame after another.
@@ -470,4 +470,4 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
     return out.str();
 }
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

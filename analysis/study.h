@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 
 /// Which error a target, the Pareto front and a pick use.
 enum class StudyError {
@@ -129,4 +129,4 @@ std::string studyCsv(const StudyResult& result);
 /// A markdown page: method, reference, baselines, the Pareto front, and every row sorted by cost.
 std::string studyMarkdown(const StudyResult& result, const std::string& command);
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

@@ -1,4 +1,4 @@
-#include "bench/study_plot.h"
+#include "ui/study_plot.h"
 
 #include <QImage>
 #include <QPainter>
@@ -8,7 +8,11 @@
 #include <algorithm>
 #include <cmath>
 
-namespace softtouch::bench {
+namespace softtouch::ui {
+
+using analysis::StudyResult;
+using analysis::StudyRow;
+using analysis::studyErrorName;
 
 QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optional<PlotMarker>& marker) {
     const int left = 90, right = 200, top = 50, bottom = 70;
@@ -150,4 +154,4 @@ std::string writeStudyPlot(const StudyResult& result, const std::string& path) {
     return {};
 }
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::ui

@@ -6,7 +6,7 @@
 
 #include <span>
 
-namespace softtouch::bench {
+namespace softtouch::analysis {
 
 /// How far one run of a mesh is from another, over every frame and every vertex, relative to `diagonal`
 /// (the mesh's bounding-box diagonal, m): 0.01 means off by 1% of its size. Both runs hold the same
@@ -22,4 +22,4 @@ inline double trajectoryError(std::span<const Vec3f> run, std::span<const Vec3f>
     return trajectoryDistance(run, reference, diagonal).rms;
 }
 
-}  // namespace softtouch::bench
+}  // namespace softtouch::analysis

@@ -1,12 +1,12 @@
 // The speed/accuracy study measures what it claims: integrator character, convergence, Pareto front.
-#include "bench/study.h"
+#include "analysis/study.h"
 #include "io/project_file.h"
 
 #include <QtTest>
 #include <sstream>
 
 using namespace softtouch;
-using namespace softtouch::bench;
+using namespace softtouch::analysis;
 
 class TestStudy : public QObject {
     Q_OBJECT
