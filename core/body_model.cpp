@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace softtouch {
@@ -21,6 +22,17 @@ double largestStiffnessOverMass(const BodyModel& m) {
         x[i] = m.inverseMass[i] > 0.0 ? Vec3(1.0 + 0.37 * double(i % 7), -0.5 + 0.11 * double(i % 5), 0.3 + 0.05 * double(i % 11))
                                        : Vec3::Zero();
     }
+    // Each spring's direction and mass scales, once (the same values every iteration would compute).
+    struct Term {
+        std::uint32_t a, b;
+        Vec3 d;
+        double sa, sb, k;
+    };
+    std::vector<Term> terms;
+    terms.reserve(m.springs.size());
+    for (const Spring& s : m.springs)
+        terms.push_back({s.a, s.b, (m.restPositions[s.b] - m.restPositions[s.a]).normalized(), std::sqrt(m.inverseMass[s.a]),
+                         std::sqrt(m.inverseMass[s.b]), s.stiffness});
     double lambda = 0.0;
     for (int iteration = 0; iteration < 200; ++iteration) {
         double norm = 0.0;
@@ -33,13 +45,10 @@ double largestStiffnessOverMass(const BodyModel& m) {
             v /= norm;
         for (Vec3& v : y)
             v.setZero();
-        for (const Spring& s : m.springs) {
-            const Vec3 d = (m.restPositions[s.b] - m.restPositions[s.a]).normalized();
-            const double sa = std::sqrt(m.inverseMass[s.a]);
-            const double sb = std::sqrt(m.inverseMass[s.b]);
-            const double rel = d.dot(sa * x[s.a] - sb * x[s.b]);
-            y[s.a] += s.stiffness * sa * rel * d;
-            y[s.b] -= s.stiffness * sb * rel * d;
+        for (const Term& t : terms) {
+            const double rel = t.d.dot(t.sa * x[t.a] - t.sb * x[t.b]);
+            y[t.a] += t.k * t.sa * rel * t.d;
+            y[t.b] -= t.k * t.sb * rel * t.d;
         }
         double next = 0.0;
         for (std::size_t i = 0; i < n; ++i)
