@@ -28,7 +28,7 @@ int runBench(const std::vector<std::string>& args) {
                       "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
                       "  --json FILE   also write the results as JSON (keys: docs/benchmarks.md)\n"
                       "  --quick       small sizes only (seconds, not minutes)\n"
-                      "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, haptic\n"
+                      "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, edit, haptic\n"
                       "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"
                       "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)\n"
                       "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)");
@@ -53,7 +53,7 @@ int runBench(const std::vector<std::string>& args) {
             return usage("unknown bench argument '" + args[i] + "'");
     }
     static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "features",
-                                                   "deform", "table1", "haptic"};
+                                                   "deform", "table1", "edit", "haptic"};
     if (!options.only.empty() && !sections.count(options.only))
         return usage("unknown bench section '" + options.only + "'");
     std::optional<io::Project> star;
@@ -69,6 +69,18 @@ int runBench(const std::vector<std::string>& args) {
             return fail(project.message());
         star = std::move(project.value());
         options.hapticScenes.push_back({hapticScene.stem().string(), &star->scene, Vec3(0.95, 0.95, 0.5)});
+    }
+    std::optional<io::Project> fish;
+    if (options.only.empty() || options.only == "edit") {
+        // The angelfish (7,280 triangles) from the working directory (the repository root), else the bundled one.
+        std::filesystem::path path = "presets/scenes/angelfish-swim.softtouch";
+        if (!std::filesystem::exists(path))
+            path = app::bundledFolder("presets", "presets") / "scenes/angelfish-swim.softtouch";
+        auto project = io::loadProject(path);
+        if (!project)
+            return fail(project.message());
+        fish = std::move(project.value());
+        options.editScene = &fish->scene;
     }
     const nlohmann::json result = bench::runBench(options, std::cout);
     if (!jsonPath.empty()) {

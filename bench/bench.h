@@ -5,6 +5,8 @@
 
 #include "bench/haptic_bench.h"
 
+#include "core/scene.h"
+
 #include <nlohmann/json.hpp>
 
 #include <ostream>
@@ -18,6 +20,7 @@ struct BenchOptions {
     std::vector<HapticBenchScene> hapticScenes; ///< Scenes for the haptic section (the app loads the star);
                                                 ///< the million-triangle scene is always added.
     int hapticPriority = 80;  ///< SCHED_FIFO priority the haptic loop asks for; 0: normal scheduling. [0, 99].
+    const Scene* editScene = nullptr;  ///< The scene the "edit" section paints on (the app loads the angelfish).
 };
 
 /// Runs every benchmark, prints a readable report to `out` as it goes, returns the JSON document.

@@ -293,7 +293,9 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
 }  // namespace
 
 Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
-                                                          const Mesh* mesh) {
+                                                          const Mesh* mesh, MeshLatticeCache* cache) {
+    MeshLatticeCache local;
+    MeshLatticeCache& derived = cache ? *cache : local;
     if (Status s = validateMaterial(lattice, material); !s)
         return s;
     BodyDescription d;
@@ -345,8 +347,11 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
             progress = true;
         }
     }
-    if (mesh && !mesh->positions.empty())
-        d.contactPoints = meshContactPoints(lattice, *mesh);
+    if (mesh && !mesh->positions.empty()) {
+        if (!derived.contactPoints)
+            derived.contactPoints = meshContactPoints(lattice, *mesh);
+        d.contactPoints = *derived.contactPoints;
+    }
     if (largestVolumePreservation(material) > 0.0) {
         // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).
         double modulus = 0.0;
@@ -356,10 +361,13 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
                 modulus += s.stiffness / s.restLength;
                 ++counted;
             }
-        std::vector<double> occupancy;
-        if (mesh && !mesh->triangles.empty())
+        if (mesh && !mesh->triangles.empty() && !derived.volumeOccupancy) {
+            derived.volumeOccupancy.emplace();
             if (auto shares = meshVolumeShares(lattice, *mesh, kMeshVolumeSamples, volumeSampleCells(lattice)))
-                occupancy = std::move(shares.value().occupancy);
+                *derived.volumeOccupancy = std::move(shares.value().occupancy);
+        }
+        static const std::vector<double> kNone;
+        const std::vector<double>& occupancy = derived.volumeOccupancy ? *derived.volumeOccupancy : kNone;
         d.volume = buildVolumeConstraint(lattice, occupancy, material.volumePreservation,
                                          counted > 0 ? modulus / counted : 0.0);
     }

@@ -14,6 +14,7 @@
 #include "core/mesh.h"
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace softtouch {
@@ -123,12 +124,20 @@ std::vector<Spring> latticeSprings(const Lattice& lattice, const LatticeMaterial
 /// Counts springs by kind.
 SpringCounts countSprings(const std::vector<Spring>& springs);
 
+/// What buildLatticeBody derives from a mesh on a lattice, whatever the material: the contact sample
+/// points and the volume samples' occupancy. Each is computed on first need and kept, so bodies rebuilt
+/// on the same mesh and lattice (the editor's material edits) do not compute them again.
+struct MeshLatticeCache {
+    std::optional<ContactPoints> contactPoints;
+    std::optional<std::vector<double>> volumeOccupancy;  ///< Empty when the mesh is not closed.
+};
+
 /// Builds the body of a lattice: validates the material (errors name the node and field), removes
 /// void nodes with their springs, and lets void nodes follow their non-void neighbours.
 /// With volume preservation on, the kept volume is `mesh`'s (a closed mesh; otherwise, or without one, the
-/// lattice box's).
+/// lattice box's). `cache`, when given, must come from this mesh and lattice (it is filled as needed).
 Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
-                                                          const Mesh* mesh = nullptr);
+                                                          const Mesh* mesh = nullptr, MeshLatticeCache* cache = nullptr);
 
 /// The material of `from` carried onto lattice `to` (another resolution or kind over the same object):
 /// every node of `to` takes the painted values of the node of `from` nearest in lattice parameters; anchors

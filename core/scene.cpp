@@ -121,8 +121,22 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) 
     return Status::success();
 }
 
-Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
-    auto scene = std::make_shared<Scene>(input);
+namespace {
+
+/// Whether two objects have the same mesh and lattice: what their bindings and samples are made of.
+bool sameGeometry(const SceneObject& a, const SceneObject& b) {
+    return a.mesh.positions == b.mesh.positions && a.mesh.triangles == b.mesh.triangles && a.mesh.normals == b.mesh.normals &&
+           a.lattice.shape() == b.lattice.shape() && a.lattice.restNodes() == b.lattice.restNodes();
+}
+
+}  // namespace
+
+Result<SceneSimulation> SceneSimulation::create(const Scene& input, const SceneSimulation* previous) {
+    return create(Scene(input), previous);
+}
+
+Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimulation* previous) {
+    auto scene = std::make_shared<Scene>(std::move(input));
     if (scene->objects.empty())
         return Status::error("the scene has no objects");
     if (Status s = scene->world.validate(); !s)
@@ -132,7 +146,8 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             return s;
     SceneSimulation sim;
     sim.m_scene = scene;
-    for (SceneObject& object : scene->objects) {
+    for (std::size_t i = 0; i < scene->objects.size(); ++i) {
+        SceneObject& object = scene->objects[i];
         const std::string where = "object '" + object.name + "': ";
         if (Status s = object.mesh.validate(); !s)
             return Status::error(where + s.message());
@@ -142,28 +157,33 @@ Result<SceneSimulation> SceneSimulation::create(const Scene& input) {
             if (Status s = validateDriver(object.drivers[d]); !s)
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
         }
+        std::shared_ptr<Geometry> geometry;
+        if (previous && i < previous->m_objects.size() && sameGeometry(*previous->m_objects[i].source, object))
+            geometry = previous->m_objects[i].geometry;
+        else
+            geometry = std::make_shared<Geometry>(
+                Geometry{Binding::create(object.lattice, object.mesh.positions, object.mesh.normals), {}, nullptr});
         const bool animated = object.baseAnimation != nullptr;
-        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &object.mesh);
+        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &object.mesh, &geometry->derived);
         if (!model)
             return Status::error(where + model.message());
-        std::shared_ptr<const MeshSurface> restSurface;
-        if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh.triangles.empty()) {
+        if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh.triangles.empty() &&
+            !geometry->restSurface) {
             auto surface = MeshSurface::shared(object.mesh);
             if (!surface)
                 return Status::error(where + surface.message());
-            restSurface = surface.value();
+            geometry->restSurface = surface.value();
         }
-        Binding binding = Binding::create(object.lattice, object.mesh.positions, object.mesh.normals);
         std::shared_ptr<BaseMotion> motion;
         if (animated) {
-            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh.positions, binding.parameters(),
+            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh.positions, geometry->binding.parameters(),
                                               object.baseAnimation, object.material.goalWeight, object.follow);
             if (!created)
                 return Status::error(where + created.message());
             motion = created.value();
         }
-        sim.m_objects.push_back(Runtime{&object, std::move(binding), Simulator(model.value(), scene->world.simulation), {},
-                                        std::move(restSurface), std::move(motion)});
+        sim.m_objects.push_back(Runtime{&object, std::move(geometry), Simulator(model.value(), scene->world.simulation), {},
+                                        std::move(motion)});
     }
     return sim;
 }
@@ -248,7 +268,7 @@ void SceneSimulation::resolveBodyContacts(double stepStart) {
     std::vector<ContactBody> bodies(m_objects.size());
     for (std::size_t i = 0; i < m_objects.size(); ++i) {
         const Runtime& r = m_objects[i];
-        bodies[i] = {&r.simulator.model(), &r.source->lattice, r.restSurface.get(), const_cast<BodyState*>(&r.simulator.state())};
+        bodies[i] = {&r.simulator.model(), &r.source->lattice, r.geometry->restSurface.get(), const_cast<BodyState*>(&r.simulator.state())};
     }
     std::vector<std::uint8_t> changed(m_objects.size(), 0);
     for (std::size_t i = 0; i < m_objects.size(); ++i)
@@ -318,9 +338,9 @@ void SceneSimulation::evaluateNodes(std::size_t i, std::span<const Vec3> nodes, 
                                     std::span<Vec3f> normals, int threads) const {
     const Runtime& r = m_objects[i];
     if (r.motion)
-        r.motion->deform(seconds, r.binding, nodes, r.source->mesh.triangles, positions, normals);
+        r.motion->deform(seconds, r.geometry->binding, nodes, r.source->mesh.triangles, positions, normals);
     else
-        r.binding.evaluate(nodes, positions, normals, threads);
+        r.geometry->binding.evaluate(nodes, positions, normals, threads);
 }
 
 std::vector<Vec3> SceneSimulation::shownNodes(std::size_t i, std::span<const Vec3> nodes, double seconds) const {
@@ -334,7 +354,7 @@ std::vector<Vec3> SceneSimulation::shownNodes(std::size_t i, std::span<const Vec
 std::size_t SceneSimulation::totalVertexCount() const {
     std::size_t n = 0;
     for (const Runtime& r : m_objects)
-        n += r.binding.vertexCount();
+        n += r.geometry->binding.vertexCount();
     return n;
 }
 

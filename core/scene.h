@@ -82,8 +82,12 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world);
 /// Runtime of a scene: bodies, bindings and simulators built once, stepped together.
 class SceneSimulation {
 public:
-    /// Validates the scene and builds everything; errors name the object.
-    static Result<SceneSimulation> create(const Scene& scene);
+    /// Validates the scene and builds everything; errors name the object. With `previous` (a simulation
+    /// of an earlier version of the scene: the editor after an edit), each object whose mesh and lattice
+    /// are unchanged keeps what they alone make (the binding, the contact samples, the volume samples'
+    /// occupancy, the rest surface): a material, world or driver edit rebuilds only the bodies.
+    static Result<SceneSimulation> create(const Scene& scene, const SceneSimulation* previous = nullptr);
+    static Result<SceneSimulation> create(Scene&& scene, const SceneSimulation* previous = nullptr);
 
     /// Everything that changes while a scene runs: every body's state and the time. Restoring one
     /// and stepping with the same inputs reproduces the same states bit for bit.
@@ -138,16 +142,24 @@ public:
     bool followsBaseAnimation(std::size_t i) const { return m_objects[i].motion != nullptr; }
     /// Total vertex count over all objects (the order of a concatenated cache).
     std::size_t totalVertexCount() const;
+    /// Object i's binding (mesh vertices on its lattice); shared with the simulation it was kept from.
+    const Binding& binding(std::size_t i) const { return m_objects[i].geometry->binding; }
     /// What the body contacts did in the last step (zero when off or apart).
     const BodyContactPass& lastBodyContacts() const { return m_lastBodyContacts; }
 
 private:
+    /// What an object's mesh and lattice make, whatever its material and world; kept across edits
+    /// (create's `previous`). Filled while a simulation is created, read-only after.
+    struct Geometry {
+        Binding binding;
+        MeshLatticeCache derived;                        ///< Contact samples, volume occupancy.
+        std::shared_ptr<const MeshSurface> restSurface;  ///< Its rest mesh, for body contacts (when on).
+    };
     struct Runtime {
         const SceneObject* source = nullptr;
-        Binding binding;
+        std::shared_ptr<Geometry> geometry;
         Simulator simulator;
         std::vector<DragSpring> interactive;
-        std::shared_ptr<const MeshSurface> restSurface; ///< Its rest mesh, for body contacts (when on).
         std::shared_ptr<BaseMotion> motion;  ///< On a base animation: its goals and the output's base.
     };
 

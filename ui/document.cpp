@@ -10,7 +10,15 @@
 
 namespace softtouch::ui {
 
-Document::Document(QObject* parent) : QObject(parent) {}
+Document::Document(QObject* parent) : QObject(parent) {
+    // First among each signal's receivers, so every listener already sees the new revision.
+    const auto bump = [this] { ++m_revision; };
+    connect(this, &Document::materialChanged, this, bump);
+    connect(this, &Document::latticeChanged, this, bump);
+    connect(this, &Document::clipsChanged, this, bump);
+    connect(this, &Document::worldChanged, this, bump);
+    connect(this, &Document::sceneReplaced, this, bump);
+}
 
 Document::~Document() { m_undo.blockSignals(true); }
 

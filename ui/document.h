@@ -10,6 +10,8 @@
 #include <QString>
 #include <QUndoStack>
 
+#include <cstdint>
+
 namespace softtouch::ui {
 
 /// One open project.
@@ -51,6 +53,9 @@ public:
     QUndoStack* undoStack() { return &m_undo; }
     /// True when the scene differs from what was last opened or saved.
     bool isModified() const { return !m_undo.isClean(); }
+    /// Counts every change of the scene or clip library (each change signal below, undo and redo
+    /// included): what is computed from them (a clip's evaluated frames) is keyed on it.
+    std::uint64_t revision() const { return m_revision; }
 
     // Edit primitives: only undo commands call these.
     /// Replaces object i's material (same node count); emits materialChanged.
@@ -84,6 +89,7 @@ private:
 
     io::Project m_project;
     QUndoStack m_undo;
+    std::uint64_t m_revision = 0;
 };
 
 }  // namespace softtouch::ui

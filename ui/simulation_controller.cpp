@@ -27,11 +27,15 @@ void SimulationController::rebuild(bool keepState) {
         for (SceneObject& o : scene.objects)
             o.drivers.clear();
     }
+    // Built beside the current one, whose bindings and samples it keeps where mesh and lattice are
+    // unchanged: a paint dab or a world edit rebuilds only the bodies.
+    auto created = scene.objects.empty() ? Result<SceneSimulation>(Status::error("no objects"))
+                                         : SceneSimulation::create(std::move(scene), m_sim ? &*m_sim : nullptr);
     m_sim.reset();
     m_problem.clear();
-    if (scene.objects.empty()) {
+    if (m_document->scene().objects.empty()) {
         m_problem = tr("The scene has no objects.");
-    } else if (auto created = SceneSimulation::create(scene)) {
+    } else if (created) {
         m_sim.emplace(std::move(created.value()));
         bool sameShape = snapshot && snapshot->bodies.size() == m_sim->objectCount();
         for (std::size_t i = 0; sameShape && i < m_sim->objectCount(); ++i)

@@ -126,6 +126,14 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
     connect(document, &Document::sceneReplaced, this, &TimelinePanel::refreshLists);
+    // A clip on show while paused is evaluated again after an edit it depends on (material, lattice,
+    // world): what the viewport shows is the clip as it now bakes. Once the simulation has rebuilt, so
+    // the rebuild does not replace the pose.
+    connect(simulation, &SimulationController::rebuilt, this, [this, simulation] {
+        const int clip = m_clips->currentRow();
+        if (clip >= 0 && clip == m_clipShown && m_clipRevision != m_document->revision() && !simulation->isPlaying())
+            showClipFrame(clip, m_slider->value());
+    });
     refreshLists();
 }
 
@@ -190,7 +198,7 @@ void TimelinePanel::showClipFrame(int index, int frame) {
     if (index < 0 || std::size_t(index) >= library.clips.size())
         return;
     const Clip& clip = library.clips[std::size_t(index)];
-    if (m_clipShown != index) {
+    if (m_clipShown != index || m_clipRevision != m_document->revision()) {
         auto frames = evaluateClip(m_document->scene(), library, clip);
         if (!frames) {
             m_time->setText(QString::fromStdString(frames.message()));
@@ -198,6 +206,7 @@ void TimelinePanel::showClipFrame(int index, int frame) {
         }
         m_clipFrames = std::move(frames.value());
         m_clipShown = index;
+        m_clipRevision = m_document->revision();
     }
     if (m_clipFrames.nodes.empty())
         return;

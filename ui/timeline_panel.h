@@ -69,7 +69,8 @@ private:
     QLabel* m_time = nullptr;
     QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
-    int m_clipShown = -1;      ///< Which clip m_clipFrames holds.
+    int m_clipShown = -1;      ///< Which clip m_clipFrames holds ...
+    std::uint64_t m_clipRevision = 0;  ///< ... evaluated at this document revision.
 };
 
 }  // namespace softtouch::ui

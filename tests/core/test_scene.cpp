@@ -34,6 +34,7 @@ private slots:
     void interactiveDragMovesAndReleaseSwingsBack();
     void snapshotRestoreReplaysBitExactly();
     void resetReturnsToRest();
+    void editsKeepTheBindingAndMoveAsAFreshBuild();
     void newSceneKeepsItsWobble_data();
     void newSceneKeepsItsWobble();
 };
@@ -90,6 +91,48 @@ void TestScene::resetReturnsToRest() {
     QCOMPARE(sim.stepCount(), 0LL);
     QVERIFY(sim.interactiveDrags(0).empty());
     QVERIFY(sim.simulator(0).state().position == rest);
+}
+
+// The editor's incremental rebuild: a material or world edit keeps the binding and the mesh's samples (the
+// same objects, not copies), and the body it builds moves bit for bit as one built from nothing; a lattice
+// edit makes a new binding.
+void TestScene::editsKeepTheBindingAndMoveAsAFreshBuild() {
+    Scene scene = test::anchoredBallScene();
+    std::fill(scene.objects[0].material.volumePreservation.begin(), scene.objects[0].material.volumePreservation.end(), 0.5);
+    auto first = SceneSimulation::create(scene);
+    QVERIFY2(first.ok(), first.message().c_str());
+
+    // A paint stroke: a stiffer half; and a world edit: gravity.
+    Scene edited = scene;
+    LatticeMaterial& m = edited.objects[0].material;
+    for (std::size_t n = 0; n < m.stiffness.size(); n += 2)
+        m.stiffness[n] *= 3.0;
+    edited.world.gravity = Vec3(0, -9.81, 0);
+    auto kept = SceneSimulation::create(edited, &first.value());
+    auto fresh = SceneSimulation::create(edited);
+    QVERIFY(kept.ok() && fresh.ok());
+    QCOMPARE(&kept.value().binding(0), &first.value().binding(0));
+    QVERIFY(&fresh.value().binding(0) != &first.value().binding(0));
+    for (SceneSimulation* sim : {&kept.value(), &fresh.value()}) {
+        sim->setInteractiveDrags(0, {pullUp(*sim, 0.2)});
+        sim->advanceTo(0.5);
+    }
+    const BodyState& a = kept.value().simulator(0).state();
+    const BodyState& b = fresh.value().simulator(0).state();
+    QVERIFY(a.position != first.value().simulator(0).state().position);  // it moved
+    for (std::size_t n = 0; n < a.position.size(); ++n)
+        QVERIFY2(a.position[n] == b.position[n] && a.velocity[n] == b.velocity[n], qPrintable(QString("node %1").arg(n)));
+
+    // Another lattice: a binding of its own.
+    Scene refined = edited;
+    SceneObject& o = refined.objects[0];
+    const Lattice finer = Lattice::create({LatticeKind::Bezier, {5, 5, 5}}, o.lattice.box()).value();
+    o.material = resampleMaterial(o.lattice, o.material, finer, true);
+    o.lattice = finer;
+    auto rebuilt = SceneSimulation::create(refined, &kept.value());
+    QVERIFY2(rebuilt.ok(), rebuilt.message().c_str());
+    QVERIFY(&rebuilt.value().binding(0) != &kept.value().binding(0));
+    QCOMPARE(rebuilt.value().simulator(0).state().position.size(), std::size_t(125));
 }
 
 void TestScene::newSceneKeepsItsWobble_data() {

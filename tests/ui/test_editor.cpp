@@ -142,6 +142,7 @@ private slots:
     void init();
     void cleanup();
     void opensDefaultScene();
+    void clipPreviewFollowsAMaterialEdit();
     void paintStrokeIsOneUndoStep();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
@@ -1032,6 +1033,39 @@ void TestEditor::presetAppliesAsOneUndoStep() {
                  QString::fromStdString(refused.message()).contains("stiffness"),
              refused.message().c_str());
     QCOMPARE(presets->count(), withSetup + 1);
+}
+
+// A clip on show is the clip as it now bakes: after a material edit (and its undo) the timeline evaluates
+// it again and the viewport shows the new frame, while the simulation kept its binding (rebuilt
+// incrementally: the same object before and after).
+void TestEditor::clipPreviewFollowsAMaterialEdit() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    auto* clips = w.timeline()->findChild<QListWidget*>("clips");
+    auto* scrubber = w.timeline()->findChild<QSlider*>("scrubber");
+    QVERIFY(clips && scrubber && clips->count() > 0);
+    clips->setCurrentRow(0);
+    const int frame = std::min(12, scrubber->maximum());
+    scrubber->setValue(frame);
+    const Clip clip = w.document()->project().clips.clips.front();
+    const auto nodesOf = [&](const Scene& scene) {
+        return evaluateClip(scene, w.document()->project().clips, clip).value().nodes[std::size_t(frame)].front();
+    };
+    const std::vector<Vec3> before = nodesOf(w.document()->scene());
+    QVERIFY(sim->simulation()->simulator(0).state().position == before);
+    const Binding* binding = &sim->simulation()->binding(0);
+
+    LatticeMaterial stiffer = w.document()->scene().objects[0].material;
+    for (double& e : stiffer.stiffness)
+        e *= 4.0;
+    w.document()->undoStack()->push(new MaterialEditCommand(w.document(), 0, w.document()->scene().objects[0].material, stiffer,
+                                                            "stiffer"));
+    const std::vector<Vec3> after = nodesOf(w.document()->scene());
+    QVERIFY(after != before);  // the edit changes the clip's motion ...
+    QVERIFY(sim->simulation()->simulator(0).state().position == after);  // ... and the viewport shows it
+    QCOMPARE(&sim->simulation()->binding(0), binding);
+    w.document()->undoStack()->undo();
+    QVERIFY(sim->simulation()->simulator(0).state().position == before);
 }
 
 void TestEditor::recordedTakeScrubsAndExports() {
