@@ -75,8 +75,7 @@ Result<std::unique_ptr<HapticLoop>> HapticLoop::create(std::shared_ptr<const Bod
 
 HapticLoop::HapticLoop(std::shared_ptr<const BodyModel> model, const SimulationSettings& simulation,
                        const ExternalForces& world, std::unique_ptr<InputDevice> device, const HapticSettings& settings)
-    : m_settings(settings), m_simulator(std::move(model), simulation), m_device(std::move(device)), m_forces(world),
-      m_queue(kQueueSize) {
+    : m_settings(settings), m_simulator(std::move(model), simulation), m_device(std::move(device)), m_forces(world) {
     m_forces.drags.clear();
     m_spareDrag.resize(1);
     m_spareDrag.front().support.reserve(kMaxGrabSupport);
@@ -85,7 +84,7 @@ HapticLoop::HapticLoop(std::shared_ptr<const BodyModel> model, const SimulationS
     m_stiffness = renderableStiffness(settings.coupling.stiffness, info, settings.calibration);
     m_wallStiffness = renderableStiffness(settings.coupling.wallStiffness, info, settings.calibration);
     m_maxForce = info.forceFeedback ? info.maxForceN : 0.0;
-    for (HapticSnapshot& s : m_snapshots) s.positions.resize(m_simulator.model().nodeCount());
+    for (HapticSnapshot& s : m_snapshots.buffers()) s.positions.resize(m_simulator.model().nodeCount());
     const auto window = std::size_t(settings.statsWindow);
     m_periods.resize(window);
     m_work.resize(window);
@@ -135,22 +134,11 @@ void HapticLoop::restoreState(const BodyState& state, long long stepCount) {
     m_passivity.reset();
 }
 
-bool HapticLoop::post(const HapticCommand& command) {
-    const std::size_t tail = m_tail.load(std::memory_order_relaxed);
-    const std::size_t next = (tail + 1) % kQueueSize;
-    if (next == m_head.load(std::memory_order_acquire)) return false;  // full
-    m_queue[tail] = command;
-    m_tail.store(next, std::memory_order_release);
-    return true;
-}
+bool HapticLoop::post(const HapticCommand& command) { return m_commands.push(command); }
 
 bool HapticLoop::readSnapshot(HapticSnapshot& out) {
-    unsigned middle = m_middle.load(std::memory_order_relaxed);
-    if (!(middle & kFresh)) return false;
-    // Take the fresh middle as our front, give our old front back as the middle (not fresh).
-    middle = m_middle.exchange(m_front, std::memory_order_acq_rel);
-    m_front = middle & ~kFresh;
-    const HapticSnapshot& s = m_snapshots[m_front];
+    if (!m_snapshots.take()) return false;
+    const HapticSnapshot& s = m_snapshots.front();
     out.positions.resize(s.positions.size());
     std::copy(s.positions.begin(), s.positions.end(), out.positions.begin());
     out.tick = s.tick;
@@ -209,9 +197,8 @@ void HapticLoop::runTick(double seconds) {
     const long long recordTick = m_tick;
 
     // 1. Commands (lock-free ring).
-    std::size_t head = m_head.load(std::memory_order_relaxed);
-    while (head != m_tail.load(std::memory_order_acquire)) {
-        const HapticCommand& command = m_queue[head];
+    while (const HapticCommand* next = m_commands.front()) {
+        const HapticCommand& command = *next;
         apply(command);
         if (recording) {
             if (m_recording.commands.size() < m_recording.commands.capacity())
@@ -219,8 +206,7 @@ void HapticLoop::runTick(double seconds) {
             else
                 m_recording.truncated = true;
         }
-        head = (head + 1) % kQueueSize;
-        m_head.store(head, std::memory_order_release);
+        m_commands.pop();
     }
 
     // 2. Device.
@@ -274,7 +260,7 @@ void HapticLoop::runTick(double seconds) {
 }
 
 void HapticLoop::publish(double seconds) {
-    HapticSnapshot& s = m_snapshots[m_back];
+    HapticSnapshot& s = m_snapshots.back();
     const std::vector<Vec3>& position = m_simulator.state().position;
     std::copy(position.begin(), position.end(), s.positions.begin());
     s.tick = m_tick;
@@ -292,7 +278,7 @@ void HapticLoop::publish(double seconds) {
     m_stats.passivityActiveTicks = m_passivity.activeTicks();
     m_stats.clampedTicks = m_passivity.clampedTicks();
     s.stats = m_stats;
-    m_back = m_middle.exchange(m_back | kFresh, std::memory_order_acq_rel) & ~kFresh;
+    m_snapshots.publish();
 }
 
 void HapticLoop::recordPeriod(double periodSeconds, double workSeconds) {

@@ -7,11 +7,14 @@
 ///   UI thread ◀──readSnapshot()── [triple buffer] ◀── publish at the end of every tick
 ///
 /// No mutex anywhere in the loop: commands arrive through a single-producer/single-consumer ring of
-/// atomics, results leave through a triple buffer whose buffers are sized once at construction.
+/// atomics (core/spsc_ring.h), results leave through a triple buffer (core/triple_buffer.h) whose
+/// buffers are sized once at construction.
 /// A manual clock mode runs the same tick() synchronously, without the thread, for tests and replays.
 
 #include "core/haptic_coupling.h"
 #include "core/simulator.h"
+#include "core/spsc_ring.h"
+#include "core/triple_buffer.h"
 
 #include <array>
 #include <atomic>
@@ -199,20 +202,8 @@ private:
     HapticRecording m_recording;
     bool m_recordStarted = false;
 
-    // Commands: single-producer single-consumer ring. m_head is written by the consumer (loop),
-    // m_tail by the producer (UI); each side only reads the other's index.
-    static constexpr std::size_t kQueueSize = 64;
-    std::vector<HapticCommand> m_queue;
-    alignas(64) std::atomic<std::size_t> m_head{0};
-    alignas(64) std::atomic<std::size_t> m_tail{0};
-
-    // Snapshots: triple buffer. The writer fills m_snapshots[m_back] and swaps it with the middle;
-    // the reader swaps the middle with its front when the fresh bit is set.
-    static constexpr unsigned kFresh = 4;
-    std::array<HapticSnapshot, 3> m_snapshots;
-    unsigned m_back = 0;
-    alignas(64) std::atomic<unsigned> m_middle{1};
-    unsigned m_front = 2;
+    SpscRing<HapticCommand, 64> m_commands;       ///< UI → loop.
+    TripleBuffer<HapticSnapshot> m_snapshots;    ///< Loop → UI, the newest tick's.
 
     // Rate and jitter over a sliding window.
     std::vector<double> m_periods;       ///< Ring of wake-to-wake periods, seconds.
