@@ -9,7 +9,16 @@
 #include <atomic>
 #include <cmath>
 
+// GCC says so with __SANITIZE_ADDRESS__, clang with __has_feature.
 #if defined(__SANITIZE_ADDRESS__)
+#define SOFTTOUCH_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SOFTTOUCH_UNDER_ASAN 1
+#endif
+#endif
+
+#if defined(SOFTTOUCH_UNDER_ASAN)
 #define SOFTTOUCH_COUNTS_MALLOC 0
 #else
 #define SOFTTOUCH_COUNTS_MALLOC 1
