@@ -8,5 +8,8 @@ bash scripts/build.sh release
 ctest --preset release -j "$(nproc)"
 if [ "${1:-}" = "--with-asan" ]; then
   bash scripts/build.sh asan
-  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan -j "$(nproc)"
+  # intercept_tls_get_addr=0: LeakSanitizer's thread scan (GCC 12's libasan) crashes now and then ("Tracer
+  # caught signal 11") walking the dynamic TLS of Mesa's dlopen'ed driver in a headless render; a batch of
+  # two renders at once failed 4 runs in 6 with it on, none in 4 with it off (docs/reliability.md).
+  ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan -j "$(nproc)"
 fi
