@@ -56,14 +56,15 @@ int runBench(const std::vector<std::string>& args) {
                                                    "deform", "table1", "edit", "haptic"};
     if (!options.only.empty() && !sections.count(options.only))
         return usage("unknown bench section '" + options.only + "'");
+    // A bundled scene from the working directory (the repository root), else beside the program.
+    const auto bundledScene = [](const std::string& file) {
+        const std::filesystem::path local = "presets/scenes/" + file;
+        return std::filesystem::exists(local) ? local : app::bundledFolder("presets", "presets") / "scenes" / file;
+    };
     std::optional<io::Project> star;
     if (options.only.empty() || options.only == "haptic") {
-        // The star scene from the working directory (the repository root), else the bundled one.
-        if (hapticScene.empty()) {
-            hapticScene = "presets/scenes/star-drag.softtouch";
-            if (!std::filesystem::exists(hapticScene))
-                hapticScene = app::bundledFolder("presets", "presets") / "scenes/star-drag.softtouch";
-        }
+        if (hapticScene.empty())
+            hapticScene = bundledScene("star-drag.softtouch");
         auto project = io::loadProject(hapticScene);
         if (!project)
             return fail(project.message());
@@ -72,11 +73,7 @@ int runBench(const std::vector<std::string>& args) {
     }
     std::optional<io::Project> fish;
     if (options.only.empty() || options.only == "edit") {
-        // The angelfish (7,280 triangles) from the working directory (the repository root), else the bundled one.
-        std::filesystem::path path = "presets/scenes/angelfish-swim.softtouch";
-        if (!std::filesystem::exists(path))
-            path = app::bundledFolder("presets", "presets") / "scenes/angelfish-swim.softtouch";
-        auto project = io::loadProject(path);
+        auto project = io::loadProject(bundledScene("angelfish-swim.softtouch"));  // 7,280 triangles
         if (!project)
             return fail(project.message());
         fish = std::move(project.value());

@@ -361,14 +361,13 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
                 modulus += s.stiffness / s.restLength;
                 ++counted;
             }
-        if (mesh && !mesh->triangles.empty() && !derived.volumeOccupancy) {
-            derived.volumeOccupancy.emplace();
-            if (auto shares = meshVolumeShares(lattice, *mesh, kMeshVolumeSamples, volumeSampleCells(lattice)))
-                *derived.volumeOccupancy = std::move(shares.value().occupancy);
+        if (!derived.volumeOccupancy) {
+            derived.volumeOccupancy.emplace();  // empty: the box's volume
+            if (mesh && !mesh->triangles.empty())
+                if (auto shares = meshVolumeShares(lattice, *mesh, kMeshVolumeSamples, volumeSampleCells(lattice)))
+                    *derived.volumeOccupancy = std::move(shares.value().occupancy);
         }
-        static const std::vector<double> kNone;
-        const std::vector<double>& occupancy = derived.volumeOccupancy ? *derived.volumeOccupancy : kNone;
-        d.volume = buildVolumeConstraint(lattice, occupancy, material.volumePreservation,
+        d.volume = buildVolumeConstraint(lattice, *derived.volumeOccupancy, material.volumePreservation,
                                          counted > 0 ? modulus / counted : 0.0);
     }
     return buildBodyModel(d);

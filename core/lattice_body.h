@@ -129,7 +129,7 @@ SpringCounts countSprings(const std::vector<Spring>& springs);
 /// on the same mesh and lattice (the editor's material edits) do not compute them again.
 struct MeshLatticeCache {
     std::optional<ContactPoints> contactPoints;
-    std::optional<std::vector<double>> volumeOccupancy;  ///< Empty when the mesh is not closed.
+    std::optional<std::vector<double>> volumeOccupancy;  ///< Empty without a closed mesh.
 };
 
 /// Builds the body of a lattice: validates the material (errors name the node and field), removes

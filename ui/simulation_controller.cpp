@@ -27,15 +27,13 @@ void SimulationController::rebuild(bool keepState) {
         for (SceneObject& o : scene.objects)
             o.drivers.clear();
     }
-    // Built beside the current one, whose bindings and samples it keeps where mesh and lattice are
-    // unchanged: a paint dab or a world edit rebuilds only the bodies.
-    auto created = scene.objects.empty() ? Result<SceneSimulation>(Status::error("no objects"))
-                                         : SceneSimulation::create(std::move(scene), m_sim ? &*m_sim : nullptr);
-    m_sim.reset();
     m_problem.clear();
-    if (m_document->scene().objects.empty()) {
+    if (scene.objects.empty()) {
+        m_sim.reset();
         m_problem = tr("The scene has no objects.");
-    } else if (created) {
+    } else if (auto created = SceneSimulation::create(std::move(scene), m_sim ? &*m_sim : nullptr)) {
+        // Built beside the current one, whose bindings and samples it keeps where mesh and lattice are
+        // unchanged: a paint dab or a world edit rebuilds only the bodies.
         m_sim.emplace(std::move(created.value()));
         bool sameShape = snapshot && snapshot->bodies.size() == m_sim->objectCount();
         for (std::size_t i = 0; sameShape && i < m_sim->objectCount(); ++i)
@@ -43,6 +41,7 @@ void SimulationController::rebuild(bool keepState) {
         if (sameShape)
             m_sim->restoreSnapshot(*snapshot);
     } else {
+        m_sim.reset();
         m_problem = QString::fromStdString(created.message());
     }
     for (auto& g : m_grabs) {
