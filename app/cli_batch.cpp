@@ -6,6 +6,7 @@
 #include "io/atomic_file.h"
 #include "io/bake.h"
 #include "io/batch_plan.h"
+#include "io/export_formats.h"
 #include "io/lattice_cache.h"
 #include "io/mesh_import.h"
 #include "io/project_file.h"
@@ -59,11 +60,6 @@ Options:
 
 int usage(const std::string& message) { return usageError(message, "batch"); }
 
-/// The bake format of a manifest format (pca and skin are GLB exports with their own options).
-io::CacheFormat cacheFormatOf(const std::string& format) {
-    return format == "pca" || format == "skin" ? io::CacheFormat::Glb : io::parseCacheFormat(format).value();
-}
-
 bool isVideo(const std::string& format) { return format == "mp4" || format == "gif"; }
 
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
@@ -100,15 +96,13 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
     } else {
         io::BakeOptions options;
         options.output = job.output;
-        options.format = cacheFormatOf(job.format);
+        const io::ExportFormat& format = *io::findExportFormat(job.format);  // the manifest reader checked the name
+        options.format = io::exportWriter(format, job.output);
+        options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
         options.frames = job.frames;
         options.clips = &project->clips;
         options.clip = job.clip;
         options.threads = manifest.resources.cpusPerTask;
-        if (job.format == "pca")
-            options.exportOptions.gltfMorphError = io::ClipExportOptions::kDefaultCompressionError;
-        if (job.format == "skin")
-            options.exportOptions.skinError = io::ClipExportOptions::kDefaultCompressionError;
         auto baked = io::bake(project->scene, options);
         if (!baked)
             return Status::error(baked.message());

@@ -5,6 +5,7 @@
 
 #include "io/atomic_file.h"
 #include "io/bake.h"
+#include "io/export_formats.h"
 #include "io/project_file.h"
 
 #include <charconv>
@@ -18,7 +19,7 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kBakeUsage = R"(Usage: softtouch-cli bake SCENE --out FILE [options]
+constexpr const char* kBakeHead = R"(Usage: softtouch-cli bake SCENE --out FILE [options]
 
 Bake a clip of SCENE (--clip NAME; without it the scene's default clip, or when it has none its
 drivers simulated from rest, frame i at i/fps s) into a vertex cache.
@@ -26,25 +27,9 @@ The rest mesh the cache matches is written beside it as FILE with extension .obj
 sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
 
 Formats (docs/formats.md):
-  pc2, mdd          vertex caches
-  objseq            one OBJ per frame
-  gltf, glb         glTF 2.0 morph targets (one per frame) and a weights animation
-  pca               glTF/GLB (by the extension, default .glb) with compressed morphs: the frames'
-                    mean plus the fewest principal components that keep every frame's RMS vertex
-                    error within --error; prints the targets, the errors and the size against PC2
-  skin              glTF/GLB (by the extension, default .glb) as linear blend skinning: rigid bones
-                    fitted to the clip (Le & Deng 2012), at most 4 weights a vertex, a bone animation;
-                    the fewest of 8/16/32/64 bones within --error, or --bones K; prints the errors
-  vat               FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float),
-                    FILE.vat-mesh.glb, FILE.vat.json
-  lattice           FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w),
-                    FILE.lattice.bin (node positions per frame); shaders in io/shaders/
+)";
 
-Options:
-  --out FILE        Output (required). Format from the extension: .pc2, .mdd, .obj (sequence),
-                    .gltf, .glb.
-  --format NAME     pc2 | mdd | objseq | gltf | glb | vat | lattice (overrides the extension).
-  --clip NAME       A clip of the scene's clip library (its frames, fps, loop closure).
+constexpr const char* kBakeOptions = R"(  --clip NAME       A clip of the scene's clip library (its frames, fps, loop closure).
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
   --threads N       Deformation threads (default: all).
@@ -55,6 +40,39 @@ Options:
   --quiet           No progress output.
 )";
 
+/// "  name              text…" with the text wrapped at 100 columns under itself.
+std::string usageEntry(std::string_view name, std::string_view text) {
+    constexpr std::size_t kIndent = 20, kWidth = 100;
+    std::string out = "  " + std::string(name);
+    out.resize(kIndent, ' ');
+    std::size_t column = kIndent;
+    while (!text.empty()) {
+        const std::size_t space = text.find(' ');
+        const std::string_view word = text.substr(0, space);
+        if (column > kIndent && column + 1 + word.size() > kWidth) {
+            out += "\n" + std::string(kIndent, ' ');
+            column = kIndent;
+        } else if (column > kIndent) {
+            out += ' ';
+            ++column;
+        }
+        out += word;
+        column += word.size();
+        text = space == std::string_view::npos ? std::string_view() : text.substr(space + 1);
+    }
+    return out + "\n";
+}
+
+/// The bake usage: its formats and their extensions come from the export registry (io/export_formats.h).
+std::string bakeUsage() {
+    std::string text = kBakeHead;
+    for (const io::ExportFormat& f : io::exportFormats())
+        text += usageEntry(f.name, f.help);
+    text += "\nOptions:\n";
+    text += usageEntry("--out FILE", "Output (required). Format from the extension: " + io::exportExtensions() + ".");
+    text += usageEntry("--format NAME", io::exportFormatNames(" | ", " | ") + " (overrides the extension).");
+    return text + kBakeOptions;
+}
 
 }  // namespace
 
@@ -72,7 +90,7 @@ int runBake(const std::vector<std::string>& args) {
             return args[++i];
         };
         if (a == "--help" || a == "-h") {
-            std::fputs(kBakeUsage, stdout);
+            std::fputs(bakeUsage().c_str(), stdout);
             return 0;
         }
         if (a == "--quiet") {
@@ -111,51 +129,24 @@ int runBake(const std::vector<std::string>& args) {
         return usage("bake needs a SCENE file");
     if (outPath.empty())
         return usage("bake needs --out FILE");
-    io::BakeOptions options;
-    options.output = outPath;
-    const bool pca = formatName == "pca", skin = formatName == "skin";
-    if (pca || skin)  // compressed morphs or bones: glTF exports with their own options, .gltf or .glb by the extension
-        formatName = io::cacheFormatFromPath(outPath) == io::CacheFormat::Gltf ? "gltf" : "glb";
-    if (!formatName.empty()) {
-        const auto f = io::parseCacheFormat(formatName);
-        if (!f)
-            return usage("unknown format '" + formatName + "' (expected pc2, mdd, objseq, gltf, glb, pca, skin, vat or lattice)");
-        options.format = *f;
-    } else {
-        const auto f = io::cacheFormatFromPath(outPath);
-        if (!f)
-            return usage("cannot tell the format from '" + outPath + "'; use .pc2, .mdd, .obj, .gltf, .glb or --format");
-        options.format = *f;
-    }
+    const io::ExportFormat* format = formatName.empty() ? io::exportFormatForPath(outPath) : io::findExportFormat(formatName);
+    if (!format && !formatName.empty())
+        return usage("unknown format '" + formatName + "' (expected " + io::exportFormatNames() + ")");
+    if (!format)
+        return usage("cannot tell the format from '" + outPath + "'; use " + io::exportExtensions() + " or --format");
     if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
         return usage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
     if (fps && (*fps < ranges::kMinFps || *fps > ranges::kMaxFps))
         return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
-    if (error && !pca && !skin)
-        return usage("--error is for --format pca and --format skin");
-    if (targets && !pca)
-        return usage("--targets is for --format pca");
-    if (bones && !skin)
-        return usage("--bones is for --format skin");
-    if (bones && error)
-        return usage("--bones fixes the bone count; --error chooses it: give one");
-    if (bones && (*bones < 1 || *bones > 256 || std::floor(*bones) != *bones))
-        return usage("--bones must be a whole number in [1, 256], got " + formatValue(*bones));
-    if (error && !(*error > 0 && *error <= 0.1))
-        return usage("--error must be in (0, 0.1] (a fraction of the diagonal), got " + formatValue(*error));
-    if (targets && (*targets < 2 || *targets > 256 || std::floor(*targets) != *targets))
-        return usage("--targets must be a whole number in [2, 256] (the mean and at least one component), got " +
-                     formatValue(*targets));
-    if (pca) {
-        options.exportOptions.gltfMorphError = error.value_or(io::ClipExportOptions::kDefaultCompressionError);
-        options.exportOptions.gltfMaxMorphs = targets ? int(*targets) - 1 : 32;
-    }
-    if (skin) {
-        options.exportOptions.skinBones = bones ? int(*bones) : 0;
-        options.exportOptions.skinError = bones ? 0.0 : error.value_or(io::ClipExportOptions::kDefaultCompressionError);
-    }
+    auto exportOptions = io::exportOptions(*format, {error, targets, bones});
+    if (!exportOptions)
+        return usage(exportOptions.message());
+    io::BakeOptions options;
+    options.output = outPath;
+    options.format = io::exportWriter(*format, outPath);
+    options.exportOptions = exportOptions.value();
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);
     options.threads = threads ? int(*threads) : 0;
@@ -183,7 +174,7 @@ int runBake(const std::vector<std::string>& args) {
     if (result->warnings.size() > shown)
         std::fprintf(stderr, "softtouch-cli: warning: ... and %zu more\n", result->warnings.size() - shown);
     std::printf("wrote %s (%s, %d frames, %zu points)\n", result->cache.string().c_str(),
-                std::string(io::cacheFormatName(options.format)).c_str(), result->frames, result->points);
+                std::string(format->name).c_str(), result->frames, result->points);
     for (std::size_t i = 1; i < result->files.size(); ++i)
         std::printf("wrote %s\n", result->files[i].string().c_str());
     std::printf("rest mesh %s\n", result->restMesh.string().c_str());

@@ -22,9 +22,9 @@ inline int fail(const std::string& message) {
 /// (bad usage). `command` empty: the top-level help.
 inline int usageError(const std::string& message, const std::string& command = {}) {
     std::fprintf(stderr, "softtouch-cli: %s\n", message.c_str());
-    const std::string_view synopsis = synopsisOf(command);
+    const std::string synopsis = synopsisOf(command);
     if (!synopsis.empty())
-        std::fprintf(stderr, "Usage: softtouch-cli %.*s\n", int(synopsis.size()), synopsis.data());
+        std::fprintf(stderr, "Usage: softtouch-cli %s\n", synopsis.c_str());
     std::fprintf(stderr, "See 'softtouch-cli %s--help'.\n", command.empty() ? "" : (command + " ").c_str());
     return 2;
 }

@@ -2,7 +2,10 @@
 /// The one-line synopsis of every softtouch-cli subcommand: the top-level help lists them, and every
 /// bad-usage error (exit 2) prints the one of its subcommand, so the two never disagree.
 
+#include "io/export_formats.h"
+
 #include <array>
+#include <string>
 #include <string_view>
 
 namespace softtouch::cli {
@@ -14,12 +17,13 @@ enum class Program { Cli, Bench };
 
 struct CommandSynopsis {
     std::string_view command;  ///< The subcommand, as typed.
-    std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line.
+    std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line; "{formats}" stands for the
+                               ///< export registry's names (io/export_formats.h), see synopsisText().
     Program program = Program::Cli;
 };
 
 inline constexpr std::array<CommandSynopsis, 12> kSynopses{{
-    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format pc2|mdd|objseq|gltf|glb|pca|skin|vat|lattice] [--error E] [--targets K | --bones K] [--threads N]"},
+    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format {formats}] [--error E] [--targets K | --bones K] [--threads N]"},
     {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
     {"preview", "preview CLIP --out DIR [--size WxH]"},
     {"validate", "validate FILE..."},
@@ -41,11 +45,20 @@ inline const CommandSynopsis* findCommand(std::string_view command) {
     return nullptr;
 }
 
-/// The synopsis of `command`, or empty when there is none.
-inline std::string_view synopsisOf(std::string_view command) {
+/// A synopsis as printed: "{formats}" replaced by "pc2|mdd|…|lattice".
+inline std::string synopsisText(std::string_view synopsis) {
+    std::string text(synopsis);
+    constexpr std::string_view kFormats = "{formats}";
+    if (const std::size_t at = text.find(kFormats); at != std::string::npos)
+        text.replace(at, kFormats.size(), io::exportFormatNames("|", "|"));
+    return text;
+}
+
+/// The synopsis of `command` as printed, or empty when there is none.
+inline std::string synopsisOf(std::string_view command) {
     for (const CommandSynopsis& s : kSynopses)
         if (s.command == command)
-            return s.synopsis;
+            return synopsisText(s.synopsis);
     return {};
 }
 

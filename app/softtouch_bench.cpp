@@ -27,8 +27,7 @@ void printUsage(std::FILE* to) {
                "vibration modes. Usually started by softtouch-cli, which takes the same command lines.\n\nUsage:\n",
                to);
     for (const auto& [name, run] : kRuns) {
-        const std::string_view synopsis = softtouch::cli::synopsisOf(name);
-        std::fprintf(to, "  softtouch-cli %.*s\n", int(synopsis.size()), synopsis.data());
+        std::fprintf(to, "  softtouch-cli %s\n", softtouch::cli::synopsisOf(name).c_str());
     }
     std::fputs("\n'softtouch-cli COMMAND --help' for each command. Exit status: 0 on success, 1 on failure (one-line reason\n"
                "on stderr), 2 on bad usage (the reason and the command's usage line).\n",

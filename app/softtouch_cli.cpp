@@ -81,7 +81,7 @@ the command's usage line).
 void printUsage(std::FILE* to) {
     std::fprintf(to, "%s\nUsage:\n", kTitle);
     for (const softtouch::cli::CommandSynopsis& s : softtouch::cli::kSynopses)
-        std::fprintf(to, "  softtouch-cli %.*s\n", int(s.synopsis.size()), s.synopsis.data());
+        std::fprintf(to, "  softtouch-cli %s\n", softtouch::cli::synopsisText(s.synopsis).c_str());
     std::fputs(kCommands, to);
 }
 

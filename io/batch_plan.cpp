@@ -1,6 +1,7 @@
 #include "io/batch_plan.h"
 
 #include "io/atomic_file.h"
+#include "io/export_formats.h"
 #include "io/json_reader.h"
 #include "io/project_file.h"
 
@@ -21,18 +22,23 @@ namespace {
 
 constexpr const char* kFormat = "softtouch-batch";
 constexpr const char* kStampFormat = "softtouch-batch-stamp";
-const std::set<std::string> kFormats = {"pc2", "mdd", "objseq", "gltf", "glb", "pca", "skin", "vat", "lattice", "mp4", "gif"};
+/// The video formats a job may render besides the exports of the registry (io/export_formats.h).
+constexpr std::string_view kVideoFormats[] = {"mp4", "gif"};
 
-/// The extension a job's output gets: the name a bake or render recognises (vat and lattice write
-/// several files from a base path, so they get none).
+bool isVideoFormat(std::string_view format) {
+    return std::find(std::begin(kVideoFormats), std::end(kVideoFormats), format) != std::end(kVideoFormats);
+}
+
+/// "pc2, mdd, …, lattice, mp4 or gif".
+std::string knownFormats() { return exportFormatNames(", ", ", ") + ", mp4 or gif"; }
+
+/// The extension a job's output gets: its export's first (none for a base path, vat and lattice), or
+/// the video's.
 std::string extensionOf(const std::string& format) {
-    if (format == "objseq")
-        return ".obj";
-    if (format == "vat" || format == "lattice")
-        return "";
-    if (format == "pca" || format == "skin")  // GLB files with compressed morphs or bones
-        return ".glb";
-    return "." + format;
+    if (isVideoFormat(format))
+        return "." + format;
+    const std::string_view extensions = findExportFormat(format)->extensions;
+    return std::string(extensions.substr(0, extensions.find(' ')));
 }
 
 /// FNV-1a, 64 bit: a content hash for change detection (not for security; inputs are the user's own).
@@ -130,11 +136,13 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
     }
     const JsonValue formats = root["formats"];
     if (!formats.isArray() || formats.size() == 0)
-        formats.problem("expected a non-empty array of formats (pc2, mdd, objseq, gltf, glb, pca, skin, vat, lattice, mp4, gif)");
+        formats.problem("expected a non-empty array of formats (" + knownFormats() + ")");
     for (std::size_t i = 0; i < formats.size(); ++i)
         if (auto s = formats.at(i).string(true)) {
-            if (!kFormats.count(*s))
-                formats.at(i).problem("unknown format \"" + *s + "\" (expected pc2, mdd, objseq, gltf, glb, pca, skin, vat, lattice, mp4 or gif)");
+            // Names as the registry writes them (lower case): a job's id and output name carry them.
+            const bool lowerCase = std::none_of(s->begin(), s->end(), [](unsigned char c) { return std::isupper(c); });
+            if (!lowerCase || (!findExportFormat(*s) && !isVideoFormat(*s)))
+                formats.at(i).problem("unknown format \"" + *s + "\" (expected " + knownFormats() + ")");
             else if (std::find(m.formats.begin(), m.formats.end(), *s) != m.formats.end())
                 formats.at(i).problem("\"" + *s + "\" is listed twice");
             else
@@ -218,7 +226,7 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
                     job.clip = clip;
                     job.format = format;
                     job.frames = manifest.frames;
-                    if (format == "mp4" || format == "gif") {
+                    if (isVideoFormat(format)) {
                         job.videoWidth = manifest.videoWidth;
                         job.videoHeight = manifest.videoHeight;
                     }

@@ -1,5 +1,6 @@
 #include "io/vertex_cache.h"
 
+#include "io/export_formats.h"
 #include "io/vertex_cache_internal.h"
 
 #include <algorithm>
@@ -15,60 +16,24 @@
 
 namespace softtouch::io {
 
-namespace {
-
-std::string lowercase(std::string_view text) {
-    std::string out(text);
-    std::transform(out.begin(), out.end(), out.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return out;
-}
-
-}  // namespace
-
 std::string_view cacheFormatName(CacheFormat format) {
-    switch (format) {
-    case CacheFormat::Pc2:
-        return "pc2";
-    case CacheFormat::Mdd:
-        return "mdd";
-    case CacheFormat::ObjSequence:
-        return "objseq";
-    case CacheFormat::Gltf:
-        return "gltf";
-    case CacheFormat::Glb:
-        return "glb";
-    case CacheFormat::Vat:
-        return "vat";
-    case CacheFormat::Lattice:
-        return "lattice";
-    }
-    return "pc2";  // unreachable: every enumerator is handled above
+    // The first export of the registry that uses the writer plainly (glb before pca and skin).
+    for (const ExportFormat& f : exportFormats())
+        if (f.writer == format)
+            return f.name;
+    return "pc2";  // unreachable: the registry names every writer (tests/io/test_exports)
 }
 
 std::optional<CacheFormat> parseCacheFormat(std::string_view name) {
-    // Case-insensitive: the same names are typed on the command line, where "PC2" is natural.
-    const std::string key = lowercase(name);
-    for (CacheFormat format : {CacheFormat::Pc2, CacheFormat::Mdd, CacheFormat::ObjSequence, CacheFormat::Gltf,
-                               CacheFormat::Glb, CacheFormat::Vat, CacheFormat::Lattice}) {
-        if (key == cacheFormatName(format))
-            return format;
-    }
-    return std::nullopt;
+    const ExportFormat* f = findExportFormat(name);
+    if (!f || cacheFormatName(f->writer) != f->name)  // pca, skin: glb with options, not a writer of their own
+        return std::nullopt;
+    return f->writer;
 }
 
 std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path) {
-    const std::string extension = lowercase(path.extension().string());
-    if (extension == ".pc2")
-        return CacheFormat::Pc2;
-    if (extension == ".mdd")
-        return CacheFormat::Mdd;
-    if (extension == ".obj")
-        return CacheFormat::ObjSequence;
-    if (extension == ".gltf")
-        return CacheFormat::Gltf;
-    if (extension == ".glb")
-        return CacheFormat::Glb;
+    if (const ExportFormat* f = exportFormatForPath(path))
+        return f->writer;
     return std::nullopt;
 }
 

@@ -30,16 +30,17 @@ namespace softtouch::ui {
 
 namespace {
 
-/// Export format from a file name; a path without a known extension is a base path for VAT
-/// (…_vat) or the lattice cache (…_lattice) when it says so, PC2 otherwise.
-io::CacheFormat formatFor(const QString& path) {
-    if (auto f = io::cacheFormatFromPath(path.toStdString()))
+/// Export from a file name: by its extension; a path without one is the base path of an export that
+/// has none when it ends with "_NAME" or ".NAME" (…_vat, …_lattice); PC2 otherwise.
+const io::ExportFormat& formatFor(const QString& path) {
+    if (const io::ExportFormat* f = io::exportFormatForPath(path.toStdString()))
         return *f;
-    if (path.endsWith("_vat") || path.endsWith(".vat"))
-        return io::CacheFormat::Vat;
-    if (path.endsWith("_lattice") || path.endsWith(".lattice"))
-        return io::CacheFormat::Lattice;
-    return io::CacheFormat::Pc2;
+    for (const io::ExportFormat& f : io::exportFormats()) {
+        const QString name = QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
+        if (f.extensions.empty() && (path.endsWith("_" + name) || path.endsWith("." + name)))
+            return f;
+    }
+    return *io::findExportFormat("pc2");
 }
 
 }  // namespace
@@ -261,51 +262,39 @@ QString TimelinePanel::suggestedOutputPath(int index, const QString& suffix) con
 
 QString TimelinePanel::statusText() const { return m_time->text(); }
 
+QStringList TimelinePanel::exportFilters() {
+    QStringList filters;
+    for (const io::ExportFormat& f : io::exportFormats()) {
+        const QString extensions = QString::fromUtf8(f.extensions.data(), qsizetype(f.extensions.size()));
+        const QString label = QString::fromUtf8(f.label.data(), qsizetype(f.label.size()));
+        filters << (extensions.isEmpty() ? tr("%1 (base name) (*)").arg(label)
+                                         : QStringLiteral("%1 (*%2)").arg(label, QString(extensions).replace(" ", " *")));
+    }
+    return filters;
+}
+
 void TimelinePanel::exportClip(int index) {
     // The file type chosen in the dialog decides the export (several are .glb files).
-    struct Choice {
-        QString filter;
-        io::CacheFormat format;
-        io::ClipExportOptions options;
-    };
-    io::ClipExportOptions pca, skin;
-    pca.gltfMorphError = io::ClipExportOptions::kDefaultCompressionError;
-    skin.skinError = io::ClipExportOptions::kDefaultCompressionError;
-    const std::vector<Choice> choices = {
-        {tr("Point cache (*.pc2)"), io::CacheFormat::Pc2, {}},
-        {tr("MDD (*.mdd)"), io::CacheFormat::Mdd, {}},
-        {tr("glTF binary, skinned: bones for game engines (*.glb)"), io::CacheFormat::Glb, skin},
-        {tr("glTF binary, compressed morph targets (*.glb)"), io::CacheFormat::Glb, pca},
-        {tr("glTF binary, one morph target per frame (*.glb)"), io::CacheFormat::Glb, {}},
-        {tr("glTF (*.gltf)"), io::CacheFormat::Gltf, {}},
-        {tr("OBJ sequence (*.obj)"), io::CacheFormat::ObjSequence, {}},
-        {tr("Vertex animation textures (base name) (*)"), io::CacheFormat::Vat, {}},
-        {tr("Lattice cache (base name) (*)"), io::CacheFormat::Lattice, {}},
-    };
-    QStringList filters;
-    for (const Choice& c : choices)
-        filters << c.filter;
+    const QStringList filters = exportFilters();
     QString selected = filters.front();
     const QString path = QFileDialog::getSaveFileName(this, tr("Export Clip"), suggestedOutputPath(index, "pc2"),
                                                       filters.join(";;"), &selected);
     if (path.isEmpty())
         return;
-    const auto chosen = std::find_if(choices.begin(), choices.end(), [&](const Choice& c) { return c.filter == selected; });
-    const Status s = chosen == choices.end() ? exportClipTo(index, path)
-                                             : exportClipTo(index, path, chosen->format, chosen->options);
+    const qsizetype chosen = filters.indexOf(selected);
+    const Status s = chosen < 0 ? exportClipTo(index, path) : exportClipTo(index, path, io::exportFormats()[std::size_t(chosen)]);
     if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
         QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));  // never matched)
 }
 
-Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path), {}); }
+Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path)); }
 
-Status TimelinePanel::exportClipTo(int index, const QString& path, io::CacheFormat format,
-                                   const io::ClipExportOptions& exportOptions) {
+Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format) {
     const ClipLibrary& library = m_document->project().clips;
     io::BakeOptions options;
     options.output = path.toStdString();
-    options.format = format;
-    options.exportOptions = exportOptions;
+    options.format = io::exportWriter(format, options.output);
+    options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
     options.clips = &library;
     if (index >= 0 && std::size_t(index) < library.clips.size())
         options.clip = library.clips[std::size_t(index)].name;

@@ -5,7 +5,7 @@
 /// CLI runs).
 
 #include "core/clip.h"
-#include "io/clip_writer.h"
+#include "io/export_formats.h"
 #include "ui/simulation_controller.h"
 
 #include <QWidget>
@@ -39,11 +39,15 @@ public slots:
     bool makeClip(int index, bool loop);
     /// Asks for a file and exports clip `index` (or the drivers when < 0) with a progress dialog.
     void exportClip(int index);
+    /// The export dialog's file types, one per export of the registry (io/export_formats.h), in its order:
+    /// "Point cache (*.pc2)", …; a base-path export (vat, lattice) takes any name.
+    static QStringList exportFilters();
     /// Exports without asking (tests, scripts); returns the message shown. The format comes from the
-    /// path's extension (vat and lattice from a base name ending _vat / _lattice), or is given with its
-    /// export options (the dialog's file type: compressed morphs and skinned glTF are .glb files too).
+    /// path's extension (vat and lattice from a base name ending _vat / _lattice), or is given (the
+    /// dialog's file type: compressed morphs and skinned glTF are .glb files too) with its default
+    /// settings.
     Status exportClipTo(int index, const QString& path);
-    Status exportClipTo(int index, const QString& path, io::CacheFormat format, const io::ClipExportOptions& exportOptions);
+    Status exportClipTo(int index, const QString& path, const io::ExportFormat& format);
     /// Where the export and render dialogs start: beside the project (else the home folder), named after
     /// the project and the clip ("angelfish-swim-swim.pc2"), with extension `suffix`.
     QString suggestedOutputPath(int index, const QString& suffix) const;

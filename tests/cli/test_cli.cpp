@@ -3,6 +3,7 @@
 #include "core/scene.h"
 #include "core/modes.h"
 #include "io/mesh_import.h"
+#include "io/export_formats.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 
@@ -94,6 +95,15 @@ void TestCli::helpAndUsage() {
     const Run bakeHelp = runCli({"bake", "--help"});
     QCOMPARE(bakeHelp.exitCode, 0);
     QVERIFY(bakeHelp.out.contains("--frames"));
+    // Every export of the registry is in bake's help, the synopsis and the unknown-format message.
+    const Run badFormat = runCli({"bake", kScenes + "angelfish-swim.softtouch", "--out", "x.pc2", "--format", "fbx"});
+    QCOMPARE(badFormat.exitCode, 2);
+    for (const io::ExportFormat& f : io::exportFormats()) {
+        const QString name = QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
+        QVERIFY2(bakeHelp.out.contains(QRegularExpression("\\n  " + name + " +\\S")), qPrintable(name));
+        QVERIFY2(help.out.contains(QRegularExpression("--format [a-z0-9|]*\\b" + name + "\\b")), qPrintable(name));
+        QVERIFY2(badFormat.err.contains(QRegularExpression("expected [a-z0-9, ]*\\b" + name + "\\b")), qPrintable(badFormat.err));
+    }
     const Run none = runCli({});
     QCOMPARE(none.exitCode, 2);
     const Run unknown = runCli({"explode"});

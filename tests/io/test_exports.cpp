@@ -3,6 +3,7 @@
 
 #include "io/bake.h"
 #include "io/clip_writer.h"
+#include "io/export_formats.h"
 #include "io/lattice_cache.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
@@ -98,6 +99,14 @@ BakeResult bakeTo(const Scene& scene, CacheFormat format, const fs::path& out, C
     if (!result)
         qFatal("bake failed: %s", result.message().c_str());
     return result.value();
+}
+
+/// One data row per export of the registry (io/export_formats.h), named after it: a new export gets
+/// the failure tests below without a line here.
+void exportRows() {
+    QTest::addColumn<QString>("format");
+    for (const ExportFormat& f : exportFormats())
+        QTest::newRow(std::string(f.name).c_str()) << QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
 }
 
 /// Loads a GLB with tinygltf; fails the test on error.
@@ -225,6 +234,9 @@ class TestExports : public QObject {
 private slots:
     void initTestCase();
     void formatNamesAndOutputs();
+    void registryDescribesEveryExport();
+    void registryChecksSettingsOnce_data();
+    void registryChecksSettingsOnce();
     void gltfRoundTrip_data();
     void gltfRoundTrip();
     void gltfWarnsAboutTargetCount();
@@ -270,6 +282,96 @@ void TestExports::formatNamesAndOutputs() {
     QCOMPARE(exportOutputs(CacheFormat::Vat, "out/fish").back(), fs::path("out/fish.vat.json"));
     QCOMPARE(exportOutputs(CacheFormat::Lattice, "out/fish.v2").front(), fs::path("out/fish.v2.lattice.glb"));
     QCOMPARE(restMeshPath("out/fish.v2", CacheFormat::Lattice), fs::path("out/fish.v2.obj"));
+}
+
+void TestExports::registryDescribesEveryExport() {
+    QStringList names;
+    for (const ExportFormat& f : exportFormats()) {
+        const QString name = QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
+        QVERIFY2(!names.contains(name), qPrintable(name));
+        names << name;
+        QCOMPARE(findExportFormat(f.name), &f);
+        QCOMPARE(findExportFormat(name.toUpper().toStdString()), &f);
+        QVERIFY2(!f.label.empty() && !f.help.empty(), qPrintable(name));
+        // What the registry says an export needs is what its writer asks the bake for.
+        const fs::path path = fs::path("out/clip") += std::string(f.extensions.substr(0, f.extensions.find(' ')));
+        const Result<ClipExportOptions> options = exportOptions(f);
+        QVERIFY2(options, options.message().c_str());
+        const auto writer = makeClipWriter(exportWriter(f, path), options.value());
+        QCOMPARE(writer->needsNormals(), f.needs == ExportNeeds::Normals);
+        QCOMPARE(writer->needsNodes(), f.needs == ExportNeeds::LatticeNodes);
+        // An export without an extension takes a base path: each file it writes adds a suffix to it.
+        if (f.extensions.empty())
+            for (const fs::path& out : exportOutputs(exportWriter(f, path), path))
+                QVERIFY2(out.string().starts_with(path.string() + "."), out.string().c_str());
+        // Its extensions name it, or an export listed before it (.glb is glb, not pca).
+        for (std::string_view rest = f.extensions; !rest.empty();) {
+            const std::string_view one = rest.substr(0, rest.find(' '));
+            const ExportFormat* byPath = exportFormatForPath(fs::path("a/b") += std::string(one));
+            QVERIFY2(byPath && byPath <= &f, std::string(one).c_str());
+            rest = one.size() == rest.size() ? std::string_view() : rest.substr(one.size() + 1);
+        }
+    }
+    QCOMPARE(QString::fromStdString(exportFormatNames("|", "|")), names.join("|"));
+    QVERIFY(QString::fromStdString(exportFormatNames()).endsWith(" or " + names.back()));
+    QCOMPARE(exportExtensions(), std::string(".pc2, .mdd, .obj, .gltf, .glb"));
+    // The writer of a glTF export follows the path where the export allows both files.
+    QCOMPARE(exportFormatForPath("a/b.GLB")->name, std::string_view("glb"));
+    QCOMPARE(exportFormatForPath("a/b.obj")->name, std::string_view("objseq"));
+    QVERIFY(!exportFormatForPath("a/b"));
+    QVERIFY(!exportFormatForPath("a/b.fbx"));
+    QCOMPARE(exportWriter(*findExportFormat("pca"), "a/b.gltf"), CacheFormat::Gltf);
+    QCOMPARE(exportWriter(*findExportFormat("skin"), "a/b.GLTF"), CacheFormat::Gltf);
+    QCOMPARE(exportWriter(*findExportFormat("skin"), "a/b.glb"), CacheFormat::Glb);
+    QCOMPARE(exportWriter(*findExportFormat("pca"), "a/b"), CacheFormat::Glb);
+    QCOMPARE(exportWriter(*findExportFormat("glb"), "a/b.gltf"), CacheFormat::Glb);  // named: the name wins
+    // Writer names stay the plain exports' names; pca and skin are no writers of their own.
+    QCOMPARE(parseCacheFormat("pca"), std::nullopt);
+    QCOMPARE(parseCacheFormat("GLB"), std::optional(CacheFormat::Glb));
+}
+
+void TestExports::registryChecksSettingsOnce_data() {
+    QTest::addColumn<QString>("format");
+    QTest::addColumn<double>("error");    // < 0: unset
+    QTest::addColumn<double>("targets");
+    QTest::addColumn<double>("bones");
+    QTest::addColumn<QString>("problem");
+    QTest::newRow("error on pc2") << "pc2" << 0.01 << -1.0 << -1.0 << "--error is for --format pca and --format skin";
+    QTest::newRow("targets on glb") << "glb" << -1.0 << 8.0 << -1.0 << "--targets is for --format pca";
+    QTest::newRow("bones on pca") << "pca" << -1.0 << -1.0 << 16.0 << "--bones is for --format skin";
+    QTest::newRow("bones and error") << "skin" << 0.01 << -1.0 << 16.0 << "--bones fixes the bone count; --error chooses it: give one";
+    QTest::newRow("error 0") << "pca" << 0.0 << -1.0 << -1.0 << "--error must be in (0, 0.1] (a fraction of the diagonal), got 0";
+    QTest::newRow("error 0.2") << "skin" << 0.2 << -1.0 << -1.0 << "--error must be in (0, 0.1] (a fraction of the diagonal), got 0.2";
+    QTest::newRow("one target") << "pca" << -1.0 << 1.0 << -1.0 << "--targets must be a whole number in [2, 256]";
+    QTest::newRow("half a target") << "pca" << -1.0 << 2.5 << -1.0 << "--targets must be a whole number in [2, 256]";
+    QTest::newRow("257 bones") << "skin" << -1.0 << -1.0 << 257.0 << "--bones must be a whole number in [1, 256], got 257";
+    QTest::newRow("pca, 8 targets") << "pca" << 0.01 << 8.0 << -1.0 << "";
+    QTest::newRow("skin, 16 bones") << "skin" << -1.0 << -1.0 << 16.0 << "";
+    QTest::newRow("skin, defaults") << "skin" << -1.0 << -1.0 << -1.0 << "";
+    QTest::newRow("pc2, defaults") << "pc2" << -1.0 << -1.0 << -1.0 << "";
+}
+
+void TestExports::registryChecksSettingsOnce() {
+    QFETCH(QString, format);
+    QFETCH(double, error);
+    QFETCH(double, targets);
+    QFETCH(double, bones);
+    QFETCH(QString, problem);
+    const auto set = [](double v) { return v < 0 ? std::nullopt : std::optional(v); };
+    const Result<ClipExportOptions> options =
+        exportOptions(*findExportFormat(format.toStdString()), {set(error), set(targets), set(bones)});
+    if (!problem.isEmpty()) {
+        QVERIFY(!options);
+        QVERIFY2(QString::fromStdString(options.message()).startsWith(problem), options.message().c_str());
+        return;
+    }
+    QVERIFY2(options, options.message().c_str());
+    const double target = error < 0 ? ClipExportOptions::kDefaultCompressionError : error;
+    const bool pca = format == "pca", skin = format == "skin";
+    QCOMPARE(options->gltfMorphError, pca ? target : 0.0);
+    QCOMPARE(options->gltfMaxMorphs, pca && targets > 0 ? int(targets) - 1 : 32);
+    QCOMPARE(options->skinBones, skin && bones > 0 ? int(bones) : 0);
+    QCOMPARE(options->skinError, skin && bones < 0 ? target : 0.0);
 }
 
 void TestExports::gltfRoundTrip_data() {
@@ -909,16 +1011,15 @@ void TestExports::hlslShadersShareTheGlslInterface() {
 }
 
 void TestExports::cancelledBakeLeavesOldFiles_data() {
-    QTest::addColumn<QString>("format");
-    for (const char* name : kClipFormats)
-        QTest::newRow(name) << name;
+    exportRows();
 }
 
 void TestExports::cancelledBakeLeavesOldFiles() {
     QFETCH(QString, format);
-    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
+    const CacheFormat kind = exportWriter(registered, base);
     std::vector<fs::path> outputs = exportOutputs(kind, base);
     outputs.push_back(restMeshPath(base, kind));
     for (const fs::path& path : outputs)
@@ -927,6 +1028,7 @@ void TestExports::cancelledBakeLeavesOldFiles() {
     BakeOptions options;
     options.output = base;
     options.format = kind;
+    options.exportOptions = exportOptions(registered).value();
     options.frames = kFrames;
     options.threads = 1;
     options.progress = [](int done, int) { return done < 3; };
@@ -943,23 +1045,22 @@ void TestExports::cancelledBakeLeavesOldFiles() {
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles_data() {
-    QTest::addColumn<QString>("format");
-    for (const char* name : kClipFormats)
-        QTest::newRow(name) << name;
+    exportRows();
 }
 
 void TestExports::nonFiniteFrameLeavesOldFiles() {
     QFETCH(QString, format);
-    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
+    const CacheFormat kind = exportWriter(registered, base);
     const std::vector<fs::path> outputs = exportOutputs(kind, base);
     for (const fs::path& path : outputs)
         writeText(path, "previous " + path.filename().string());
     const QStringList before = folderEntries(base.parent_path());
 
     const ClipSetup setup = smallSetup();
-    auto writer = makeClipWriter(kind);
+    auto writer = makeClipWriter(kind, exportOptions(registered).value());
     QVERIFY(writer->begin(base, setup));
     std::vector<Vec3f> positions = setup.restMesh.positions;
     std::vector<Vec3f> normals = setup.restMesh.normals;
@@ -985,17 +1086,15 @@ void TestExports::nonFiniteFrameLeavesOldFiles() {
 }
 
 void TestExports::unwritablePathFailsEarly_data() {
-    QTest::addColumn<QString>("format");
-    for (const char* name : kClipFormats)
-        QTest::newRow(name) << name;
+    exportRows();
 }
 
 void TestExports::unwritablePathFailsEarly() {
     QFETCH(QString, format);
-    const CacheFormat kind = *parseCacheFormat(format.toStdString());
+    const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path missing = fs::path(dir.path().toStdString()) / "no-such-folder" / "clip";
-    auto writer = makeClipWriter(kind);
+    auto writer = makeClipWriter(exportWriter(registered, missing), exportOptions(registered).value());
     const Status s = writer->begin(missing, smallSetup());
     QVERIFY(!s);
     QVERIFY2(QString::fromStdString(s.message()).contains("no-such-folder"), s.message().c_str());

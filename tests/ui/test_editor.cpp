@@ -1107,10 +1107,15 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QVERIFY2(w.timeline()->statusText().contains("rest mesh take.obj"), qPrintable(w.timeline()->statusText()));
     // The same clip as bones for a game engine (the dialog's "skinned" file type): a GLB with a skin, and
     // the status line says how close it is.
-    io::ClipExportOptions skinned;
-    skinned.skinError = 0.005;
+    // The dialog offers every export of the registry, in its order, each once.
+    const QStringList filters = TimelinePanel::exportFilters();
+    QCOMPARE(std::size_t(filters.size()), io::exportFormats().size());
+    QCOMPARE(filters.front(), QString("Point cache (*.pc2)"));
+    QVERIFY2(filters.contains("glTF binary, skinned: bones for game engines (*.glb *.gltf)"), qPrintable(filters.join("; ")));
+    QVERIFY2(filters.contains("Lattice cache (base name) (*)"), qPrintable(filters.join("; ")));
+    QCOMPARE(QSet<QString>(filters.begin(), filters.end()).size(), filters.size());
     const QString glb = m_dir->filePath("take-skin.glb");
-    const Status skin = w.timeline()->exportClipTo(clip, glb, io::CacheFormat::Glb, skinned);
+    const Status skin = w.timeline()->exportClipTo(clip, glb, *io::findExportFormat("skin"));
     QVERIFY2(skin.ok(), skin.message().c_str());
     QFile glbFile(glb);
     QVERIFY(glbFile.open(QIODevice::ReadOnly));

@@ -1,0 +1,171 @@
+#include "io/export_formats.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace softtouch::io {
+
+namespace {
+
+using enum CacheFormat;
+using enum ExportNeeds;
+
+constexpr std::array kFormats = {
+    ExportFormat{"pc2", "Point cache", ".pc2", Pc2, Positions, false, false, false,
+                 "3ds Max point cache: positions per frame"},
+    ExportFormat{"mdd", "MDD", ".mdd", Mdd, Positions, false, false, false,
+                 "LightWave/Blender MDD: positions and frame times"},
+    ExportFormat{"objseq", "OBJ sequence", ".obj", ObjSequence, Positions, false, false, false,
+                 "one OBJ per frame: NAME_0000.obj, NAME_0001.obj, ... beside FILE (the rest mesh)"},
+    ExportFormat{"gltf", "glTF, one morph target per frame", ".gltf", Gltf, Normals, false, false, false,
+                 "glTF 2.0 (JSON, embedded buffer): one morph target per frame and a weights animation"},
+    ExportFormat{"glb", "glTF binary, one morph target per frame", ".glb", Glb, Normals, false, false, false,
+                 "the same as binary glTF"},
+    ExportFormat{"pca", "glTF binary, compressed morph targets", ".glb .gltf", Glb, Normals, true, true, false,
+                 "glTF/GLB (by the extension) with compressed morphs: the frames' mean plus the fewest principal "
+                 "components that keep every frame's RMS vertex error within --error (at most --targets); prints "
+                 "the targets, the errors and the size against PC2"},
+    ExportFormat{"skin", "glTF binary, skinned: bones for game engines", ".glb .gltf", Glb, Positions, true, false, true,
+                 "glTF/GLB (by the extension) as linear blend skinning: rigid bones fitted to the clip (Le & Deng "
+                 "2012), at most 4 weights a vertex, a bone animation; the fewest of 8/16/32/64 bones within "
+                 "--error, or --bones K; prints the errors"},
+    ExportFormat{"vat", "Vertex animation textures", "", Vat, Normals, false, false, false,
+                 "FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float), "
+                 "FILE.vat-mesh.glb, FILE.vat.json"},
+    ExportFormat{"lattice", "Lattice cache", "", Lattice, LatticeNodes, false, false, false,
+                 "FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w), FILE.lattice.bin (node "
+                 "positions per frame); shaders in io/shaders/"},
+};
+
+std::string lowercase(std::string_view text) {
+    std::string out(text);
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return out;
+}
+
+/// True when the space-separated `extensions` list `extension` (lower case, with its dot).
+bool listsExtension(std::string_view extensions, std::string_view extension) {
+    while (!extensions.empty()) {
+        const std::size_t space = extensions.find(' ');
+        if (extensions.substr(0, space) == extension)
+            return true;
+        extensions = space == std::string_view::npos ? std::string_view() : extensions.substr(space + 1);
+    }
+    return false;
+}
+
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
+}
+
+/// "--error is for --format pca and --format skin": the formats whose `takes` flag is set.
+std::string onlyFor(const char* option, bool ExportFormat::*takes) {
+    std::string text = std::string(option) + " is for";
+    bool first = true;
+    for (const ExportFormat& f : kFormats) {
+        if (!(f.*takes))
+            continue;
+        text += (first ? " --format " : " and --format ") + std::string(f.name);
+        first = false;
+    }
+    return text;
+}
+
+bool isWhole(double value) { return std::floor(value) == value; }
+
+}  // namespace
+
+std::span<const ExportFormat> exportFormats() { return kFormats; }
+
+const ExportFormat* findExportFormat(std::string_view name) {
+    // Case-insensitive: the same names are typed on the command line, where "PC2" is natural.
+    const std::string key = lowercase(name);
+    for (const ExportFormat& f : kFormats)
+        if (f.name == key)
+            return &f;
+    return nullptr;
+}
+
+const ExportFormat* exportFormatForPath(const std::filesystem::path& path) {
+    const std::string extension = lowercase(path.extension().string());
+    if (extension.empty())
+        return nullptr;
+    for (const ExportFormat& f : kFormats)
+        if (listsExtension(f.extensions, extension))
+            return &f;
+    return nullptr;
+}
+
+std::string exportFormatNames(std::string_view separator, std::string_view last) {
+    std::string text;
+    for (std::size_t i = 0; i < kFormats.size(); ++i) {
+        if (i > 0)
+            text += i + 1 == kFormats.size() ? last : separator;
+        text += kFormats[i].name;
+    }
+    return text;
+}
+
+std::string exportExtensions() {
+    std::vector<std::string_view> seen;
+    for (const ExportFormat& f : kFormats) {
+        for (std::string_view rest = f.extensions; !rest.empty();) {
+            const std::size_t space = rest.find(' ');
+            const std::string_view one = rest.substr(0, space);
+            if (std::find(seen.begin(), seen.end(), one) == seen.end())
+                seen.push_back(one);
+            rest = space == std::string_view::npos ? std::string_view() : rest.substr(space + 1);
+        }
+    }
+    std::string text;
+    for (std::string_view e : seen)
+        text += (text.empty() ? "" : ", ") + std::string(e);
+    return text;
+}
+
+CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path& path) {
+    // A format with several extensions (pca, skin) writes what the path's extension names.
+    const std::string extension = lowercase(path.extension().string());
+    if (format.extensions.find(' ') != std::string_view::npos && listsExtension(format.extensions, extension))
+        if (const ExportFormat* byPath = exportFormatForPath(path))
+            return byPath->writer;
+    return format.writer;
+}
+
+Result<ClipExportOptions> exportOptions(const ExportFormat& format, const ExportSettings& settings) {
+    if (settings.error && !format.takesError)
+        return Status::error(onlyFor("--error", &ExportFormat::takesError));
+    if (settings.targets && !format.takesTargets)
+        return Status::error(onlyFor("--targets", &ExportFormat::takesTargets));
+    if (settings.bones && !format.takesBones)
+        return Status::error(onlyFor("--bones", &ExportFormat::takesBones));
+    if (settings.bones && settings.error)
+        return Status::error("--bones fixes the bone count; --error chooses it: give one");
+    if (settings.bones && !(*settings.bones >= 1 && *settings.bones <= 256 && isWhole(*settings.bones)))
+        return Status::error("--bones must be a whole number in [1, 256], got " + number(*settings.bones));
+    if (settings.error && !(*settings.error > 0 && *settings.error <= 0.1))
+        return Status::error("--error must be in (0, 0.1] (a fraction of the diagonal), got " + number(*settings.error));
+    if (settings.targets && !(*settings.targets >= 2 && *settings.targets <= 256 && isWhole(*settings.targets)))
+        return Status::error("--targets must be a whole number in [2, 256] (the mean and at least one component), got " +
+                             number(*settings.targets));
+    ClipExportOptions options;
+    const double error = settings.error.value_or(ClipExportOptions::kDefaultCompressionError);
+    if (format.takesTargets) {  // compressed morphs: the mean plus at most targets - 1 components
+        options.gltfMorphError = error;
+        options.gltfMaxMorphs = settings.targets ? int(*settings.targets) - 1 : 32;
+    }
+    if (format.takesBones) {  // skinning: a bone count, or the fewest bones within the error
+        options.skinBones = settings.bones ? int(*settings.bones) : 0;
+        options.skinError = settings.bones ? 0.0 : error;
+    }
+    return options;
+}
+
+}  // namespace softtouch::io

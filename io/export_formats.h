@@ -1,0 +1,74 @@
+#pragma once
+/// The export registry: every way a clip can be exported, as people name it. `bake --format`, batch
+/// manifests, the editor's Export Clip dialog and the CLI usage text all read this one table, so a new
+/// export is one entry here and its writer (makeClipWriter(), io/clip_writer.h). Several entries may
+/// share a writer: pca and skin are GLB (or glTF) files written with their own options.
+
+#include "core/result.h"
+#include "io/clip_writer.h"
+#include "io/vertex_cache.h"
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace softtouch::io {
+
+/// What a bake must hand an export's writer each frame besides the deformed positions.
+enum class ExportNeeds {
+    Positions,     ///< Positions only (vertex caches).
+    Normals,       ///< Positions and unit normals (glTF morphs, skins, VAT).
+    LatticeNodes,  ///< Each object's lattice nodes: the mesh is rebuilt from them, so an object moved by a
+                   ///< rig of its own cannot be exported this way.
+};
+
+/// Settings an export takes beside its path (bake's --error, --targets, --bones). Unset: the default.
+struct ExportSettings {
+    std::optional<double> error;  ///< Compression target, a fraction of the rest mesh's diagonal, (0, 0.1].
+    std::optional<double> targets;  ///< Compressed morphs: most targets, the mean included, a whole number in [2, 256].
+    std::optional<double> bones;    ///< Skinning: exactly this many bones, a whole number in [1, 256].
+};
+
+/// One export.
+struct ExportFormat {
+    std::string_view name;        ///< What people type: "pc2", "pca", … (case-insensitive when parsed).
+    std::string_view label;       ///< For a file dialog: "Point cache".
+    std::string_view extensions;  ///< Space-separated, first is the default: ".glb .gltf". Empty for a base
+                                  ///< path, whose files get suffixes (vat, lattice; docs/formats.md).
+    CacheFormat writer;           ///< The writer kind; for several extensions, chosen by the path (exportWriter()).
+    ExportNeeds needs;            ///< What the bake supplies per frame.
+    bool takesError;              ///< Accepts ExportSettings::error.
+    bool takesTargets;            ///< Accepts ExportSettings::targets.
+    bool takesBones;              ///< Accepts ExportSettings::bones.
+    std::string_view help;        ///< A sentence for usage texts (wrapped by the caller).
+};
+
+/// Every export, in the order usage texts and the editor list them.
+std::span<const ExportFormat> exportFormats();
+
+/// The export called `name` (case-insensitive); nullptr when there is none.
+const ExportFormat* findExportFormat(std::string_view name);
+
+/// The export a path's extension names (the first entry listing it: ".glb" is glb, not pca); nullptr
+/// for an unknown or missing extension.
+const ExportFormat* exportFormatForPath(const std::filesystem::path& path);
+
+/// "pc2, mdd, …, vat or lattice": every name, for messages and usage lines (`separator` between names,
+/// `last` before the final one).
+std::string exportFormatNames(std::string_view separator = ", ", std::string_view last = " or ");
+
+/// ".pc2, .mdd, .obj, .gltf, .glb": every extension that names an export, once each, in registry order.
+std::string exportExtensions();
+
+/// The writer an export of `format` to `path` uses: for pca and skin, glTF JSON when the path ends in
+/// .gltf, GLB otherwise.
+CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path& path);
+
+/// The writer options an export of `format` uses with `settings`. Refuses a setting the format does
+/// not take, a value out of range, or --bones with --error, with a message naming the option
+/// ("--targets is for --format pca").
+Result<ClipExportOptions> exportOptions(const ExportFormat& format, const ExportSettings& settings = {});
+
+}  // namespace softtouch::io
