@@ -1,8 +1,7 @@
 // softtouch-cli haptic: the haptic loop headless, on a scene's first object, with any device plugin.
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
-#include "core/haptic_loop.h"
-#include "core/lattice_body.h"
+#include "core/haptic_session.h"
 #include "io/project_file.h"
 #include "io/trajectory_file.h"
 #include "plugins/device_registry.h"
@@ -107,8 +106,6 @@ int runHaptic(const std::vector<std::string>& args) {
     auto project = io::loadProject(scenePath);
     if (!project) return fail(project.message());
     const SceneObject& object = project->scene.objects.front();
-    auto model = buildLatticeBody(object.lattice, object.material);
-    if (!model) return fail(scenePath + ": object '" + object.name + "': " + model.message());
 
     // A folder that was asked for must exist: silently falling back to the null device hid typos.
     if (!pluginDir.empty() && !std::filesystem::is_directory(pluginDir))
@@ -120,22 +117,13 @@ int runHaptic(const std::vector<std::string>& args) {
     if (!device) return fail(error.toStdString());
     const DeviceInfo info = device->info();
 
-    HapticSettings settings;
-    if (!identity) {
-        Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-        for (const Vec3& p : object.lattice.restNodes()) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-        }
-        settings.calibration = DeviceCalibration::fit(info, lo, hi);
-    }
-    settings.recordCapacity = recordPath.empty() ? 0 : std::size_t(seconds * settings.rateHz * 1.5) + 1000;
-    ExternalForces world;
-    world.gravity = project->scene.world.gravity;
-    world.planes = project->scene.world.planes;
-    auto created = HapticLoop::create(model.value(), project->scene.world.simulation, world, std::move(device), settings);
-    if (!created) return fail(created.message());
+    HapticSessionOptions options;
+    options.fitWorkspace = !identity;
+    options.recordCapacity = recordPath.empty() ? 0 : std::size_t(seconds * HapticSettings{}.rateHz * 1.5) + 1000;
+    auto created = createHapticSession(project->scene, 0, std::move(device), options);
+    if (!created) return fail(scenePath + ": " + created.message());
     HapticLoop& loop = *created.value();
+    const HapticSettings& settings = loop.settings();
 
     std::printf("device: %s (plugin %s), %d DoF, max force %.3g N, stable stiffness %.4g N/m%s\n", info.name.c_str(),
                 chosen.toStdString().c_str(), info.degreesOfFreedom, info.maxForceN, info.stableStiffnessNPerM,

@@ -1,5 +1,6 @@
 #include "ui/haptic_controller.h"
 
+#include "core/haptic_session.h"
 #include "plugins/device_registry.h"
 
 namespace softtouch::ui {
@@ -33,32 +34,17 @@ Status HapticController::start(const QString& device, const QString& argument, i
     if (!sim || object < 0 || std::size_t(object) >= scene.objects.size())
         return Status::error("no object to drive");
     const SceneObject& o = scene.objects[std::size_t(object)];
-    auto model = buildLatticeBody(o.lattice, o.material);
-    if (!model)
-        return Status::error(model.message());
     QString chosen, error;
     std::unique_ptr<InputDevice> input = m_registry->open(device, 0, argument, &chosen, &error);
     if (!input)
         return Status::error(error.toStdString());
-    const DeviceInfo info = input->info();
-
-    HapticSettings settings;
-    const std::vector<Vec3> rest = o.lattice.restNodes();
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (const Vec3& p : rest) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-    }
-    settings.calibration = DeviceCalibration::fit(info, lo, hi);
-    settings.calibration.scale *= m_workspaceScale;
-    m_calibration = settings.calibration;
-    ExternalForces world;
-    world.gravity = scene.world.gravity;
-    world.planes = scene.world.planes;
-    auto created = HapticLoop::create(model.value(), scene.world.simulation, world, std::move(input), settings);
+    HapticSessionOptions options;
+    options.workspaceScale = m_workspaceScale;
+    auto created = createHapticSession(scene, std::size_t(object), std::move(input), options);
     if (!created)
         return Status::error(created.message());
     m_loop = std::move(created.value());
+    m_calibration = m_loop->settings().calibration;
     m_simulation->pause();
     m_loop->restoreState(sim->simulator(std::size_t(object)).state(), 0);
     // One manual tick places the avatar; grab the material point under it, then run on the thread.

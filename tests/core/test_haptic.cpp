@@ -1,6 +1,7 @@
 // The haptic loop with the scripted (trajectory) device: the drag reaction, the avatar's plane
 // contact, the device clamp, passivity, and bit-exact replay of a threaded session.
 #include "core/haptic_loop.h"
+#include "core/haptic_session.h"
 #include "core/lattice_body.h"
 
 #include <QtTest/QtTest>
@@ -112,6 +113,7 @@ private slots:
     void couplingNeverAddsEnergy();
     void threadedSessionReplaysBitExactly();
     void commandsAndSnapshotsAreLockFree();
+    void sessionDrivesTheSceneObjectInItsWorld();
 };
 
 void TestHaptic::pullingUpFeelsKsDPlusKdV() {
@@ -389,6 +391,65 @@ void TestHaptic::commandsAndSnapshotsAreLockFree() {
     }
     loop->stop();
     QVERIFY(reads > 0);
+}
+
+void TestHaptic::sessionDrivesTheSceneObjectInItsWorld() {
+    // The set-up the editor and the CLI share: the object's own body, the scene's world, the device's
+    // workspace fitted onto the lattice.
+    const Jelly jelly = makeJelly();
+    Scene scene;
+    SceneObject object;
+    object.name = "jelly";
+    object.lattice = jelly.lattice;
+    object.material = uniformMaterial(jelly.lattice, 0.002, 80.0, 0.3);
+    for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 4; ++i) object.material.anchor[std::size_t(jelly.lattice.index(i, 0, k))] = AnchorMode::Pinned;
+    scene.objects.push_back(object);
+    scene.world.simulation = implicitSettings();
+    const auto still = [] { return std::make_unique<NullDevice>(); };
+    const auto topAfter = [&](const Scene& s, int ticks) {
+        auto loop = createHapticSession(s, 0, still());
+        if (!loop) qFatal("%s", loop.message().c_str());
+        for (int i = 0; i < ticks; ++i) loop.value()->tick();
+        return loop.value()->simulator().state().position[std::size_t(jelly.lattice.index(1, 3, 1))].y();
+    };
+
+    auto loop = createHapticSession(scene, 0, std::make_unique<TrajectoryDevice>(sampled(0.1, [](double, Vec3& p, Vec3& v) {
+                                                                                     p.setZero();
+                                                                                     v.setZero();
+                                                                                 }),
+                                                                                 scriptedDeviceInfo()));
+    QVERIFY2(loop, loop.message().c_str());
+    // The device's centre lands on the lattice's centre, its ±0.1 m workspace over the 0.1 m box.
+    const DeviceCalibration& fitted = loop.value()->settings().calibration;
+    QVERIFY((fitted.positionToScene(Vec3::Zero()) - Vec3(0.0, 0.1, 0.0)).norm() < 1e-12);
+    QCOMPARE(fitted.scale, DeviceCalibration::fit(scriptedDeviceInfo(), Vec3(-0.05, 0.05, -0.05), Vec3(0.05, 0.15, 0.05)).scale);
+    HapticSessionOptions options;
+    options.workspaceScale = 2.0;
+    auto wider = createHapticSession(scene, 0, still(), options);
+    QVERIFY(wider);
+    QCOMPARE(wider.value()->settings().calibration.scale, 2.0 * DeviceCalibration::fit(NullDevice().info(), Vec3(-0.05, 0.05, -0.05), Vec3(0.05, 0.15, 0.05)).scale);
+    options = {};
+    options.fitWorkspace = false;
+    auto identity = createHapticSession(scene, 0, still(), options);
+    QVERIFY(identity);
+    QCOMPARE(identity.value()->settings().calibration.scale, 1.0);
+    QCOMPARE(identity.value()->settings().calibration.origin, Vec3(Vec3::Zero()));
+
+    // The scene's gravity pulls the session's body: the top sags under it and not without it.
+    const double restTop = jelly.lattice.restNodes()[std::size_t(jelly.lattice.index(1, 3, 1))].y();
+    QVERIFY(std::abs(topAfter(scene, 200) - restTop) < 1e-12);
+    Scene heavy = scene;
+    heavy.world.gravity = Vec3(0, -9.81, 0);
+    QVERIFY2(topAfter(heavy, 200) < restTop - 1e-4, qPrintable(QString::number(topAfter(heavy, 200) - restTop)));
+
+    // Errors name what is wrong.
+    auto missing = createHapticSession(scene, 3, still());
+    QVERIFY(!missing && QString::fromStdString(missing.message()).contains("no object 3"));
+    Scene broken = scene;
+    broken.objects[0].material.mass[5] = -1.0;
+    auto bad = createHapticSession(broken, 0, still());
+    QVERIFY2(!bad && QString::fromStdString(bad.message()).startsWith("object 'jelly': "), bad.message().c_str());
 }
 
 QTEST_GUILESS_MAIN(TestHaptic)
