@@ -364,6 +364,21 @@ QWidget* PropertiesPanel::buildTools() {
     m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
     m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
     form->addRow(tr("Paint"), m_brushField);
+    // The overlay's colours: the painted values' min–max (re-ranged by every stroke), or a fixed range
+    // in which one colour keeps one value.
+    m_colourRange = new QComboBox;
+    m_colourRange->setObjectName("colourRange");
+    m_colourRange->addItem(tr("Painted min – max"));
+    m_colourRange->addItem(tr("Fixed range"));
+    m_colourRange->setToolTip(tr("Painted min – max re-ranges the colours after every stroke; a fixed range keeps "
+                                 "one colour for one value (values outside it show the end colours)."));
+    form->addRow(tr("Colours"), m_colourRange);
+    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourLow->setObjectName("colourLow");
+    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourHigh->setObjectName("colourHigh");
+    form->addRow(tr("Blue at"), m_colourLow);
+    form->addRow(tr("Red at"), m_colourHigh);
     m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
     m_brushValue->setValue(m_viewport->brush().value);
     form->addRow(tr("Brush value"), m_brushValue);
@@ -393,9 +408,33 @@ QWidget* PropertiesPanel::buildTools() {
         m_viewport->brush().field = PaintField(m_brushField->currentData().toInt());
         m_brushFieldShown.reset();  // offer a value in the new field's unit
         m_viewport->updateLegend();
+        showColourRange();
         refresh();
         m_viewport->update();
     });
+    connect(m_colourRange, &QComboBox::currentIndexChanged, this, [this](int index) {
+        const PaintField field = m_viewport->brush().field;
+        if (index == 0) {
+            m_viewport->setColourRange(field, std::nullopt);
+        } else if (!m_viewport->fixedColourRange(field)) {
+            // Start from the painted range; a uniform map gets 0 – 2× its value, so it shows mid-grey and
+            // softer or stiffer strokes show blue or red.
+            auto [lo, hi] = m_viewport->colourRange(object());
+            if (!(hi > lo)) {
+                lo = hi > 0.0 ? 0.0 : hi - 1.0;
+                hi = hi > 0.0 ? 2.0 * hi : hi + 1.0;
+            }
+            m_viewport->setColourRange(field, std::pair(lo, hi));
+        }
+        showColourRange();
+    });
+    const auto setFixed = [this] {
+        if (m_colourRange->currentIndex() == 1 && m_colourHigh->value() > m_colourLow->value())
+            m_viewport->setColourRange(m_viewport->brush().field, std::pair(m_colourLow->value(), m_colourHigh->value()));
+    };
+    connect(m_colourLow, &QDoubleSpinBox::valueChanged, this, setFixed);
+    connect(m_colourHigh, &QDoubleSpinBox::valueChanged, this, setFixed);
+    showColourRange();
     connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().value = v; });
     connect(m_brushRadius, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().radiusPixels = v; });
     connect(m_brushStrength, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().strength = v; });
@@ -406,6 +445,19 @@ QWidget* PropertiesPanel::buildTools() {
     connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
     connect(m_dragDamping, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().damping = v; });
     return box;
+}
+
+void PropertiesPanel::showColourRange() {
+    if (!m_colourRange)  // refresh() before the Tools are built
+        return;
+    const auto fixed = m_viewport->fixedColourRange(m_viewport->brush().field);
+    const QSignalBlocker blockRange(m_colourRange), blockLow(m_colourLow), blockHigh(m_colourHigh);
+    m_colourRange->setCurrentIndex(fixed ? 1 : 0);
+    const auto [lo, hi] = fixed ? *fixed : m_viewport->colourRange(object());
+    m_colourLow->setValue(lo);
+    m_colourHigh->setValue(hi);
+    m_colourLow->setEnabled(bool(fixed));
+    m_colourHigh->setEnabled(bool(fixed));
 }
 
 QWidget* PropertiesPanel::buildSelection() {
@@ -551,6 +603,7 @@ void PropertiesPanel::refresh() {
     m_groundPlane->setChecked(!w.planes.empty());
     m_bodiesCollide->setChecked(w.bodyCollisions.enabled);
     m_bodiesCollide->setVisible(scene.objects.size() > 1);  // one object has nothing to collide with
+    showColourRange();  // a stroke moves the painted min – max
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.lattice, o.material);

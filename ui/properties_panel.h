@@ -34,6 +34,8 @@ private:
     QWidget* buildMaterial();
     QWidget* buildLattice();
     QWidget* buildTools();
+    /// Shows the brush field's colour range (fixed, or the painted min – max) in the Tools' fields.
+    void showColourRange();
     QWidget* buildSelection();
     void refresh();
     /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one; a mode
@@ -94,6 +96,9 @@ private:
     QCheckBox* m_bodiesCollide = nullptr;
 
     QComboBox* m_brushField = nullptr;
+    QComboBox* m_colourRange = nullptr;       ///< Painted min – max, or fixed.
+    QDoubleSpinBox* m_colourLow = nullptr;    ///< The fixed range's blue end.
+    QDoubleSpinBox* m_colourHigh = nullptr;   ///< Its red end.
     QDoubleSpinBox* m_brushValue = nullptr;
     std::optional<std::pair<PaintField, MaterialModel>> m_brushFieldShown; ///< Field and model the brush value is for.
     QDoubleSpinBox* m_brushRadius = nullptr;

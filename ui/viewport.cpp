@@ -84,10 +84,13 @@ public:
         setAttribute(Qt::WA_TransparentForMouseEvents);
         resize(260, 44);
     }
-    void setRange(const QString& name, double lo, double hi, const QString& unit) {
-        m_text = QStringLiteral("%1: %2 – %3 %4").arg(name).arg(lo, 0, 'g', 4).arg(hi, 0, 'g', 4).arg(unit);
+    void setRange(const QString& name, double lo, double hi, const QString& unit, bool fixed) {
+        m_text = QStringLiteral("%1: %2 – %3 %4").arg(name).arg(lo, 0, 'g', 4).arg(hi, 0, 'g', 4).arg(unit).trimmed();
+        if (fixed)
+            m_text += tr(" (fixed)");
         update();
     }
+    const QString& text() const { return m_text; }
 
 protected:
     void paintEvent(QPaintEvent*) override {
@@ -231,10 +234,8 @@ void Viewport::updateOverlay(int object, const std::vector<Vec3>& x) {
     const BodyModel& model = simulator.model();
     const LatticeMaterial& material = m_document->scene().objects[std::size_t(object)].material;
     render::LatticeOverlay overlay;
-    const std::vector<double>& values = fieldValues(material, m_brush.field);
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    for (std::size_t n = 0; n < values.size(); ++n) {
-        overlay.nodeValue.push_back(*hi > *lo ? float((values[n] - *lo) / (*hi - *lo)) : 0.5f);
+    overlay.nodeValue = nodeColourParameters(object);
+    for (std::size_t n = 0; n < overlay.nodeValue.size(); ++n) {
         overlay.anchor.push_back(std::uint8_t(material.anchor[n]));
         overlay.isVoid.push_back(material.isVoid[n]);
         overlay.selected.push_back(object == m_object && m_selection.count(int(n)) ? 1 : 0);
@@ -294,12 +295,54 @@ void Viewport::updateLegend() {
     if (!show)
         return;
     const LatticeMaterial& material = scene.objects[std::size_t(m_object)].material;
-    const std::vector<double>& values = fieldValues(material, m_brush.field);
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    m_legend->setRange(QString::fromUtf8(fieldName(m_brush.field, material.model)), *lo, *hi,
-                       QString::fromUtf8(fieldUnit(m_brush.field, material.model)));
+    const auto [lo, hi] = colourRange(m_object);
+    m_legend->setRange(QString::fromUtf8(fieldName(m_brush.field, material.model)), lo, hi,
+                       QString::fromUtf8(fieldUnit(m_brush.field, material.model)),
+                       m_fixedColourRanges.count(m_brush.field) > 0);
     m_legend->move(12, height() - m_legend->height() - 12);
 }
+
+void Viewport::setColourRange(PaintField field, std::optional<std::pair<double, double>> range) {
+    if (range && range->second > range->first)
+        m_fixedColourRanges[field] = *range;
+    else
+        m_fixedColourRanges.erase(field);
+    updateLegend();
+    update();  // paintGL recolours the overlay
+}
+
+std::optional<std::pair<double, double>> Viewport::fixedColourRange(PaintField field) const {
+    const auto it = m_fixedColourRanges.find(field);
+    return it == m_fixedColourRanges.end() ? std::nullopt : std::optional(it->second);
+}
+
+std::pair<double, double> Viewport::colourRange(int object) const {
+    if (const auto fixed = fixedColourRange(m_brush.field))
+        return *fixed;
+    const Scene& scene = m_document->scene();
+    if (object < 0 || std::size_t(object) >= scene.objects.size())
+        return {0.0, 1.0};
+    const std::vector<double>& values = fieldValues(scene.objects[std::size_t(object)].material, m_brush.field);
+    if (values.empty())
+        return {0.0, 1.0};
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    return {*lo, *hi};
+}
+
+std::vector<float> Viewport::nodeColourParameters(int object) const {
+    const Scene& scene = m_document->scene();
+    if (object < 0 || std::size_t(object) >= scene.objects.size())
+        return {};
+    const std::vector<double>& values = fieldValues(scene.objects[std::size_t(object)].material, m_brush.field);
+    const auto [lo, hi] = colourRange(object);
+    std::vector<float> out;
+    out.reserve(values.size());
+    for (double v : values)
+        out.push_back(hi > lo ? float(std::clamp((v - lo) / (hi - lo), 0.0, 1.0)) : 0.5f);
+    return out;
+}
+
+QString Viewport::legendText() const { return m_legend->text(); }
 
 QPointF Viewport::toWidget(const Vec3& world) const {
     const Eigen::Vector3d p = m_camera.project(world, width(), height());

@@ -18,6 +18,7 @@
 #include <QOpenGLWidget>
 #include <QTimer>
 
+#include <map>
 #include <optional>
 #include <set>
 
@@ -69,6 +70,19 @@ public:
     double frameMilliseconds() const { return m_frameMs; }
     /// Why the viewport cannot draw (no OpenGL 3.3, shader error); empty when it can.
     const QString& renderProblem() const { return m_renderProblem; }
+
+    /// Fixes the colour range of a painted field's node overlay and legend, so one colour keeps one value
+    /// while painting (values outside clamp to the ends); std::nullopt returns to the field's min–max on the
+    /// object, which each stroke re-ranges (a uniform map painted softer turns the unpainted nodes red).
+    void setColourRange(PaintField field, std::optional<std::pair<double, double>> range);
+    /// The fixed range of `field`, or std::nullopt when it follows the painted values.
+    std::optional<std::pair<double, double>> fixedColourRange(PaintField field) const;
+    /// The range the brush's field is coloured by on object i now (fixed, or its min–max).
+    std::pair<double, double> colourRange(int object) const;
+    /// Each node's place in colourRange() as the overlay colours it: 0 the low end, 1 the high end.
+    std::vector<float> nodeColourParameters(int object) const;
+    /// The legend's text ("stiffness: 0 – 100 N/m (fixed)").
+    QString legendText() const;
 
     /// Pixel position of a world point in this widget (for tools and tests).
     QPointF toWidget(const Vec3& world) const;
@@ -192,6 +206,7 @@ private:
     int m_strokeKey = -1;
     double m_frameMs = 0.0;
     ValueLegend* m_legend = nullptr;
+    std::map<PaintField, std::pair<double, double>> m_fixedColourRanges;  ///< See setColourRange().
     GrabIndicator* m_grabIndicator = nullptr;
 
     /// What the mode view shows (see showMode()).

@@ -146,6 +146,7 @@ private slots:
     void paintStrokeIsOneUndoStep();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
+    void fixedColourRangeKeepsOneColourPerValue();
     void paintsVolumePreservation();
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
@@ -458,6 +459,74 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     QVERIFY(!w.importAnimatedMeshFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
     QVERIFY2(shown.contains("has no animation"), qPrintable(shown));
     QCOMPARE(w.document()->scene().objects.size(), std::size_t(1));
+}
+
+// The overlay's colours re-range to the painted min – max by default, so painting part of a uniform map
+// softer turns the untouched nodes red ("stiff"); a fixed range keeps one colour per value.
+void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    auto* field = w.findChild<QComboBox*>("brushField");
+    auto* colours = w.findChild<QComboBox*>("colourRange");
+    auto* low = w.findChild<QDoubleSpinBox*>("colourLow");
+    auto* high = w.findChild<QDoubleSpinBox*>("colourHigh");
+    QVERIFY(field && colours && low && high);
+    field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
+    QCOMPARE(colours->currentIndex(), 0);
+    QVERIFY(!low->isEnabled());
+    const LatticeMaterial before = w.document()->scene().objects[0].material;
+    const double top = *std::max_element(before.stiffness.begin(), before.stiffness.end());
+    const double bottom = *std::min_element(before.stiffness.begin(), before.stiffness.end());
+    view->brush().value = 0.25 * bottom;
+    const int undoBefore = w.document()->undoStack()->index();
+    paintStroke(view);
+    const LatticeMaterial painted = w.document()->scene().objects[0].material;
+    std::vector<std::size_t> untouched, softened;
+    for (std::size_t n = 0; n < painted.stiffness.size(); ++n)
+        (painted.stiffness[n] < before.stiffness[n] ? softened : untouched).push_back(n);
+    QVERIFY(!softened.empty() && !untouched.empty());
+
+    // Painted min – max: the stiffest untouched node is drawn at the red end, whatever its value was.
+    std::vector<float> shown = view->nodeColourParameters(0);
+    const auto stiffest = std::max_element(painted.stiffness.begin(), painted.stiffness.end()) - painted.stiffness.begin();
+    QCOMPARE(shown[std::size_t(stiffest)], 1.0f);
+    QVERIFY2(!view->legendText().contains("fixed"), qPrintable(view->legendText()));
+    QCOMPARE(high->value(), view->colourRange(0).second);  // the fields show the painted range
+
+    // Fixed at 0 – 2× the old stiffest value: a node of that value is mid-grey, the softened ones bluer.
+    colours->setCurrentIndex(1);
+    QVERIFY(low->isEnabled() && high->isEnabled());
+    low->setValue(0.0);
+    high->setValue(2.0 * top);
+    QCOMPARE(view->colourRange(0), std::pair(0.0, 2.0 * top));
+    shown = view->nodeColourParameters(0);
+    for (std::size_t n : untouched)
+        QVERIFY(std::abs(shown[n] - float(painted.stiffness[n] / (2.0 * top))) < 1e-6f);
+    for (std::size_t n : softened)
+        QVERIFY(shown[n] < float(before.stiffness[n] / (2.0 * top)));
+    QVERIFY2(view->legendText().contains("(fixed)") && view->legendText().contains(QString::number(2.0 * top, 'g', 4)),
+             qPrintable(view->legendText()));
+    // A stroke beyond the range keeps the range; its nodes show the red end.
+    view->brush().value = 8.0 * top;
+    paintStroke(view);
+    QCOMPARE(view->colourRange(0), std::pair(0.0, 2.0 * top));
+    shown = view->nodeColourParameters(0);
+    QVERIFY(*std::max_element(shown.begin(), shown.end()) == 1.0f);
+
+    // The range belongs to the field: mass follows its own values, stiffness keeps its fixed range.
+    field->setCurrentIndex(field->findData(int(PaintField::Mass)));
+    QCOMPARE(colours->currentIndex(), 0);
+    field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
+    QCOMPARE(colours->currentIndex(), 1);
+    QCOMPARE(high->value(), 2.0 * top);
+    colours->setCurrentIndex(0);
+    QVERIFY(!view->fixedColourRange(PaintField::Stiffness));
+    QVERIFY(!view->legendText().contains("fixed"));
+
+    while (w.document()->undoStack()->index() > undoBefore)
+        w.document()->undoStack()->undo();
+    QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo
