@@ -9,6 +9,7 @@
 #include "ui/properties_panel.h"
 #include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
+#include "ui/tool_options_bar.h"
 
 #include <algorithm>
 
@@ -263,6 +264,11 @@ void MainWindow::buildActions() {
     }
     simMenu->addSeparator();
     buildDeviceMenu(simMenu->addMenu(tr("Input &Device")));
+
+    // The active tool's settings on a row of their own under the tool buttons.
+    addToolBarBreak();
+    m_toolOptions = new ToolOptionsBar(m_document, m_viewport, this);
+    addToolBar(m_toolOptions);
 
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     QAction* shortcuts = help->addAction(tr("&Keyboard Shortcuts"));

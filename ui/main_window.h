@@ -21,6 +21,7 @@ class PropertiesPanel;
 class StudyPanel;
 class PresetsPanel;
 class TimelinePanel;
+class ToolOptionsBar;
 
 /// Options the application passes in (tests point them at temporary folders).
 struct MainWindowOptions {
@@ -42,6 +43,7 @@ public:
     Autosave* autosave() { return m_autosave; }
     PropertiesPanel* properties() { return m_properties; }
     TimelinePanel* timeline() { return m_timeline; }
+    ToolOptionsBar* toolOptions() { return m_toolOptions; }
     /// Every action with a keyboard shortcut, read from the actions themselves (so Help ▸ Keyboard
     /// Shortcuts cannot drift from the code): (menu ▸ action, shortcuts), sorted.
     QList<QPair<QString, QString>> shortcutTable() const;
@@ -94,6 +96,7 @@ private:
     PropertiesPanel* m_properties = nullptr;
     PresetsPanel* m_presets = nullptr;
     TimelinePanel* m_timeline = nullptr;
+    ToolOptionsBar* m_toolOptions = nullptr;
     StudyPanel* m_study = nullptr;
     KeyframePanel* m_keyframes = nullptr;
     QTreeWidget* m_outliner = nullptr;

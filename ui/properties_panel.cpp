@@ -48,7 +48,6 @@ PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simul
     layout->addWidget(buildSimulation());
     layout->addWidget(buildMaterial());
     layout->addWidget(buildLattice());
-    layout->addWidget(buildTools());
     layout->addWidget(buildSelection());
     layout->addStretch();
     connect(document, &Document::sceneReplaced, this, &PropertiesPanel::refresh);
@@ -56,6 +55,7 @@ PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simul
     connect(document, &Document::latticeChanged, this, &PropertiesPanel::refresh);
     connect(document, &Document::worldChanged, this, &PropertiesPanel::refresh);
     connect(viewport, &Viewport::selectionChanged, this, &PropertiesPanel::refresh);
+    connect(viewport, &Viewport::brushFieldChanged, this, &PropertiesPanel::refresh);  // the selection's unit
     refresh();
 }
 
@@ -352,114 +352,6 @@ QWidget* PropertiesPanel::buildLattice() {
     return box;
 }
 
-QWidget* PropertiesPanel::buildTools() {
-    auto* box = new QGroupBox(tr("Tools"));
-    auto* form = new QFormLayout(box);
-    m_brushField = new QComboBox;
-    m_brushField->setObjectName("brushField");
-    m_brushField->addItem(tr("Stiffness"), int(PaintField::Stiffness));
-    m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
-    m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
-    m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
-    m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
-    m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
-    form->addRow(tr("Paint"), m_brushField);
-    // The overlay's colours: the painted values' min–max (re-ranged by every stroke), or a fixed range
-    // in which one colour keeps one value.
-    m_colourRange = new QComboBox;
-    m_colourRange->setObjectName("colourRange");
-    m_colourRange->addItem(tr("Painted min – max"));
-    m_colourRange->addItem(tr("Fixed range"));
-    m_colourRange->setToolTip(tr("Painted min – max re-ranges the colours after every stroke; a fixed range keeps "
-                                 "one colour for one value (values outside it show the end colours)."));
-    form->addRow(tr("Colours"), m_colourRange);
-    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1);
-    m_colourLow->setObjectName("colourLow");
-    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1);
-    m_colourHigh->setObjectName("colourHigh");
-    form->addRow(tr("Blue at"), m_colourLow);
-    form->addRow(tr("Red at"), m_colourHigh);
-    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
-    m_brushValue->setValue(m_viewport->brush().value);
-    form->addRow(tr("Brush value"), m_brushValue);
-    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5);
-    m_brushRadius->setValue(m_viewport->brush().radiusPixels);
-    form->addRow(tr("Brush radius"), m_brushRadius);
-    m_brushStrength = spin(0, 1, 2, QString(), 0.05);
-    m_brushStrength->setValue(m_viewport->brush().strength);
-    form->addRow(tr("Brush strength"), m_brushStrength);
-    m_brushFalloff = new QComboBox;
-    m_brushFalloff->addItem(tr("Smooth"), int(BrushFalloff::Smooth));
-    m_brushFalloff->addItem(tr("Linear"), int(BrushFalloff::Linear));
-    m_brushFalloff->addItem(tr("Constant"), int(BrushFalloff::Constant));
-    form->addRow(tr("Falloff"), m_brushFalloff);
-    m_anchorMode = new QComboBox;
-    m_anchorMode->addItem(tr("Pinned (never moves)"), int(AnchorMode::Pinned));
-    m_anchorMode->addItem(tr("Heavy (mass × ratio)"), int(AnchorMode::Heavy));
-    form->addRow(tr("Anchor"), m_anchorMode);
-    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5);
-    m_dragStiffness->setValue(m_viewport->dragSettings().stiffness);
-    form->addRow(tr("Drag Ks"), m_dragStiffness);
-    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1);
-    m_dragDamping->setValue(m_viewport->dragSettings().damping);
-    form->addRow(tr("Drag Kd"), m_dragDamping);
-
-    connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
-        m_viewport->brush().field = PaintField(m_brushField->currentData().toInt());
-        m_brushFieldShown.reset();  // offer a value in the new field's unit
-        m_viewport->updateLegend();
-        showColourRange();
-        refresh();
-        m_viewport->update();
-    });
-    connect(m_colourRange, &QComboBox::currentIndexChanged, this, [this](int index) {
-        const PaintField field = m_viewport->brush().field;
-        if (index == 0) {
-            m_viewport->setColourRange(field, std::nullopt);
-        } else if (!m_viewport->fixedColourRange(field)) {
-            // Start from the painted range; a uniform map gets 0 – 2× its value, so it shows mid-grey and
-            // softer or stiffer strokes show blue or red.
-            auto [lo, hi] = m_viewport->colourRange(object());
-            if (!(hi > lo)) {
-                lo = hi > 0.0 ? 0.0 : hi - 1.0;
-                hi = hi > 0.0 ? 2.0 * hi : hi + 1.0;
-            }
-            m_viewport->setColourRange(field, std::pair(lo, hi));
-        }
-        showColourRange();
-    });
-    const auto setFixed = [this] {
-        if (m_colourRange->currentIndex() == 1 && m_colourHigh->value() > m_colourLow->value())
-            m_viewport->setColourRange(m_viewport->brush().field, std::pair(m_colourLow->value(), m_colourHigh->value()));
-    };
-    connect(m_colourLow, &QDoubleSpinBox::valueChanged, this, setFixed);
-    connect(m_colourHigh, &QDoubleSpinBox::valueChanged, this, setFixed);
-    showColourRange();
-    connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().value = v; });
-    connect(m_brushRadius, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().radiusPixels = v; });
-    connect(m_brushStrength, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().strength = v; });
-    connect(m_brushFalloff, &QComboBox::currentIndexChanged, this,
-            [this] { m_viewport->brush().falloff = BrushFalloff(m_brushFalloff->currentData().toInt()); });
-    connect(m_anchorMode, &QComboBox::currentIndexChanged, this,
-            [this] { m_viewport->setAnchorMode(AnchorMode(m_anchorMode->currentData().toInt())); });
-    connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
-    connect(m_dragDamping, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().damping = v; });
-    return box;
-}
-
-void PropertiesPanel::showColourRange() {
-    if (!m_colourRange)  // refresh() before the Tools are built
-        return;
-    const auto fixed = m_viewport->fixedColourRange(m_viewport->brush().field);
-    const QSignalBlocker blockRange(m_colourRange), blockLow(m_colourLow), blockHigh(m_colourHigh);
-    m_colourRange->setCurrentIndex(fixed ? 1 : 0);
-    const auto [lo, hi] = fixed ? *fixed : m_viewport->colourRange(object());
-    m_colourLow->setValue(lo);
-    m_colourHigh->setValue(hi);
-    m_colourLow->setEnabled(bool(fixed));
-    m_colourHigh->setEnabled(bool(fixed));
-}
-
 QWidget* PropertiesPanel::buildSelection() {
     auto* box = new QGroupBox(tr("Selected nodes"));
     auto* form = new QFormLayout(box);
@@ -603,7 +495,6 @@ void PropertiesPanel::refresh() {
     m_groundPlane->setChecked(!w.planes.empty());
     m_bodiesCollide->setChecked(w.bodyCollisions.enabled);
     m_bodiesCollide->setVisible(scene.objects.size() > 1);  // one object has nothing to collide with
-    showColourRange();  // a stroke moves the painted min – max
     if (std::size_t(object()) < scene.objects.size()) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.lattice, o.material);
@@ -630,23 +521,7 @@ void PropertiesPanel::refresh() {
         // Mass must stay above 0; every other field may be painted down to its range's low end (0).
         const MaterialRange& range = fieldRange(field, o.material.model);
         m_selectionValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
-        m_brushValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
         m_selectionValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
-        m_brushValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
-        // A brush value in kg means nothing on a density map: when the field or what its values mean
-        // changes, start the brush at twice the field's mean (paint "stiffer", "heavier").
-        const std::pair shown{field, o.material.model};
-        if (m_brushFieldShown != shown) {
-            m_brushFieldShown = shown;
-            const auto& values = fieldValues(o.material, field);
-            double mean = 0.0;
-            for (double x : values)
-                mean += x / double(values.size());
-            if (field == PaintField::VolumePreservation || field == PaintField::GoalWeight)
-                m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume", "follow exactly"
-            else if (mean > 0.0)
-                m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
-        }
     }
     m_refreshing = false;
 }

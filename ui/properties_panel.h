@@ -1,8 +1,8 @@
 #pragma once
 /// The properties dock: simulation (integrator, time step, gravity, drivers, live cost and stability
 /// bound), material (animator view: frequency and damping ratio; raw view: mass, stiffness, damping,
-/// anisotropy), lattice (kind and resolution), the tools' settings (brush, anchor mode, drag spring)
-/// and numeric entry, fill and smooth for the selected nodes. Every edit is an undo command.
+/// anisotropy), lattice (kind and resolution) and numeric entry, fill and smooth for the selected nodes.
+/// Every edit is an undo command. The tools' settings are in the tool options bar (ui/tool_options_bar.h).
 
 #include "ui/viewport.h"
 
@@ -33,9 +33,6 @@ private:
     QWidget* buildSimulation();
     QWidget* buildMaterial();
     QWidget* buildLattice();
-    QWidget* buildTools();
-    /// Shows the brush field's colour range (fixed, or the painted min – max) in the Tools' fields.
-    void showColourRange();
     QWidget* buildSelection();
     void refresh();
     /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one; a mode
@@ -95,18 +92,6 @@ private:
     QCheckBox* m_groundPlane = nullptr;
     QCheckBox* m_bodiesCollide = nullptr;
 
-    QComboBox* m_brushField = nullptr;
-    QComboBox* m_colourRange = nullptr;       ///< Painted min – max, or fixed.
-    QDoubleSpinBox* m_colourLow = nullptr;    ///< The fixed range's blue end.
-    QDoubleSpinBox* m_colourHigh = nullptr;   ///< Its red end.
-    QDoubleSpinBox* m_brushValue = nullptr;
-    std::optional<std::pair<PaintField, MaterialModel>> m_brushFieldShown; ///< Field and model the brush value is for.
-    QDoubleSpinBox* m_brushRadius = nullptr;
-    QDoubleSpinBox* m_brushStrength = nullptr;
-    QComboBox* m_brushFalloff = nullptr;
-    QComboBox* m_anchorMode = nullptr;
-    QDoubleSpinBox* m_dragStiffness = nullptr;
-    QDoubleSpinBox* m_dragDamping = nullptr;
 
     QLabel* m_selectionLabel = nullptr;
     QDoubleSpinBox* m_selectionValue = nullptr;

@@ -827,6 +827,15 @@ void Viewport::setOverlayVisible(bool visible) {
 
 void Viewport::setAnchorMode(AnchorMode mode) { m_anchorMode = mode; }
 
+void Viewport::setBrushField(PaintField field) {
+    if (field == m_brush.field)
+        return;
+    m_brush.field = field;
+    updateLegend();
+    emit brushFieldChanged(field);
+    update();
+}
+
 void Viewport::setCurrentObject(int object) {
     if (m_modeView && m_modeView->object != object)
         stopModeView();

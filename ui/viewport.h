@@ -115,6 +115,8 @@ public slots:
     void setShadeMode(softtouch::render::ShadeMode mode);
     void setNavigationStyle(softtouch::ui::NavigationStyle style);
     void setOverlayVisible(bool visible);
+    /// Paints `field` from now on: the overlay and legend show it.
+    void setBrushField(softtouch::ui::PaintField field);
     void setAnchorMode(softtouch::AnchorMode mode);
     void setCurrentObject(int object);
     /// Makes collider `index` the one the collider tool acts on (-1: none).
@@ -130,6 +132,7 @@ public slots:
 
 signals:
     void toolChanged(softtouch::ui::Tool tool);
+    void brushFieldChanged(softtouch::ui::PaintField field);
     /// The mode view started, changed or stopped (index 0).
     void modeViewChanged(int object, int index);
     void selectionChanged();

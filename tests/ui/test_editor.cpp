@@ -15,6 +15,7 @@
 #include "ui/properties_panel.h"
 #include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
+#include "ui/tool_options_bar.h"
 
 #include <QAbstractButton>
 #include <QAction>
@@ -147,6 +148,7 @@ private slots:
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
     void fixedColourRangeKeepsOneColourPerValue();
+    void toolOptionsFollowTheActiveTool();
     void paintsVolumePreservation();
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
@@ -527,6 +529,46 @@ void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
     while (w.document()->undoStack()->index() > undoBefore)
         w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// The active tool's settings sit in a bar under the tool buttons, not at the bottom of Properties.
+void TestEditor::toolOptionsFollowTheActiveTool() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    ToolOptionsBar* bar = w.toolOptions();
+    QVERIFY(bar && bar->isVisible());
+    QVERIFY(w.findChild<QToolBar*>("toolsToolBar")->geometry().bottom() <= bar->geometry().top());
+    auto* field = bar->findChild<QComboBox*>("brushField");
+    auto* ks = bar->findChild<QDoubleSpinBox*>("dragStiffness");
+    auto* anchor = bar->findChild<QComboBox*>("anchorMode");
+    QVERIFY(field && ks && anchor);
+    QVERIFY(!w.findChild<PropertiesPanel*>()->findChild<QComboBox*>("brushField"));  // one place only
+
+    w.findChild<QAction*>("toolPaint")->trigger();
+    QCOMPARE(bar->shownTool(), Tool::Paint);
+    QVERIFY(field->isVisible() && !ks->isVisible());
+    // Every paint setting fits the bar at the window's width (none hidden in the overflow menu).
+    for (QWidget* wgt : {static_cast<QWidget*>(field), static_cast<QWidget*>(bar->findChild<QDoubleSpinBox*>("colourHigh"))})
+        QVERIFY2(bar->rect().contains(QRect(wgt->mapTo(bar, QPoint(0, 0)), wgt->size())),
+                 qPrintable(QString("%1 at x %2 + %3 in a bar %4 wide").arg(wgt->objectName()).arg(wgt->mapTo(bar, QPoint(0, 0)).x()).arg(wgt->width()).arg(bar->width())));
+    field->setCurrentIndex(field->findData(int(PaintField::Mass)));
+    QCOMPARE(view->brush().field, PaintField::Mass);
+    field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
+
+    w.findChild<QAction*>("toolDrag")->trigger();
+    QCOMPARE(bar->shownTool(), Tool::Drag);
+    QVERIFY(ks->isVisible() && !field->isVisible());
+    const double was = view->dragSettings().stiffness;
+    ks->setValue(2.0 * was);
+    QCOMPARE(view->dragSettings().stiffness, 2.0 * was);
+    ks->setValue(was);
+
+    w.findChild<QAction*>("toolAnchor")->trigger();
+    QVERIFY(anchor->isVisible());
+    anchor->setCurrentIndex(anchor->findData(int(AnchorMode::Heavy)));
+    QCOMPARE(view->anchorMode(), AnchorMode::Heavy);
+    anchor->setCurrentIndex(anchor->findData(int(AnchorMode::Pinned)));
+    w.findChild<QAction*>("toolDrag")->trigger();
 }
 
 // Node damping is painted like the other fields: chosen in the Tools' "Paint" list, one stroke one undo

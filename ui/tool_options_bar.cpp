@@ -1,0 +1,222 @@
+#include "ui/tool_options_bar.h"
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QSignalBlocker>
+#include <QStackedWidget>
+
+namespace softtouch::ui {
+
+namespace {
+
+QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step) {
+    auto* s = new QDoubleSpinBox;
+    s->setRange(lo, hi);
+    s->setDecimals(decimals);
+    s->setSuffix(suffix);
+    s->setSingleStep(step);
+    s->setKeyboardTracking(false);  // one edit per committed value, not per keystroke
+    return s;
+}
+
+/// A page of label/field pairs in one row.
+class Row {
+public:
+    Row() : m_page(new QWidget), m_layout(new QHBoxLayout(m_page)) { m_layout->setContentsMargins(4, 0, 4, 0); }
+    Row& add(const QString& label, QWidget* field) {
+        if (!label.isEmpty())
+            m_layout->addWidget(new QLabel(label));
+        m_layout->addWidget(field);
+        m_layout->addSpacing(8);
+        return *this;
+    }
+    QWidget* page() {
+        m_layout->addStretch();
+        return m_page;
+    }
+
+private:
+    QWidget* m_page;
+    QHBoxLayout* m_layout;
+};
+
+}  // namespace
+
+ToolOptionsBar::ToolOptionsBar(Document* document, Viewport* viewport, QWidget* parent)
+    : QToolBar(tr("Tool options"), parent), m_document(document), m_viewport(viewport) {
+    setObjectName("toolOptionsBar");
+    m_pages = new QStackedWidget;
+    const auto page = [this](Tool tool, QWidget* w) { m_pageOf[tool] = m_pages->addWidget(w); };
+    page(Tool::Drag, buildDragPage());
+    page(Tool::Paint, buildPaintPage());
+    page(Tool::Anchor, buildAnchorPage());
+    page(Tool::Void, hintPage(tr("Void: click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")));
+    page(Tool::Select, hintPage(tr("Select: click or drag a box; Shift adds. Set values and smooth in Properties ▸ Selected nodes.")));
+    page(Tool::Lattice, hintPage(tr("Lattice: drag to move the box; Shift+drag scales it, Ctrl+drag turns it.")));
+    page(Tool::Collider, hintPage(tr("Collider: drag to move; Shift+drag scales, Delete removes. Edit ▸ Add Collider adds one.")));
+    addWidget(m_pages);
+    connect(viewport, &Viewport::toolChanged, this, &ToolOptionsBar::showTool);
+    connect(document, &Document::sceneReplaced, this, &ToolOptionsBar::refresh);
+    connect(document, &Document::materialChanged, this, &ToolOptionsBar::refresh);
+    connect(document, &Document::latticeChanged, this, &ToolOptionsBar::refresh);
+    showTool(viewport->tool());
+}
+
+QWidget* ToolOptionsBar::buildDragPage() {
+    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5);
+    m_dragStiffness->setObjectName("dragStiffness");
+    m_dragStiffness->setValue(m_viewport->dragSettings().stiffness);
+    m_dragStiffness->setToolTip(tr("Stiffness of the mouse's spring; pen pressure scales it."));
+    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1);
+    m_dragDamping->setObjectName("dragDamping");
+    m_dragDamping->setValue(m_viewport->dragSettings().damping);
+    connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
+    connect(m_dragDamping, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().damping = v; });
+    return Row().add(tr("Drag Ks"), m_dragStiffness).add(tr("Kd"), m_dragDamping).page();
+}
+
+QWidget* ToolOptionsBar::buildPaintPage() {
+    m_brushField = new QComboBox;
+    m_brushField->setObjectName("brushField");
+    m_brushField->addItem(tr("Stiffness"), int(PaintField::Stiffness));
+    m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
+    m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
+    m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
+    m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
+    m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
+    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
+    m_brushValue->setObjectName("brushValue");
+    m_brushValue->setValue(m_viewport->brush().value);
+    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5);
+    m_brushRadius->setObjectName("brushRadius");
+    m_brushRadius->setValue(m_viewport->brush().radiusPixels);
+    m_brushStrength = spin(0, 1, 2, QString(), 0.05);
+    m_brushStrength->setObjectName("brushStrength");
+    m_brushStrength->setValue(m_viewport->brush().strength);
+    m_brushFalloff = new QComboBox;
+    m_brushFalloff->setObjectName("brushFalloff");
+    m_brushFalloff->addItem(tr("Smooth"), int(BrushFalloff::Smooth));
+    m_brushFalloff->addItem(tr("Linear"), int(BrushFalloff::Linear));
+    m_brushFalloff->addItem(tr("Constant"), int(BrushFalloff::Constant));
+    // The overlay's colours: the painted values' min – max (re-ranged by every stroke), or a fixed range
+    // in which one colour keeps one value.
+    m_colourRange = new QComboBox;
+    m_colourRange->setObjectName("colourRange");
+    m_colourRange->addItem(tr("Painted min – max"));
+    m_colourRange->addItem(tr("Fixed range"));
+    m_colourRange->setToolTip(tr("Painted min – max re-ranges the colours after every stroke; a fixed range keeps "
+                                 "one colour for one value (values outside it show the end colours)."));
+    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourLow->setObjectName("colourLow");
+    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourHigh->setObjectName("colourHigh");
+
+    connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
+        m_viewport->setBrushField(PaintField(m_brushField->currentData().toInt()));
+        m_brushFieldShown.reset();  // offer a value in the new field's unit
+        refresh();
+    });
+    connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().value = v; });
+    connect(m_brushRadius, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().radiusPixels = v; });
+    connect(m_brushStrength, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().strength = v; });
+    connect(m_brushFalloff, &QComboBox::currentIndexChanged, this,
+            [this] { m_viewport->brush().falloff = BrushFalloff(m_brushFalloff->currentData().toInt()); });
+    connect(m_colourRange, &QComboBox::currentIndexChanged, this, [this](int index) {
+        const PaintField field = m_viewport->brush().field;
+        if (index == 0) {
+            m_viewport->setColourRange(field, std::nullopt);
+        } else if (!m_viewport->fixedColourRange(field)) {
+            // Start from the painted range; a uniform map gets 0 – 2× its value, so it shows mid-grey and
+            // softer or stiffer strokes show blue or red.
+            auto [lo, hi] = m_viewport->colourRange(m_viewport->currentObject());
+            if (!(hi > lo)) {
+                lo = hi > 0.0 ? 0.0 : hi - 1.0;
+                hi = hi > 0.0 ? 2.0 * hi : hi + 1.0;
+            }
+            m_viewport->setColourRange(field, std::pair(lo, hi));
+        }
+        showColourRange();
+    });
+    const auto setFixed = [this] {
+        if (m_colourRange->currentIndex() == 1 && m_colourHigh->value() > m_colourLow->value())
+            m_viewport->setColourRange(m_viewport->brush().field, std::pair(m_colourLow->value(), m_colourHigh->value()));
+    };
+    connect(m_colourLow, &QDoubleSpinBox::valueChanged, this, setFixed);
+    connect(m_colourHigh, &QDoubleSpinBox::valueChanged, this, setFixed);
+    return Row()
+        .add(tr("Paint"), m_brushField)
+        .add(tr("Value"), m_brushValue)
+        .add(tr("Radius"), m_brushRadius)
+        .add(tr("Strength"), m_brushStrength)
+        .add(tr("Falloff"), m_brushFalloff)
+        .add(tr("Colours"), m_colourRange)
+        .add(tr("Blue at"), m_colourLow)
+        .add(tr("Red at"), m_colourHigh)
+        .page();
+}
+
+QWidget* ToolOptionsBar::buildAnchorPage() {
+    m_anchorMode = new QComboBox;
+    m_anchorMode->setObjectName("anchorMode");
+    m_anchorMode->addItem(tr("Pinned (never moves)"), int(AnchorMode::Pinned));
+    m_anchorMode->addItem(tr("Heavy (mass × ratio)"), int(AnchorMode::Heavy));
+    m_anchorMode->setCurrentIndex(m_anchorMode->findData(int(m_viewport->anchorMode())));
+    connect(m_anchorMode, &QComboBox::currentIndexChanged, this,
+            [this] { m_viewport->setAnchorMode(AnchorMode(m_anchorMode->currentData().toInt())); });
+    return Row().add(tr("Anchor"), m_anchorMode).add(QString(), new QLabel(tr("Click a node, or drag a box; Ctrl+box clears."))).page();
+}
+
+QWidget* ToolOptionsBar::hintPage(const QString& text) { return Row().add(QString(), new QLabel(text)).page(); }
+
+void ToolOptionsBar::showTool(Tool tool) {
+    m_shown = tool;
+    m_pages->setCurrentIndex(m_pageOf.at(tool));
+    refresh();
+}
+
+void ToolOptionsBar::refresh() {
+    showColourRange();
+    const Scene& scene = m_document->scene();
+    const int object = m_viewport->currentObject();
+    if (object < 0 || std::size_t(object) >= scene.objects.size())
+        return;
+    const LatticeMaterial& material = scene.objects[std::size_t(object)].material;
+    const PaintField field = m_viewport->brush().field;
+    {
+        const QSignalBlocker block(m_brushField);
+        m_brushField->setCurrentIndex(m_brushField->findData(int(field)));
+    }
+    // Mass must stay above 0; every other field may be painted down to its range's low end (0).
+    const MaterialRange& range = fieldRange(field, material.model);
+    m_brushValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
+    m_brushValue->setSuffix(QString(" ") + fieldUnit(field, material.model));
+    // A brush value in kg means nothing on a density map: when the field or what its values mean
+    // changes, start the brush at twice the field's mean (paint "stiffer", "heavier").
+    const std::pair shown{field, material.model};
+    if (m_brushFieldShown != shown) {
+        m_brushFieldShown = shown;
+        const auto& values = fieldValues(material, field);
+        double mean = 0.0;
+        for (double x : values)
+            mean += x / double(values.size());
+        if (field == PaintField::VolumePreservation || field == PaintField::GoalWeight)
+            m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume", "follow exactly"
+        else if (mean > 0.0)
+            m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
+    }
+}
+
+void ToolOptionsBar::showColourRange() {
+    const auto fixed = m_viewport->fixedColourRange(m_viewport->brush().field);
+    const QSignalBlocker blockRange(m_colourRange), blockLow(m_colourLow), blockHigh(m_colourHigh);
+    m_colourRange->setCurrentIndex(fixed ? 1 : 0);
+    const auto [lo, hi] = fixed ? *fixed : m_viewport->colourRange(m_viewport->currentObject());
+    m_colourLow->setValue(lo);
+    m_colourHigh->setValue(hi);
+    m_colourLow->setEnabled(bool(fixed));
+    m_colourHigh->setEnabled(bool(fixed));
+}
+
+}  // namespace softtouch::ui
