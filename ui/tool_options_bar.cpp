@@ -11,8 +11,11 @@ namespace softtouch::ui {
 
 namespace {
 
-QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step) {
+/// A spin box `width` pixels wide at most: its size hint is sized for the largest value of its range
+/// (1e9), which made the bar wider than a 1280-pixel screen.
+QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step, int width) {
     auto* s = new QDoubleSpinBox;
+    s->setMaximumWidth(width);
     s->setRange(lo, hi);
     s->setDecimals(decimals);
     s->setSuffix(suffix);
@@ -25,12 +28,14 @@ QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, 
 class Row {
 public:
     Row() : m_page(new QWidget), m_layout(new QHBoxLayout(m_page)) { m_layout->setContentsMargins(4, 0, 4, 0); }
-    Row& add(const QString& label, QWidget* field) {
-        if (!label.isEmpty())
-            m_layout->addWidget(new QLabel(label));
+    /// Adds "label [field]"; returns the label (nullptr without one) so that both can be hidden together.
+    QLabel* add(const QString& label, QWidget* field) {
+        QLabel* shown = label.isEmpty() ? nullptr : new QLabel(label);
+        if (shown)
+            m_layout->addWidget(shown);
         m_layout->addWidget(field);
-        m_layout->addSpacing(8);
-        return *this;
+        m_layout->addSpacing(4);
+        return shown;
     }
     QWidget* page() {
         m_layout->addStretch();
@@ -65,16 +70,19 @@ ToolOptionsBar::ToolOptionsBar(Document* document, Viewport* viewport, QWidget* 
 }
 
 QWidget* ToolOptionsBar::buildDragPage() {
-    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5);
+    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5, 130);
     m_dragStiffness->setObjectName("dragStiffness");
     m_dragStiffness->setValue(m_viewport->dragSettings().stiffness);
     m_dragStiffness->setToolTip(tr("Stiffness of the mouse's spring; pen pressure scales it."));
-    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1);
+    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1, 130);
     m_dragDamping->setObjectName("dragDamping");
     m_dragDamping->setValue(m_viewport->dragSettings().damping);
     connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
     connect(m_dragDamping, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().damping = v; });
-    return Row().add(tr("Drag Ks"), m_dragStiffness).add(tr("Kd"), m_dragDamping).page();
+    Row row;
+    row.add(tr("Drag Ks"), m_dragStiffness);
+    row.add(tr("Kd"), m_dragDamping);
+    return row.page();
 }
 
 QWidget* ToolOptionsBar::buildPaintPage() {
@@ -86,13 +94,15 @@ QWidget* ToolOptionsBar::buildPaintPage() {
     m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
     m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
     m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
-    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1);
+    m_brushField->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+    m_brushField->setMinimumContentsLength(12);
+    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1, 120);
     m_brushValue->setObjectName("brushValue");
     m_brushValue->setValue(m_viewport->brush().value);
-    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5);
+    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5, 80);
     m_brushRadius->setObjectName("brushRadius");
     m_brushRadius->setValue(m_viewport->brush().radiusPixels);
-    m_brushStrength = spin(0, 1, 2, QString(), 0.05);
+    m_brushStrength = spin(0, 1, 2, QString(), 0.05, 70);
     m_brushStrength->setObjectName("brushStrength");
     m_brushStrength->setValue(m_viewport->brush().strength);
     m_brushFalloff = new QComboBox;
@@ -104,13 +114,13 @@ QWidget* ToolOptionsBar::buildPaintPage() {
     // in which one colour keeps one value.
     m_colourRange = new QComboBox;
     m_colourRange->setObjectName("colourRange");
-    m_colourRange->addItem(tr("Painted min – max"));
-    m_colourRange->addItem(tr("Fixed range"));
-    m_colourRange->setToolTip(tr("Painted min – max re-ranges the colours after every stroke; a fixed range keeps "
-                                 "one colour for one value (values outside it show the end colours)."));
-    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourRange->addItem(tr("Auto"));
+    m_colourRange->addItem(tr("Fixed"));
+    m_colourRange->setToolTip(tr("Auto: blue to red spans the painted minimum to maximum, re-ranged after every "
+                                 "stroke. Fixed: one colour keeps one value (values outside show the end colours)."));
+    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1, 110);
     m_colourLow->setObjectName("colourLow");
-    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1);
+    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1, 110);
     m_colourHigh->setObjectName("colourHigh");
 
     connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
@@ -145,16 +155,16 @@ QWidget* ToolOptionsBar::buildPaintPage() {
     };
     connect(m_colourLow, &QDoubleSpinBox::valueChanged, this, setFixed);
     connect(m_colourHigh, &QDoubleSpinBox::valueChanged, this, setFixed);
-    return Row()
-        .add(tr("Paint"), m_brushField)
-        .add(tr("Value"), m_brushValue)
-        .add(tr("Radius"), m_brushRadius)
-        .add(tr("Strength"), m_brushStrength)
-        .add(tr("Falloff"), m_brushFalloff)
-        .add(tr("Colours"), m_colourRange)
-        .add(tr("Blue at"), m_colourLow)
-        .add(tr("Red at"), m_colourHigh)
-        .page();
+    Row row;
+    row.add(tr("Paint"), m_brushField);
+    row.add(tr("Value"), m_brushValue);
+    row.add(tr("Radius"), m_brushRadius);
+    row.add(tr("Strength"), m_brushStrength);
+    row.add(tr("Falloff"), m_brushFalloff);
+    row.add(tr("Colours"), m_colourRange);
+    m_colourLowLabel = row.add(tr("Blue at"), m_colourLow);  // shown with a fixed range only
+    m_colourHighLabel = row.add(tr("Red at"), m_colourHigh);
+    return row.page();
 }
 
 QWidget* ToolOptionsBar::buildAnchorPage() {
@@ -165,14 +175,27 @@ QWidget* ToolOptionsBar::buildAnchorPage() {
     m_anchorMode->setCurrentIndex(m_anchorMode->findData(int(m_viewport->anchorMode())));
     connect(m_anchorMode, &QComboBox::currentIndexChanged, this,
             [this] { m_viewport->setAnchorMode(AnchorMode(m_anchorMode->currentData().toInt())); });
-    return Row().add(tr("Anchor"), m_anchorMode).add(QString(), new QLabel(tr("Click a node, or drag a box; Ctrl+box clears."))).page();
+    Row row;
+    row.add(tr("Anchor"), m_anchorMode);
+    row.add(QString(), new QLabel(tr("Click a node, or drag a box; Ctrl+box clears.")));
+    return row.page();
 }
 
-QWidget* ToolOptionsBar::hintPage(const QString& text) { return Row().add(QString(), new QLabel(text)).page(); }
+QWidget* ToolOptionsBar::hintPage(const QString& text) {
+    Row row;
+    row.add(QString(), new QLabel(text));
+    return row.page();
+}
 
 void ToolOptionsBar::showTool(Tool tool) {
     m_shown = tool;
+    // The bar takes the shown page's width, not the widest page's (a stacked widget asks for the
+    // largest of its pages, which set the window's minimum width).
+    for (int i = 0; i < m_pages->count(); ++i)
+        m_pages->widget(i)->setSizePolicy(i == m_pageOf.at(tool) ? QSizePolicy::Preferred : QSizePolicy::Ignored,
+                                          QSizePolicy::Preferred);
     m_pages->setCurrentIndex(m_pageOf.at(tool));
+    m_pages->adjustSize();
     refresh();
 }
 
@@ -215,8 +238,9 @@ void ToolOptionsBar::showColourRange() {
     const auto [lo, hi] = fixed ? *fixed : m_viewport->colourRange(m_viewport->currentObject());
     m_colourLow->setValue(lo);
     m_colourHigh->setValue(hi);
-    m_colourLow->setEnabled(bool(fixed));
-    m_colourHigh->setEnabled(bool(fixed));
+    for (QWidget* w : {static_cast<QWidget*>(m_colourLow), static_cast<QWidget*>(m_colourHigh),
+                       static_cast<QWidget*>(m_colourLowLabel), static_cast<QWidget*>(m_colourHighLabel)})
+        w->setVisible(bool(fixed));
 }
 
 }  // namespace softtouch::ui

@@ -14,6 +14,7 @@
 
 class QComboBox;
 class QDoubleSpinBox;
+class QLabel;
 class QStackedWidget;
 
 namespace softtouch::ui {
@@ -49,6 +50,8 @@ private:
     QComboBox* m_colourRange = nullptr;     ///< Painted min – max, or fixed.
     QDoubleSpinBox* m_colourLow = nullptr;  ///< The fixed range's blue end.
     QDoubleSpinBox* m_colourHigh = nullptr; ///< Its red end.
+    QLabel* m_colourLowLabel = nullptr;     ///< Their labels, shown with them.
+    QLabel* m_colourHighLabel = nullptr;
     QComboBox* m_anchorMode = nullptr;
     QDoubleSpinBox* m_dragStiffness = nullptr;
     QDoubleSpinBox* m_dragDamping = nullptr;

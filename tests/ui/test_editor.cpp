@@ -476,7 +476,7 @@ void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
     QVERIFY(field && colours && low && high);
     field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
     QCOMPARE(colours->currentIndex(), 0);
-    QVERIFY(!low->isEnabled());
+    QVERIFY(!low->isVisible());  // shown with a fixed range only
     const LatticeMaterial before = w.document()->scene().objects[0].material;
     const double top = *std::max_element(before.stiffness.begin(), before.stiffness.end());
     const double bottom = *std::min_element(before.stiffness.begin(), before.stiffness.end());
@@ -498,7 +498,7 @@ void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
 
     // Fixed at 0 – 2× the old stiffest value: a node of that value is mid-grey, the softened ones bluer.
     colours->setCurrentIndex(1);
-    QVERIFY(low->isEnabled() && high->isEnabled());
+    QVERIFY(low->isVisible() && high->isVisible());
     low->setValue(0.0);
     high->setValue(2.0 * top);
     QCOMPARE(view->colourRange(0), std::pair(0.0, 2.0 * top));
@@ -547,10 +547,23 @@ void TestEditor::toolOptionsFollowTheActiveTool() {
     w.findChild<QAction*>("toolPaint")->trigger();
     QCOMPARE(bar->shownTool(), Tool::Paint);
     QVERIFY(field->isVisible() && !ks->isVisible());
-    // Every paint setting fits the bar at the window's width (none hidden in the overflow menu).
-    for (QWidget* wgt : {static_cast<QWidget*>(field), static_cast<QWidget*>(bar->findChild<QDoubleSpinBox*>("colourHigh"))})
-        QVERIFY2(bar->rect().contains(QRect(wgt->mapTo(bar, QPoint(0, 0)), wgt->size())),
-                 qPrintable(QString("%1 at x %2 + %3 in a bar %4 wide").arg(wgt->objectName()).arg(wgt->mapTo(bar, QPoint(0, 0)).x()).arg(wgt->width()).arg(bar->width())));
+    // Every paint setting, a fixed colour range's ends included, fits the bar in a 1280-pixel-wide window,
+    // and the bar does not make the window wider than that.
+    auto* colours = bar->findChild<QComboBox*>("colourRange");
+    colours->setCurrentIndex(1);
+    const QSize size = w.size();
+    w.resize(1280, 800);
+    QTRY_COMPARE(w.width(), 1280);
+    QVERIFY2(w.minimumSizeHint().width() <= 1280, qPrintable(QString::number(w.minimumSizeHint().width())));
+    for (const char* name : {"brushField", "brushValue", "brushRadius", "brushStrength", "brushFalloff", "colourRange",
+                             "colourLow", "colourHigh"}) {
+        auto* wgt = bar->findChild<QWidget*>(name);
+        QVERIFY2(wgt && wgt->isVisible(), name);
+        const QRect inBar(wgt->mapTo(bar, QPoint(0, 0)), wgt->size());
+        QVERIFY2(bar->rect().contains(inBar), qPrintable(QString("%1 at x %2 + %3 in a bar %4 wide").arg(name).arg(inBar.x()).arg(inBar.width()).arg(bar->width())));
+    }
+    colours->setCurrentIndex(0);
+    w.resize(size);
     field->setCurrentIndex(field->findData(int(PaintField::Mass)));
     QCOMPARE(view->brush().field, PaintField::Mass);
     field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
