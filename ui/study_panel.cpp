@@ -366,6 +366,7 @@ void StudyPanel::refresh() {
         // Never greyed out without saying why and what to do.
         m_check->setText(blocker);
     }
+    updateMinimumHeight();  // the text's height for the panel's width changed with it
     refreshPlot();
 }
 
@@ -389,6 +390,30 @@ void StudyPanel::refreshPlot() {
         return;
     }
     m_plot->setPixmap(QPixmap::fromImage(image.copy(0, kPlotTitleBand, width, height)).scaled(size, Qt::KeepAspectRatio, Qt::SmoothTransformation));
+}
+
+void StudyPanel::resizeEvent(QResizeEvent* event) {
+    QWidget::resizeEvent(event);
+    updateMinimumHeight();
+}
+
+void StudyPanel::updateMinimumHeight() {
+    // Each item at least its minimum, a wrapped label its height for this width (QLayout's own totals
+    // leave the plot's minimum out: its size policy is Ignored).
+    QLayout* box = layout();
+    const QMargins margins = box->contentsMargins();
+    const int inner = width() - margins.left() - margins.right();
+    int needed = margins.top() + margins.bottom(), shown = 0;
+    for (int i = 0; i < box->count(); ++i) {
+        QLayoutItem* item = box->itemAt(i);
+        if (item->isEmpty())
+            continue;
+        needed += std::max(item->minimumSize().height(), item->hasHeightForWidth() ? item->heightForWidth(inner) : 0);
+        ++shown;
+    }
+    needed += std::max(0, shown - 1) * box->spacing();
+    if (needed != minimumHeight())
+        setMinimumHeight(needed);
 }
 
 bool StudyPanel::eventFilter(QObject* watched, QEvent* event) {

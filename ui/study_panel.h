@@ -62,6 +62,10 @@ signals:
     void finished();
 
 protected:
+    /// Keeps the panel's minimum height at what its wrapped text needs at this width, so the scroll area
+    /// around it scrolls instead of laying the text over the plot (a layout's minimum ignores wrapping).
+    void resizeEvent(QResizeEvent* event) override;
+    void updateMinimumHeight();
     /// Redraws the plot whenever its label changes size (the text below it grows and shrinks too).
     bool eventFilter(QObject* watched, QEvent* event) override;
 

@@ -51,6 +51,7 @@
 #include "core/primitives.h"
 
 #include <QComboBox>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QRegularExpression>
@@ -1414,6 +1415,24 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(current->lattice.kind == scene.objects[0].lattice.shape().kind);
     QVERIFY(current->lattice.nodes == scene.objects[0].lattice.shape().nodes);
     QVERIFY2(text->text().contains("Current"), qPrintable(text->text()));
+    // Nothing is laid over the plot, in a short window too: the dock scrolls instead (its minimum height
+    // once left the wrapped text out, and the text covered the plot's axis labels).
+    auto* plot = study->findChild<QLabel*>("studyPlot");
+    const auto textBelowPlot = [&] {
+        QApplication::processEvents();
+        return plot->geometry().bottom() < text->geometry().top();
+    };
+    const auto where = [&] {
+        return QString("plot ends at %1, text starts at %2").arg(plot->geometry().bottom()).arg(text->geometry().top());
+    };
+    QVERIFY2(textBelowPlot(), qPrintable(where()));  // the text grew when the measurement ended
+    const QSize size = w.size();
+    for (const QSize small : {QSize(1280, 720), QSize(1280, 600)}) {
+        w.resize(small);
+        QTRY_COMPARE(w.size(), small);
+        QVERIFY2(textBelowPlot(), qPrintable(where()));
+    }
+    w.resize(size);
 
     // The pick follows the chosen error: the cheapest row within the target in that error.
     auto* kind = study->findChild<QComboBox*>("studyErrorKind");
