@@ -2,6 +2,7 @@
 
 #include "ui/edit_commands.h"
 #include "ui/material_tuning.h"
+#include "ui/spin_box.h"
 
 #include "core/mode_accuracy.h"
 #include "core/network_elasticity.h"
@@ -24,16 +25,6 @@
 namespace softtouch::ui {
 
 namespace {
-
-QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step = 1.0) {
-    auto* s = new QDoubleSpinBox;
-    s->setRange(lo, hi);
-    s->setDecimals(decimals);
-    s->setSuffix(suffix);
-    s->setSingleStep(step);
-    s->setKeyboardTracking(false);  // one edit per committed value, not per keystroke
-    return s;
-}
 
 void setQuietly(QDoubleSpinBox* box, double value) {
     const QSignalBlocker block(box);
@@ -70,7 +61,7 @@ QWidget* PropertiesPanel::buildSimulation() {
     m_integrator->addItem(tr("XPBD (fast, softer)"), int(IntegratorKind::Xpbd));
     m_integrator->setToolTip(tr("Speed against accuracy: docs/study.md measures each scheme."));
     form->addRow(tr("Integrator"), m_integrator);
-    m_stepsPerSecond = spin(10, 100000, 0, tr(" steps/s"), 10);
+    m_stepsPerSecond = makeSpinBox(10, 100000, 0, tr(" steps/s"), 10);
     m_stepsPerSecond->setToolTip(tr("Fixed time step as steps per simulated second. Explicit schemes substep "
                                     "automatically below their stability bound."));
     form->addRow(tr("Time step"), m_stepsPerSecond);
@@ -136,13 +127,13 @@ QWidget* PropertiesPanel::buildSimulation() {
 QWidget* PropertiesPanel::buildMaterial() {
     auto* box = new QGroupBox(tr("Material"));
     auto* form = new QFormLayout(box);
-    m_frequency = spin(0.001, 1000, 3, tr(" Hz"), 0.1);
+    m_frequency = makeSpinBox(0.001, 1000, 3, tr(" Hz"), 0.1);
     m_frequency->setObjectName("frequency");
     m_frequency->setToolTip(tr("How fast the whole body wobbles: the frequency of its lowest vibration mode, with "
                                "its anchors and voids. Typing a value scales all stiffness (and damping, so the "
                                "damping ratios stay), keeping what was painted."));
     form->addRow(tr("Wobble (lowest mode)"), m_frequency);
-    m_dampingRatio = spin(0, 100, 4, QString(), 0.01);
+    m_dampingRatio = makeSpinBox(0, 100, 4, QString(), 0.01);
     m_dampingRatio->setObjectName("dampingRatio");
     m_dampingRatio->setToolTip(tr("How quickly the lowest mode settles: 0 rings forever, 1 settles without overshoot. "
                                   "Typing a value scales node and spring damping together."));
@@ -196,16 +187,16 @@ QWidget* PropertiesPanel::buildMaterial() {
     // Room for a rigid-mode note and the integrator's effect, which wraps once or twice.
     m_modes->setMinimumHeight(m_modes->fontMetrics().lineSpacing() * 4);
     form->addRow(m_modes);
-    m_totalMass = spin(1e-6, 1e6, 4, tr(" kg"), 0.1);
+    m_totalMass = makeSpinBox(1e-6, 1e6, 4, tr(" kg"), 0.1);
     form->addRow(tr("Total mass"), m_totalMass);
-    m_stiffness = spin(1e-3, 1e12, 2, tr(" N/m"), 5);
+    m_stiffness = makeSpinBox(1e-3, 1e12, 2, tr(" N/m"), 5);
     m_stiffness->setObjectName("stiffness");
     form->addRow(tr("Stiffness (mean)"), m_stiffness);
-    m_damping = spin(0, 1e9, 3, tr(" N·s/m"), 0.05);
+    m_damping = makeSpinBox(0, 1e9, 3, tr(" N·s/m"), 0.05);
     m_damping->setToolTip(tr("Spring damping: resists the relative velocity of a spring's two nodes, so it calms "
                              "wobble but never slows the body as a whole. Stronger on faster modes."));
     form->addRow(tr("Spring damping (mean)"), m_damping);
-    m_nodeDamping = spin(0, 1e6, 4, tr(" N·s/m"), 0.01);
+    m_nodeDamping = makeSpinBox(0, 1e6, 4, tr(" N·s/m"), 0.01);
     m_nodeDamping->setObjectName("nodeDamping");
     m_nodeDamping->setToolTip(tr("Node damping (the paper's D, its 'damper'): resists each node's absolute velocity, "
                                  "like moving through water, so a released body comes to rest. Stronger on slower modes."));
@@ -213,7 +204,7 @@ QWidget* PropertiesPanel::buildMaterial() {
     auto* aniso = new QHBoxLayout;
     const char* axes[] = {"u", "v", "w"};
     for (int a = 0; a < 3; ++a) {
-        m_anisotropy[std::size_t(a)] = spin(1e-6, 1e6, 3, QString(), 0.1);
+        m_anisotropy[std::size_t(a)] = makeSpinBox(1e-6, 1e6, 3, QString(), 0.1);
         m_anisotropy[std::size_t(a)]->setPrefix(QString(axes[a]) + " ");
         // Sized for the values shown, not for the range's widest (1e6 with three decimals): three of
         // those made the Material group wider than the dock and pushed its right column out of view.
@@ -227,18 +218,18 @@ QWidget* PropertiesPanel::buildMaterial() {
     form->addRow(tr("Anisotropy"), aniso);
     // Stretch and squash limits (core/strain_limits.h): each spin box's minimum, just below the limit's
     // range, reads "off".
-    m_stretchLimit = spin(1.0, kMaxStretchLimit, 2, tr(" × rest"), 0.05);
+    m_stretchLimit = makeSpinBox(1.0, kMaxStretchLimit, 2, tr(" × rest"), 0.05);
     m_stretchLimit->setObjectName("stretchLimit");
     m_stretchLimit->setSpecialValueText(tr("off"));
     m_stretchLimit->setToolTip(tr("No spring of the lattice gets longer than this many times its rest length, "
                                   "however hard it is pulled (a constraint after every step; it only ever takes energy out)."));
     form->addRow(tr("Stretch limit"), m_stretchLimit);
-    m_squashLimit = spin(0.0, kMaxSquashLimit, 2, tr(" × rest"), 0.05);
+    m_squashLimit = makeSpinBox(0.0, kMaxSquashLimit, 2, tr(" × rest"), 0.05);
     m_squashLimit->setObjectName("squashLimit");
     m_squashLimit->setSpecialValueText(tr("off"));
     m_squashLimit->setToolTip(tr("No spring of the lattice gets shorter than this fraction of its rest length."));
     form->addRow(tr("Squash limit"), m_squashLimit);
-    m_volumePreservation = spin(0.0, 1.0, 2, QString(), 0.1);
+    m_volumePreservation = makeSpinBox(0.0, 1.0, 2, QString(), 0.1);
     m_volumePreservation->setObjectName("volumePreservation");
     m_volumePreservation->setSpecialValueText(tr("off"));
     m_volumePreservation->setToolTip(tr("Keeps the mesh's volume: a squashed body bulges sideways. 0.5 resists a "
@@ -324,15 +315,15 @@ QWidget* PropertiesPanel::buildLattice() {
     auto* move = new QHBoxLayout;
     const char* axes[] = {"x", "y", "z"};
     for (int a = 0; a < 3; ++a) {
-        m_latticeMove[std::size_t(a)] = spin(-1e4, 1e4, 3, QString(), 0.01);
+        m_latticeMove[std::size_t(a)] = makeSpinBox(-1e4, 1e4, 3, QString(), 0.01);
         m_latticeMove[std::size_t(a)]->setPrefix(QString(axes[a]) + " ");
         move->addWidget(m_latticeMove[std::size_t(a)]);
     }
     form->addRow(tr("Move by (m)"), move);
-    m_latticeScale = spin(0.01, 100, 3, tr(" ×"), 0.05);
+    m_latticeScale = makeSpinBox(0.01, 100, 3, tr(" ×"), 0.05);
     m_latticeScale->setValue(1.0);
     form->addRow(tr("Scale by"), m_latticeScale);
-    m_latticeTurn = spin(-360, 360, 1, tr("°"), 5);
+    m_latticeTurn = makeSpinBox(-360, 360, 1, tr("°"), 5);
     form->addRow(tr("Turn about y"), m_latticeTurn);
     auto* placement = new QHBoxLayout;
     auto* transform = new QPushButton(tr("Transform"));
@@ -357,7 +348,7 @@ QWidget* PropertiesPanel::buildSelection() {
     auto* form = new QFormLayout(box);
     m_selectionLabel = new QLabel;
     form->addRow(m_selectionLabel);
-    m_selectionValue = spin(1e-9, 1e9, 4, QString(), 1);
+    m_selectionValue = makeSpinBox(1e-9, 1e9, 4, QString(), 1);
     form->addRow(tr("Value"), m_selectionValue);
     auto* buttons = new QHBoxLayout;
     auto* set = new QPushButton(tr("Set"));

@@ -1,5 +1,7 @@
 #include "ui/tool_options_bar.h"
 
+#include "ui/spin_box.h"
+
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
@@ -10,19 +12,6 @@
 namespace softtouch::ui {
 
 namespace {
-
-/// A spin box `width` pixels wide at most: its size hint is sized for the largest value of its range
-/// (1e9), which made the bar wider than a 1280-pixel screen.
-QDoubleSpinBox* spin(double lo, double hi, int decimals, const QString& suffix, double step, int width) {
-    auto* s = new QDoubleSpinBox;
-    s->setMaximumWidth(width);
-    s->setRange(lo, hi);
-    s->setDecimals(decimals);
-    s->setSuffix(suffix);
-    s->setSingleStep(step);
-    s->setKeyboardTracking(false);  // one edit per committed value, not per keystroke
-    return s;
-}
 
 /// A page of label/field pairs in one row.
 class Row {
@@ -70,11 +59,11 @@ ToolOptionsBar::ToolOptionsBar(Document* document, Viewport* viewport, QWidget* 
 }
 
 QWidget* ToolOptionsBar::buildDragPage() {
-    m_dragStiffness = spin(0.01, 1e6, 2, tr(" N/m"), 5, 130);
+    m_dragStiffness = makeSpinBox(0.01, 1e6, 2, tr(" N/m"), 5, 130);
     m_dragStiffness->setObjectName("dragStiffness");
     m_dragStiffness->setValue(m_viewport->dragSettings().stiffness);
     m_dragStiffness->setToolTip(tr("Stiffness of the mouse's spring; pen pressure scales it."));
-    m_dragDamping = spin(0, 1e4, 3, tr(" N·s/m"), 0.1, 130);
+    m_dragDamping = makeSpinBox(0, 1e4, 3, tr(" N·s/m"), 0.1, 130);
     m_dragDamping->setObjectName("dragDamping");
     m_dragDamping->setValue(m_viewport->dragSettings().damping);
     connect(m_dragStiffness, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->dragSettings().stiffness = v; });
@@ -96,13 +85,14 @@ QWidget* ToolOptionsBar::buildPaintPage() {
     m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
     m_brushField->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
     m_brushField->setMinimumContentsLength(12);
-    m_brushValue = spin(1e-6, 1e9, 3, QString(), 1, 120);
+    // Field widths are capped so the whole row fits a 1280-pixel window (test_editor checks it).
+    m_brushValue = makeSpinBox(1e-6, 1e9, 3, QString(), 1, 120);
     m_brushValue->setObjectName("brushValue");
     m_brushValue->setValue(m_viewport->brush().value);
-    m_brushRadius = spin(1, 2000, 0, tr(" px"), 5, 80);
+    m_brushRadius = makeSpinBox(1, 2000, 0, tr(" px"), 5, 80);
     m_brushRadius->setObjectName("brushRadius");
     m_brushRadius->setValue(m_viewport->brush().radiusPixels);
-    m_brushStrength = spin(0, 1, 2, QString(), 0.05, 70);
+    m_brushStrength = makeSpinBox(0, 1, 2, QString(), 0.05, 70);
     m_brushStrength->setObjectName("brushStrength");
     m_brushStrength->setValue(m_viewport->brush().strength);
     m_brushFalloff = new QComboBox;
@@ -118,9 +108,9 @@ QWidget* ToolOptionsBar::buildPaintPage() {
     m_colourRange->addItem(tr("Fixed"));
     m_colourRange->setToolTip(tr("Auto: blue to red spans the painted minimum to maximum, re-ranged after every "
                                  "stroke. Fixed: one colour keeps one value (values outside show the end colours)."));
-    m_colourLow = spin(-1e9, 1e9, 4, QString(), 1, 110);
+    m_colourLow = makeSpinBox(-1e9, 1e9, 4, QString(), 1, 110);
     m_colourLow->setObjectName("colourLow");
-    m_colourHigh = spin(-1e9, 1e9, 4, QString(), 1, 110);
+    m_colourHigh = makeSpinBox(-1e9, 1e9, 4, QString(), 1, 110);
     m_colourHigh->setObjectName("colourHigh");
 
     connect(m_brushField, &QComboBox::currentIndexChanged, this, [this] {
