@@ -45,7 +45,7 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
     renderer.setPlanes(scene.world.planes, float(1.2 * bounds.diagonal()));
     renderer.setColliders(scene.world.colliders);
     const float aspect = float(settings.width) / float(settings.height);
-    const Camera camera = cameraFor(videoCameraPlacement(bounds, aspect), aspect);
+    const Camera camera = cameraFor(options.camera.value_or(videoCameraPlacement(bounds, aspect)), aspect);
 
     std::vector<std::uint8_t> pixels;
     std::vector<Vec3f> positions, normals;

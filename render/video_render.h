@@ -9,6 +9,7 @@
 #include "io/video_encoder.h"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ namespace softtouch::render {
 struct VideoRenderOptions {
     io::VideoSettings video;        ///< Output, format, size, crf; `fps` is taken from the frames played.
     io::FrameRequest frames;        ///< Clip, frame count and rate (io/frame_source.h).
+    /// Where the camera stands; none: videoCameraPlacement() of the scene's rest bounds (the CLI's and the
+    /// preview page's view). The editor passes its viewport's view.
+    std::optional<CameraPlacement> camera;
     /// Called after each frame with (frames done, total); returning false cancels (nothing is written).
     std::function<bool(int, int)> progress;
 };

@@ -124,6 +124,7 @@ void MainWindow::buildDocks() {
     propertiesDock->raise();
 
     m_timeline = new TimelinePanel(m_document, m_simulation);
+    m_timeline->setViewCamera([this] { return m_viewport->camera().placement(); });
     auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
     timelineDock->setMaximumHeight(220);
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);

@@ -16,11 +16,18 @@ Vec3 OrbitCamera::forward() const {
 Vec3 OrbitCamera::eye() const { return target - distance * forward(); }
 
 render::Camera OrbitCamera::camera(int widthPixels, int heightPixels) const {
-    render::Camera c;
-    c.view = render::lookAt(eye().cast<float>(), target.cast<float>(), Eigen::Vector3f::UnitY());
-    const float aspect = float(std::max(widthPixels, 1)) / float(std::max(heightPixels, 1));
-    c.projection = render::perspective(float(fovY), aspect, float(distance * 0.01), float(distance * 100.0));
-    return c;
+    return render::cameraFor(placement(), float(std::max(widthPixels, 1)) / float(std::max(heightPixels, 1)));
+}
+
+render::CameraPlacement OrbitCamera::placement() const {
+    render::CameraPlacement p;
+    p.eye = eye().cast<float>();
+    p.centre = target.cast<float>();
+    p.up = Eigen::Vector3f::UnitY();
+    p.fovY = float(fovY);
+    p.nearPlane = float(distance * 0.01);
+    p.farPlane = float(distance * 100.0);
+    return p;
 }
 
 void OrbitCamera::orbit(double dxPixels, double dyPixels) {

@@ -31,6 +31,8 @@ public:
     Vec3 forward() const;
     /// Matrices for a viewport of the given pixel size.
     render::Camera camera(int widthPixels, int heightPixels) const;
+    /// Where this camera stands, for a render of the same view at another size (Render video).
+    render::CameraPlacement placement() const;
 
     /// Turns by pixel deltas (0.01 rad per pixel).
     void orbit(double dxPixels, double dyPixels);

@@ -6,6 +6,10 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QFormLayout>
 #include <algorithm>
 
 #include <QDir>
@@ -327,16 +331,43 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
 }
 
 void TimelinePanel::renderClip(int index) {
+    // Size and camera first: the viewport's view is what the animator framed; the ¾ view is the CLI's.
+    QDialog settings(this);
+    settings.setWindowTitle(tr("Render Video"));
+    auto* form = new QFormLayout(&settings);
+    auto* size = new QComboBox;
+    size->setObjectName("renderSize");
+    for (const QSize s : {QSize(640, 360), QSize(960, 540), QSize(1280, 720), QSize(1920, 1080)})
+        size->addItem(QStringLiteral("%1 × %2").arg(s.width()).arg(s.height()), s);
+    size->setCurrentIndex(1);
+    form->addRow(tr("Size"), size);
+    auto* camera = new QComboBox;
+    camera->setObjectName("renderCamera");
+    if (m_viewCamera)
+        camera->addItem(tr("This view (the viewport's camera)"));
+    camera->addItem(tr("¾ view of the whole scene (as softtouch-cli render)"));
+    form->addRow(tr("Camera"), camera);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+    connect(buttons, &QDialogButtonBox::accepted, &settings, &QDialog::accept);
+    connect(buttons, &QDialogButtonBox::rejected, &settings, &QDialog::reject);
+    form->addRow(buttons);
+    if (settings.exec() != QDialog::Accepted)
+        return;
+    const QSize pixels = size->currentData().toSize();
+    std::optional<render::CameraPlacement> placement;
+    if (m_viewCamera && camera->currentIndex() == 0)
+        placement = m_viewCamera();
     const QString path = QFileDialog::getSaveFileName(this, tr("Render Video"), suggestedOutputPath(index, "mp4"),
                                                       tr("MP4 video (*.mp4);;Animated GIF (*.gif)"));
     if (path.isEmpty())
         return;
-    const Status s = renderClipTo(index, path);
+    const Status s = renderClipTo(index, path, pixels.width(), pixels.height(), placement);
     if (!s && !s.wasCancelled())
         QMessageBox::critical(this, tr("Render failed"), QString::fromStdString(s.message()));
 }
 
-Status TimelinePanel::renderClipTo(int index, const QString& path, int width, int height) {
+Status TimelinePanel::renderClipTo(int index, const QString& path, int width, int height,
+                                   std::optional<render::CameraPlacement> camera) {
     const ClipLibrary& library = m_document->project().clips;
     const auto format = io::videoFormatFromPath(path.toStdString());
     if (!format)
@@ -346,6 +377,7 @@ Status TimelinePanel::renderClipTo(int index, const QString& path, int width, in
     options.video.format = *format;
     options.video.width = width;
     options.video.height = height;
+    options.camera = camera;
     options.frames.clips = &library;
     if (index >= 0 && std::size_t(index) < library.clips.size())
         options.frames.clip = library.clips[std::size_t(index)].name;

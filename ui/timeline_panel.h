@@ -6,9 +6,13 @@
 
 #include "core/clip.h"
 #include "io/export_formats.h"
+#include "render/camera.h"
 #include "ui/simulation_controller.h"
 
 #include <QWidget>
+
+#include <functional>
+#include <optional>
 
 class QCheckBox;
 class QLabel;
@@ -53,10 +57,15 @@ public slots:
     QString suggestedOutputPath(int index, const QString& suffix) const;
     /// The status line's text (what the last export or render said).
     QString statusText() const;
-    /// Asks for a file and renders clip `index` (or the drivers when < 0) as a video.
+    /// Asks for the size, the camera (the viewport's view, or the CLI's ¾ view) and a file, and renders
+    /// clip `index` (or the drivers when < 0) as a video.
     void renderClip(int index);
-    /// Renders without asking: .mp4, .gif or a folder ending in '/' for PNG frames, at width × height.
-    Status renderClipTo(int index, const QString& path, int width = 960, int height = 540);
+    /// Renders without asking: .mp4, .gif or a folder ending in '/' for PNG frames, at width × height,
+    /// from `camera` (none: the CLI's ¾ view of the rest bounds, render::videoCameraPlacement).
+    Status renderClipTo(int index, const QString& path, int width = 960, int height = 540,
+                        std::optional<render::CameraPlacement> camera = std::nullopt);
+    /// Where Render video's "this view" stands (the main window passes the viewport's camera).
+    void setViewCamera(std::function<render::CameraPlacement()> view) { m_viewCamera = std::move(view); }
 
 private:
     void refreshLists();
@@ -73,6 +82,7 @@ private:
     QLabel* m_time = nullptr;
     QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
+    std::function<render::CameraPlacement()> m_viewCamera;  ///< See setViewCamera().
     int m_clipShown = -1;      ///< Which clip m_clipFrames holds ...
     std::uint64_t m_clipRevision = 0;  ///< ... evaluated at this document revision.
 };

@@ -51,6 +51,7 @@
 #include "core/primitives.h"
 
 #include <QComboBox>
+#include <QDialog>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QLabel>
@@ -150,6 +151,7 @@ private slots:
     void paintsNodeDamping();
     void fixedColourRangeKeepsOneColourPerValue();
     void toolOptionsFollowTheActiveTool();
+    void renderVideoFollowsTheViewportsView();
     void paintsVolumePreservation();
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
@@ -530,6 +532,75 @@ void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
     while (w.document()->undoStack()->index() > undoBefore)
         w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// Render video draws from the viewport's view when asked (the animator framed it), from the CLI's ¾ view
+// otherwise, whatever the viewport shows.
+void TestEditor::renderVideoFollowsTheViewportsView() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    QVERIFY(!w.document()->project().clips.clips.empty());
+    const auto firstFrame = [&](const QString& name, std::optional<render::CameraPlacement> camera) {
+        const QString folder = m_dir->filePath(name) + "/";
+        const Status s = w.timeline()->renderClipTo(0, folder, 160, 90, camera);
+        if (!s)
+            qFatal("%s", s.message().c_str());
+        return QImage(folder + "frame_0000.png").convertToFormat(QImage::Format_RGB32);
+    };
+    /// Centre of the orange pixels (the fish on the grey background), in pixels.
+    const auto fishCentre = [](const QImage& image) {
+        double x = 0, y = 0, n = 0;
+        for (int j = 0; j < image.height(); ++j)
+            for (int i = 0; i < image.width(); ++i) {
+                const QColor c = image.pixelColor(i, j);
+                if (c.red() > c.blue() + 60) {
+                    x += i;
+                    y += j;
+                    n += 1;
+                }
+            }
+        return n > 0 ? QPointF(x / n, y / n) : QPointF(-1, -1);
+    };
+    view->viewTop();
+    const QImage top = firstFrame("top", view->camera().placement());
+    const QImage defaultA = firstFrame("defaultA", std::nullopt);
+    view->viewFront();
+    view->camera().pan(0.3 * view->width(), 0, view->height());  // the fish off-centre, as an animator may frame it
+    const render::CameraPlacement framed = view->camera().placement();
+    const QImage front = firstFrame("front", framed);
+    const QImage defaultB = firstFrame("defaultB", std::nullopt);
+    QVERIFY(!top.isNull() && !front.isNull());
+    QCOMPARE(defaultA, defaultB);  // the ¾ view ignores the viewport
+    QVERIFY(top != front);
+    // The fish lands where the viewport's camera projects it.
+    const Bounds bounds = w.document()->scene().objects[0].mesh.bounds();
+    const Eigen::Vector3f centre = (0.5 * (bounds.min + bounds.max)).cast<float>();
+    const render::Camera camera = render::cameraFor(framed, 160.0f / 90.0f);
+    const Eigen::Vector4f clip = camera.projection * camera.view * Eigen::Vector4f(centre.x(), centre.y(), centre.z(), 1.0f);
+    const QPointF expected(80.0 * (1.0 + clip.x() / clip.w()), 45.0 * (1.0 - clip.y() / clip.w()));
+    const QPointF found = fishCentre(front);
+    QVERIFY2((found - expected).manhattanLength() < 16.0,
+             qPrintable(QString("fish at (%1, %2), projected centre (%3, %4)").arg(found.x()).arg(found.y()).arg(expected.x()).arg(expected.y())));
+    QVERIFY2((fishCentre(defaultA) - expected).manhattanLength() > 16.0, "the ¾ view should not frame it the same way");
+    view->frameAll();
+
+    // The dialog asks for the size and the camera first, this view offered first.
+    QStringList cameras;
+    QString size;
+    QTimer::singleShot(200, [&] {
+        if (auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget())) {
+            auto* choice = dialog->findChild<QComboBox*>("renderCamera");
+            for (int i = 0; choice && i < choice->count(); ++i)
+                cameras << choice->itemText(i);
+            if (auto* sizes = dialog->findChild<QComboBox*>("renderSize"))
+                size = sizes->currentText();
+            dialog->reject();
+        }
+    });
+    w.timeline()->renderClip(0);
+    QCOMPARE(cameras.size(), 2);
+    QVERIFY2(cameras.front().startsWith("This view"), qPrintable(cameras.join("; ")));
+    QCOMPARE(size, QString("960 × 540"));
 }
 
 // The active tool's settings sit in a bar under the tool buttons, not at the bottom of Properties.
