@@ -136,6 +136,8 @@ void MainWindow::buildDocks() {
 
 void MainWindow::buildActions() {
     QMenu* file = menuBar()->addMenu(tr("&File"));
+    QAction* newAction = file->addAction(tr("&New"), QKeySequence::New, this, [this] { (void)newProject(); });  // errors shown there
+    newAction->setObjectName("actionNew");
     file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::open);
     m_recentMenu = file->addMenu(tr("Open &Recent"));
     file->addAction(tr("&Import Mesh…"), QKeySequence(tr("Ctrl+I")), this, &MainWindow::importMesh);
@@ -459,6 +461,19 @@ bool MainWindow::openFile(const QString& path) {
     m_simulation->pause();
     statusBar()->showMessage(tr("Paused: press Space to play, or drag the body."), 8000);
     return true;
+}
+
+Status MainWindow::newProject() {
+    if (!maybeSave())
+        return Status::cancelled("the unsaved changes were kept");
+    // The shipped meshes sit beside the shipped material presets (presets/meshes, presets/materials).
+    const QString mesh = QDir::cleanPath(m_options.presetFolder + "/../meshes/angelfish.obj");
+    Status s = m_options.presetFolder.isEmpty() || !QFileInfo::exists(mesh)
+                   ? Status::error("the bundled mesh " + mesh.toStdString() + " is missing")
+                   : m_document->importMesh(mesh);
+    if (!s)
+        showError(tr("Cannot start a new project"), QString::fromStdString(s.message()));
+    return s;
 }
 
 void MainWindow::open() {

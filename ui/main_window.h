@@ -62,6 +62,9 @@ public slots:
     void refreshStatus();
     bool save();
     bool saveAs();
+    /// File ▸ New: after the unsaved-changes prompt, an untitled project of the bundled angelfish mesh on a
+    /// fresh 4x4x4 lattice with the default material (as Import Mesh makes it), to build up from scratch.
+    Status newProject();
     void open();
     void importMesh();
     /// File ▸ Import Animated Mesh: adds an object that follows the file's own animation (a rig, keyed

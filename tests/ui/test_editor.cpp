@@ -152,6 +152,7 @@ private slots:
     void fixedColourRangeKeepsOneColourPerValue();
     void toolOptionsFollowTheActiveTool();
     void renderVideoFollowsTheViewportsView();
+    void fileNewStartsAnUntitledProject();
     void paintsVolumePreservation();
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
@@ -532,6 +533,33 @@ void TestEditor::fixedColourRangeKeepsOneColourPerValue() {
     while (w.document()->undoStack()->index() > undoBefore)
         w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// File ▸ New (Ctrl+N): an untitled project from the bundled fish mesh, a fresh lattice and material,
+// nothing to undo; Save then asks where.
+void TestEditor::fileNewStartsAnUntitledProject() {
+    MainWindow& w = *m_window;
+    QAction* action = w.findChild<QAction*>("actionNew");
+    QVERIFY(action);
+    QCOMPARE(action->shortcut(), QKeySequence(QKeySequence::New));
+    QVERIFY(!w.document()->filePath().isEmpty());
+    const std::size_t clipsBefore = w.document()->project().clips.clips.size();
+    QVERIFY(clipsBefore > 0);
+    action->trigger();
+    const Scene& scene = w.document()->scene();
+    QCOMPARE(scene.objects.size(), std::size_t(1));
+    QCOMPARE(QString::fromStdString(scene.objects[0].name), QString("angelfish"));
+    QVERIFY(w.document()->filePath().isEmpty());
+    QVERIFY(w.windowTitle().contains("unsaved"));
+    QVERIFY(w.document()->project().clips.clips.empty());  // the swim clip was the old project's
+    QVERIFY(!w.document()->undoStack()->canUndo());
+    QCOMPARE(scene.objects[0].lattice.count(0), 4);
+    QVERIFY(scene.objects[0].drivers.empty());
+    // It is a working project: it saves and opens again.
+    const QString path = m_dir->filePath("new.softtouch");
+    QVERIFY(w.document()->saveAs(path).ok());
+    QVERIFY(w.openFile(path));
+    QCOMPARE(w.document()->scene().objects.size(), std::size_t(1));
 }
 
 // Render video draws from the viewport's view when asked (the animator framed it), from the CLI's ¾ view
