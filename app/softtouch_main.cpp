@@ -6,6 +6,7 @@
 #include "ui/main_window.h"
 #include "ui/study_panel.h"
 
+#include <QAction>
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
@@ -106,8 +107,11 @@ int main(int argc, char** argv) {
     const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
     const QCommandLineOption autosaveSeconds("autosave-seconds", "Seconds between autosaves (default 60).", "S", "60");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
+    const QCommandLineOption toolOption("tool", "The active tool: drag, paint, anchor, void, select, lattice or collider "
+                                                "(with --screenshot: its settings show in the tool options bar).", "NAME");
+    const QCommandLineOption windowSize("window", "With --screenshot: the window's size, e.g. 1280x800.", "WxH");
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
-                       autosaveSeconds, noRecovery});
+                       autosaveSeconds, noRecovery, toolOption, windowSize});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -131,7 +135,28 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "softtouch: error: --mode must be shaded, wireframe or xray, got '%s'\n", qPrintable(shading));
         return 2;
     }
+    if (parser.isSet(windowSize)) {
+        const QStringList wh = parser.value(windowSize).split('x');
+        const int w = wh.value(0).toInt(), h = wh.value(1).toInt();
+        if (wh.size() != 2 || w < 640 || h < 400 || w > 8192 || h > 8192) {
+            std::fprintf(stderr, "softtouch: error: --window expects WIDTHxHEIGHT from 640x400 to 8192x8192, got '%s'\n",
+                         qPrintable(parser.value(windowSize)));
+            return 2;
+        }
+        window.resize(w, h);
+    }
     window.show();
+    if (parser.isSet(toolOption)) {
+        // The tool actions are named "tool" + their label ("toolPaint"); triggering one is what a click does.
+        const QString name = parser.value(toolOption);
+        auto* action = window.findChild<QAction*>("tool" + name.left(1).toUpper() + name.mid(1).toLower());
+        if (!action) {
+            std::fprintf(stderr, "softtouch: error: --tool must be drag, paint, anchor, void, select, lattice or "
+                                 "collider, got '%s'\n", qPrintable(name));
+            return 2;
+        }
+        action->trigger();
+    }
     if (parser.isSet(dock)) {
         auto* d = window.findChild<QDockWidget*>(parser.value(dock) + "Dock");
         if (!d) {

@@ -15,8 +15,9 @@ scene=presets/scenes/angelfish-swim.softtouch
 shot "$out/guide-open.png" --seconds 1.0 "$scene"
 # 2. The drag tool: the tail pulled up and back, recorded as a take.
 shot "$out/guide-drag.png" --drag=-150,-130 --seconds 1.0 "$scene"
-# 3. Painted stiffness (supple tail, firm head): the nodes coloured by value, with the legend.
-shot "$out/guide-paint.png" --seconds 1.0 presets/scenes/angelfish-painted.softtouch
+# 3. Painted stiffness (supple tail, firm head): the nodes coloured by value, with the legend, and the
+#    paint tool's options in the bar under the tools.
+shot "$out/guide-paint.png" --tool paint --seconds 1.0 presets/scenes/angelfish-painted.softtouch
 # 4. Wireframe.
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
 # 5. The speed/accuracy dock after measuring the open scene (its own settings marked on the plot).
