@@ -1871,6 +1871,19 @@ void TestEditor::screenshotCommandWritesPng() {
     QImage image(png);
     QVERIFY(!image.isNull());
     QVERIFY(image.width() >= 640 && image.height() >= 400);
+    // The window's size and the active tool can be chosen (the guide's pictures; a 1280x800 check).
+    const QString sized = m_dir->filePath("sized.png");
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--screenshot", sized, "--window", "1280x800", "--tool", "paint", kDefaultScene});
+    QVERIFY(editor.waitForFinished(60000));
+    QVERIFY2(editor.exitCode() == 0, editor.readAll().constData());
+    QCOMPARE(QImage(sized).size(), QSize(1280, 800));
+    for (const QStringList& bad : {QStringList{"--window", "10x10"}, QStringList{"--tool", "hammer"}}) {
+        editor.start(SOFTTOUCH_BIN_DIR "/softtouch", QStringList{"--screenshot", m_dir->filePath("bad.png")} + bad + QStringList{kDefaultScene});
+        QVERIFY(editor.waitForFinished(60000));
+        QCOMPARE(editor.exitCode(), 2);
+        QVERIFY2(editor.readAll().contains(bad.front().toUtf8()), qPrintable(bad.join(' ')));
+        QVERIFY(!QFile::exists(m_dir->filePath("bad.png")));
+    }
     // A missing project is an error with a non-zero exit and no picture.
     const QString none = m_dir->filePath("none.png");
     editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--screenshot", none, m_dir->filePath("missing.softtouch")});
