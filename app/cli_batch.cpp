@@ -60,8 +60,6 @@ Options:
 
 int usage(const std::string& message) { return usageError(message, "batch"); }
 
-bool isVideo(const std::string& format) { return format == "mp4" || format == "gif"; }
-
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
 Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io::BatchJob& job) {
     auto project = io::loadProject(job.scene);
@@ -80,7 +78,7 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
     if (ec)
         return Status::error("cannot create '" + job.output.parent_path().string() + "': " + ec.message());
     std::vector<fs::path> files;
-    if (isVideo(job.format)) {
+    if (io::isVideoFormat(job.format)) {
         render::VideoRenderOptions options;
         options.video.output = job.output;
         options.video.format = io::videoFormatFromPath(job.output).value();

@@ -22,13 +22,6 @@ namespace {
 
 constexpr const char* kFormat = "softtouch-batch";
 constexpr const char* kStampFormat = "softtouch-batch-stamp";
-/// The video formats a job may render besides the exports of the registry (io/export_formats.h).
-constexpr std::string_view kVideoFormats[] = {"mp4", "gif"};
-
-bool isVideoFormat(std::string_view format) {
-    return std::find(std::begin(kVideoFormats), std::end(kVideoFormats), format) != std::end(kVideoFormats);
-}
-
 /// "pc2, mdd, …, lattice, mp4 or gif".
 std::string knownFormats() { return exportFormatNames(", ", ", ") + ", mp4 or gif"; }
 
@@ -37,8 +30,8 @@ std::string knownFormats() { return exportFormatNames(", ", ", ") + ", mp4 or gi
 std::string extensionOf(const std::string& format) {
     if (isVideoFormat(format))
         return "." + format;
-    const std::string_view extensions = findExportFormat(format)->extensions;
-    return std::string(extensions.substr(0, extensions.find(' ')));
+    const std::vector<std::string_view> extensions = extensionsOf(*findExportFormat(format));
+    return extensions.empty() ? std::string() : std::string(extensions.front());
 }
 
 /// FNV-1a, 64 bit: a content hash for change detection (not for security; inputs are the user's own).
@@ -99,6 +92,8 @@ std::string hashText(std::uint64_t hash) {
     std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
     return text;
 }
+
+bool isVideoFormat(std::string_view format) { return format == "mp4" || format == "gif"; }
 
 Result<BatchManifest> loadBatchManifest(const fs::path& path) {
     JsonIssues issues(path.string());

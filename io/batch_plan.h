@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace softtouch::io {
@@ -81,5 +82,9 @@ std::optional<std::vector<std::filesystem::path>> batchStampFiles(const BatchMan
 
 /// The hash as 16 hex digits.
 std::string hashText(std::uint64_t hash);
+
+/// True for the formats a job renders as video (mp4, gif); the others are exports of the registry
+/// (io/export_formats.h).
+bool isVideoFormat(std::string_view format);
 
 }  // namespace softtouch::io

@@ -48,15 +48,10 @@ std::string lowercase(std::string_view text) {
     return out;
 }
 
-/// True when the space-separated `extensions` list `extension` (lower case, with its dot).
-bool listsExtension(std::string_view extensions, std::string_view extension) {
-    while (!extensions.empty()) {
-        const std::size_t space = extensions.find(' ');
-        if (extensions.substr(0, space) == extension)
-            return true;
-        extensions = space == std::string_view::npos ? std::string_view() : extensions.substr(space + 1);
-    }
-    return false;
+/// True when `format` lists `extension` (lower case, with its dot).
+bool listsExtension(const ExportFormat& format, std::string_view extension) {
+    const std::vector<std::string_view> listed = extensionsOf(format);
+    return std::find(listed.begin(), listed.end(), extension) != listed.end();
 }
 
 std::string number(double value) {
@@ -82,6 +77,16 @@ bool isWhole(double value) { return std::floor(value) == value; }
 
 }  // namespace
 
+std::vector<std::string_view> extensionsOf(const ExportFormat& format) {
+    std::vector<std::string_view> out;
+    for (std::string_view rest = format.extensions; !rest.empty();) {
+        const std::size_t space = rest.find(' ');
+        out.push_back(rest.substr(0, space));
+        rest = space == std::string_view::npos ? std::string_view() : rest.substr(space + 1);
+    }
+    return out;
+}
+
 std::span<const ExportFormat> exportFormats() { return kFormats; }
 
 const ExportFormat* findExportFormat(std::string_view name) {
@@ -98,7 +103,7 @@ const ExportFormat* exportFormatForPath(const std::filesystem::path& path) {
     if (extension.empty())
         return nullptr;
     for (const ExportFormat& f : kFormats)
-        if (listsExtension(f.extensions, extension))
+        if (listsExtension(f, extension))
             return &f;
     return nullptr;
 }
@@ -115,15 +120,10 @@ std::string exportFormatNames(std::string_view separator, std::string_view last)
 
 std::string exportExtensions() {
     std::vector<std::string_view> seen;
-    for (const ExportFormat& f : kFormats) {
-        for (std::string_view rest = f.extensions; !rest.empty();) {
-            const std::size_t space = rest.find(' ');
-            const std::string_view one = rest.substr(0, space);
-            if (std::find(seen.begin(), seen.end(), one) == seen.end())
-                seen.push_back(one);
-            rest = space == std::string_view::npos ? std::string_view() : rest.substr(space + 1);
-        }
-    }
+    for (const ExportFormat& f : kFormats)
+        for (std::string_view e : extensionsOf(f))
+            if (std::find(seen.begin(), seen.end(), e) == seen.end())
+                seen.push_back(e);
     std::string text;
     for (std::string_view e : seen)
         text += (text.empty() ? "" : ", ") + std::string(e);
@@ -133,7 +133,7 @@ std::string exportExtensions() {
 CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path& path) {
     // A format with several extensions (pca, skin) writes what the path's extension names.
     const std::string extension = lowercase(path.extension().string());
-    if (format.extensions.find(' ') != std::string_view::npos && listsExtension(format.extensions, extension))
+    if (extensionsOf(format).size() > 1 && listsExtension(format, extension))
         if (const ExportFormat* byPath = exportFormatForPath(path))
             return byPath->writer;
     return format.writer;

@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace softtouch::io {
 
@@ -44,6 +45,9 @@ struct ExportFormat {
     bool takesBones;              ///< Accepts ExportSettings::bones.
     std::string_view help;        ///< A sentence for usage texts (wrapped by the caller).
 };
+
+/// The extensions of `format`, first the default (".glb", ".gltf"); none for a base path.
+std::vector<std::string_view> extensionsOf(const ExportFormat& format);
 
 /// Every export, in the order usage texts and the editor list them.
 std::span<const ExportFormat> exportFormats();

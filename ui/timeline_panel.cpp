@@ -269,10 +269,12 @@ QString TimelinePanel::statusText() const { return m_time->text(); }
 QStringList TimelinePanel::exportFilters() {
     QStringList filters;
     for (const io::ExportFormat& f : io::exportFormats()) {
-        const QString extensions = QString::fromUtf8(f.extensions.data(), qsizetype(f.extensions.size()));
         const QString label = QString::fromUtf8(f.label.data(), qsizetype(f.label.size()));
-        filters << (extensions.isEmpty() ? tr("%1 (base name) (*)").arg(label)
-                                         : QStringLiteral("%1 (*%2)").arg(label, QString(extensions).replace(" ", " *")));
+        QStringList patterns;
+        for (std::string_view e : io::extensionsOf(f))
+            patterns << "*" + QString::fromUtf8(e.data(), qsizetype(e.size()));
+        filters << (patterns.isEmpty() ? tr("%1 (base name) (*)").arg(label)
+                                       : QStringLiteral("%1 (%2)").arg(label, patterns.join(' ')));
     }
     return filters;
 }

@@ -294,7 +294,8 @@ void TestExports::registryDescribesEveryExport() {
         QCOMPARE(findExportFormat(name.toUpper().toStdString()), &f);
         QVERIFY2(!f.label.empty() && !f.help.empty(), qPrintable(name));
         // What the registry says an export needs is what its writer asks the bake for.
-        const fs::path path = fs::path("out/clip") += std::string(f.extensions.substr(0, f.extensions.find(' ')));
+        const std::vector<std::string_view> extensions = extensionsOf(f);
+        const fs::path path = fs::path("out/clip") += std::string(extensions.empty() ? std::string_view() : extensions.front());
         const Result<ClipExportOptions> options = exportOptions(f);
         QVERIFY2(options, options.message().c_str());
         const auto writer = makeClipWriter(exportWriter(f, path), options.value());
@@ -305,11 +306,9 @@ void TestExports::registryDescribesEveryExport() {
             for (const fs::path& out : exportOutputs(exportWriter(f, path), path))
                 QVERIFY2(out.string().starts_with(path.string() + "."), out.string().c_str());
         // Its extensions name it, or an export listed before it (.glb is glb, not pca).
-        for (std::string_view rest = f.extensions; !rest.empty();) {
-            const std::string_view one = rest.substr(0, rest.find(' '));
+        for (std::string_view one : extensionsOf(f)) {
             const ExportFormat* byPath = exportFormatForPath(fs::path("a/b") += std::string(one));
             QVERIFY2(byPath && byPath <= &f, std::string(one).c_str());
-            rest = one.size() == rest.size() ? std::string_view() : rest.substr(one.size() + 1);
         }
     }
     QCOMPARE(QString::fromStdString(exportFormatNames("|", "|")), names.join("|"));
