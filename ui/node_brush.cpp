@@ -32,6 +32,11 @@ const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintFie
     return fieldOf(material, field);
 }
 
+std::pair<double, double> paintableRange(PaintField field, MaterialModel model) {
+    const MaterialRange& range = fieldRange(field, model);
+    return {std::max(range.low, field == PaintField::Mass ? 1e-9 : 0.0), range.high};
+}
+
 const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
     const MaterialRanges& range = materialRanges(model);
     switch (field) {

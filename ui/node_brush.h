@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace softtouch::ui {
@@ -42,6 +43,9 @@ const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintFie
 const char* fieldName(PaintField field, MaterialModel model);
 /// The field's range and unit under a material model (materialRanges(), kVolumePreservationRange).
 const MaterialRange& fieldRange(PaintField field, MaterialModel model);
+/// What a brush or a typed value may set in the field: fieldRange(), with mass kept above 0 (every other
+/// field may go down to its range's low end).
+std::pair<double, double> paintableRange(PaintField field, MaterialModel model);
 /// Volume preservation scaled so its largest node value is `p`, the painted ratios kept (a map of zeros
 /// becomes `p` everywhere; p = 0 turns it off).
 void setLargestVolumePreservation(LatticeMaterial& material, double p);

@@ -509,9 +509,8 @@ void PropertiesPanel::refresh() {
                                               : tr("%n node(s)", nullptr, int(sel.size())));
         if (!sel.empty())
             setQuietly(m_selectionValue, fieldValues(o.material, field)[std::size_t(*sel.begin())]);
-        // Mass must stay above 0; every other field may be painted down to its range's low end (0).
-        const MaterialRange& range = fieldRange(field, o.material.model);
-        m_selectionValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
+        const auto [low, high] = paintableRange(field, o.material.model);
+        m_selectionValue->setRange(low, high);
         m_selectionValue->setSuffix(QString(" ") + fieldUnit(field, o.material.model));
     }
     m_refreshing = false;

@@ -201,9 +201,8 @@ void ToolOptionsBar::refresh() {
         const QSignalBlocker block(m_brushField);
         m_brushField->setCurrentIndex(m_brushField->findData(int(field)));
     }
-    // Mass must stay above 0; every other field may be painted down to its range's low end (0).
-    const MaterialRange& range = fieldRange(field, material.model);
-    m_brushValue->setRange(std::max(range.low, 1e-9 * double(field == PaintField::Mass)), range.high);
+    const auto [low, high] = paintableRange(field, material.model);
+    m_brushValue->setRange(low, high);
     m_brushValue->setSuffix(QString(" ") + fieldUnit(field, material.model));
     // A brush value in kg means nothing on a density map: when the field or what its values mean
     // changes, start the brush at twice the field's mean (paint "stiffer", "heavier").
