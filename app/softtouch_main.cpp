@@ -12,6 +12,7 @@
 #include <QDir>
 #include <QDockWidget>
 #include <QEventLoop>
+#include <QKeyEvent>
 #include <QMouseEvent>
 #include <QPushButton>
 #include <QSurfaceFormat>
@@ -20,8 +21,38 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <set>
 
 namespace {
+
+/// Types `keys` into the viewport, one key press and release each (letters, digits, '.' and '-'), as
+/// the user would with the viewport focused; false, typing nothing, for any other character.
+bool typeKeys(QWidget* viewport, const QString& keys) {
+    std::vector<std::pair<int, QString>> events;
+    for (const QChar c : keys) {
+        const QChar upper = c.toUpper();
+        if (upper >= 'A' && upper <= 'Z')
+            events.emplace_back(Qt::Key_A + (upper.unicode() - 'A'), QString(c));
+        else if (c >= '0' && c <= '9')
+            events.emplace_back(Qt::Key_0 + (c.unicode() - '0'), QString(c));
+        else if (c == '.')
+            events.emplace_back(Qt::Key_Period, QString(c));
+        else if (c == '-')
+            events.emplace_back(Qt::Key_Minus, QString(c));
+        else
+            return false;
+    }
+    for (const auto& [key, text] : events) {
+        QKeyEvent press(QEvent::KeyPress, key, Qt::NoModifier, text);
+        QKeyEvent release(QEvent::KeyRelease, key, Qt::NoModifier, text);
+        QApplication::sendEvent(viewport, &press);
+        QApplication::sendEvent(viewport, &release);
+    }
+    return true;
+}
+
+/// The names --tool takes: the tool actions' labels, lower case.
+constexpr const char* kToolNames = "drag, paint, anchor, void, select, pose, lattice or collider";
 
 /// A scripted mouse gesture for pictures of the drag tool: press on the tail, move, hold while the
 /// body follows, all recorded as a take (the same events a person's mouse sends).
@@ -107,11 +138,15 @@ int main(int argc, char** argv) {
     const QCommandLineOption autosaveFolder("autosave-folder", "Where autosaves go (default: the user's data folder).", "DIR");
     const QCommandLineOption autosaveSeconds("autosave-seconds", "Seconds between autosaves (default 60).", "S", "60");
     const QCommandLineOption noRecovery("no-recovery", "Do not offer an autosave left by a previous run.");
-    const QCommandLineOption toolOption("tool", "The active tool: drag, paint, anchor, void, select, lattice or collider "
-                                                "(with --screenshot: its settings show in the tool options bar).", "NAME");
+    const QCommandLineOption toolOption("tool", QString("The active tool: %1 (with --screenshot: its settings show in the "
+                                                        "tool options bar).").arg(kToolNames), "NAME");
+    const QCommandLineOption selectOption("select", "With --screenshot: select these lattice nodes of the first object "
+                                                    "(indices, comma-separated).", "NODES");
+    const QCommandLineOption keysOption("keys", "With --screenshot: type these keys into the viewport last, e.g. 'rz30' "
+                                                "(the pose tool's rotate about Z, 30°, shown under way).", "KEYS");
     const QCommandLineOption windowSize("window", "With --screenshot: the window's size, e.g. 1280x800.", "WxH");
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
-                       autosaveSeconds, noRecovery, toolOption, windowSize});
+                       autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -151,8 +186,7 @@ int main(int argc, char** argv) {
         const QString name = parser.value(toolOption);
         auto* action = window.findChild<QAction*>("tool" + name.left(1).toUpper() + name.mid(1).toLower());
         if (!action) {
-            std::fprintf(stderr, "softtouch: error: --tool must be drag, paint, anchor, void, select, lattice or "
-                                 "collider, got '%s'\n", qPrintable(name));
+            std::fprintf(stderr, "softtouch: error: --tool must be %s, got '%s'\n", kToolNames, qPrintable(name));
             return 2;
         }
         action->trigger();
@@ -209,6 +243,27 @@ int main(int argc, char** argv) {
             window.study()->measure();
             if (window.study()->isMeasuring())
                 loop.exec();
+        }
+        if (parser.isSet(selectOption)) {
+            std::set<int> nodes;
+            const auto* sim = window.simulation()->simulation();
+            const int count = sim ? int(sim->simulator(0).state().position.size()) : 0;
+            for (const QString& item : parser.value(selectOption).split(',')) {
+                bool ok = false;
+                const int n = item.trimmed().toInt(&ok);
+                if (!ok || n < 0 || n >= count) {
+                    std::fprintf(stderr, "softtouch: error: --select expects node indices from 0 to %d, got '%s'\n",
+                                 count - 1, qPrintable(item));
+                    return 2;
+                }
+                nodes.insert(n);
+            }
+            window.viewport()->setSelection(nodes);
+        }
+        if (parser.isSet(keysOption) && !typeKeys(window.viewport(), parser.value(keysOption))) {
+            std::fprintf(stderr, "softtouch: error: --keys takes letters, digits, '.' and '-', got '%s'\n",
+                         qPrintable(parser.value(keysOption)));
+            return 2;
         }
         QApplication::processEvents();
         window.refreshStatus();

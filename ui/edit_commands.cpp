@@ -77,4 +77,11 @@ bool LatticeEditCommand::mergeWith(const QUndoCommand* other) {
     return true;
 }
 
+PoseEditCommand::PoseEditCommand(SimulationController* simulation, int object, std::vector<Vec3> before,
+                                 std::vector<Vec3> after, const QString& text)
+    : QUndoCommand(text), m_simulation(simulation), m_object(object), m_before(std::move(before)), m_after(std::move(after)) {}
+
+void PoseEditCommand::undo() { m_simulation->setObjectPose(m_object, m_before); }
+void PoseEditCommand::redo() { m_simulation->setObjectPose(m_object, m_after); }
+
 }  // namespace softtouch::ui

@@ -5,6 +5,7 @@
 /// run of edits of the same property.
 
 #include "ui/document.h"
+#include "ui/simulation_controller.h"
 
 #include <QUndoCommand>
 
@@ -104,6 +105,23 @@ private:
     Lattice m_after;
     LatticeMaterial m_afterMaterial;
     int m_mergeKey;
+};
+
+/// Poses an object's lattice nodes (G/R/S in the viewport, ui/node_transform.h). The pose is the running
+/// simulation's state, not the document's, but it is the user's work like any edit, so Ctrl+Z takes it back;
+/// a pose whose lattice has since been replaced (another node count) is left alone.
+class PoseEditCommand : public QUndoCommand {
+public:
+    PoseEditCommand(SimulationController* simulation, int object, std::vector<Vec3> before, std::vector<Vec3> after,
+                    const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    SimulationController* m_simulation;
+    int m_object;
+    std::vector<Vec3> m_before;
+    std::vector<Vec3> m_after;
 };
 
 }  // namespace softtouch::ui

@@ -93,6 +93,8 @@ bool KeyframePanel::edit(const QString& text, const std::function<Status(Keyfram
     return true;
 }
 
+double KeyframePanel::keyTime() const { return m_time->value(); }
+
 bool KeyframePanel::keyPose(double seconds) {
     const SceneSimulation* sim = m_simulation->simulation();
     const auto object = std::size_t(m_viewport->currentObject());

@@ -28,6 +28,8 @@ public:
 
     /// Keys of the current object, in time order.
     std::vector<LatticeKey> keys() const;
+    /// The time the panel's buttons key at (its Key time field), seconds.
+    double keyTime() const;
     /// Keys the current pose at `seconds` (the selected nodes, or all). Returns false with the reason shown.
     bool keyPose(double seconds);
     /// Moves (copy = false) or copies key `index` to `seconds`.

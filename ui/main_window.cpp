@@ -224,6 +224,9 @@ void MainWindow::buildActions() {
         {tr("Anchor"), Tool::Anchor, "A", tr("Click a node to pin it (or make it heavy); drag a box for many, Ctrl+box clears.")},
         {tr("Void"), Tool::Void, "V", tr("Click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")},
         {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")},
+        {tr("Pose"), Tool::Pose, "T",
+         tr("Pose the lattice: select nodes, then G moves, R rotates, S scales (X/Y/Z hold an axis, type an amount, "
+            "Enter applies), or drag a gizmo arrow; I keys the pose.")},
         {tr("Lattice"), Tool::Lattice, "L", tr("Drag to move the lattice box; Shift+drag scales it, Ctrl+drag turns it.")},
         {tr("Collider"), Tool::Collider, "C",
          tr("Drag a collider to move it; Shift+drag scales it, Delete removes it (Edit ▸ Add Collider adds one).")}};
@@ -261,7 +264,12 @@ void MainWindow::buildActions() {
     QAction* record = new QAction(tr("Record"), this);
     record->setShortcut(QKeySequence(tr("Ctrl+R")));
     connect(record, &QAction::triggered, m_timeline, &TimelinePanel::toggleRecording);
-    for (QAction* a : {play, step, reset, record}) {
+    QAction* keyPose = new QAction(tr("Key Pose"), this);
+    keyPose->setObjectName("actionKeyPose");
+    keyPose->setShortcut(QKeySequence(Qt::Key_I));
+    keyPose->setToolTip(tr("Key the current pose (the selected nodes, or all) at the Keys dock's time (I)."));
+    connect(keyPose, &QAction::triggered, m_keyframes, [this] { m_keyframes->keyPose(m_keyframes->keyTime()); });
+    for (QAction* a : {play, step, reset, record, keyPose}) {
         simBar->addAction(a);
         simMenu->addAction(a);
     }
@@ -279,7 +287,7 @@ void MainWindow::buildActions() {
     shortcuts->setShortcut(QKeySequence(Qt::Key_F1));
     connect(shortcuts, &QAction::triggered, this, [this] {
         QString html = "<table cellspacing=6>";
-        for (const auto& [what, keys] : shortcutTable())
+        for (const auto& [what, keys] : shortcutTable() + m_viewport->keyTable())
             html += "<tr><td>" + what.toHtmlEscaped() + "</td><td><b>" + keys.toHtmlEscaped() + "</b></td></tr>";
         QMessageBox box(QMessageBox::NoIcon, tr("Keyboard Shortcuts"), html + "</table>", QMessageBox::Close, this);
         box.exec();

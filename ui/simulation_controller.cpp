@@ -202,6 +202,21 @@ void SimulationController::showPose(const std::vector<std::vector<Vec3>>& nodes,
     emit stepped();
 }
 
+bool SimulationController::setObjectPose(int object, const std::vector<Vec3>& nodes) {
+    if (!m_sim || object < 0 || std::size_t(object) >= m_sim->objectCount())
+        return false;
+    SceneSimulation::Snapshot pose = m_sim->saveSnapshot();
+    BodyState& body = pose.bodies[std::size_t(object)];
+    if (nodes.size() != body.position.size())
+        return false;
+    pause();
+    body.position = nodes;
+    std::fill(body.velocity.begin(), body.velocity.end(), Vec3::Zero());
+    m_sim->restoreSnapshot(pose);
+    emit stepped();
+    return true;
+}
+
 void SimulationController::setDriversEnabled(bool enabled) {
     if (enabled == m_driversEnabled)
         return;

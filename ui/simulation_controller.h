@@ -69,6 +69,11 @@ public:
     /// `seconds` >= 0 also moves the scene's time there (a clip's frame: what a base animation shows).
     void showPose(const std::vector<std::vector<Vec3>>& nodes, double seconds = -1.0);
 
+    /// Pauses and puts object i's lattice nodes at `nodes`, at rest (posing, ui/node_transform.h); the other
+    /// objects stay as they are. Play continues the simulation from the pose. False (and nothing changes)
+    /// when there is no such object or the node count differs (the lattice was replaced meanwhile).
+    bool setObjectPose(int object, const std::vector<Vec3>& nodes);
+
     /// Advances the simulation by `seconds` now (what a timer tick does; tests call it directly).
     void advance(double seconds);
 

@@ -6,6 +6,7 @@
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QPushButton>
 #include <QSignalBlocker>
 #include <QStackedWidget>
 
@@ -48,6 +49,7 @@ ToolOptionsBar::ToolOptionsBar(Document* document, Viewport* viewport, QWidget* 
     page(Tool::Anchor, buildAnchorPage());
     page(Tool::Void, hintPage(tr("Void: click a node to remove it and its springs; drag a box for many, Ctrl+box clears.")));
     page(Tool::Select, hintPage(tr("Select: click or drag a box; Shift adds. Set values and smooth in Properties ▸ Selected nodes.")));
+    page(Tool::Pose, buildPosePage());
     page(Tool::Lattice, hintPage(tr("Lattice: drag to move the box; Shift+drag scales it, Ctrl+drag turns it.")));
     page(Tool::Collider, hintPage(tr("Collider: drag to move; Shift+drag scales, Delete removes. Edit ▸ Add Collider adds one.")));
     addWidget(m_pages);
@@ -168,6 +170,18 @@ QWidget* ToolOptionsBar::buildAnchorPage() {
     Row row;
     row.add(tr("Anchor"), m_anchorMode);
     row.add(QString(), new QLabel(tr("Click a node, or drag a box; Ctrl+box clears.")));
+    return row.page();
+}
+
+QWidget* ToolOptionsBar::buildPosePage() {
+    auto* rest = new QPushButton(tr("Selected to rest"));
+    rest->setObjectName("poseToRest");
+    rest->setToolTip(tr("Put the selected nodes (all when none is selected) back at their rest positions: one undo step."));
+    connect(rest, &QPushButton::clicked, m_viewport, &Viewport::restSelection);
+    Row row;
+    row.add(QString(), new QLabel(tr("Pose: select nodes, then G move · R rotate · S scale; X/Y/Z hold an axis, type an "
+                                     "amount, Enter applies, Esc cancels; or drag a gizmo arrow. I keys the pose.")));
+    row.add(QString(), rest);
     return row.page();
 }
 

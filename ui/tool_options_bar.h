@@ -30,6 +30,7 @@ private:
     QWidget* buildDragPage();
     QWidget* buildPaintPage();
     QWidget* buildAnchorPage();
+    QWidget* buildPosePage();
     QWidget* hintPage(const QString& text);
     void showTool(Tool tool);
     /// The brush value's range and unit for the field and material shown, and a value offered in that

@@ -49,6 +49,25 @@ private:
     std::function<std::vector<std::pair<QPointF, QPointF>>()> m_lines;
 };
 
+/// The pose tool's gizmo and the caption of a transform under way (Viewport::drawGizmo), over the GL
+/// picture as a child widget: painting over the GL frame itself would meet the renderer's GL state.
+class PoseOverlay : public QWidget {
+public:
+    PoseOverlay(QWidget* parent, std::function<void(QPainter&)> draw) : QWidget(parent), m_draw(std::move(draw)) {
+        setAttribute(Qt::WA_TransparentForMouseEvents);
+        setAttribute(Qt::WA_NoSystemBackground);
+    }
+
+protected:
+    void paintEvent(QPaintEvent*) override {
+        QPainter painter(this);
+        m_draw(painter);
+    }
+
+private:
+    std::function<void(QPainter&)> m_draw;
+};
+
 /// While a take is recorded: a red frame around the view and "● REC" with the take's length, so
 /// nobody records without knowing (or forgets to stop). A child widget over the GL picture.
 class RecordingCue : public QWidget {
@@ -146,10 +165,13 @@ Viewport::Viewport(Document* document, SimulationController* simulation, QWidget
         return lines;
     });
     connect(simulation, &SimulationController::stepped, m_grabIndicator, qOverload<>(&QWidget::update));
+    m_poseOverlay = new PoseOverlay(this, [this](QPainter& painter) { drawGizmo(painter); });
+    connect(simulation, &SimulationController::stepped, m_poseOverlay, qOverload<>(&QWidget::update));
     connect(document, &Document::materialChanged, this, &Viewport::updateLegend);
     connect(document, &Document::sceneReplaced, this, &Viewport::updateLegend);
     connect(simulation, &SimulationController::stepped, this, qOverload<>(&QWidget::update));
     connect(simulation, &SimulationController::rebuilt, this, [this] {
+        m_transform.reset();  // its start belongs to the simulation that was replaced
         m_sceneDirty = true;
         update();
     });
@@ -183,6 +205,7 @@ Viewport::Viewport(Document* document, SimulationController* simulation, QWidget
     });
     connect(document, &Document::sceneReplaced, this, &Viewport::stopModeView);
     connect(document, &Document::latticeChanged, this, &Viewport::stopModeView);
+    m_keys = keyBindings();
     frameAll();
 }
 
@@ -207,6 +230,7 @@ void Viewport::initializeGL() {
 void Viewport::resizeGL(int, int) {
     m_recordingCue->setGeometry(rect());
     m_grabIndicator->resize(size());
+    m_poseOverlay->resize(size());
     updateLegend();
 }
 
@@ -284,6 +308,7 @@ void Viewport::paintGL() {
         painter.setPen(QPen(QColor(255, 220, 80), 1, Qt::DashLine));
         painter.drawRect(QRectF(m_pressPos, m_lastPos).normalized());
     }
+    m_poseOverlay->update();  // the gizmo follows the camera and the selection (it draws nothing outside the pose tool)
     const double ms = double(timer.nsecsElapsed()) * 1e-6;
     m_frameMs = m_frameMs == 0.0 ? ms : 0.9 * m_frameMs + 0.1 * ms;
 }
@@ -486,6 +511,13 @@ Viewport::Gesture Viewport::navigationFor(const QMouseEvent* event) const {
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_pressPos = m_lastPos = event->position();
     m_pressModifiers = event->modifiers();
+    if (m_transform && m_gesture != Gesture::Gizmo) {  // G/R/S under way: a click applies, a right-click cancels
+        if (event->button() == Qt::LeftButton)
+            applyTransform();
+        else if (event->button() == Qt::RightButton)
+            cancelTransform();
+        return;
+    }
     m_gesture = navigationFor(event);
     if (m_gesture != Gesture::None || event->button() != Qt::LeftButton)
         return;
@@ -499,6 +531,15 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     case Tool::Anchor:
     case Tool::Void:
     case Tool::Select: m_gesture = Gesture::Box; break;
+    case Tool::Pose:
+        // On a gizmo arrow: move along that axis while the button is held; elsewhere: select.
+        if (const int arrow = gizmoArrowAt(event->position()); arrow >= 0 && beginTransform(TransformKind::Move, event->position())) {
+            m_transform->toggleAxis(TransformAxis(arrow + 1));
+            m_gesture = Gesture::Gizmo;
+        } else {
+            m_gesture = Gesture::Box;
+        }
+        break;
     case Tool::Lattice:
         m_gesture = Gesture::Place;
         m_strokeKey = m_nextStrokeKey++;
@@ -517,6 +558,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     const QPointF pos = event->position();
     const QPointF delta = pos - m_lastPos;
     m_lastPos = pos;
+    if (m_transform && (m_gesture == Gesture::None || m_gesture == Gesture::Gizmo)) {
+        updateTransform(pos);
+        return;
+    }
     switch (m_gesture) {
     case Gesture::Orbit: m_camera.orbit(delta.x(), delta.y()); break;
     case Gesture::Pan: m_camera.pan(delta.x(), delta.y(), height()); break;
@@ -526,6 +571,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     case Gesture::Place: placeLattice(pos - delta, pos); break;
     case Gesture::MoveCollider: moveCollider(pos - delta, pos); break;
     case Gesture::Box: break;
+    case Gesture::Gizmo:
     case Gesture::None: return;
     }
     update();
@@ -537,6 +583,8 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
         return;
     if (m_gesture == Gesture::Drag && m_dragSlot == 0)
         m_simulation->setGrab(0, std::nullopt);  // release: the body swings free
+    if (m_gesture == Gesture::Gizmo)
+        applyTransform();
     if (m_gesture == Gesture::Box) {
         const bool click = (event->position() - m_pressPos).manhattanLength() < 4.0;
         std::vector<int> nodes;
@@ -547,7 +595,7 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
             nodes = nodesInRect(QRectF(m_pressPos, event->position()).normalized());
         }
         applyNodeTool(nodes, click ? false : bool(m_pressModifiers & Qt::ControlModifier));
-        if (click && nodes.empty() && m_tool == Tool::Select)
+        if (click && nodes.empty() && (m_tool == Tool::Select || m_tool == Tool::Pose))
             setSelection({});
     }
     m_gesture = Gesture::None;
@@ -575,24 +623,6 @@ void Viewport::tabletEvent(QTabletEvent* event) {
         m_simulation->setGrab(0, g);
     }
     event->ignore();
-}
-
-void Viewport::keyPressEvent(QKeyEvent* event) {
-    switch (event->key()) {
-    case Qt::Key_F: frameSelection(); break;
-    case Qt::Key_Delete:
-    case Qt::Key_Backspace:
-        if (m_tool != Tool::Collider || m_collider < 0) {
-            QOpenGLWidget::keyPressEvent(event);
-            return;
-        }
-        deleteCollider();
-        break;
-    case Qt::Key_1: viewFront(); break;
-    case Qt::Key_3: viewSide(); break;
-    case Qt::Key_7: viewTop(); break;
-    default: QOpenGLWidget::keyPressEvent(event); return;
-    }
 }
 
 void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
@@ -769,7 +799,7 @@ void Viewport::deleteCollider() {
 }
 
 void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {
-    if (m_tool == Tool::Select) {
+    if (m_tool == Tool::Select || m_tool == Tool::Pose) {
         std::set<int> selection = (m_pressModifiers & Qt::ShiftModifier) ? m_selection : std::set<int>{};
         selection.insert(nodes.begin(), nodes.end());
         setSelection(selection);
@@ -807,6 +837,7 @@ void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {
 void Viewport::setTool(Tool tool) {
     if (tool == m_tool)
         return;
+    cancelTransform();
     m_tool = tool;
     emit toolChanged(tool);
     update();
@@ -837,6 +868,7 @@ void Viewport::setBrushField(PaintField field) {
 }
 
 void Viewport::setCurrentObject(int object) {
+    cancelTransform();
     if (m_modeView && m_modeView->object != object)
         stopModeView();
     m_object = object;

@@ -3,7 +3,9 @@
 /// lattice nodes each frame), the lattice overlay and the collision planes, and turns the mouse and
 /// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
 /// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
-/// (click or box), select (for numeric entry, fill and smooth), lattice (move the box in the view
+/// (click or box), select (for numeric entry, fill and smooth), pose (select nodes, then G/R/S with
+/// axis keys and typed amounts, or drag an arrow of the gizmo: ui/node_transform.h; one transform is one
+/// undo step), lattice (move the box in the view
 /// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step), collider
 /// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it). The mode
 /// view animates one object's lattice in one of its vibration modes, for display only.
@@ -11,12 +13,15 @@
 #include "core/modes.h"
 #include "render/mesh_renderer.h"
 #include "ui/node_brush.h"
+#include "ui/node_transform.h"
 #include "ui/orbit_camera.h"
 #include "ui/simulation_controller.h"
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
 #include <QTimer>
+
+#include <functional>
 
 #include <map>
 #include <optional>
@@ -27,7 +32,7 @@ class QLabel;
 namespace softtouch::ui {
 
 /// What the left mouse button does.
-enum class Tool { Drag, Paint, Anchor, Void, Select, Lattice, Collider };
+enum class Tool { Drag, Paint, Anchor, Void, Select, Pose, Lattice, Collider };
 
 /// Which camera conventions the mouse follows.
 enum class NavigationStyle {
@@ -46,6 +51,7 @@ struct DragToolSettings {
 /// OpenGL viewport of one document.
 class ValueLegend;
 class GrabIndicator;
+class PoseOverlay;
 
 class Viewport : public QOpenGLWidget {
     Q_OBJECT
@@ -66,6 +72,29 @@ public:
     int currentObject() const { return m_object; }
     /// The collider the collider tool last picked (index into world.colliders), -1 when none.
     int currentCollider() const { return m_collider; }
+    /// The transform under way (G, R or S pressed and neither applied nor cancelled yet), or nullptr.
+    const NodeTransform* transform() const { return m_transform ? &*m_transform : nullptr; }
+    /// Starts a transform of the selected nodes of the current object (the pose tool's G, R and S), with
+    /// the cursor at `cursor`: the mouse drives it from there. False when nothing is selected.
+    bool beginTransform(TransformKind kind, const QPointF& cursor);
+    /// Applies the transform under way as one undo step ("Move 4 nodes").
+    void applyTransform();
+    /// Puts the nodes back where the transform found them.
+    void cancelTransform();
+    /// Puts the selected nodes of the current object (every node when none is selected) back at their rest
+    /// positions, as one undo step (Blender's Alt+G, R and S at once).
+    void restSelection();
+    /// The gizmo's arrow tips on screen (X, Y, Z), from the selection's centre; empty when the pose tool
+    /// has nothing selected.
+    std::vector<QPointF> gizmoTips() const;
+    /// The selected nodes' centre on screen (where the gizmo's arrows start).
+    QPointF gizmoCentre() const;
+
+    /// The keys the viewport handles itself (view, pose and transform keys: they act on the view, so they
+    /// are not window shortcuts), as (what, keys) rows for Help ▸ Keyboard Shortcuts. The same table
+    /// dispatches them (ui/viewport_keys.cpp), so the help cannot drift from what the keys do.
+    QList<QPair<QString, QString>> keyTable() const;
+
     /// Mean time to draw a frame, milliseconds (CPU side, including the node upload).
     double frameMilliseconds() const { return m_frameMs; }
     /// Why the viewport cannot draw (no OpenGL 3.3, shader error); empty when it can.
@@ -149,9 +178,12 @@ protected:
     void wheelEvent(QWheelEvent* event) override;
     void tabletEvent(QTabletEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
+    /// Claims the keys a transform or the pose tool uses (G, R, S, X, Y, Z, digits, Enter, Esc) before the
+    /// window's shortcuts (S is the select tool's) take them.
+    bool event(QEvent* event) override;
 
 private:
-    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place, MoveCollider };
+    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place, MoveCollider, Gizmo };
     void uploadScene();
 public slots:
     /// Shows the painted field's range (call after changing brush().field).
@@ -173,6 +205,20 @@ private:
     void moveCollider(const QPointF& from, const QPointF& to);
     void deleteCollider();
     void applyNodeTool(const std::vector<int>& nodes, bool clear);
+    /// Feeds the cursor at `pos` to the transform under way and shows its pose.
+    void updateTransform(const QPointF& pos);
+    /// One key binding of the viewport (see keyTable()).
+    struct KeyBinding {
+        std::vector<int> keys;   ///< Qt::Key values that trigger it (without Ctrl, Alt or Meta).
+        QString shown;           ///< The keys as the help shows them.
+        QString what;            ///< What they do.
+        bool duringTransform;    ///< Active while G/R/S is under way (and only then).
+        std::function<bool(QKeyEvent*)> run;  ///< False: not applicable now; the key goes on to the window.
+    };
+    std::vector<KeyBinding> keyBindings();
+    /// The gizmo arrow (0 X, 1 Y, 2 Z) within a few pixels of `pos`, -1 when none.
+    int gizmoArrowAt(const QPointF& pos) const;
+    void drawGizmo(QPainter& painter) const;
     std::vector<int> nodesInRect(const QRectF& rect) const;
     int grabSlotDragged() const { return m_dragSlot; }
 
@@ -211,6 +257,12 @@ private:
     ValueLegend* m_legend = nullptr;
     std::map<PaintField, std::pair<double, double>> m_fixedColourRanges;  ///< See setColourRange().
     GrabIndicator* m_grabIndicator = nullptr;
+    PoseOverlay* m_poseOverlay = nullptr;      ///< Draws the gizmo and the transform's caption.
+    std::vector<KeyBinding> m_keys;            ///< keyBindings(), made once.
+    std::optional<NodeTransform> m_transform;  ///< G/R/S under way (see beginTransform()).
+    QPointF m_transformCursor;                 ///< Where the cursor was when it began.
+    double m_transformTurn = 0.0;              ///< Rotate: the angle swept round the pivot so far, radians.
+    double m_transformLastAngle = 0.0;         ///< Rotate: the cursor's screen angle at the last move.
 
     /// What the mode view shows (see showMode()).
     struct ModeView {

@@ -42,6 +42,8 @@
 #include <QTimer>
 #include <QtTest/QtTest>
 
+#include <Eigen/Geometry>
+
 #include <memory>
 #include <numbers>
 
@@ -159,6 +161,7 @@ private slots:
     void importAnimatedMeshAddsAFollowingObject();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
+    void poseToolMovesRotatesScalesAndKeys();
     void colliderToolAddsMovesScalesAndDeletes();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -854,6 +857,147 @@ void TestEditor::latticeToolMovesAndScalesTheBox() {
     w.document()->undoStack()->undo();
     w.document()->undoStack()->undo();
     QVERIFY(w.document()->scene().objects[0].lattice.box().origin == before.origin);
+}
+
+// The pose tool (#15 item 2), driven by the keys and the mouse: a click selects a node; G X 0.1 Enter moves
+// it 0.1 m along X as one undo step; R Z 90 and S 2 turn and scale a selection about its centre (S scales
+// rather than picking the select tool); G and the mouse move nodes with the cursor in the view plane, Esc
+// puts them back, a click applies; dragging the gizmo's X arrow moves along X only; I keys the pose and the
+// key holds it; Play lets physics take over; undo takes every pose back to rest.
+void TestEditor::poseToolMovesRotatesScalesAndKeys() {
+    MainWindow& w = *m_window;
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    Viewport* view = w.viewport();
+    SimulationController* sim = w.simulation();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    sim->reset();
+    w.findChild<QAction*>("toolPose")->trigger();
+    QCOMPARE(view->tool(), Tool::Pose);
+    QCOMPARE(w.findChild<ToolOptionsBar*>()->shownTool(), Tool::Pose);
+    view->setFocus();
+    const auto nodes = [&] { return sim->simulation()->simulator(0).state().position; };
+    const std::vector<Vec3> rest = nodes();
+    const int undo0 = undo->index();
+    const auto onlyMoved = [&](const std::vector<Vec3>& now, const std::vector<Vec3>& before, const std::set<int>& moved) {
+        for (std::size_t m = 0; m < now.size(); ++m)
+            if (!moved.count(int(m)) && now[m] != before[m])
+                return false;
+        return true;
+    };
+
+    // A click selects; G, X, 0.1, Enter.
+    const int n = isolatedNode(w, 0);
+    QVERIFY(n >= 0);
+    QTest::mouseClick(view, Qt::LeftButton, {}, screenOfNode(w, n));
+    QCOMPARE(view->selection(), std::set<int>{n});
+    QTest::mouseMove(view, view->rect().center());
+    QTest::keyClick(view, Qt::Key_G);
+    QVERIFY(view->transform());
+    QTest::keyClick(view, Qt::Key_X);
+    QTest::keyClicks(view, "0.1");
+    QTest::keyClick(view, Qt::Key_Return);
+    QVERIFY(!view->transform());
+    std::vector<Vec3> posed = nodes();
+    QVERIFY2((posed[std::size_t(n)] - rest[std::size_t(n)] - Vec3(0.1, 0, 0)).norm() < 1e-12,
+             qPrintable(QString("moved by %1").arg((posed[std::size_t(n)] - rest[std::size_t(n)]).norm())));
+    QVERIFY(onlyMoved(posed, rest, {n}));
+    QCOMPARE(undo->index(), undo0 + 1);
+    QCOMPARE(undo->undoText(), QString("Move 1 node"));
+
+    // R Z 90 and S 2 about the selection's centre.
+    const std::set<int> four = {0, 1, 4, 5};
+    view->setSelection(four);
+    Vec3 pivot = Vec3::Zero();
+    for (int m : four)
+        pivot += posed[std::size_t(m)] / 4.0;
+    QTest::keyClick(view, Qt::Key_R);
+    QTest::keyClick(view, Qt::Key_Z);
+    QTest::keyClicks(view, "90");
+    QTest::keyClick(view, Qt::Key_Return);
+    const Mat3 quarter = Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()).toRotationMatrix();
+    std::vector<Vec3> turned = nodes();
+    for (int m : four)
+        QVERIFY((turned[std::size_t(m)] - pivot - quarter * (posed[std::size_t(m)] - pivot)).norm() < 1e-12);
+    QVERIFY(onlyMoved(turned, posed, four));
+    QTest::keyClick(view, Qt::Key_S);
+    QCOMPARE(view->tool(), Tool::Pose);  // S scaled; it did not pick the select tool
+    QTest::keyClick(view, Qt::Key_2);
+    QTest::keyClick(view, Qt::Key_Enter);
+    std::vector<Vec3> scaled = nodes();
+    for (int m : four)
+        QVERIFY((scaled[std::size_t(m)] - pivot - 2.0 * (turned[std::size_t(m)] - pivot)).norm() < 1e-12);
+    QCOMPARE(undo->index(), undo0 + 3);
+
+    // The mouse: the node follows the cursor 40 px to the right in the view plane; Esc puts it back.
+    view->setSelection({n});
+    const QPoint from = view->rect().center();
+    QTest::mouseMove(view, from);
+    const QPointF shownBefore = view->toWidget(scaled[std::size_t(n)]);
+    QTest::keyClick(view, Qt::Key_G);
+    QTest::mouseMove(view, from + QPoint(20, 0));
+    QTest::mouseMove(view, from + QPoint(40, 0));
+    const QPointF shownDuring = view->toWidget(nodes()[std::size_t(n)]);
+    QVERIFY2(std::abs(shownDuring.x() - shownBefore.x() - 40.0) < 1.0 && std::abs(shownDuring.y() - shownBefore.y()) < 1.0,
+             qPrintable(QString("moved on screen by %1, %2").arg(shownDuring.x() - shownBefore.x()).arg(shownDuring.y() - shownBefore.y())));
+    QTest::keyClick(view, Qt::Key_Escape);
+    QVERIFY(!view->transform());
+    QVERIFY(nodes() == scaled);
+    QCOMPARE(undo->index(), undo0 + 3);
+    QTest::mouseMove(view, from);
+    QTest::keyClick(view, Qt::Key_G);
+    QTest::mouseMove(view, from + QPoint(40, 0));
+    QTest::mouseClick(view, Qt::LeftButton, {}, from + QPoint(40, 0));  // a click applies
+    QVERIFY(!view->transform());
+    QCOMPARE(undo->index(), undo0 + 4);
+    const std::vector<Vec3> dragged = nodes();
+    QVERIFY(std::abs(view->toWidget(dragged[std::size_t(n)]).x() - shownBefore.x() - 40.0) < 1.0);
+
+    // The gizmo: dragging its X arrow moves the node along X only.
+    const std::vector<QPointF> tips = view->gizmoTips();
+    QCOMPARE(tips.size(), std::size_t(3));
+    const QPointF centre = view->gizmoCentre();
+    const QPointF along = tips[0] - centre;
+    QVERIFY(std::hypot(along.x(), along.y()) > 20.0);
+    const QPoint grab = (centre + 0.8 * along).toPoint();
+    const QPoint pulled = (centre + 1.6 * along).toPoint();
+    QTest::mousePress(view, Qt::LeftButton, {}, grab);
+    QVERIFY(view->transform() && view->transform()->axis() == TransformAxis::X);
+    QTest::mouseMove(view, (grab + pulled) / 2);
+    QTest::mouseMove(view, pulled);
+    QTest::mouseRelease(view, Qt::LeftButton, {}, pulled);
+    const std::vector<Vec3> gizmoed = nodes();
+    const Vec3 step = gizmoed[std::size_t(n)] - dragged[std::size_t(n)];
+    QVERIFY2(step.x() > 1e-3 && std::abs(step.y()) < 1e-12 && std::abs(step.z()) < 1e-12,
+             qPrintable(QString("moved by %1, %2, %3").arg(step.x()).arg(step.y()).arg(step.z())));
+    QCOMPARE(undo->index(), undo0 + 5);
+
+    // I keys the pose of the selection at the Keys dock's time; the key holds it.
+    QTest::keyClick(view, Qt::Key_I);
+    const std::vector<LatticeKey> keyed = w.keyframes()->keys();
+    QCOMPARE(keyed.size(), std::size_t(1));
+    QCOMPARE(keyed[0].nodes.size(), std::size_t(1));
+    const NamedKeyframes* set = w.document()->project().clips.findKeyframes(KeyframePanel::kSetName);
+    QVERIFY(set);
+    const std::vector<Vec3> restNodes = w.document()->scene().objects[0].lattice.restNodes();
+    QVERIFY((set->objects[0].pose(keyed[0].seconds, restNodes)[std::size_t(n)] - gizmoed[std::size_t(n)]).norm() < 1e-9);
+    QCOMPARE(undo->index(), undo0 + 6);
+
+    // The viewport's keys are in Help ▸ Keyboard Shortcuts, read from the table that dispatches them.
+    bool listed = false;
+    for (const auto& [what, keys] : view->keyTable())
+        listed = listed || (what.contains("move the selected nodes") && keys == "G");
+    QVERIFY(listed);
+
+    // Physics takes over from the pose: the stretched node is pulled back.
+    sim->advance(0.05);
+    QVERIFY((nodes()[std::size_t(n)] - gizmoed[std::size_t(n)]).norm() > 1e-4);
+    // Undo takes every step back: the key, then each pose, to rest.
+    while (undo->index() > undo0)
+        undo->undo();
+    QVERIFY(w.keyframes()->keys().empty());
+    QVERIFY(nodes() == rest);
 }
 
 // Edit ▸ Add Collider puts a sphere below the fish and picks the collider tool; dragging it moves it with the
