@@ -447,10 +447,59 @@ std::optional<AnimationRequest> readAnimationRequest(const JsonValue& a, FollowS
     return request;
 }
 
+/// An object's "restShape": the edits of its rest shape (core/rest_shape.h), each the lattice it was made on
+/// (with its box) and the posed nodes, replayed in order over the mesh as read and placed. False, with the
+/// problem recorded, when one is malformed or cannot apply.
+bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShapeEdit>& edits) {
+    if (!v.exists())
+        return true;
+    if (object.baseAnimation) {
+        v.problem("an object on its own animation takes its rest shape from the animation; remove \"restShape\"");
+        return false;
+    }
+    if (!v.isArray()) {
+        v.problem("expected an array of edits [{\"lattice\": {\"kind\", \"nodes\", \"box\"}, \"nodes\": [[x, y, z], ...]}]");
+        return false;
+    }
+    for (std::size_t e = 0; e < v.size(); ++e) {
+        const JsonValue item = v.at(e);
+        if (!item.expectObject(true))
+            return false;
+        item.checkKeys({"lattice", "nodes"});
+        if (!item["lattice"]["box"].exists()) {
+            item["lattice"].problem("expected the \"box\" the edit was made on");
+            return false;
+        }
+        const auto lattice = readLattice(item["lattice"], object.mesh);
+        if (!lattice)
+            return false;
+        RestShapeEdit edit;
+        edit.shape = lattice->shape();
+        edit.box = lattice->box();
+        const JsonValue nodes = item["nodes"];
+        if (nodes.size() != std::size_t(lattice->nodeCount())) {
+            nodes.problem("expected " + std::to_string(lattice->nodeCount()) + " node positions [x, y, z], one per node of the lattice");
+            return false;
+        }
+        for (std::size_t n = 0; n < nodes.size(); ++n) {
+            const auto x = nodes.at(n).vec3(true);
+            if (!x)
+                return false;
+            edit.nodes.push_back(*x);
+        }
+        if (Status s = applyRestShapeEdit(object.mesh, edit); !s) {
+            item.problem(s.message());
+            return false;
+        }
+        edits.push_back(std::move(edit));
+    }
+    return true;
+}
+
 void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, JsonIssues& issues) {
     if (!v.expectObject(true))
         return;
-    v.checkKeys({"name", "mesh", "animation", "position", "lattice", "material", "anchors", "voids", "drivers"});
+    v.checkKeys({"name", "mesh", "animation", "position", "restShape", "lattice", "material", "anchors", "voids", "drivers"});
     SceneObject object;
     object.name = v["name"].string().value_or("object " + std::to_string(project.scene.objects.size()));
     const auto meshRef = v["mesh"].string(true);
@@ -500,6 +549,9 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
                 p += offset.cast<float>();
         object.baseAnimation = std::move(moved);
     }
+    std::vector<RestShapeEdit> restShape;
+    if (!readRestShape(v["restShape"], object, restShape))
+        return;
     auto lattice = readLattice(v["lattice"], object.mesh);
     if (!lattice)
         return;
@@ -544,6 +596,8 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     project.meshReferences.push_back(*meshRef);
     project.meshOffsets.resize(project.meshReferences.size() - 1, Vec3::Zero());
     project.meshOffsets.push_back(offset);
+    project.restShapeEdits.resize(project.meshReferences.size() - 1);
+    project.restShapeEdits.push_back(std::move(restShape));
     project.scene.objects.push_back(std::move(object));
 }
 
@@ -1087,6 +1141,17 @@ json perNode(const std::vector<double>& values) {
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+/// A lattice as written: kind, nodes per axis and its box.
+json latticeJson(const LatticeShape& shape, const OrientedBox& box) {
+    return {{"kind", shape.kind == LatticeKind::Bezier ? "bezier" : "bspline"},
+            {"nodes", {shape.nodes[0], shape.nodes[1], shape.nodes[2]}},
+            {"box",
+             {{"origin", vec(box.origin)},
+              {"size", vec(box.size)},
+              {"axes", json::array({vec(box.axes.col(0)), vec(box.axes.col(1)), vec(box.axes.col(2))})}}}};
+}
+
+
 json nodeList(const Lattice& lattice, const std::vector<int>& nodes) {
     json list = json::array();
     for (int n : nodes) {
@@ -1251,14 +1316,7 @@ Status saveProject(const Project& project, const fs::path& path) {
     json objects = json::array();
     for (std::size_t i = 0; i < project.scene.objects.size(); ++i) {
         const SceneObject& o = project.scene.objects[i];
-        const OrientedBox& box = o.lattice.box();
-        json lattice = {
-            {"kind", o.lattice.shape().kind == LatticeKind::Bezier ? "bezier" : "bspline"},
-            {"nodes", {o.lattice.count(0), o.lattice.count(1), o.lattice.count(2)}},
-            {"box",
-             {{"origin", vec(box.origin)},
-              {"size", vec(box.size)},
-              {"axes", json::array({vec(box.axes.col(0)), vec(box.axes.col(1)), vec(box.axes.col(2))})}}}};
+        const json lattice = latticeJson(o.lattice.shape(), o.lattice.box());
         json drivers = json::array();
         for (const Driver& d : o.drivers)
             drivers.push_back(driverJson(d));
@@ -1268,6 +1326,16 @@ Status saveProject(const Project& project, const fs::path& path) {
                        {"drivers", drivers}};
         if (i < project.meshOffsets.size() && !project.meshOffsets[i].isZero())
             object["position"] = vec(project.meshOffsets[i]);
+        if (i < project.restShapeEdits.size() && !project.restShapeEdits[i].empty()) {
+            json edits = json::array();
+            for (const RestShapeEdit& e : project.restShapeEdits[i]) {
+                json nodes = json::array();
+                for (const Vec3& x : e.nodes)
+                    nodes.push_back(vec(x));
+                edits.push_back({{"lattice", latticeJson(e.shape, e.box)}, {"nodes", nodes}});
+            }
+            object["restShape"] = edits;
+        }
         if (const auto& a = o.baseAnimation)
             object["animation"] = {{"take", a->take},
                                    {"start", a->start},

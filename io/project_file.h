@@ -4,6 +4,7 @@
 /// Schema: docs/project-format.md.
 
 #include "core/clip.h"
+#include "core/rest_shape.h"
 #include "core/scene.h"
 #include "io/json_reader.h"
 
@@ -27,6 +28,9 @@ struct Project {
     std::vector<std::string> meshReferences; ///< Per object, the mesh path as written (relative to the project).
     std::vector<Vec3> meshOffsets;           ///< Per object, the "position" its mesh was moved by on load (two fish
                                              ///< from one file); missing entries are zero.
+    /// Per object, the edits of its rest shape replayed over the mesh file on load (core/rest_shape.h), in
+    /// order; missing entries are none. The scene's meshes already have them applied.
+    std::vector<std::vector<RestShapeEdit>> restShapeEdits;
     ClipLibrary clips;                       ///< Clips, sessions and keyframe sets (version 2); validated on load.
     std::vector<std::string> importNotes;    ///< Per animated object, what its import found ("guppy: take 'swim'
                                              ///< 0-1 s at 120 samples/s, metres (glTF)"), for the CLI and editor.

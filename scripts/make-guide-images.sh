@@ -18,6 +18,9 @@ shot "$out/guide-drag.png" --drag=-150,-130 --seconds 1.0 "$scene"
 # 3. Painted stiffness (supple tail, firm head): the nodes coloured by value, with the legend, and the
 #    paint tool's options in the bar under the tools.
 shot "$out/guide-paint.png" --tool paint --seconds 1.0 presets/scenes/angelfish-painted.softtouch
+# 3b. The pose tool: the tail's nodes (i = 0 of the 4x4x4 lattice) selected and turned 25° about Z, typed
+#     as R, Z, 2, 5 and shown under way with the gizmo and the caption.
+shot "$out/guide-pose.png" --tool pose --window 1280x800 --select 0,4,8,12,16,20,24,28,32,36,40,44,48,52,56,60 --keys rz25 "$scene"
 # 4. Wireframe.
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
 # 5. The speed/accuracy dock after measuring the open scene (its own settings marked on the plot).

@@ -121,6 +121,23 @@ Status Document::importAnimatedMesh(const QString& path, QString* report) {
     return Status::success();
 }
 
+Status Document::applyRestShape(int object, const std::vector<Vec3>& pose) {
+    if (object < 0 || std::size_t(object) >= m_project.scene.objects.size())
+        return Status::error("no object " + std::to_string(object));
+    auto change = withRestShape(m_project.scene.objects[std::size_t(object)], pose);
+    if (!change)
+        return Status::error(change.message());
+    io::Project after = m_project;
+    after.scene.objects[std::size_t(object)] = std::move(change->object);
+    after.restShapeEdits.resize(after.scene.objects.size());
+    after.restShapeEdits[std::size_t(object)].push_back(std::move(change->edit));
+    if (auto check = SceneSimulation::create(after.scene); !check)
+        return Status::error(check.message());
+    m_undo.push(new ProjectEditCommand(this, m_project, std::move(after),
+                                       tr("Pose as rest shape of %1").arg(QString::fromStdString(m_project.scene.objects[std::size_t(object)].name))));
+    return Status::success();
+}
+
 QString Document::filePath() const {
     return QString::fromStdString(m_project.path.string());
 }
@@ -147,6 +164,7 @@ void Document::setProjectContent(const io::Project& project) {
     m_project.scene = project.scene;
     m_project.meshReferences = project.meshReferences;
     m_project.meshOffsets = project.meshOffsets;
+    m_project.restShapeEdits = project.restShapeEdits;
     m_project.clips = project.clips;
     emit sceneReplaced();
 }

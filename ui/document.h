@@ -44,6 +44,12 @@ public:
     /// `report` receives what the import found (take, length, vertices, unit).
     Status importAnimatedMesh(const QString& path, QString* report = nullptr);
 
+    /// Makes `pose` (object i's lattice nodes) its rest shape as one undo step (core/rest_shape.h): the mesh
+    /// takes the posed shape, the lattice returns to rest around it (its box grown where the mesh left it),
+    /// and the project keeps the edit to replay on load. Fails, changing nothing, for an object on its own
+    /// animation or a pose of another node count.
+    Status applyRestShape(int object, const std::vector<Vec3>& pose);
+
     const io::Project& project() const { return m_project; }
     const Scene& scene() const { return m_project.scene; }
     /// Path of the project file; empty for an imported mesh not yet saved.

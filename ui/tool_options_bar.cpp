@@ -178,10 +178,16 @@ QWidget* ToolOptionsBar::buildPosePage() {
     rest->setObjectName("poseToRest");
     rest->setToolTip(tr("Put the selected nodes (all when none is selected) back at their rest positions: one undo step."));
     connect(rest, &QPushButton::clicked, m_viewport, &Viewport::restSelection);
+    auto* asRest = new QPushButton(tr("Pose as rest shape"));
+    asRest->setObjectName("poseAsRest");
+    asRest->setToolTip(tr("Make the mesh keep this pose as its rest shape; the lattice returns to rest around it "
+                          "(one undo step; the project stores the edit, the mesh file is untouched)."));
+    connect(asRest, &QPushButton::clicked, m_viewport, &Viewport::applyPoseAsRest);
     Row row;
     row.add(QString(), new QLabel(tr("Pose: select nodes, then G move · R rotate · S scale; X/Y/Z hold an axis, type an "
                                      "amount, Enter applies, Esc cancels; or drag a gizmo arrow. I keys the pose.")));
     row.add(QString(), rest);
+    row.add(QString(), asRest);
     return row.page();
 }
 

@@ -84,6 +84,9 @@ public:
     /// Puts the selected nodes of the current object (every node when none is selected) back at their rest
     /// positions, as one undo step (Blender's Alt+G, R and S at once).
     void restSelection();
+    /// Makes the current object's pose its rest shape (Document::applyRestShape); the reason in the hint
+    /// when it cannot.
+    void applyPoseAsRest();
     /// The gizmo's arrow tips on screen (X, Y, Z), from the selection's centre; empty when the pose tool
     /// has nothing selected.
     std::vector<QPointF> gizmoTips() const;

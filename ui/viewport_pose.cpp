@@ -136,6 +136,18 @@ void Viewport::restSelection() {
                                                       tr("Rest %1").arg(nodeCount(count))));
 }
 
+void Viewport::applyPoseAsRest() {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim || std::size_t(m_object) >= sim->objectCount())
+        return;
+    applyTransform();
+    const std::vector<Vec3> pose = sim->simulator(std::size_t(m_object)).state().position;
+    if (Status s = m_document->applyRestShape(m_object, pose); !s)
+        emit hint(tr("Not applied: %1").arg(QString::fromStdString(s.message())));
+    else
+        emit hint(tr("The pose is the rest shape now (Ctrl+Z takes it back)."));
+}
+
 QPointF Viewport::gizmoCentre() const {
     const SceneSimulation* sim = m_simulation->simulation();
     if (!sim || std::size_t(m_object) >= sim->objectCount() || m_selection.empty())

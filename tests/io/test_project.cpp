@@ -66,6 +66,7 @@ private slots:
     void massFromTheMeshSitsWhereTheFishIs();
     void newProjectKeepsItsWobble();
     void projectWithoutIntegratorKeepsImplicitEuler();
+    void restShapeEditsReplayExactlyOnLoad();
     void badInputNamesFileFieldAndProblem_data();
     void badInputNamesFileFieldAndProblem();
     void validateListsEveryProblem();
@@ -498,6 +499,57 @@ void TestProject::projectWithoutIntegratorKeepsImplicitEuler() {
     }
 }
 
+// A rest-shape edit saved with the project is replayed over the mesh file on load: the mesh comes back
+// bit for bit, the lattice box as saved, and the body rests in the edited shape; the mesh file is untouched.
+void TestProject::restShapeEditsReplayExactlyOnLoad() {
+    QTemporaryDir dir;
+    auto loaded = loadProject(writeFile(dir, "fish.softtouch", projectText()));
+    QVERIFY2(loaded.ok(), loaded.message().c_str());
+    Project project = std::move(loaded.value());
+    const SceneObject& fish = project.scene.objects[0];
+    const Mesh original = fish.mesh;
+    // Bend: the nodes of the first u-layer lifted by a tenth of the box, the last pushed out along u.
+    std::vector<Vec3> pose = fish.lattice.restNodes();
+    const Vec3 size = fish.lattice.box().size;
+    for (int n = 0; n < fish.lattice.nodeCount(); ++n) {
+        const int i = fish.lattice.coords(n)[0];
+        if (i == 0)
+            pose[std::size_t(n)] += 0.1 * size.y() * fish.lattice.box().axes.col(1);
+        if (i == fish.lattice.count(0) - 1)
+            pose[std::size_t(n)] += 0.2 * size.x() * fish.lattice.box().axes.col(0);
+    }
+    auto change = withRestShape(fish, pose);
+    QVERIFY2(change.ok(), change.message().c_str());
+    QVERIFY(change->object.lattice.box().size.x() > size.x());  // the stretched mesh left the box: it grew
+    project.scene.objects[0] = change->object;
+    project.restShapeEdits = {{change->edit}};
+    // Twice, so the second edit replays over the first.
+    auto again = withRestShape(project.scene.objects[0], project.scene.objects[0].lattice.restNodes());
+    QVERIFY(again.ok());
+    project.restShapeEdits[0].push_back(again->edit);
+    project.scene.objects[0] = again->object;
+    const auto path = std::filesystem::path(dir.path().toStdString()) / "bent.softtouch";
+    QVERIFY(saveProject(project, path).ok());
+    auto reread = loadProject(path);
+    QVERIFY2(reread.ok(), reread.message().c_str());
+    const SceneObject& bent = reread->scene.objects[0];
+    QCOMPARE(reread->restShapeEdits.size(), std::size_t(1));
+    QCOMPARE(reread->restShapeEdits[0].size(), std::size_t(2));
+    QVERIFY(bent.mesh.positions == project.scene.objects[0].mesh.positions);
+    QVERIFY(bent.mesh.normals == project.scene.objects[0].mesh.normals);
+    QVERIFY(bent.lattice.box().origin == project.scene.objects[0].lattice.box().origin);
+    QVERIFY(bent.lattice.box().size == project.scene.objects[0].lattice.box().size);
+    QVERIFY(bent.mesh.positions != original.positions);
+    const std::vector<Vec3f> resting = simulate(reread->scene, 0.0);
+    double off = 0.0;
+    for (std::size_t v = 0; v < resting.size(); ++v)
+        off = std::max(off, double((resting[v] - bent.mesh.positions[v]).norm()));
+    QVERIFY2(off < 1e-5 * bent.mesh.bounds().diagonal(), qPrintable(QString::number(off)));
+    // The mesh file still holds the original fish.
+    auto plain = loadProject(writeFile(dir, "plain.softtouch", projectText()));
+    QVERIFY(plain.ok() && plain->scene.objects[0].mesh.positions == original.positions);
+}
+
 void TestProject::badInputNamesFileFieldAndProblem_data() {
     QTest::addColumn<QString>("text");
     QTest::addColumn<QString>("expected");  // substrings, '|' separated, all must appear
@@ -582,6 +634,26 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
         << "/world/planes/0/normal|zero";
     QTest::newRow("bad driver") << QString::fromStdString(projectText(R"(, "drivers": [{"type": "swim", "frequency": -1}])"))
                                 << "/objects/0/drivers/0/frequency|expected a number";
+    // Rest-shape edits (core/rest_shape.h): the lattice they were made on, with its box, and one node each.
+    const std::string box = R"("box": {"origin": [-1, -1, -1], "size": [2, 2, 2]})";
+    QTest::newRow("rest shape not a list")
+        << QString::fromStdString(projectText(R"(, "restShape": {"nodes": []})"))
+        << "/objects/0/restShape|expected an array of edits";
+    QTest::newRow("rest shape without its box")
+        << QString::fromStdString(projectText(R"(, "restShape": [{"lattice": {"nodes": [2, 2, 2]}, "nodes": []}])"))
+        << "/objects/0/restShape/0/lattice|the \"box\" the edit was made on";
+    QTest::newRow("rest shape with too few nodes")
+        << QString::fromStdString(projectText(R"(, "restShape": [{"lattice": {"nodes": [2, 2, 2], )" + box +
+                                              R"(}, "nodes": [[0, 0, 0]]}])"))
+        << "/objects/0/restShape/0/nodes|expected 8 node positions";
+    QTest::newRow("rest shape node not a position")
+        << QString::fromStdString(projectText(R"(, "restShape": [{"lattice": {"nodes": [2, 2, 2], )" + box +
+                                              R"(}, "nodes": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], "far"]}])"))
+        << "/objects/0/restShape/0/nodes/7";
+    QTest::newRow("rest shape node out of range")
+        << QString::fromStdString(projectText(R"(, "restShape": [{"lattice": {"nodes": [2, 2, 2], )" + box +
+                                              R"(}, "nodes": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], [1e9, 1, 1]]}])"))
+        << "/objects/0/restShape/0|rest shape node 7 is not a finite position within 1e5 m";
 }
 
 void TestProject::badInputNamesFileFieldAndProblem() {

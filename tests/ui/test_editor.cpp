@@ -162,6 +162,7 @@ private slots:
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void poseToolMovesRotatesScalesAndKeys();
+    void poseAsRestShapeSavesAndUndoes();
     void colliderToolAddsMovesScalesAndDeletes();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -998,6 +999,57 @@ void TestEditor::poseToolMovesRotatesScalesAndKeys() {
         undo->undo();
     QVERIFY(w.keyframes()->keys().empty());
     QVERIFY(nodes() == rest);
+}
+
+// The pose tool's "Pose as rest shape": the tail turned with R Z 25 becomes the mesh's rest shape (what the
+// viewport showed), the lattice is at rest around it, one undo step takes it back, and a saved project
+// reopens with the same mesh.
+void TestEditor::poseAsRestShapeSavesAndUndoes() {
+    MainWindow& w = *m_window;
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    Viewport* view = w.viewport();
+    SimulationController* sim = w.simulation();
+    sim->setDriversEnabled(false);
+    sim->reset();
+    w.findChild<QAction*>("toolPose")->trigger();
+    view->setFocus();
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    std::set<int> tail;
+    for (int n = 0; n < lattice.nodeCount(); ++n)
+        if (lattice.coords(n)[0] == 0)
+            tail.insert(n);
+    view->setSelection(tail);
+    QTest::keyClick(view, Qt::Key_R);
+    QTest::keyClick(view, Qt::Key_Z);
+    QTest::keyClicks(view, "25");
+    QTest::keyClick(view, Qt::Key_Return);
+    const std::vector<Vec3f> shown = view->deformedPositions(0);
+    const Mesh before = w.document()->scene().objects[0].mesh;
+    QVERIFY(maxDistance(shown, before.positions) > 1e-3);
+    const int undoBefore = w.document()->undoStack()->index();
+
+    w.findChild<QPushButton*>("poseAsRest")->click();
+    QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
+    const Mesh& after = w.document()->scene().objects[0].mesh;
+    QVERIFY2(maxDistance(after.positions, shown) < 1e-6, qPrintable(QString::number(maxDistance(after.positions, shown))));
+    // The simulation was rebuilt at rest: its nodes are the lattice's rest nodes and they draw the new shape.
+    const std::vector<Vec3> restNodes = w.document()->scene().objects[0].lattice.restNodes();
+    QVERIFY(sim->simulation()->simulator(0).state().position == restNodes);
+    QVERIFY(maxDistance(view->deformedPositions(0), shown) < 1e-5);
+
+    // Saved and reopened: the same mesh, bit for bit; the mesh file itself is untouched.
+    const QString path = m_dir->filePath("bent.softtouch");
+    QVERIFY(w.document()->saveAs(path).ok());
+    Document reopened;
+    QVERIFY(reopened.open(path).ok());
+    QVERIFY(reopened.scene().objects[0].mesh.positions == after.positions);
+    QCOMPARE(reopened.project().restShapeEdits[0].size(), std::size_t(1));
+
+    // One undo step back to the fish as it was.
+    w.document()->undoStack()->undo();
+    QVERIFY(w.document()->scene().objects[0].mesh.positions == before.positions);
+    QVERIFY(w.document()->project().restShapeEdits.empty() || w.document()->project().restShapeEdits[0].empty());
 }
 
 // Edit ▸ Add Collider puts a sphere below the fish and picks the collider tool; dragging it moves it with the
