@@ -4,7 +4,9 @@
 // `--measure-study` presses the Speed vs accuracy dock's "Measure this scene" and waits for it.
 #include "app/editor_paths.h"
 #include "ui/main_window.h"
+#include "ui/frame_ruler.h"
 #include "ui/study_panel.h"
+#include "ui/timeline_panel.h"
 
 #include <QAction>
 #include <QApplication>
@@ -13,6 +15,7 @@
 #include <QDockWidget>
 #include <QEventLoop>
 #include <QKeyEvent>
+#include <QListWidget>
 #include <QMouseEvent>
 #include <QPushButton>
 #include <QSurfaceFormat>
@@ -144,9 +147,11 @@ int main(int argc, char** argv) {
                                                     "(indices, comma-separated).", "NODES");
     const QCommandLineOption keysOption("keys", "With --screenshot: type these keys into the viewport last, e.g. 'rz30' "
                                                 "(the pose tool's rotate about Z, 30°, shown under way).", "KEYS");
+    const QCommandLineOption clipOption("clip", "With --screenshot: select this clip in the timeline and show FRAME of it "
+                                                "(NAME or NAME@FRAME).", "NAME[@FRAME]");
     const QCommandLineOption windowSize("window", "With --screenshot: the window's size, e.g. 1280x800.", "WxH");
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
-                       autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption});
+                       autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -243,6 +248,25 @@ int main(int argc, char** argv) {
             window.study()->measure();
             if (window.study()->isMeasuring())
                 loop.exec();
+        }
+        if (parser.isSet(clipOption)) {
+            const QStringList parts = parser.value(clipOption).split('@');
+            const auto& clips = window.document()->project().clips.clips;
+            int index = -1;
+            for (std::size_t c = 0; c < clips.size(); ++c)
+                if (QString::fromStdString(clips[c].name) == parts.value(0))
+                    index = int(c);
+            bool frameOk = parts.size() == 1;
+            const int frame = parts.size() > 1 ? parts[1].toInt(&frameOk) : 0;
+            if (index < 0 || !frameOk || parts.size() > 2) {
+                std::fprintf(stderr, "softtouch: error: --clip expects the name of a clip of the project, optionally "
+                                     "@FRAME, got '%s'\n", qPrintable(parser.value(clipOption)));
+                return 2;
+            }
+            window.timeline()->findChild<QListWidget*>("clips")->setCurrentRow(index);
+            QApplication::processEvents();
+            window.timeline()->showClipFrame(index, frame);
+            window.timeline()->ruler()->setFrame(frame);
         }
         if (parser.isSet(selectOption)) {
             std::set<int> nodes;

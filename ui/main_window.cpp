@@ -3,6 +3,7 @@
 #include "core/mesh_surface.h"
 #include "io/mesh_import.h"
 #include "ui/edit_commands.h"
+#include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
 #include "ui/presets_panel.h"
@@ -132,6 +133,24 @@ void MainWindow::buildDocks() {
     keysDock->setMaximumHeight(220);
     tabifyDockWidget(timelineDock, keysDock);
     timelineDock->raise();
+    // The pose keys of the current object as ticks on the timeline's ruler: click one to see its pose, drag
+    // it to retime (Ctrl+drag copies), Delete removes it; the keys panel makes each edit (one undo step).
+    FrameRuler* ruler = m_timeline->ruler();
+    const auto showKeys = [this, ruler] {
+        std::vector<double> seconds;
+        for (const LatticeKey& k : m_keyframes->keys())
+            seconds.push_back(k.seconds);
+        ruler->setKeys(std::move(seconds));
+    };
+    connect(m_document, &Document::clipsChanged, ruler, showKeys);
+    connect(m_document, &Document::sceneReplaced, ruler, showKeys);
+    connect(m_viewport, &Viewport::selectionChanged, ruler, showKeys);  // also sent when the current object changes
+    connect(ruler, &FrameRuler::keySelected, m_keyframes, &KeyframePanel::showKey);
+    connect(ruler, &FrameRuler::keyMoved, m_keyframes, [this](int index, double seconds, bool copy) {
+        m_keyframes->moveKey(index, seconds, copy);
+    });
+    connect(ruler, &FrameRuler::keyDeleted, m_keyframes, [this](int index) { m_keyframes->deleteKey(index); });
+    showKeys();
 }
 
 void MainWindow::buildActions() {

@@ -3,6 +3,7 @@
 #include "io/bake.h"
 #include "render/video_render.h"
 #include "ui/edit_commands.h"
+#include "ui/frame_ruler.h"
 
 #include <QApplication>
 #include <QCheckBox>
@@ -10,6 +11,10 @@
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QFormLayout>
+#include <QInputDialog>
+#include <QKeyEvent>
+#include <QMenu>
+#include <QTimer>
 #include <algorithm>
 
 #include <QDir>
@@ -21,7 +26,6 @@
 #include <QMessageBox>
 #include <QProgressDialog>
 #include <QPushButton>
-#include <QSlider>
 #include <QVBoxLayout>
 
 #include <atomic>
@@ -72,10 +76,37 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     layout->addLayout(middle);
 
     auto* right = new QVBoxLayout;
-    m_slider = new QSlider(Qt::Horizontal);
-    m_slider->setObjectName("scrubber");
-    m_slider->setEnabled(false);
-    right->addWidget(m_slider);
+    // Transport: first frame, a frame back, play/pause, a frame on, loop; then the ruler.
+    auto* transport = new QHBoxLayout;
+    const auto button = [&](const QString& text, const char* name, const QString& tip) {
+        auto* b = new QPushButton(text);
+        b->setObjectName(name);
+        b->setToolTip(tip);
+        b->setMaximumWidth(44);
+        transport->addWidget(b);
+        return b;
+    };
+    QPushButton* first = button(tr("|◀"), "firstFrame", tr("First frame"));
+    QPushButton* back = button(tr("◀"), "stepBack", tr("One frame back"));
+    m_play = button(tr("▶"), "playClip", tr("Play the selected clip or take (the simulation's Play runs physics live)"));
+    QPushButton* forward = button(tr("▶|"), "stepForward", tr("One frame on"));
+    m_loopPlayback = new QCheckBox(tr("Loop playback"));
+    m_loopPlayback->setObjectName("loopPlayback");
+    m_loopPlayback->setChecked(true);
+    transport->addWidget(m_loopPlayback);
+    transport->addStretch();
+    right->addLayout(transport);
+    m_ruler = new FrameRuler;
+    right->addWidget(m_ruler);
+    m_playTimer = new QTimer(this);
+    m_playTimer->setInterval(15);
+    connect(first, &QPushButton::clicked, this, [this] { showFrame(0); });
+    connect(back, &QPushButton::clicked, this, [this] { stepFrame(-1); });
+    connect(forward, &QPushButton::clicked, this, [this] { stepFrame(1); });
+    connect(m_play, &QPushButton::clicked, this, &TimelinePanel::togglePlayback);
+    connect(m_playTimer, &QTimer::timeout, this, [this] {
+        advancePlayback(m_playTimer->interval() * 1e-3);
+    });
     m_time = new QLabel(tr("Record a take, then scrub it here; make a clip of it and export it."));
     m_time->setWordWrap(true);
     right->addWidget(m_time);
@@ -85,6 +116,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     right->addWidget(m_baseRange);
     auto* buttons = new QHBoxLayout;
     auto* makeClipButton = new QPushButton(tr("Clip from take"));
+    makeClipButton->setToolTip(tr("Make a clip of the take's in/out range (drag the blue range's ends on the ruler)."));
     m_loop = new QCheckBox(tr("Loop"));
     m_loop->setToolTip(tr("A cycle: the last frame leads into the first (closed over a quarter second)."));
     auto* exportButton = new QPushButton(tr("Export…"));
@@ -120,13 +152,27 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     });
     connect(m_takes, &QListWidget::currentRowChanged, this, &TimelinePanel::selectTake);
     connect(m_clips, &QListWidget::currentRowChanged, this, &TimelinePanel::selectClip);
-    connect(m_slider, &QSlider::valueChanged, this, [this](int frame) {
-        if (m_clips->currentRow() >= 0)
-            showClipFrame(m_clips->currentRow(), frame);
-        else
-            scrubTo(m_takes->currentRow(), frame);
+    connect(m_ruler, &FrameRuler::frameChanged, this, &TimelinePanel::showFrame);
+    connect(makeClipButton, &QPushButton::clicked, this, [this] {
+        const auto range = m_ruler->inOut();
+        if (range)
+            makeClip(m_takes->currentRow(), m_loop->isChecked(), range->first, range->second);
     });
-    connect(makeClipButton, &QPushButton::clicked, this, [this] { makeClip(m_takes->currentRow(), m_loop->isChecked()); });
+    // The clips' own menu: play, rename (or double-click), duplicate, frame rate, delete (or Delete).
+    m_clips->setContextMenuPolicy(Qt::CustomContextMenu);
+    connect(m_clips, &QListWidget::customContextMenuRequested, this, &TimelinePanel::showClipMenu);
+    connect(m_clips, &QListWidget::itemDoubleClicked, this, [this] {
+        const int row = m_clips->currentRow();
+        const ClipLibrary& library = m_document->project().clips;
+        if (row < 0 || std::size_t(row) >= library.clips.size())
+            return;
+        bool ok = false;
+        const QString name = QInputDialog::getText(this, tr("Rename Clip"), tr("Name"), QLineEdit::Normal,
+                                                   QString::fromStdString(library.clips[std::size_t(row)].name), &ok);
+        if (ok)
+            renameClip(row, name);
+    });
+    m_clips->installEventFilter(this);
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
@@ -137,7 +183,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(simulation, &SimulationController::rebuilt, this, [this, simulation] {
         const int clip = m_clips->currentRow();
         if (clip >= 0 && clip == m_clipShown && m_clipRevision != m_document->revision() && !simulation->isPlaying())
-            showClipFrame(clip, m_slider->value());
+            showClipFrame(clip, m_ruler->frame());
     });
     refreshLists();
 }
@@ -163,10 +209,9 @@ void TimelinePanel::selectTake(int row) {
         m_clips->setCurrentRow(-1);
     }
     const Session& s = m_document->project().clips.sessions[std::size_t(row)].session;
-    const QSignalBlocker block(m_slider);
-    m_slider->setEnabled(true);
-    m_slider->setRange(0, int(std::floor((s.endSeconds() - s.startSeconds()) * fps() + 1e-9)));
-    m_slider->setValue(0);
+    const int last = int(std::floor((s.endSeconds() - s.startSeconds()) * fps() + 1e-9));
+    m_ruler->setSpan(last, fps());
+    m_ruler->setInOut(std::pair(0, last));  // what "Clip from take" cuts: all of it until trimmed
 }
 
 void TimelinePanel::selectClip(int row) {
@@ -177,11 +222,63 @@ void TimelinePanel::selectClip(int row) {
         m_takes->setCurrentRow(-1);
     }
     const Clip& clip = m_document->project().clips.clips[std::size_t(row)];
-    const QSignalBlocker block(m_slider);
-    m_slider->setEnabled(true);
-    m_slider->setRange(0, clip.frames - 1);
-    m_slider->setValue(0);
+    m_ruler->setSpan(clip.frames - 1, clip.fps, clip.startSeconds);
     showClipFrame(row, 0);
+}
+
+void TimelinePanel::showFrame(int frame) {
+    m_ruler->setFrame(frame);
+    m_playPosition = m_ruler->frame();
+    if (m_clips->currentRow() >= 0)
+        showClipFrame(m_clips->currentRow(), m_ruler->frame());
+    else
+        scrubTo(m_takes->currentRow(), m_ruler->frame());
+}
+
+bool TimelinePanel::isPlaying() const { return m_playTimer->isActive(); }
+
+void TimelinePanel::togglePlayback() {
+    if (m_playTimer->isActive()) {
+        m_playTimer->stop();
+    } else if (m_clips->currentRow() >= 0 || m_takes->currentRow() >= 0) {
+        m_simulation->pause();  // the simulation does not run under a clip being played
+        if (m_ruler->frame() >= m_ruler->lastFrame() && !m_loopPlayback->isChecked())
+            showFrame(0);
+        m_playPosition = m_ruler->frame();
+        m_playTimer->start();
+    }
+    m_play->setText(m_playTimer->isActive() ? tr("⏸") : tr("▶"));
+}
+
+void TimelinePanel::advancePlayback(double seconds) {
+    if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0)
+        return;
+    const int frames = m_ruler->lastFrame() + 1;
+    m_playPosition += seconds * m_ruler->fps();
+    if (m_playPosition >= frames) {
+        if (m_loopPlayback->isChecked()) {
+            m_playPosition = std::fmod(m_playPosition, double(frames));
+        } else {
+            m_playPosition = m_ruler->lastFrame();
+            if (m_playTimer->isActive())
+                togglePlayback();
+        }
+    }
+    const int frame = int(std::floor(m_playPosition));
+    if (frame != m_ruler->frame()) {
+        const double position = m_playPosition;
+        showFrame(frame);
+        m_playPosition = position;  // keep the fraction between ticks
+    }
+}
+
+void TimelinePanel::stepFrame(int delta) {
+    if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0)
+        return;
+    const int frames = m_ruler->lastFrame() + 1;
+    int frame = m_ruler->frame() + delta;
+    frame = m_loopPlayback->isChecked() ? (frame % frames + frames) % frames : std::clamp(frame, 0, frames - 1);
+    showFrame(frame);
 }
 
 void TimelinePanel::scrubTo(int index, int frame) {
@@ -229,12 +326,21 @@ bool TimelinePanel::makeClip(int index, bool loop) {
     const ClipLibrary& library = m_document->project().clips;
     if (index < 0 || std::size_t(index) >= library.sessions.size())
         return false;
+    const Session& take = library.sessions[std::size_t(index)].session;
+    return makeClip(index, loop, 0, int(std::floor((take.endSeconds() - take.startSeconds()) * fps() + 1e-9)));
+}
+
+bool TimelinePanel::makeClip(int index, bool loop, int in, int out) {
+    const ClipLibrary& library = m_document->project().clips;
+    if (index < 0 || std::size_t(index) >= library.sessions.size())
+        return false;
     const NamedSession& take = library.sessions[std::size_t(index)];
     Clip clip;
     clip.source = ClipSource::Session;
     clip.sourceName = take.name;
     clip.fps = fps();
-    clip.frames = std::max(1, int(std::floor((take.session.endSeconds() - take.session.startSeconds()) * clip.fps + 1e-9)));
+    clip.startSeconds = std::max(0, in) / clip.fps;
+    clip.frames = std::max(1, out - std::max(0, in));
     clip.loop = loop;
     clip.blendFrames = loop ? std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))) : 0;
     int n = 1;
@@ -421,6 +527,113 @@ Status TimelinePanel::renderClipTo(int index, const QString& path, int width, in
     return Status::success();
 }
 
+bool TimelinePanel::editClips(const QString& text, const std::function<Status(ClipLibrary&)>& change) {
+    const ClipLibrary& library = m_document->project().clips;
+    ClipLibrary after = library;
+    Status s = change(after);
+    if (s)
+        s = after.validate(m_document->scene());
+    if (!s) {
+        m_time->setText(QString::fromStdString(s.message()));
+        return false;
+    }
+    m_document->undoStack()->push(new ClipsEditCommand(m_document, library, std::move(after), text));
+    return true;
+}
+
+bool TimelinePanel::renameClip(int index, const QString& name) {
+    const std::string to = name.trimmed().toStdString();
+    return editClips(tr("Rename clip to %1").arg(name.trimmed()), [&](ClipLibrary& library) -> Status {
+        if (index < 0 || std::size_t(index) >= library.clips.size())
+            return Status::error("no clip " + std::to_string(index));
+        if (to.empty())
+            return Status::error("a clip needs a name");
+        if (library.clips[std::size_t(index)].name != to && library.findClip(to))
+            return Status::error("there is already a clip named \"" + to + "\"");
+        library.clips[std::size_t(index)].name = to;
+        return Status::success();
+    });
+}
+
+bool TimelinePanel::duplicateClip(int index) {
+    return editClips(tr("Duplicate clip"), [&](ClipLibrary& library) -> Status {
+        if (index < 0 || std::size_t(index) >= library.clips.size())
+            return Status::error("no clip " + std::to_string(index));
+        Clip copy = library.clips[std::size_t(index)];
+        const std::string base = copy.name + " copy";
+        copy.name = base;
+        for (int n = 2; library.findClip(copy.name); ++n)
+            copy.name = base + " " + std::to_string(n);
+        library.clips.insert(library.clips.begin() + index + 1, std::move(copy));
+        return Status::success();
+    });
+}
+
+bool TimelinePanel::deleteClip(int index) {
+    return editClips(tr("Delete clip"), [&](ClipLibrary& library) -> Status {
+        if (index < 0 || std::size_t(index) >= library.clips.size())
+            return Status::error("no clip " + std::to_string(index));
+        library.clips.erase(library.clips.begin() + index);
+        return Status::success();
+    });
+}
+
+bool TimelinePanel::retimeClip(int index, double rate) {
+    return editClips(tr("Clip frame rate %1").arg(rate), [&](ClipLibrary& library) -> Status {
+        if (index < 0 || std::size_t(index) >= library.clips.size())
+            return Status::error("no clip " + std::to_string(index));
+        Clip& clip = library.clips[std::size_t(index)];
+        const double scale = rate / clip.fps;
+        clip.frames = std::max(1, int(std::lround(clip.frames * scale)));
+        clip.blendFrames = std::min(clip.frames, int(std::lround(clip.blendFrames * scale)));
+        clip.fps = rate;
+        return Status::success();
+    });
+}
+
+void TimelinePanel::showClipMenu(const QPoint& pos) {
+    const int row = m_clips->indexAt(pos).row();
+    if (row < 0)
+        return;
+    m_clips->setCurrentRow(row);
+    const Clip clip = m_document->project().clips.clips[std::size_t(row)];
+    QMenu menu(this);
+    menu.addAction(tr("Play"), this, [this] {
+        if (!isPlaying())
+            togglePlayback();
+    });
+    menu.addAction(tr("Rename…"), this, [this, row, clip] {
+        bool ok = false;
+        const QString name = QInputDialog::getText(this, tr("Rename Clip"), tr("Name"), QLineEdit::Normal,
+                                                   QString::fromStdString(clip.name), &ok);
+        if (ok)
+            renameClip(row, name);
+    });
+    menu.addAction(tr("Duplicate"), this, [this, row] { duplicateClip(row); });
+    menu.addAction(tr("Frame Rate…"), this, [this, row, clip] {
+        bool ok = false;
+        const double rate = QInputDialog::getDouble(this, tr("Clip Frame Rate"), tr("Frames per second (same duration)"),
+                                                    clip.fps, 1.0, 1000.0, 3, &ok);
+        if (ok)
+            retimeClip(row, rate);
+    });
+    menu.addSeparator();
+    menu.addAction(tr("Delete"), this, [this, row] { deleteClip(row); });
+    menu.exec(m_clips->viewport()->mapToGlobal(pos));
+}
+
+bool TimelinePanel::eventFilter(QObject* watched, QEvent* event) {
+    // Delete in the clips list deletes the selected clip (one undo step).
+    if (watched == m_clips && event->type() == QEvent::KeyPress) {
+        const auto* key = static_cast<QKeyEvent*>(event);
+        if ((key->key() == Qt::Key_Delete || key->key() == Qt::Key_Backspace) && m_clips->currentRow() >= 0) {
+            deleteClip(m_clips->currentRow());
+            return true;
+        }
+    }
+    return QWidget::eventFilter(watched, event);
+}
+
 void TimelinePanel::refreshLists() {
     QStringList bases;
     for (const SceneObject& o : m_document->scene().objects)
@@ -434,6 +647,7 @@ void TimelinePanel::refreshLists() {
     m_baseRange->setVisible(!bases.isEmpty());
     const ClipLibrary& library = m_document->project().clips;
     m_clipShown = -1;  // a clip may have changed: evaluate again
+    const int takeRow = m_takes->currentRow(), clipRow = m_clips->currentRow();
     const QSignalBlocker blockTakes(m_takes);
     const QSignalBlocker blockClips(m_clips);
     m_takes->clear();
@@ -446,6 +660,24 @@ void TimelinePanel::refreshLists() {
                              .arg(c.frames)
                              .arg(c.fps)
                              .arg(c.loop ? tr(" · loop") : QString()));
+    // The row selected before stays selected when it still exists (a rename, a retime); the ruler follows it.
+    if (clipRow >= 0 && clipRow < m_clips->count()) {
+        m_clips->setCurrentRow(clipRow);
+        const Clip& clip = library.clips[std::size_t(clipRow)];
+        if (m_ruler->lastFrame() != clip.frames - 1 || m_ruler->fps() != clip.fps) {
+            const int frame = m_ruler->frame();
+            m_ruler->setSpan(clip.frames - 1, clip.fps, clip.startSeconds);
+            m_ruler->setFrame(frame);
+        }
+    } else if (takeRow >= 0 && takeRow < m_takes->count() && clipRow < 0) {
+        m_takes->setCurrentRow(takeRow);
+    } else if (clipRow >= 0) {
+        if (m_playTimer->isActive())  // the clip shown was deleted
+            togglePlayback();
+        m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
+    }
+    if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)
+        m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());  // key time, for the keys
 }
 
 }  // namespace softtouch::ui

@@ -1,8 +1,9 @@
 #pragma once
 /// The timeline dock: record takes (everything that drives the body, per step, so a take replays
-/// exactly), keep them in the project's clip library, make clips of them (range, fps, loop with
-/// closure), scrub takes and clips, and export a clip with progress and cancel (the same io::bake the
-/// CLI runs).
+/// exactly), keep them in the project's clip library, make clips of them (an in/out range cut on the
+/// frame ruler, fps, loop with closure), scrub and play takes and clips on the ruler (ui/frame_ruler.h,
+/// which also shows the pose keys), rename, duplicate, retime and delete clips (one undo step each), and
+/// export a clip with progress and cancel (the same io::bake the CLI runs).
 
 #include "core/clip.h"
 #include "io/export_formats.h"
@@ -18,9 +19,11 @@ class QCheckBox;
 class QLabel;
 class QListWidget;
 class QPushButton;
-class QSlider;
+class QTimer;
 
 namespace softtouch::ui {
+
+class FrameRuler;
 
 /// Takes and clips of the open document.
 class TimelinePanel : public QWidget {
@@ -41,6 +44,25 @@ public slots:
     void showClipFrame(int index, int frame);
     /// Makes a clip of take `index` (all of it; a loop with a quarter-second closure when `loop`).
     bool makeClip(int index, bool loop);
+    /// Makes a clip of frames [in, out) of take `index` at the scene's fps.
+    bool makeClip(int index, bool loop, int in, int out);
+    /// Renames clip `index` (unique, not empty); one undo step. False, with the reason shown, when refused.
+    bool renameClip(int index, const QString& name);
+    /// Adds a copy of clip `index` named "<name> copy" (numbered when taken); one undo step.
+    bool duplicateClip(int index);
+    bool deleteClip(int index);
+    /// Samples clip `index` at `fps` over the same seconds (frames and loop closure rescaled); one undo step.
+    bool retimeClip(int index, double fps);
+
+    /// The frame ruler (keys shown on it are the keys panel's; the main window wires them).
+    FrameRuler* ruler() const { return m_ruler; }
+    /// Plays the selected clip or take from the playhead, in a loop when looping is on; again: pauses.
+    void togglePlayback();
+    bool isPlaying() const;
+    /// Moves playback on by `seconds` of the clip's time (what a timer tick does; tests call it directly).
+    void advancePlayback(double seconds);
+    /// One frame on (+1) or back (-1), wrapping in a loop.
+    void stepFrame(int delta);
     /// Asks for a file and exports clip `index` (or the drivers when < 0) with a progress dialog.
     void exportClip(int index);
     /// The export dialog's file types, one per export of the registry (io/export_formats.h), in its order:
@@ -67,10 +89,19 @@ public slots:
     /// Where Render video's "this view" stands (the main window passes the viewport's camera).
     void setViewCamera(std::function<render::CameraPlacement()> view) { m_viewCamera = std::move(view); }
 
+protected:
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
 private:
     void refreshLists();
     void selectTake(int row);
     void selectClip(int row);
+    /// Shows the playhead's frame of the selected clip or take.
+    void showFrame(int frame);
+    /// Applies `change` to a copy of the clip library as one undo step named `text`; false, with the reason
+    /// shown, when the result does not validate.
+    bool editClips(const QString& text, const std::function<Status(ClipLibrary&)>& change);
+    void showClipMenu(const QPoint& pos);
 
     Document* m_document;
     SimulationController* m_simulation;
@@ -78,7 +109,11 @@ private:
     QListWidget* m_takes = nullptr;
     QListWidget* m_clips = nullptr;
     QCheckBox* m_loop = nullptr;
-    QSlider* m_slider = nullptr;
+    FrameRuler* m_ruler = nullptr;
+    QPushButton* m_play = nullptr;
+    QCheckBox* m_loopPlayback = nullptr;
+    QTimer* m_playTimer = nullptr;
+    double m_playPosition = 0.0;   ///< Playback's place, frames (fractional between ticks).
     QLabel* m_time = nullptr;
     QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.

@@ -8,6 +8,7 @@
 #include "io/vertex_cache.h"
 #include "io/video_encoder.h"
 #include "ui/edit_commands.h"
+#include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
 #include "ui/main_window.h"
@@ -175,6 +176,9 @@ private slots:
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
     void keyframesFromPosesMakeAClip();
+    void rulerTicksRetimeCopyAndDeleteKeys();
+    void trimmedTakeClipExportsItsRange();
+    void clipsRenameDuplicateRetimeDeleteAndPlay();
     void scriptedDeviceDrivesTheFishAtHapticRate();
     void studyDockMeasuresTheOpenSceneAndAppliesAPick();
     void studyDockCancelsAndStopsWithTheWindow();
@@ -1462,11 +1466,12 @@ void TestEditor::clipPreviewFollowsAMaterialEdit() {
     MainWindow& w = *m_window;
     SimulationController* sim = w.simulation();
     auto* clips = w.timeline()->findChild<QListWidget*>("clips");
-    auto* scrubber = w.timeline()->findChild<QSlider*>("scrubber");
-    QVERIFY(clips && scrubber && clips->count() > 0);
+    FrameRuler* ruler = w.timeline()->ruler();
+    QVERIFY(clips && clips->count() > 0);
     clips->setCurrentRow(0);
-    const int frame = std::min(12, scrubber->maximum());
-    scrubber->setValue(frame);
+    const int frame = std::min(12, ruler->lastFrame());
+    QTest::mouseClick(ruler, Qt::LeftButton, {}, QPoint(int(std::lround(ruler->xOfFrame(frame))), 30));  // scrub there
+    QCOMPARE(ruler->frame(), frame);
     const Clip clip = w.document()->project().clips.clips.front();
     const auto nodesOf = [&](const Scene& scene) {
         return evaluateClip(scene, w.document()->project().clips, clip).value().nodes[std::size_t(frame)].front();
@@ -1612,6 +1617,164 @@ void TestEditor::keyframesFromPosesMakeAClip() {
     QVERIFY(keys->makeClip(true));
     auto goalFrames = evaluateClip(w.document()->scene(), w.document()->project().clips, w.document()->project().clips.clips.back());
     QVERIFY2(goalFrames.ok(), goalFrames.message().c_str());
+}
+
+// The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
+// copies it, a click and Delete removes it; each is one undo step of the keys panel.
+void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    FrameRuler* ruler = w.timeline()->ruler();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    QVERIFY(keys->keyPose(0.0));
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    std::vector<Vec3> pose = lattice.restNodes();
+    pose[0] += Vec3(0, 0.05, 0);
+    QVERIFY(sim->setObjectPose(0, pose));
+    QVERIFY(keys->keyPose(1.0));
+    QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+    const double fps = ruler->fps();
+    QVERIFY(ruler->lastFrame() >= int(1.5 * fps));
+    const int undo0 = undo->index();
+    const auto drag = [&](QPointF from, int toFrame, Qt::KeyboardModifiers modifiers) {
+        const QPoint a = from.toPoint(), b(int(std::lround(ruler->xOfFrame(toFrame))), a.y());
+        QTest::mousePress(ruler, Qt::LeftButton, modifiers, a);
+        QTest::mouseMove(ruler, (a + b) / 2);
+        QTest::mouseMove(ruler, b);
+        QTest::mouseRelease(ruler, Qt::LeftButton, modifiers, b);
+    };
+    // Drag the 1 s key to 1.5 s: one undo step, the keyed pose kept.
+    drag(ruler->keyPoint(1), int(std::lround(1.5 * fps)), {});
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].seconds, std::lround(1.5 * fps) / fps);
+    QCOMPARE(ruler->keys()[1], keys->keys()[1].seconds);
+    QCOMPARE(undo->index(), undo0 + 1);
+    // Ctrl+drag copies the first key to half a second.
+    drag(ruler->keyPoint(0), int(std::lround(0.5 * fps)), Qt::ControlModifier);
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    QCOMPARE(keys->keys()[0].seconds, 0.0);
+    QCOMPARE(keys->keys()[1].seconds, std::lround(0.5 * fps) / fps);
+    QCOMPARE(undo->index(), undo0 + 2);
+    // Click a tick and press Delete.
+    QTest::mouseClick(ruler, Qt::LeftButton, {}, ruler->keyPoint(1).toPoint());
+    QCOMPARE(ruler->selectedKey(), 1);
+    QTest::keyClick(ruler, Qt::Key_Delete);
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].seconds, std::lround(1.5 * fps) / fps);
+    QCOMPARE(undo->index(), undo0 + 3);
+    // A click on the ruler away from the ticks moves no key.
+    QTest::mouseClick(ruler, Qt::LeftButton, {}, QPoint(int(ruler->xOfFrame(3)), 30));
+    QCOMPARE(undo->index(), undo0 + 3);
+    while (undo->index() > undo0)
+        undo->undo();
+    QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+}
+
+// A take's in/out range, trimmed by dragging its ends on the ruler, is what "Clip from take" cuts: the clip
+// starts at the in frame and its exported cache holds out - in frames, the first one the take's state at in.
+void TestEditor::trimmedTakeClipExportsItsRange() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    FrameRuler* ruler = w.timeline()->ruler();
+    sim->startRecording();
+    sim->pause();
+    sim->advance(1.0);
+    QVERIFY(sim->stopRecording().has_value());
+    auto* takes = w.timeline()->findChild<QListWidget*>("takes");
+    takes->setCurrentRow(0);
+    const double fps = w.timeline()->fps();
+    const int last = ruler->lastFrame();
+    QCOMPARE(last, int(std::floor(1.0 * fps + 1e-9)));
+    QCOMPARE(ruler->inOut(), std::optional(std::pair(0, last)));
+    const auto dragHandle = [&](int from, int to) {
+        const QPoint a(int(std::lround(ruler->xOfFrame(from))), 29), b(int(std::lround(ruler->xOfFrame(to))), 29);
+        QTest::mousePress(ruler, Qt::LeftButton, {}, a);
+        QTest::mouseMove(ruler, b);
+        QTest::mouseRelease(ruler, Qt::LeftButton, {}, b);
+    };
+    dragHandle(0, 6);
+    dragHandle(last, last - 6);
+    QCOMPARE(ruler->inOut(), std::optional(std::pair(6, last - 6)));
+    const std::size_t before = w.document()->project().clips.clips.size();
+    QPushButton* cut = nullptr;
+    for (auto* b : w.timeline()->findChildren<QPushButton*>())
+        if (b->text() == "Clip from take")
+            cut = b;
+    QVERIFY(cut);
+    cut->click();
+    QCOMPARE(w.document()->project().clips.clips.size(), before + 1);
+    const Clip clip = w.document()->project().clips.clips.back();
+    QCOMPARE(clip.frames, last - 12);
+    QCOMPARE(clip.startSeconds, 6.0 / fps);
+    // Exported: out - in frames, the first the take's state at the in frame, shown by the take's scrub.
+    const QString pc2 = m_dir->filePath("trimmed.pc2");
+    const Status exported = w.timeline()->exportClipTo(int(before), pc2);
+    QVERIFY2(exported.ok(), exported.message().c_str());
+    auto cache = io::readPc2(pc2.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache->frames.size()), last - 12);
+    w.timeline()->scrubTo(0, 6);
+    const std::vector<Vec3f> atIn = w.viewport()->deformedPositions(0);
+    QVERIFY2(maxDistance(cache->frames.front(), atIn) < 1e-5, qPrintable(QString::number(maxDistance(cache->frames.front(), atIn))));
+}
+
+// Clips from the timeline's list: rename (a taken name is refused), duplicate, retime to another frame rate
+// over the same seconds, delete with the Delete key, each one undo step; the transport plays the selected
+// clip in a loop and steps frames.
+void TestEditor::clipsRenameDuplicateRetimeDeleteAndPlay() {
+    MainWindow& w = *m_window;
+    TimelinePanel* timeline = w.timeline();
+    QUndoStack* undo = w.document()->undoStack();
+    const auto clips = [&] { return w.document()->project().clips.clips; };
+    auto* list = timeline->findChild<QListWidget*>("clips");
+    QVERIFY(!clips().empty());
+    const Clip swim = clips().front();
+    const int undo0 = undo->index();
+    QVERIFY(timeline->renameClip(0, "cruise"));
+    QCOMPARE(clips().front().name, std::string("cruise"));
+    QVERIFY(timeline->duplicateClip(0));
+    QCOMPARE(clips()[1].name, std::string("cruise copy"));
+    QVERIFY(!timeline->renameClip(1, "cruise"));  // taken
+    QVERIFY2(timeline->statusText().contains("already a clip named"), qPrintable(timeline->statusText()));
+    QVERIFY(!timeline->renameClip(1, "  "));
+    QVERIFY(timeline->retimeClip(1, 2.0 * swim.fps));
+    QCOMPARE(clips()[1].fps, 2.0 * swim.fps);
+    QCOMPARE(clips()[1].frames, 2 * swim.frames);
+    QCOMPARE(clips()[1].seconds(), swim.seconds());
+    QCOMPARE(clips()[1].blendFrames, 2 * swim.blendFrames);
+    QCOMPARE(undo->index(), undo0 + 3);
+    list->setCurrentRow(1);
+    list->setFocus();
+    QTest::keyClick(list, Qt::Key_Delete);
+    QCOMPARE(clips().size(), std::size_t(1));
+    QCOMPARE(undo->index(), undo0 + 4);
+
+    // Play: the selected clip advances at its rate and wraps in a loop; the steps move one frame.
+    list->setCurrentRow(0);
+    FrameRuler* ruler = timeline->ruler();
+    QCOMPARE(ruler->lastFrame(), swim.frames - 1);
+    timeline->findChild<QPushButton*>("playClip")->click();
+    QVERIFY(timeline->isPlaying());
+    timeline->advancePlayback(0.5);
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps));
+    const auto shown = w.simulation()->simulation()->simulator(0).state().position;
+    QVERIFY(shown == evaluateClip(w.document()->scene(), w.document()->project().clips, clips()[0]).value().nodes[std::size_t(ruler->frame())][0]);
+    timeline->advancePlayback(swim.seconds());  // once round: the same frame again
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps));
+    timeline->findChild<QPushButton*>("playClip")->click();
+    QVERIFY(!timeline->isPlaying());
+    timeline->findChild<QPushButton*>("stepForward")->click();
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps) + 1);
+    timeline->findChild<QPushButton*>("firstFrame")->click();
+    timeline->findChild<QPushButton*>("stepBack")->click();
+    QCOMPARE(ruler->frame(), swim.frames - 1);  // looping: back from the first frame is the last
+
+    while (undo->index() > undo0)
+        undo->undo();
+    QCOMPARE(clips().size(), std::size_t(1));
+    QCOMPARE(clips().front().name, swim.name);
 }
 
 void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {

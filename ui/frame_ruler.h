@@ -1,0 +1,86 @@
+#pragma once
+/// The timeline's frame ruler: frame numbers and ticks over the shown take or clip, the playhead at the
+/// current frame, the in/out range a clip is cut from, and the keys of the pose keyframes as ticks that
+/// can be selected, dragged to retime (Ctrl+drag copies) and deleted. Click or drag on the ruler to scrub.
+/// It draws and reports; the timeline panel and the keys panel make the edits (one undo step each).
+
+#include <QWidget>
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace softtouch::ui {
+
+class FrameRuler : public QWidget {
+    Q_OBJECT
+public:
+    explicit FrameRuler(QWidget* parent = nullptr);
+
+    /// Shows frames 0..lastFrame at `fps`, frame 0 being `originSeconds` of key time (a clip's start); the
+    /// playhead goes back to frame 0 and the in/out range is cleared.
+    void setSpan(int lastFrame, double fps, double originSeconds = 0.0);
+    int lastFrame() const { return m_lastFrame; }
+    double fps() const { return m_fps; }
+    /// The playhead's frame.
+    int frame() const { return m_frame; }
+    /// Moves the playhead (clamped to the span) without emitting frameChanged.
+    void setFrame(int frame);
+
+    /// The in/out range ([in, out), frames) a clip is cut from; std::nullopt hides it.
+    void setInOut(std::optional<std::pair<int, int>> range);
+    std::optional<std::pair<int, int>> inOut() const { return m_inOut; }
+
+    /// The keys to show, seconds of key time (in order).
+    void setKeys(std::vector<double> seconds);
+    const std::vector<double>& keys() const { return m_keys; }
+    /// The selected key (-1: none).
+    int selectedKey() const { return m_selectedKey; }
+
+    /// Where frame f is drawn, pixels from the left; and the frame nearest to x.
+    double xOfFrame(double f) const;
+    int frameAt(double x) const;
+    /// Where key k is drawn (its tick's centre).
+    QPointF keyPoint(int k) const;
+
+    QSize sizeHint() const override;
+    QSize minimumSizeHint() const override;
+
+signals:
+    /// The user scrubbed to `frame`.
+    void frameChanged(int frame);
+    /// A key tick was dropped at `seconds` (snapped to a frame): moved, or copied with Ctrl.
+    void keyMoved(int index, double seconds, bool copy);
+    /// The selected key is to be deleted (Delete or Backspace).
+    void keyDeleted(int index);
+    /// A key tick was clicked: show its pose.
+    void keySelected(int index);
+    /// An in or out handle was dragged.
+    void inOutChanged(int in, int out);
+
+protected:
+    void paintEvent(QPaintEvent* event) override;
+    void mousePressEvent(QMouseEvent* event) override;
+    void mouseMoveEvent(QMouseEvent* event) override;
+    void mouseReleaseEvent(QMouseEvent* event) override;
+    void keyPressEvent(QKeyEvent* event) override;
+
+private:
+    enum class Drag { None, Scrub, Key, In, Out };
+    /// The key tick under `pos`, -1 when none.
+    int keyAt(const QPointF& pos) const;
+    double frameOfSeconds(double seconds) const { return (seconds - m_origin) * m_fps; }
+
+    int m_lastFrame = 0;
+    double m_fps = 24.0;
+    double m_origin = 0.0;
+    int m_frame = 0;
+    std::optional<std::pair<int, int>> m_inOut;
+    std::vector<double> m_keys;
+    int m_selectedKey = -1;
+    Drag m_drag = Drag::None;
+    int m_dragFrame = 0;   ///< Where a dragged key or handle is now, frames.
+    bool m_copy = false;   ///< The key drag started with Ctrl: a copy.
+};
+
+}  // namespace softtouch::ui
