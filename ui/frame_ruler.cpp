@@ -51,6 +51,11 @@ void FrameRuler::setInOut(std::optional<std::pair<int, int>> range) {
     update();
 }
 
+void FrameRuler::setRanges(std::vector<Range> ranges) {
+    m_ranges = std::move(ranges);
+    update();
+}
+
 void FrameRuler::setKeys(std::vector<double> seconds) {
     m_keys = std::move(seconds);
     if (m_selectedKey >= int(m_keys.size()))
@@ -114,6 +119,21 @@ void FrameRuler::paintEvent(QPaintEvent*) {
         for (const int f : {m_inOut->first, m_inOut->second})
             painter.drawLine(QPointF(xOfFrame(f), kBandTop - 2), QPointF(xOfFrame(f), kBandBottom + 2));
     }
+    // Named stretches (clips cut from this take, base animations): outlined, labelled, clipped to the span.
+    for (const Range& r : m_ranges) {
+        const double a = std::clamp(xOfFrame(frameOfSeconds(r.fromSeconds)), xOfFrame(0), xOfFrame(m_lastFrame));
+        const double b = std::clamp(xOfFrame(frameOfSeconds(r.toSeconds)), xOfFrame(0), xOfFrame(m_lastFrame));
+        if (b - a < 2.0)
+            continue;
+        const QRectF box(a, kBandTop + 1, b - a, kBandBottom - kBandTop - 2);
+        painter.setPen(QPen(QColor(40, 130, 70), 1.5));
+        painter.setBrush(QColor(60, 170, 90, 60));
+        painter.drawRoundedRect(box, 3, 3);
+        painter.setPen(palette().color(QPalette::Text));
+        painter.drawText(box.adjusted(4, 0, -2, 0), Qt::AlignLeft | Qt::AlignVCenter,
+                         painter.fontMetrics().elidedText(r.label, Qt::ElideRight, int(box.width()) - 6));
+    }
+    painter.setBrush(Qt::NoBrush);
     // Keys: diamonds, the selected one filled orange; a dragged one drawn where it would land.
     for (int k = 0; k < int(m_keys.size()); ++k) {
         QPointF p = keyPoint(k);

@@ -22,6 +22,8 @@ public:
     void setSpan(int lastFrame, double fps, double originSeconds = 0.0);
     int lastFrame() const { return m_lastFrame; }
     double fps() const { return m_fps; }
+    /// Key time of frame 0, seconds.
+    double originSeconds() const { return m_origin; }
     /// The playhead's frame.
     int frame() const { return m_frame; }
     /// Moves the playhead (clamped to the span) without emitting frameChanged.
@@ -30,6 +32,16 @@ public:
     /// The in/out range ([in, out), frames) a clip is cut from; std::nullopt hides it.
     void setInOut(std::optional<std::pair<int, int>> range);
     std::optional<std::pair<int, int>> inOut() const { return m_inOut; }
+
+    /// A named stretch of time drawn on the span: a clip cut from the take on show, a base animation.
+    struct Range {
+        QString label;        ///< "swim", "base: Swim".
+        double fromSeconds;   ///< Key time, like the keys.
+        double toSeconds;
+    };
+    /// The stretches to draw (replacing those before).
+    void setRanges(std::vector<Range> ranges);
+    const std::vector<Range>& ranges() const { return m_ranges; }
 
     /// The keys to show, seconds of key time (in order).
     void setKeys(std::vector<double> seconds);
@@ -77,6 +89,7 @@ private:
     int m_frame = 0;
     std::optional<std::pair<int, int>> m_inOut;
     std::vector<double> m_keys;
+    std::vector<Range> m_ranges;
     int m_selectedKey = -1;
     Drag m_drag = Drag::None;
     int m_dragFrame = 0;   ///< Where a dragged key or handle is now, frames.

@@ -212,6 +212,31 @@ void TimelinePanel::selectTake(int row) {
     const int last = int(std::floor((s.endSeconds() - s.startSeconds()) * fps() + 1e-9));
     m_ruler->setSpan(last, fps());
     m_ruler->setInOut(std::pair(0, last));  // what "Clip from take" cuts: all of it until trimmed
+    showRanges();
+}
+
+void TimelinePanel::showRanges() {
+    // On a take: the clips cut from it. Always: each base animation's stretch, as the scene's time runs.
+    std::vector<FrameRuler::Range> ranges;
+    const ClipLibrary& library = m_document->project().clips;
+    const int take = m_takes->currentRow();
+    if (take >= 0 && std::size_t(take) < library.sessions.size())
+        for (const Clip& c : library.clips)
+            if (c.source == ClipSource::Session && c.sourceName == library.sessions[std::size_t(take)].name)
+                ranges.push_back({QString::fromStdString(c.name), c.startSeconds, c.startSeconds + c.seconds()});
+    // A looping base animation repeats: each cycle is a range, so its loop points show (at most 200 drawn).
+    const double from = m_ruler->originSeconds(), to = from + m_ruler->lastFrame() / m_ruler->fps();
+    for (const SceneObject& o : m_document->scene().objects) {
+        if (!o.baseAnimation || !(o.baseAnimation->duration() > 0.0))
+            continue;
+        const double d = o.baseAnimation->duration();
+        const QString label = tr("base: %1").arg(QString::fromStdString(o.baseAnimation->take));
+        const double firstCycle = o.baseAnimation->loop ? std::floor(from / d) : 0.0;
+        const double lastCycle = o.baseAnimation->loop ? std::min(std::floor(to / d), firstCycle + 199.0) : 0.0;
+        for (double k = firstCycle; k <= lastCycle; k += 1.0)
+            ranges.push_back({label, k * d, (k + 1.0) * d});
+    }
+    m_ruler->setRanges(std::move(ranges));
 }
 
 void TimelinePanel::selectClip(int row) {
@@ -223,6 +248,7 @@ void TimelinePanel::selectClip(int row) {
     }
     const Clip& clip = m_document->project().clips.clips[std::size_t(row)];
     m_ruler->setSpan(clip.frames - 1, clip.fps, clip.startSeconds);
+    showRanges();
     showClipFrame(row, 0);
 }
 
@@ -678,6 +704,7 @@ void TimelinePanel::refreshLists() {
     }
     if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)
         m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());  // key time, for the keys
+    showRanges();
 }
 
 }  // namespace softtouch::ui

@@ -96,6 +96,8 @@ private:
     void refreshLists();
     void selectTake(int row);
     void selectClip(int row);
+    /// The clips cut from the take on show and the base animations, as ranges on the ruler.
+    void showRanges();
     /// Shows the playhead's frame of the selected clip or take.
     void showFrame(int frame);
     /// Applies `change` to a copy of the clip library as one undo step named `text`; false, with the reason

@@ -428,6 +428,18 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     auto* range = w.findChild<QLabel*>("baseAnimationRange");
     QVERIFY(range && range->isVisibleTo(&w));
     QCOMPARE(range->text(), QString("Base animation: guppy-rigged follows \"swim\" from 0 to 1 s of its take, looping"));
+    // The ruler shows the looping base animation cycle by cycle over its span, so its loop points show.
+    {
+        const FrameRuler* ruler = w.timeline()->ruler();
+        const double span = ruler->lastFrame() / ruler->fps();
+        const auto& ranges = ruler->ranges();
+        QCOMPARE(int(ranges.size()), int(std::floor(span / 1.0)) + 1);
+        for (std::size_t k = 0; k < ranges.size(); ++k) {
+            QCOMPARE(ranges[k].label, QString("base: swim"));
+            QCOMPARE(ranges[k].fromSeconds, double(k));
+            QCOMPARE(ranges[k].toSeconds, double(k + 1));
+        }
+    }
     // It plays: a quarter of a second later the tail has swung.
     const std::vector<Vec3f> before = w.viewport()->deformedPositions(1);
     w.simulation()->advance(0.25);
@@ -1708,6 +1720,12 @@ void TestEditor::trimmedTakeClipExportsItsRange() {
     const Clip clip = w.document()->project().clips.clips.back();
     QCOMPARE(clip.frames, last - 12);
     QCOMPARE(clip.startSeconds, 6.0 / fps);
+    // Back on the take, the clip cut from it is a range on the ruler.
+    takes->setCurrentRow(0);
+    QCOMPARE(ruler->ranges().size(), std::size_t(1));
+    QCOMPARE(ruler->ranges()[0].label, QString::fromStdString(clip.name));
+    QCOMPARE(ruler->ranges()[0].fromSeconds, clip.startSeconds);
+    QCOMPARE(ruler->ranges()[0].toSeconds, clip.startSeconds + clip.seconds());
     // Exported: out - in frames, the first the take's state at the in frame, shown by the take's scrub.
     const QString pc2 = m_dir->filePath("trimmed.pc2");
     const Status exported = w.timeline()->exportClipTo(int(before), pc2);
