@@ -21,6 +21,8 @@ shot "$out/guide-paint.png" --tool paint --seconds 1.0 presets/scenes/angelfish-
 # 3b. The pose tool: the tail's nodes (i = 0 of the 4x4x4 lattice) selected and turned 25° about Z, typed
 #     as R, Z, 2, 5 and shown under way with the gizmo and the caption.
 shot "$out/guide-pose.png" --tool pose --window 1280x800 --select 0,4,8,12,16,20,24,28,32,36,40,44,48,52,56,60 --keys rz25 "$scene"
+# 3c. The timeline: the swim clip selected, at frame 12, on the frame ruler.
+shot "$out/guide-timeline.png" --window 1280x800 --clip swim@12 "$scene"
 # 4. Wireframe.
 shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
 # 5. The speed/accuracy dock after measuring the open scene (its own settings marked on the plot).
