@@ -33,6 +33,10 @@ constexpr const char* kBakeOptions = R"(  --clip NAME       A clip of the scene'
   --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
   --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
   --threads N       Deformation threads (default: all).
+  --object NAME     Only this object's mesh in the cache (again for more; the scene is still simulated whole).
+  --each-object     One cache per object: FILE's name + "-OBJECT" (swim.pc2 -> swim-angelfish.pc2, ...).
+  --groups          OBJ files (the rest mesh, an OBJ sequence's frames) name each object's faces with a
+                    "g OBJECT" line, so a DCC imports one part per object.
   --error E         pca: each frame's RMS vertex error, skin: the clip's RMS vertex error, at most E
                     times the rest mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005).
   --bones K         skin: exactly K bones (1..256) instead of the fewest within --error.
@@ -80,7 +84,8 @@ int runBake(const std::vector<std::string>& args) {
     const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
     std::string scenePath, outPath, formatName, clipName;
     std::optional<double> frames, fps, threads, error, targets, bones;
-    bool quiet = false;
+    std::vector<std::string> objects;
+    bool quiet = false, eachObject = false, groups = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&](const char* name) -> std::optional<std::string> {
@@ -95,8 +100,12 @@ int runBake(const std::vector<std::string>& args) {
         }
         if (a == "--quiet") {
             quiet = true;
+        } else if (a == "--each-object") {
+            eachObject = true;
+        } else if (a == "--groups") {
+            groups = true;
         } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads" ||
-                   a == "--clip" || a == "--error" || a == "--targets" || a == "--bones") {
+                   a == "--clip" || a == "--error" || a == "--targets" || a == "--bones" || a == "--object") {
             const auto v = value(a.c_str());
             if (!v)
                 return usage(a + " needs a value");
@@ -106,6 +115,8 @@ int runBake(const std::vector<std::string>& args) {
                 formatName = *v;
             } else if (a == "--clip") {
                 clipName = *v;
+            } else if (a == "--object") {
+                objects.push_back(*v);
             } else {
                 const auto n = parseNumber(*v);
                 if (!n)
@@ -140,6 +151,8 @@ int runBake(const std::vector<std::string>& args) {
         return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
     if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
         return usage("--threads must be a whole number in [0, 1024]");
+    if (eachObject && !objects.empty())
+        return usage("--each-object bakes every object to its own cache; it takes no --object");
     auto exportOptions = io::exportOptions(*format, {error, targets, bones});
     if (!exportOptions)
         return usage(exportOptions.message());
@@ -150,6 +163,8 @@ int runBake(const std::vector<std::string>& args) {
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);
     options.threads = threads ? int(*threads) : 0;
+    options.objects = objects;
+    options.objectGroups = groups;
     if (!quiet) {
         options.progress = [](int done, int total) {
             if (done == total || done % 24 == 0)
@@ -165,6 +180,15 @@ int runBake(const std::vector<std::string>& args) {
         return fail(project.message());
     options.clips = &project->clips;
     options.clip = clipName;
+    if (eachObject) {
+        auto results = io::bakeEachObject(project->scene, options);
+        if (!results)
+            return fail(results.message());
+        for (const io::BakeResult& r : results.value())
+            std::printf("wrote %s (%s, %d frames, %zu points), rest mesh %s\n", r.cache.string().c_str(),
+                        std::string(format->name).c_str(), r.frames, r.points, r.restMesh.string().c_str());
+        return 0;
+    }
     auto result = io::bake(project->scene, options);
     if (!result)
         return fail(result.message());

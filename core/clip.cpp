@@ -155,6 +155,44 @@ Status ClipLibrary::validate(const Scene& scene) const {
     return Status::success();
 }
 
+ClipLibrary withObjectInserted(const ClipLibrary& library, std::size_t index, const std::vector<Vec3>& restNodes) {
+    ClipLibrary out = library;
+    for (NamedSession& named : out.sessions) {
+        Session& s = named.session;
+        BodyState rest;
+        rest.position = restNodes;
+        rest.velocity.assign(restNodes.size(), Vec3::Zero());
+        s.start.bodies.insert(s.start.bodies.begin() + std::ptrdiff_t(std::min(index, s.start.bodies.size())), std::move(rest));
+        if (!s.startDrags.empty())
+            s.startDrags.insert(s.startDrags.begin() + std::ptrdiff_t(std::min(index, s.startDrags.size())), std::vector<DragSpring>{});
+        for (DragEvent& e : s.events)
+            if (e.object >= index)
+                ++e.object;
+    }
+    for (NamedKeyframes& k : out.keyframes)
+        k.objects.insert(k.objects.begin() + std::ptrdiff_t(std::min(index, k.objects.size())), KeyframeAnimation(restNodes.size()));
+    return out;
+}
+
+ClipLibrary withObjectRemoved(const ClipLibrary& library, std::size_t index) {
+    ClipLibrary out = library;
+    for (NamedSession& named : out.sessions) {
+        Session& s = named.session;
+        if (index < s.start.bodies.size())
+            s.start.bodies.erase(s.start.bodies.begin() + std::ptrdiff_t(index));
+        if (index < s.startDrags.size())
+            s.startDrags.erase(s.startDrags.begin() + std::ptrdiff_t(index));
+        std::erase_if(s.events, [index](const DragEvent& e) { return e.object == index; });
+        for (DragEvent& e : s.events)
+            if (e.object > index)
+                --e.object;
+    }
+    for (NamedKeyframes& k : out.keyframes)
+        if (index < k.objects.size())
+            k.objects.erase(k.objects.begin() + std::ptrdiff_t(index));
+    return out;
+}
+
 void closeLoop(std::vector<std::vector<Vec3>>& frames, const std::vector<std::vector<Vec3>>& preroll, int window) {
     if (frames.size() < 2)
         return;

@@ -117,6 +117,14 @@ SeamMeasure measureSeam(const std::vector<std::vector<Vec3>>& frames);
 /// The same on node frames (all objects' nodes together).
 SeamMeasure measureSeam(const NodeFrames& frames);
 
+/// The library after an object was inserted into the scene at `index`: in every take it rests at
+/// `restNodes` (still, no drags: recorded drags of the others are renumbered), and every keyframe set gets an
+/// empty animation for it, so the takes and keys still fit the scene and replay as before.
+ClipLibrary withObjectInserted(const ClipLibrary& library, std::size_t index, const std::vector<Vec3>& restNodes);
+/// The library after object `index` was removed from the scene: its start state, drags and keys leave every
+/// take and keyframe set (the drags of later objects renumbered).
+ClipLibrary withObjectRemoved(const ClipLibrary& library, std::size_t index);
+
 /// The clip's source name as written in files ("drivers", "session", "keyframes").
 const char* clipSourceName(ClipSource source);
 /// Parses a clip source name.

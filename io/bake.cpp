@@ -5,7 +5,10 @@
 #include "io/atomic_file.h"
 #include "io/frame_source.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <set>
 
 namespace softtouch::io {
 
@@ -51,10 +54,27 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     result.clip = source.clipName();
     result.seam = source.seam();
 
-    // The rest mesh of all objects, concatenated in scene order: the cache's vertex order.
+    // The objects written: all, or those named.
+    std::vector<bool> written(sim.objectCount(), options.objects.empty());
+    for (const std::string& name : options.objects) {
+        bool found = false;
+        for (std::size_t i = 0; i < sim.objectCount(); ++i)
+            if (sim.object(i).name == name)
+                found = written[i] = true;
+        if (!found) {
+            std::string names;
+            for (std::size_t i = 0; i < sim.objectCount(); ++i)
+                names += (i ? ", '" : "'") + sim.object(i).name + "'";
+            return Status::error("the scene has no object named '" + name + "' (it has " + names + ")");
+        }
+    }
+
+    // The rest mesh of the objects written, concatenated in scene order: the cache's vertex order.
     ClipSetup setup;
     Mesh& rest = setup.restMesh;
     for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+        if (!written[i])
+            continue;
         const SceneObject& object = sim.object(i);
         const Mesh& m = object.mesh;
         const auto base = std::uint32_t(rest.positions.size());
@@ -66,6 +86,8 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
             rest.normals.insert(rest.normals.end(), m.normals.begin(), m.normals.end());
         for (const auto& t : m.triangles)
             rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        if (options.objectGroups)  // the OBJ writers name each object's faces after it
+            rest.parts.push_back({object.name, base, std::uint32_t(m.positions.size())});
     }
     if (rest.normals.size() != rest.positions.size())
         rest.computeNormals();
@@ -92,7 +114,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     auto writer = makeClipWriter(options.format, options.exportOptions);
     if (writer->needsNodes())
         for (std::size_t i = 0; i < sim.objectCount(); ++i)
-            if (sim.followsBaseAnimation(i))
+            if (written[i] && sim.followsBaseAnimation(i))
                 return Status::error("object '" + sim.object(i).name + "' moves with its own base animation, which its "
                                      "lattice cannot carry (the cache holds lattice nodes only, and a rig bends the "
                                      "mesh in ways the lattice cannot follow); export it as pc2, mdd, obj, glTF, skin, "
@@ -112,7 +134,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     frame.normals = normals;
     // An object whose nodes did not move keeps last frame's mesh (a sleeping body costs nothing).
     std::vector<NodeChangeTracker> moved(sim.objectCount());
-    result.objects = int(sim.objectCount());
+    result.objects = int(std::count(written.begin(), written.end(), true));
     for (int f = 0; f < frames; ++f) {
         source.seek(f, &result.warnings);
         if (const std::string& refusal = source.simulation().refusal(); !refusal.empty()) {
@@ -121,6 +143,8 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         }
         std::size_t offset = 0;
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            if (!written[i])
+                continue;
             const std::size_t n = sim.object(i).mesh.positions.size();
             const std::span<Vec3f> objectNormals =
                 normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
@@ -133,7 +157,8 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         frame.nodes.clear();
         if (writer->needsNodes()) {
             for (std::size_t i = 0; i < sim.objectCount(); ++i)
-                frame.nodes.push_back(source.nodes(i));
+                if (written[i])
+                    frame.nodes.push_back(source.nodes(i));
         }
         if (Status s = writer->writeFrame(frame); !s) {
             writer->abort();
@@ -145,7 +170,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         }
     }
     // The rest mesh first: a cache is never published without the mesh it matches.
-    if (Status s = writeObj(result.restMesh, rest); !s) {
+    if (Status s = writeObj(result.restMesh, rest, {}, {}, options.objectGroups); !s) {
         writer->abort();
         return s;
     }
@@ -156,6 +181,35 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     result.notes = writer->notes();
     result.frames = frames;
     return result;
+}
+
+std::filesystem::path perObjectPath(const std::filesystem::path& output, const std::string& name) {
+    std::string safe = name.empty() ? std::string("object") : name;
+    for (char& c : safe)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
+            c = '_';
+    std::filesystem::path out = output;
+    out.replace_filename(output.stem().string() + "-" + safe + output.extension().string());
+    return out;
+}
+
+Result<std::vector<BakeResult>> bakeEachObject(const Scene& scene, const BakeOptions& options) {
+    std::vector<BakeResult> results;
+    std::set<std::filesystem::path> outputs;
+    for (const SceneObject& o : scene.objects)
+        if (!outputs.insert(perObjectPath(options.output, o.name)).second)
+            return Status::error("two objects would both write " + perObjectPath(options.output, o.name).string() +
+                                 ": rename one");
+    for (const SceneObject& o : scene.objects) {
+        BakeOptions one = options;
+        one.objects = {o.name};
+        one.output = perObjectPath(options.output, o.name);
+        auto baked = bake(scene, one);
+        if (!baked)
+            return Status::error("object '" + o.name + "': " + baked.message());
+        results.push_back(std::move(baked.value()));
+    }
+    return results;
 }
 
 }  // namespace softtouch::io

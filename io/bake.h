@@ -30,6 +30,13 @@ struct BakeOptions {
     std::string clip;                       ///< Clip of `clips` to bake; empty: the library's default clip, or
                                             ///< the drivers from frame 0 when it has none.
     int threads = 0;                        ///< Deformation threads; 0 uses every hardware thread.
+    /// The objects whose meshes go into the cache, by name, in scene order; empty: every object. The whole
+    /// scene is still simulated (objects may touch), only these are written.
+    std::vector<std::string> objects;
+    /// OBJ output (the rest mesh, an OBJ sequence's frames): a "g NAME" line before each object's faces, so a
+    /// DCC imports one named part per object. Off by default: importers that split groups into meshes may
+    /// weld or reorder vertices, which breaks the vertex order PC2 and MDD caches rely on.
+    bool objectGroups = false;
     /// Called after each frame with (frames done, total); returning false cancels the bake.
     std::function<bool(int, int)> progress;
 };
@@ -56,5 +63,14 @@ std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheForm
 
 /// Plays `scene` (io/frame_source.h) and writes the cache or export and the rest mesh.
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);
+
+/// Where object `name`'s own cache goes when each object is baked to its own: "-NAME" added to the file's
+/// stem (to a base path that has no extension), the name's characters other than letters, digits, '-' and
+/// '_' written as '_'.
+std::filesystem::path perObjectPath(const std::filesystem::path& output, const std::string& name);
+
+/// One cache per object (perObjectPath()), each baked as bake() with only that object written; in scene order.
+/// Stops at the first failure (the caches written before it stay, each complete).
+Result<std::vector<BakeResult>> bakeEachObject(const Scene& scene, const BakeOptions& options);
 
 }  // namespace softtouch::io

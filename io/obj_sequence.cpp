@@ -1,6 +1,7 @@
 // OBJ sequence: one Wavefront OBJ per frame, dir/name.obj -> dir/name_0000.obj, name_0001.obj, …
 // Each file holds the frame's positions ("v") and the rest mesh's triangles ("f"), in the vertex
-// order of the rest mesh, with no groups (see writeObj()).
+// order of the rest mesh, with no groups (see writeObj()) unless the rest mesh it is made from names parts
+// (a bake with object groups: "g NAME" before each object's faces).
 //
 // Publishing: a sequence is many files and no file system renames many files atomically. Each frame
 // is therefore written completely beside its final name ("staged", itself through AtomicFile so a
@@ -36,8 +37,8 @@ Status namingFrame(const Status& status, const std::filesystem::path& staged,
 
 class ObjSequenceWriter final : public VertexCacheWriter {
 public:
-    explicit ObjSequenceWriter(std::vector<std::array<std::uint32_t, 3>> triangles)
-        : m_triangles(std::move(triangles)) {}
+    ObjSequenceWriter(std::vector<std::array<std::uint32_t, 3>> triangles, std::vector<MeshPart> groups)
+        : m_triangles(std::move(triangles)), m_groups(std::move(groups)) {}
     ~ObjSequenceWriter() override { abort(); }
     ObjSequenceWriter(const ObjSequenceWriter&) = delete;
     ObjSequenceWriter& operator=(const ObjSequenceWriter&) = delete;
@@ -81,8 +82,12 @@ public:
                   std::to_string(m_info.frameCount) + ", vertex order of the rest mesh\n";
         for (const Vec3f& p : positions)
             detail::appendObjVector(m_text, "v", p);
-        for (const auto& triangle : m_triangles)
+        int part = -1;
+        for (const auto& triangle : m_triangles) {
+            if (!m_groups.empty())
+                detail::appendObjGroup(m_text, m_groups, triangle, part);
             detail::appendObjFace(m_text, triangle, false);
+        }
         Status s = m_current->write(m_text.data(), m_text.size());
         if (s)
             s = m_current->commit();
@@ -161,6 +166,7 @@ private:
     }
 
     std::vector<std::array<std::uint32_t, 3>> m_triangles;  ///< The rest mesh's, written into every frame.
+    std::vector<MeshPart> m_groups;  ///< Parts named as OBJ groups in every frame (empty: no groups).
     std::filesystem::path m_path;                          ///< The sequence's base path (dir/name.obj).
     CacheInfo m_info;                                      ///< What begin() announced.
     bool m_active = false;                                 ///< Between begin() and finish()/abort().
@@ -174,7 +180,7 @@ private:
 namespace detail {
 
 std::unique_ptr<VertexCacheWriter> makeObjSequenceWriter(const Mesh& restMesh) {
-    return std::make_unique<ObjSequenceWriter>(restMesh.triangles);
+    return std::make_unique<ObjSequenceWriter>(restMesh.triangles, restMesh.parts);
 }
 
 }  // namespace detail

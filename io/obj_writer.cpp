@@ -64,10 +64,26 @@ void appendObjFace(std::string& out, const std::array<std::uint32_t, 3>& triangl
     out += '\n';
 }
 
+void appendObjGroup(std::string& text, const std::vector<MeshPart>& parts, const std::array<std::uint32_t, 3>& triangle,
+                    int& current) {
+    int part = current;
+    for (std::size_t p = 0; p < parts.size(); ++p)
+        if (triangle[0] >= parts[p].firstVertex && triangle[0] < parts[p].firstVertex + parts[p].vertexCount)
+            part = int(p);
+    if (part == current || part < 0)
+        return;
+    current = part;
+    std::string name = parts[std::size_t(part)].name.empty() ? "part_" + std::to_string(part) : parts[std::size_t(part)].name;
+    for (char& c : name)  // one token: OBJ splits group names at white space
+        if (c == ' ' || c == '\t' || c == '\n' || c == '\r')
+            c = '_';
+    text += "g " + name + "\n";
+}
+
 }  // namespace detail
 
 Status writeObj(const std::filesystem::path& path, const Mesh& mesh, std::span<const Vec3f> positions,
-                std::span<const Vec3f> normals) {
+                std::span<const Vec3f> normals, bool groups) {
     const std::span<const Vec3f> points =
         positions.empty() ? std::span<const Vec3f>(mesh.positions) : positions;
     const std::span<const Vec3f> vertexNormals =
@@ -98,8 +114,8 @@ Status writeObj(const std::filesystem::path& path, const Mesh& mesh, std::span<c
     AtomicFile file(path);
     if (Status s = file.open(); !s)
         return s;
-    // No "o"/"g" lines: importers split objects and groups into separate meshes (and may reorder or
-    // weld vertices while doing so), which would break the 1:1 vertex mapping onto the caches.
+    // No "o"/"g" lines unless asked: importers split objects and groups into separate meshes (and may
+    // reorder or weld vertices while doing so), which would break the 1:1 vertex mapping onto the caches.
     std::string text = "# SoftTouch rest mesh: vertex order matches the vertex caches written beside it\n";
     for (const Vec3f& p : points) {
         detail::appendObjVector(text, "v", p);
@@ -111,7 +127,10 @@ Status writeObj(const std::filesystem::path& path, const Mesh& mesh, std::span<c
         if (Status s = flushChunk(file, text, false); !s)
             return s;
     }
+    int part = -1;
     for (const auto& triangle : mesh.triangles) {
+        if (groups)
+            detail::appendObjGroup(text, mesh.parts, triangle, part);
         detail::appendObjFace(text, triangle, !vertexNormals.empty());
         if (Status s = flushChunk(file, text, false); !s)
             return s;

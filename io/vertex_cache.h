@@ -80,9 +80,18 @@ Result<VertexCache> readMdd(const std::filesystem::path& path);
 /// Paths of an OBJ sequence written for `path` (dir/name.obj -> dir/name_0000.obj, …).
 std::filesystem::path objSequenceFramePath(const std::filesystem::path& path, std::size_t frame);
 
-/// Writes a mesh as Wavefront OBJ (v, vn, f; no groups, so vertex order survives any importer that
-/// keeps OBJ order), atomically. `positions`/`normals` override the mesh's own when non-empty.
+/// Writes a mesh as Wavefront OBJ (v, vn, f), atomically. `positions`/`normals` override the mesh's own when
+/// non-empty. No groups unless `groups`: then a "g NAME" line before the faces of each of the mesh's parts (a
+/// face belongs to the part of its first vertex; parts in vertex order). Without groups the vertex order
+/// survives any importer that keeps OBJ order; with them some importers split and reorder.
 Status writeObj(const std::filesystem::path& path, const Mesh& mesh, std::span<const Vec3f> positions = {},
-                std::span<const Vec3f> normals = {});
+                std::span<const Vec3f> normals = {}, bool groups = false);
+
+namespace detail {
+/// The "g NAME" line that starts part `part` of `parts` when triangle `triangle` (its first vertex) enters it,
+/// appended to `text`; `current` is the part of the previous triangle (-1 before the first).
+void appendObjGroup(std::string& text, const std::vector<MeshPart>& parts, const std::array<std::uint32_t, 3>& triangle,
+                    int& current);
+}  // namespace detail
 
 }  // namespace softtouch::io

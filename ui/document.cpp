@@ -96,28 +96,21 @@ Status Document::importAnimatedMesh(const QString& path, QString* report) {
     SceneObject object = std::move(made->objects.front());
     object.baseAnimation = std::make_shared<BaseAnimation>(std::move(animated->animation));
     object.material.goalWeight.assign(object.material.mass.size(), 0.5);
-    io::Project after = m_project;
-    std::set<std::string> names;
-    for (const SceneObject& o : after.scene.objects)
-        names.insert(o.name);
-    for (int k = 2; names.count(object.name); ++k)
-        object.name = QFileInfo(path).completeBaseName().toStdString() + " " + std::to_string(k);
-    if (report)
+    if (m_project.scene.objects.empty())
+        m_project.scene.world.simulation = made->world.simulation;
+    const std::size_t index = m_project.scene.objects.size();
+    if (Status s = insertObject(std::move(object), std::filesystem::absolute(path.toStdString()).string(), Vec3::Zero(), {},
+                                index, tr("Import animated mesh %1").arg(QFileInfo(path).fileName()));
+        !s)
+        return Status::error(path.toStdString() + ": " + s.message());
+    if (report) {
+        const SceneObject& added = m_project.scene.objects[index];
         *report = tr("%1: take \"%2\", %3 s, %4 vertices, %5")
-                      .arg(QString::fromStdString(object.name), QString::fromStdString(object.baseAnimation->take))
-                      .arg(object.baseAnimation->duration())
-                      .arg(object.mesh.positions.size())
+                      .arg(QString::fromStdString(added.name), QString::fromStdString(added.baseAnimation->take))
+                      .arg(added.baseAnimation->duration())
+                      .arg(added.mesh.positions.size())
                       .arg(QString::fromStdString(animated->unit));
-    if (after.scene.objects.empty())
-        after.scene.world.simulation = made->world.simulation;
-    after.scene.objects.push_back(std::move(object));
-    after.meshReferences.resize(after.scene.objects.size() - 1);
-    after.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());
-    after.meshOffsets.resize(after.scene.objects.size(), Vec3::Zero());
-    if (auto check = SceneSimulation::create(after.scene); !check)
-        return Status::error(path.toStdString() + ": " + check.message());
-    m_undo.push(new ProjectEditCommand(this, m_project, std::move(after),
-                                             tr("Import animated mesh %1").arg(QFileInfo(path).fileName())));
+    }
     return Status::success();
 }
 

@@ -50,6 +50,18 @@ public:
     /// animation or a pose of another node count.
     Status applyRestShape(int object, const std::vector<Vec3>& pose);
 
+    /// Adds an object made from a mesh file (one undo step) on a fitted 4x4x4 Bezier lattice with the default
+    /// material, as a new scene's (core newScene()), where the file puts it, or beside the scene's objects
+    /// along x when it would overlap them (its "position" in the project). Its name is the file's, numbered
+    /// when taken. Takes and keyframe sets gain it at rest (core/clip.h withObjectInserted()).
+    Status addMesh(const QString& path);
+    /// Adds a copy of object i right after it (one undo step), beside it along x, a fifth of its box apart:
+    /// mesh, lattice, material, drivers, rest-shape edits and base animation; no keys of its own.
+    Status duplicateObject(int object);
+    /// Removes object i (one undo step) and its state, drags and keys from every take and keyframe set;
+    /// refused for the last object.
+    Status deleteObject(int object);
+
     const io::Project& project() const { return m_project; }
     const Scene& scene() const { return m_project.scene; }
     /// Path of the project file; empty for an imported mesh not yet saved.
@@ -92,6 +104,9 @@ signals:
 
 private:
     void replaceProject(io::Project project);
+    /// Inserts `object` at `index` with what the project keeps of it, as one undo step named `text`.
+    Status insertObject(SceneObject object, std::string meshReference, Vec3 meshOffset, std::vector<RestShapeEdit> edits,
+                        std::size_t index, const QString& text);
 
     io::Project m_project;
     QUndoStack m_undo;

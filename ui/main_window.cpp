@@ -102,6 +102,15 @@ void MainWindow::buildDocks() {
         if (item && item->data(0, Qt::UserRole).isValid())
             m_viewport->setCurrentObject(item->data(0, Qt::UserRole).toInt());
     });
+    connect(m_viewport, &Viewport::currentObjectChanged, this, [this](int object) {
+        for (int i = 0; i < m_outliner->topLevelItemCount(); ++i) {
+            QTreeWidgetItem* item = m_outliner->topLevelItem(i);
+            if (item->childCount() > 0 && item->data(0, Qt::UserRole).toInt() == object && m_outliner->currentItem() != item) {
+                const QSignalBlocker block(m_outliner);
+                m_outliner->setCurrentItem(item);
+            }
+        }
+    });
 
     m_properties = new PropertiesPanel(m_document, m_simulation, m_viewport);
     auto* scroll = new QScrollArea;
@@ -126,6 +135,7 @@ void MainWindow::buildDocks() {
 
     m_timeline = new TimelinePanel(m_document, m_simulation);
     m_timeline->setViewCamera([this] { return m_viewport->camera().placement(); });
+    m_timeline->setCurrentObjectSource([this] { return m_viewport->currentObject(); });
     auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
     timelineDock->setMaximumHeight(220);
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
@@ -162,6 +172,13 @@ void MainWindow::buildActions() {
     file->addAction(tr("&Import Mesh…"), QKeySequence(tr("Ctrl+I")), this, &MainWindow::importMesh);
     file->addAction(tr("Import &Animated Mesh…"), QKeySequence(tr("Ctrl+Shift+I")), this, &MainWindow::importAnimatedMesh)
         ->setObjectName("importAnimatedMesh");
+    file->addAction(tr("A&dd Mesh…"), QKeySequence(tr("Ctrl+Shift+A")), this, [this] {
+        const QString path = QFileDialog::getOpenFileName(
+            this, tr("Add Mesh"), QFileInfo(m_document->filePath()).path(),
+            tr("Meshes (*.obj *.fbx *.gltf *.glb *.ply *.stl *.dae *.3ds *.blend);;All files (*)"));
+        if (!path.isEmpty())
+            (void)addMeshFile(path);  // errors shown there
+    })->setObjectName("actionAddMesh");
     file->addSeparator();
     file->addAction(tr("&Save"), QKeySequence::Save, this, &MainWindow::save);
     file->addAction(tr("Save &As…"), QKeySequence::SaveAs, this, &MainWindow::saveAs);
@@ -178,6 +195,13 @@ void MainWindow::buildActions() {
     redo->setShortcuts({QKeySequence(tr("Ctrl+Y")), QKeySequence(tr("Ctrl+Shift+Z"))});
     edit->addAction(undo);
     edit->addAction(redo);
+    edit->addSeparator();
+    QAction* duplicate = edit->addAction(tr("D&uplicate Object"), QKeySequence(tr("Shift+D")), this,
+                                         [this] { (void)duplicateCurrentObject(); });
+    duplicate->setObjectName("actionDuplicateObject");
+    QAction* remove = edit->addAction(tr("Delete &Object"), QKeySequence(tr("Shift+Del")), this,
+                                      [this] { (void)deleteCurrentObject(); });
+    remove->setObjectName("actionDeleteObject");
     edit->addSeparator();
     QMenu* addCollider = edit->addMenu(tr("Add &Collider"));
     for (ColliderShape shape : {ColliderShape::Sphere, ColliderShape::Capsule, ColliderShape::Box, ColliderShape::Mesh}) {
@@ -542,6 +566,37 @@ Status MainWindow::importAnimatedMeshFile(const QString& path) {
     m_simulation->pause();
     statusBar()->showMessage(tr("Imported %1. Paint 'Goal weight' where it should follow the animation exactly; "
                                 "Space plays it.").arg(report), 15000);
+    return Status::success();
+}
+
+Status MainWindow::addMeshFile(const QString& path) {
+    if (Status s = m_document->addMesh(path); !s) {
+        showError(tr("Cannot add mesh"), QString::fromStdString(s.message()));
+        return s;
+    }
+    m_viewport->setCurrentObject(int(m_document->scene().objects.size()) - 1);
+    m_viewport->frameAll();
+    return Status::success();
+}
+
+Status MainWindow::duplicateCurrentObject() {
+    const int object = m_viewport->currentObject();
+    if (Status s = m_document->duplicateObject(object); !s) {
+        showError(tr("Cannot duplicate"), QString::fromStdString(s.message()));
+        return s;
+    }
+    m_viewport->setCurrentObject(object + 1);
+    m_viewport->frameAll();
+    return Status::success();
+}
+
+Status MainWindow::deleteCurrentObject() {
+    const int object = m_viewport->currentObject();
+    if (Status s = m_document->deleteObject(object); !s) {
+        showError(tr("Cannot delete"), QString::fromStdString(s.message()));
+        return s;
+    }
+    m_viewport->setCurrentObject(std::max(0, object - 1));
     return Status::success();
 }
 

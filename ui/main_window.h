@@ -76,6 +76,12 @@ public slots:
     /// Adds an object from a mesh file with its own animation (what File ▸ Import Animated Mesh does after
     /// its file dialog); errors are shown and returned.
     Status importAnimatedMeshFile(const QString& path);
+    /// File ▸ Add Mesh (after its file dialog): a new object from a mesh file beside the others, made the
+    /// current object; errors are shown and returned.
+    Status addMeshFile(const QString& path);
+    /// Edit ▸ Duplicate Object and Delete Object on the current object; errors are shown and returned.
+    Status duplicateCurrentObject();
+    Status deleteCurrentObject();
 
 protected:
     void closeEvent(QCloseEvent* event) override;

@@ -420,7 +420,38 @@ void TimelinePanel::exportClip(int index) {
     if (path.isEmpty())
         return;
     const qsizetype chosen = filters.indexOf(selected);
-    const Status s = chosen < 0 ? exportClipTo(index, path) : exportClipTo(index, path, io::exportFormats()[std::size_t(chosen)]);
+    const io::ExportFormat& format = chosen < 0 ? formatFor(path) : io::exportFormats()[std::size_t(chosen)];
+    // Several objects: all in one file, the current one, or each in its own; OBJ groups on request.
+    ExportObjects objects;
+    const Scene& scene = m_document->scene();
+    if (scene.objects.size() > 1) {
+        QDialog ask(this);
+        ask.setWindowTitle(tr("Export Objects"));
+        auto* form = new QFormLayout(&ask);
+        auto* which = new QComboBox;
+        which->setObjectName("exportObjects");
+        which->addItem(tr("All %1 objects in one file").arg(scene.objects.size()));
+        const int current = m_currentObject ? m_currentObject() : 0;
+        const QString currentName = QString::fromStdString(scene.objects[std::size_t(std::clamp(current, 0, int(scene.objects.size()) - 1))].name);
+        which->addItem(tr("Only %1 (the current object)").arg(currentName));
+        which->addItem(tr("Each object in its own file (name-OBJECT)"));
+        form->addRow(tr("Objects"), which);
+        auto* groups = new QCheckBox(tr("Name each object's faces in OBJ files (g OBJECT)"));
+        groups->setToolTip(tr("A DCC then imports one part per object; some importers reorder vertices when they split "
+                              "groups, which PC2 and MDD caches rely on."));
+        form->addRow(groups);
+        auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+        connect(buttons, &QDialogButtonBox::accepted, &ask, &QDialog::accept);
+        connect(buttons, &QDialogButtonBox::rejected, &ask, &QDialog::reject);
+        form->addRow(buttons);
+        if (ask.exec() != QDialog::Accepted)
+            return;
+        if (which->currentIndex() == 1)
+            objects.only = {currentName.toStdString()};
+        objects.each = which->currentIndex() == 2;
+        objects.groups = groups->isChecked();
+    }
+    const Status s = exportClipTo(index, path, format, objects);
     if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
         QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));  // never matched)
 }
@@ -428,8 +459,14 @@ void TimelinePanel::exportClip(int index) {
 Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path)); }
 
 Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format) {
+    return exportClipTo(index, path, format, ExportObjects{});
+}
+
+Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportObjects& objects) {
     const ClipLibrary& library = m_document->project().clips;
     io::BakeOptions options;
+    options.objects = objects.only;
+    options.objectGroups = objects.groups;
     options.output = path.toStdString();
     options.format = io::exportWriter(format, options.output);
     options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
@@ -445,6 +482,21 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
         QApplication::processEvents();
         return !progress.wasCanceled();
     };
+    if (objects.each) {
+        auto results = io::bakeEachObject(m_document->scene(), options);
+        progress.reset();
+        if (!results) {
+            m_time->setText(QString::fromStdString(results.message()));
+            return results.status();
+        }
+        QStringList files;
+        for (const io::BakeResult& r : results.value())
+            files << QString::fromStdString(r.cache.filename().string());
+        m_time->setText(tr("Exported %1 frames of each object to %2 (each with its rest mesh)")
+                            .arg(results->empty() ? 0 : results->front().frames)
+                            .arg(files.join(", ")));
+        return Status::success();
+    }
     auto result = io::bake(m_document->scene(), options);
     progress.reset();
     if (!result) {

@@ -25,6 +25,13 @@ namespace softtouch::ui {
 
 class FrameRuler;
 
+/// Which objects an export writes, and how (a scene of several objects).
+struct ExportObjects {
+    std::vector<std::string> only;  ///< These objects only, by name (empty: every object).
+    bool each = false;              ///< One file per object: the name + "-OBJECT" (io::perObjectPath()).
+    bool groups = false;            ///< OBJ files name each object's faces with "g OBJECT".
+};
+
 /// Takes and clips of the open document.
 class TimelinePanel : public QWidget {
     Q_OBJECT
@@ -74,6 +81,9 @@ public slots:
     /// settings.
     Status exportClipTo(int index, const QString& path);
     Status exportClipTo(int index, const QString& path, const io::ExportFormat& format);
+    Status exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportObjects& objects);
+    /// The object "only the current object" exports (the main window passes the viewport's).
+    void setCurrentObjectSource(std::function<int()> current) { m_currentObject = std::move(current); }
     /// Where the export and render dialogs start: beside the project (else the home folder), named after
     /// the project and the clip ("angelfish-swim-swim.pc2"), with extension `suffix`.
     QString suggestedOutputPath(int index, const QString& suffix) const;
@@ -120,6 +130,7 @@ private:
     QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
     std::function<render::CameraPlacement()> m_viewCamera;  ///< See setViewCamera().
+    std::function<int()> m_currentObject;                   ///< See setCurrentObjectSource().
     int m_clipShown = -1;      ///< Which clip m_clipFrames holds ...
     std::uint64_t m_clipRevision = 0;  ///< ... evaluated at this document revision.
 };

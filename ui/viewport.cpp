@@ -594,6 +594,14 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
         } else {
             nodes = nodesInRect(QRectF(m_pressPos, event->position()).normalized());
         }
+        // A click on no node of the current object, on another object's surface, picks that object instead.
+        if (click && nodes.empty() && (m_tool == Tool::Select || m_tool == Tool::Pose))
+            if (const int object = objectAt(event->position()); object >= 0 && object != m_object) {
+                setCurrentObject(object);
+                m_gesture = Gesture::None;
+                update();
+                return;
+            }
         applyNodeTool(nodes, click ? false : bool(m_pressModifiers & Qt::ControlModifier));
         if (click && nodes.empty() && (m_tool == Tool::Select || m_tool == Tool::Pose))
             setSelection({});
@@ -625,22 +633,40 @@ void Viewport::tabletEvent(QTabletEvent* event) {
     event->ignore();
 }
 
-void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
+int Viewport::objectAt(const QPointF& pos, std::optional<SurfaceHit>* hit) const {
     const SceneSimulation* sim = m_simulation->simulation();
     if (!sim)
-        return;
-    const int slot = (modifiers & Qt::ControlModifier) ? 1 : 0;
+        return -1;
     const Ray ray = m_camera.rayThrough(pos.x(), pos.y(), width(), height());
     std::optional<SurfaceHit> best;
     int bestObject = -1;
     for (std::size_t i = 0; i < sim->objectCount(); ++i) {
         const std::vector<Vec3f> positions = deformedPositions(int(i));
-        if (auto hit = pickSurface(ray, positions, sim->object(i).mesh.triangles);
-            hit && (!best || hit->distance < best->distance)) {
-            best = hit;
+        if (auto h = pickSurface(ray, positions, sim->object(i).mesh.triangles); h && (!best || h->distance < best->distance)) {
+            best = h;
             bestObject = int(i);
         }
     }
+    if (hit)
+        *hit = best;
+    return bestObject;
+}
+
+void Viewport::mouseDoubleClickEvent(QMouseEvent* event) {
+    // A double-click on an object makes it the one the tools act on (the outliner follows).
+    if (event->button() == Qt::LeftButton && !m_transform)
+        if (const int object = objectAt(event->position()); object >= 0 && object != m_object)
+            setCurrentObject(object);
+    QOpenGLWidget::mouseDoubleClickEvent(event);
+}
+
+void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
+    const SceneSimulation* sim = m_simulation->simulation();
+    if (!sim)
+        return;
+    const int slot = (modifiers & Qt::ControlModifier) ? 1 : 0;
+    std::optional<SurfaceHit> best;
+    const int bestObject = objectAt(pos, &best);
     if (!best) {
         if (slot == 1)
             m_simulation->setGrab(1, std::nullopt);  // Ctrl+click on empty space lets the held hand go
@@ -869,12 +895,15 @@ void Viewport::setBrushField(PaintField field) {
 
 void Viewport::setCurrentObject(int object) {
     cancelTransform();
+    const bool changed = object != m_object;
     if (m_modeView && m_modeView->object != object)
         stopModeView();
     m_object = object;
     updateLegend();
     m_selection.clear();
     emit selectionChanged();
+    if (changed)
+        emit currentObjectChanged(object);
     update();
 }
 

@@ -15,6 +15,7 @@
 #include "ui/node_brush.h"
 #include "ui/node_transform.h"
 #include "ui/orbit_camera.h"
+#include "ui/surface_pick.h"
 #include "ui/simulation_controller.h"
 
 #include <QElapsedTimer>
@@ -168,6 +169,8 @@ signals:
     /// The mode view started, changed or stopped (index 0).
     void modeViewChanged(int object, int index);
     void selectionChanged();
+    /// Another object became the one the tools act on (outliner, double-click, a click in select or pose).
+    void currentObjectChanged(int object);
     /// A one-line hint for the status bar (what the tool would do, what was picked).
     void hint(const QString& text);
 
@@ -178,6 +181,7 @@ protected:
     void mousePressEvent(QMouseEvent* event) override;
     void mouseMoveEvent(QMouseEvent* event) override;
     void mouseReleaseEvent(QMouseEvent* event) override;
+    void mouseDoubleClickEvent(QMouseEvent* event) override;
     void wheelEvent(QWheelEvent* event) override;
     void tabletEvent(QTabletEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
@@ -199,6 +203,8 @@ private:
     Gesture navigationFor(const QMouseEvent* event) const;
     std::vector<Eigen::Vector2d> nodeScreenPositions(int object) const;
     int nodeAt(const QPointF& pos, double radiusPixels = 14.0) const;
+    /// The object whose deformed surface is nearest under `pos` (-1: none), and where (`hit`).
+    int objectAt(const QPointF& pos, std::optional<SurfaceHit>* hit = nullptr) const;
     void beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers);
     void moveDrag(const QPointF& pos);
     void paintDab(const QPointF& pos);

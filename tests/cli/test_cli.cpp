@@ -70,6 +70,7 @@ private slots:
     void bakeFormats_data();
     void bakeFormats();
     void bakeIsDeterministic();
+    void bakeObjectsApartOrGrouped();
     void goldenHash();
     void upgradeKeepsMassLowestModeAndDamping();
     void studyWritesItsFilesAndAppliesAPick();
@@ -265,6 +266,54 @@ void TestCli::bakeIsDeterministic() {
     const QByteArray x = fileBytes(a), y = fileBytes(b);
     QVERIFY(x.size() > 1000);
     QVERIFY2(x == y, "two bakes of the default scene differ (one used one thread, one all)");
+}
+
+// Two objects (#15 item 3): --each-object writes one cache per object, each with that object's vertices, the
+// same as the whole-scene cache's part of them frame for frame; --object writes one object; --groups names
+// each object's faces in the OBJ files with "g NAME" and keeps the vertex order.
+void TestCli::bakeObjectsApartOrGrouped() {
+    QTemporaryDir dir;
+    const QString scene = kScenes + "angelfish-pair.softtouch";
+    const QString all = dir.filePath("pair.pc2");
+    Run r = runCli({"bake", scene, "--out", all, "--frames", "6", "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    r = runCli({"bake", scene, "--out", dir.filePath("each.pc2"), "--frames", "6", "--each-object", "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    QVERIFY2(r.out.contains("each-near_angelfish.pc2") && r.out.contains("each-far_angelfish.pc2"), qPrintable(r.out));
+    auto whole = io::readPc2(all.toStdString());
+    auto near = io::readPc2(dir.filePath("each-near_angelfish.pc2").toStdString());
+    auto far = io::readPc2(dir.filePath("each-far_angelfish.pc2").toStdString());
+    QVERIFY(whole.ok() && near.ok() && far.ok());
+    const std::size_t n = near->info.pointCount;
+    QCOMPARE(n + far->info.pointCount, whole->info.pointCount);
+    QCOMPARE(objVertices(dir.filePath("each-near_angelfish.obj")).size(), n);
+    for (std::size_t f = 0; f < 6; ++f)
+        for (std::size_t v = 0; v < whole->info.pointCount; v += 7) {
+            const Vec3f& part = v < n ? near->frames[f][v] : far->frames[f][v - n];
+            QVERIFY(part == whole->frames[f][v]);
+        }
+    // An object the scene does not have: the names it has, exit 1, nothing written.
+    r = runCli({"bake", scene, "--out", dir.filePath("shark.pc2"), "--object", "shark", "--quiet"});
+    QCOMPARE(r.exitCode, 1);
+    QVERIFY2(r.err.contains("the scene has no object named 'shark' (it has 'near angelfish', 'far angelfish')"), qPrintable(r.err));
+    QVERIFY(!QFile::exists(dir.filePath("shark.pc2")) && !QFile::exists(dir.filePath("shark.obj")));
+    r = runCli({"bake", scene, "--out", dir.filePath("far.pc2"), "--frames", "6", "--object", "far angelfish", "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    QVERIFY(fileBytes(dir.filePath("far.pc2")) == fileBytes(dir.filePath("each-far_angelfish.pc2")));
+    // Grouped OBJ sequence: "g near_angelfish" then "g far_angelfish", the vertices as without groups.
+    const QString grouped = dir.filePath("seq/pair.obj");
+    QDir(dir.path()).mkdir("seq");
+    r = runCli({"bake", scene, "--out", grouped, "--frames", "2", "--groups", "--quiet"});
+    QVERIFY2(r.exitCode == 0, qPrintable(r.err));
+    const QString frame = QString::fromStdString(io::objSequenceFramePath(grouped.toStdString(), 1).string());
+    const QByteArray text = fileBytes(frame);
+    const qsizetype g1 = text.indexOf("\ng near_angelfish\n"), g2 = text.indexOf("\ng far_angelfish\n");
+    QVERIFY2(g1 > 0 && g2 > g1 && text.count("\ng ") == 2, text.left(200).constData());
+    QVERIFY(fileBytes(grouped).contains("\ng far_angelfish\n"));  // the rest mesh too
+    const auto vertices = objVertices(frame);
+    QCOMPARE(vertices.size(), whole->info.pointCount);
+    for (std::size_t v = 0; v < vertices.size(); v += 7)
+        QVERIFY((vertices[v] - whole->frames[1][v]).norm() < 1e-6f);
 }
 
 void TestCli::goldenHash() {
@@ -468,6 +517,9 @@ void TestCli::badInputFailsCleanly_data() {
     QTest::newRow("gravity 1e30") << good.arg("", R"(, "world": {"gravity": [0, -1e30, 0]})") << QStringList() << "/world/gravity: expected at most 1e4" << 1;
     QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps must be in [1, 1000]" << 2;
     QTest::newRow("frames out of range") << good.arg("", "") << QStringList{"--frames", "0"} << "--frames" << 2;
+    QTest::newRow("each object and an object") << good.arg("", "") << QStringList{"--each-object", "--object", "x"}
+                                               << "--each-object bakes every object to its own cache; it takes no --object" << 2;
+    QTest::newRow("object without a name") << good.arg("", "") << QStringList{"--object"} << "--object needs a value" << 2;
     QTest::newRow("dt 1e-7") << good.arg("", R"(, "simulation": {"dt": 1e-7})") << QStringList() << "/simulation/dt" << 1;
     QTest::newRow("clip start 1e5 s") << QString(good.arg("", R"(, "clips": {"library": [{"name": "late", "start": 1e5, "frames": 2, "fps": 24}]})"))
                                              .replace("\"version\": 1", "\"version\": 2")

@@ -4,6 +4,7 @@
 // an error dialog, the speed/accuracy dock measures the open scene and applies its pick, and the
 // viewport draws the fish in shaded and wireframe modes.
 #include "core/mesh_surface.h"
+#include "io/bake.h"
 #include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
 #include "io/video_encoder.h"
@@ -164,6 +165,7 @@ private slots:
     void latticeToolMovesAndScalesTheBox();
     void poseToolMovesRotatesScalesAndKeys();
     void poseAsRestShapeSavesAndUndoes();
+    void objectsAddDuplicatePickAndDelete();
     void colliderToolAddsMovesScalesAndDeletes();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();
@@ -1066,6 +1068,119 @@ void TestEditor::poseAsRestShapeSavesAndUndoes() {
     w.document()->undoStack()->undo();
     QVERIFY(w.document()->scene().objects[0].mesh.positions == before.positions);
     QVERIFY(w.document()->project().restShapeEdits.empty() || w.document()->project().restShapeEdits[0].empty());
+}
+
+// Several objects (#15 item 3): File ▸ Add Mesh puts a guppy beside the angelfish (it overlapped it where
+// its file puts it) and makes it current, the outliner following; Edit ▸ Duplicate Object copies it along x;
+// a double-click on the angelfish makes it current again; Edit ▸ Delete Object removes the copy. The take and
+// the keys recorded before stay valid through every step (the objects are added to and removed from them),
+// and the project saved with three objects reopens with them where they were.
+void TestEditor::objectsAddDuplicatePickAndDelete() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    Viewport* view = w.viewport();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    sim->startRecording();
+    sim->pause();
+    sim->advance(0.25);
+    QVERIFY(sim->stopRecording().has_value());
+    QVERIFY(w.keyframes()->keyPose(0.0));
+    const int undo0 = undo->index();
+    const auto fits = [&] { return w.document()->project().clips.validate(w.document()->scene()); };
+    auto* outliner = w.findChild<QTreeWidget*>("outliner");
+
+    const QString guppy = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj");
+    QVERIFY(w.addMeshFile(guppy).ok());
+    const Scene& scene = w.document()->scene();
+    QCOMPARE(scene.objects.size(), std::size_t(2));
+    QCOMPARE(scene.objects[1].name, std::string("guppy"));
+    QCOMPARE(undo->index(), undo0 + 1);
+    QCOMPARE(view->currentObject(), 1);
+    QCOMPARE(outliner->currentItem()->text(0), QString("guppy"));
+    QVERIFY(scene.objects[1].mesh.bounds().min.x() > scene.objects[0].mesh.bounds().max.x());  // beside, not inside
+    QVERIFY2(fits().ok(), fits().message().c_str());
+    QCOMPARE(w.document()->project().clips.sessions[0].session.start.bodies.size(), std::size_t(2));
+    w.timeline()->scrubTo(0, 3);  // the take replays with the guppy at rest
+    QVERIFY2(w.timeline()->statusText().contains("frame 3"), qPrintable(w.timeline()->statusText()));
+
+    w.findChild<QAction*>("actionDuplicateObject")->trigger();
+    QCOMPARE(scene.objects.size(), std::size_t(3));
+    QCOMPARE(scene.objects[2].name, std::string("guppy 2"));
+    QCOMPARE(view->currentObject(), 2);
+    const float shift = scene.objects[2].mesh.positions[0].x() - scene.objects[1].mesh.positions[0].x();
+    QVERIFY(shift > 0.0f);
+    for (std::size_t v = 0; v < scene.objects[1].mesh.positions.size(); v += 97)
+        QVERIFY((scene.objects[2].mesh.positions[v] - scene.objects[1].mesh.positions[v] - Vec3f(shift, 0, 0)).norm() < 1e-5f);
+    QVERIFY2(fits().ok(), fits().message().c_str());
+
+    // The swim clip exported with each object in its own cache, and as one OBJ sequence with a group per object.
+    const int swim = 0;
+    QVERIFY(w.document()->project().clips.clips[std::size_t(swim)].name == "swim");
+    const Status each = w.timeline()->exportClipTo(swim, m_dir->filePath("swim.pc2"), *io::findExportFormat("pc2"),
+                                                   ExportObjects{{}, true, false});
+    QVERIFY2(each.ok(), each.message().c_str());
+    for (std::size_t i = 0; i < 3; ++i) {
+        const QString file = QString::fromStdString(io::perObjectPath((m_dir->filePath("swim.pc2")).toStdString(), scene.objects[i].name).string());
+        auto cache = io::readPc2(file.toStdString());
+        QVERIFY2(cache.ok(), qPrintable(file));
+        QCOMPARE(cache->info.pointCount, scene.objects[i].mesh.positions.size());
+    }
+    QVERIFY2(w.timeline()->statusText().contains("swim-guppy_2.pc2"), qPrintable(w.timeline()->statusText()));
+    QDir(m_dir->path()).mkdir("seq");
+    const QString sequence = m_dir->filePath("seq/swim.obj");
+    const Status grouped = w.timeline()->exportClipTo(swim, sequence, *io::findExportFormat("objseq"),
+                                                      ExportObjects{{}, false, true});
+    QVERIFY2(grouped.ok(), grouped.message().c_str());
+    QFile first(QString::fromStdString(io::objSequenceFramePath(sequence.toStdString(), 0).string()));
+    QVERIFY(first.open(QIODevice::ReadOnly));
+    const QByteArray obj = first.readAll();
+    QVERIFY(obj.contains("\ng angelfish\n") && obj.contains("\ng guppy\n") && obj.contains("\ng guppy_2\n"));
+
+    // Saved with three objects and reopened: the same meshes in the same places.
+    const QString path = m_dir->filePath("three.softtouch");
+    QVERIFY(w.document()->saveAs(path).ok());
+    Document reopened;
+    QVERIFY(reopened.open(path).ok());
+    QCOMPARE(reopened.scene().objects.size(), std::size_t(3));
+    for (std::size_t i = 0; i < 3; ++i)
+        QVERIFY(maxDistance(reopened.scene().objects[i].mesh.positions, scene.objects[i].mesh.positions) < 1e-6);
+
+    // A double-click on the angelfish's front-most face makes it current.
+    view->frameAll();
+    const std::vector<Vec3f> fish = view->deformedPositions(0);
+    const Vec3 eye = view->camera().eye();
+    std::size_t front = 0;
+    double nearest = 1e300;
+    for (std::size_t t = 0; t < scene.objects[0].mesh.triangles.size(); ++t) {
+        const auto& tri = scene.objects[0].mesh.triangles[t];
+        const Vec3 centre = (fish[tri[0]] + fish[tri[1]] + fish[tri[2]]).cast<double>() / 3.0;
+        if ((centre - eye).norm() < nearest) {
+            nearest = (centre - eye).norm();
+            front = t;
+        }
+    }
+    const auto& tri = scene.objects[0].mesh.triangles[front];
+    const QPoint at = view->toWidget((fish[tri[0]] + fish[tri[1]] + fish[tri[2]]).cast<double>() / 3.0).toPoint();
+    QTest::mouseDClick(view, Qt::LeftButton, {}, at);
+    QCOMPARE(view->currentObject(), 0);
+    QCOMPARE(outliner->currentItem()->text(0), QString("angelfish"));
+
+    view->setCurrentObject(2);
+    w.findChild<QAction*>("actionDeleteObject")->trigger();
+    QCOMPARE(scene.objects.size(), std::size_t(2));
+    QCOMPARE(scene.objects[1].name, std::string("guppy"));
+    QVERIFY2(fits().ok(), fits().message().c_str());
+    QCOMPARE(w.document()->project().clips.keyframes[0].objects.size(), std::size_t(2));
+    // The last object is never deleted.
+    while (undo->index() > undo0)
+        undo->undo();
+    QCOMPARE(scene.objects.size(), std::size_t(1));
+    QVERIFY(fits().ok());
+    DialogAnswerer answer(QMessageBox::Ok);
+    QVERIFY(!w.deleteCurrentObject().ok());
+    QVERIFY(answer.seen);
+    QCOMPARE(scene.objects.size(), std::size_t(1));
 }
 
 // Edit ▸ Add Collider puts a sphere below the fish and picks the collider tool; dragging it moves it with the
