@@ -102,15 +102,7 @@ void MainWindow::buildDocks() {
         if (item && item->data(0, Qt::UserRole).isValid())
             m_viewport->setCurrentObject(item->data(0, Qt::UserRole).toInt());
     });
-    connect(m_viewport, &Viewport::currentObjectChanged, this, [this](int object) {
-        for (int i = 0; i < m_outliner->topLevelItemCount(); ++i) {
-            QTreeWidgetItem* item = m_outliner->topLevelItem(i);
-            if (item->childCount() > 0 && item->data(0, Qt::UserRole).toInt() == object && m_outliner->currentItem() != item) {
-                const QSignalBlocker block(m_outliner);
-                m_outliner->setCurrentItem(item);
-            }
-        }
-    });
+    connect(m_viewport, &Viewport::currentObjectChanged, this, &MainWindow::showCurrentObjectInOutliner);
 
     m_properties = new PropertiesPanel(m_document, m_simulation, m_viewport);
     auto* scroll = new QScrollArea;
@@ -412,6 +404,15 @@ void MainWindow::buildDeviceMenu(QMenu* menu) {
         menu->setToolTip(m_haptics->pluginProblems().join("\n"));
 }
 
+void MainWindow::showCurrentObjectInOutliner() {
+    // The object's own row, not one of its children's; without telling the viewport again.
+    const QSignalBlocker block(m_outliner);
+    for (int i = 0; i < m_outliner->topLevelItemCount(); ++i)
+        if (QTreeWidgetItem* item = m_outliner->topLevelItem(i);
+            item->childCount() > 0 && item->data(0, Qt::UserRole).toInt() == m_viewport->currentObject())
+            m_outliner->setCurrentItem(item);
+}
+
 void MainWindow::refreshOutliner() {
     m_outliner->clear();
     const Scene& scene = m_document->scene();
@@ -472,6 +473,7 @@ void MainWindow::refreshOutliner() {
         }
         colliders->setExpanded(true);
     }
+    showCurrentObjectInOutliner();
     m_outliner->resizeColumnToContents(0);
 }
 

@@ -91,6 +91,8 @@ private:
     void buildDocks();
     void buildDeviceMenu(QMenu* menu);
     void refreshOutliner();
+    /// Makes the current object's row the outliner's current item.
+    void showCurrentObjectInOutliner();
     void updateTitle();
     void addRecentFile(const QString& path);
     void refreshRecentMenu();
