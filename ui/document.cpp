@@ -70,7 +70,7 @@ Status Document::saveCopy(const QString& path) const {
     return io::saveProject(m_project, path.toStdString());
 }
 
-Status Document::importMesh(const QString& path) {
+Result<Scene> Document::sceneFromMeshFile(const QString& path) {
     auto mesh = io::importMesh(path.toStdString());
     if (!mesh)
         return Status::error(mesh.message());
@@ -78,6 +78,13 @@ Status Document::importMesh(const QString& path) {
     auto scene = newScene(QFileInfo(path).completeBaseName().toStdString(), std::move(mesh.value()));
     if (!scene)
         return Status::error(path.toStdString() + ": " + scene.message());
+    return scene;
+}
+
+Status Document::importMesh(const QString& path) {
+    auto scene = sceneFromMeshFile(path);
+    if (!scene)
+        return scene.status();
     io::Project project;
     project.scene = std::move(scene.value());
     project.meshReferences.push_back(std::filesystem::absolute(path.toStdString()).string());

@@ -104,6 +104,9 @@ signals:
 
 private:
     void replaceProject(io::Project project);
+    /// The scene core's newScene() makes of a mesh file (Import Mesh's; Add Mesh takes its object); errors
+    /// name the file.
+    static Result<Scene> sceneFromMeshFile(const QString& path);
     /// Inserts `object` at `index` with what the project keeps of it, as one undo step named `text`.
     Status insertObject(SceneObject object, std::string meshReference, Vec3 meshOffset, std::vector<RestShapeEdit> edits,
                         std::size_t index, const QString& text);

@@ -4,7 +4,6 @@
 
 #include "ui/document.h"
 
-#include "io/mesh_import.h"
 #include "ui/edit_commands.h"
 
 #include <QFileInfo>
@@ -68,13 +67,9 @@ Status Document::insertObject(SceneObject object, std::string meshReference, Vec
 }
 
 Status Document::addMesh(const QString& path) {
-    auto mesh = io::importMesh(path.toStdString());
-    if (!mesh)
-        return Status::error(mesh.message());
-    // The object a new scene would make of it (fitted 4x4x4 lattice, default material), where the file puts it.
-    auto made = newScene(QFileInfo(path).completeBaseName().toStdString(), std::move(mesh.value()));
+    auto made = sceneFromMeshFile(path);  // the object a new scene would make of it
     if (!made)
-        return Status::error(path.toStdString() + ": " + made.message());
+        return made.status();
     // Where the file puts it, unless that overlaps the scene's objects: then beside them along x, a fifth of
     // its width apart (kept as its "position", so the project reopens the same).
     SceneObject object = std::move(made->objects.front());
