@@ -261,7 +261,7 @@ void MainWindow::buildActions() {
         {tr("Select"), Tool::Select, "S", tr("Select nodes for numeric entry and smoothing; Shift adds.")},
         {tr("Pose"), Tool::Pose, "T",
          tr("Pose the lattice: select nodes, then G moves, R rotates, S scales (X/Y/Z hold an axis, type an amount, "
-            "Enter applies), or drag a gizmo arrow; I keys the pose.")},
+            "Enter applies), or drag the gizmo: arrows move, squares scale, rings turn; I keys the pose.")},
         {tr("Lattice"), Tool::Lattice, "L", tr("Drag to move the lattice box; Shift+drag scales it, Ctrl+drag turns it.")},
         {tr("Collider"), Tool::Collider, "C",
          tr("Drag a collider to move it; Shift+drag scales it, Delete removes it (Edit ▸ Add Collider adds one).")}};

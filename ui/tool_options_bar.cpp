@@ -184,8 +184,8 @@ QWidget* ToolOptionsBar::buildPosePage() {
                           "(one undo step; the project stores the edit, the mesh file is untouched)."));
     connect(asRest, &QPushButton::clicked, m_viewport, &Viewport::applyPoseAsRest);
     Row row;
-    row.add(QString(), new QLabel(tr("Pose: select nodes, then G move · R rotate · S scale; X/Y/Z hold an axis, type an "
-                                     "amount, Enter applies, Esc cancels; or drag a gizmo arrow. I keys the pose.")));
+    row.add(QString(), new QLabel(tr("Pose: select nodes; G move · R rotate · S scale (X/Y/Z axis, type an amount, Enter "
+                                     "applies, Esc cancels) or drag the gizmo's arrows, squares, rings. I keys.")));
     row.add(QString(), rest);
     row.add(QString(), asRest);
     return row.page();

@@ -532,9 +532,10 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     case Tool::Void:
     case Tool::Select: m_gesture = Gesture::Box; break;
     case Tool::Pose:
-        // On a gizmo arrow: move along that axis while the button is held; elsewhere: select.
-        if (const int arrow = gizmoArrowAt(event->position()); arrow >= 0 && beginTransform(TransformKind::Move, event->position())) {
-            m_transform->toggleAxis(TransformAxis(arrow + 1));
+        // On the gizmo: move, scale or turn along or about that axis while the button is held; elsewhere: select.
+        if (const auto part = gizmoPartAt(event->position()); part && beginTransform(part->first, event->position())) {
+            m_transform->toggleAxis(part->second);
+            updateTransform(event->position());
             m_gesture = Gesture::Gizmo;
         } else {
             m_gesture = Gesture::Box;

@@ -4,9 +4,9 @@
 /// pen into camera moves and tool actions: drag (pick a surface point, pull it through a drag spring,
 /// a second held grab with Ctrl), paint (brush strokes, one undo step each), anchor and void
 /// (click or box), select (for numeric entry, fill and smooth), pose (select nodes, then G/R/S with
-/// axis keys and typed amounts, or drag an arrow of the gizmo: ui/node_transform.h; one transform is one
-/// undo step), lattice (move the box in the view
-/// plane; Shift scales it, Ctrl turns it about the vertical; one gesture is one undo step), collider
+/// axis keys and typed amounts, or drag the gizmo: arrows move, squares scale, rings turn;
+/// ui/node_transform.h; one transform is one undo step), lattice (move the box in the view plane; Shift
+/// scales it, Ctrl turns it about the vertical; one gesture is one undo step), collider
 /// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it). The mode
 /// view animates one object's lattice in one of its vibration modes, for display only.
 
@@ -21,6 +21,8 @@
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
 #include <QTimer>
+
+#include <array>
 
 #include <functional>
 
@@ -88,11 +90,16 @@ public:
     /// Makes the current object's pose its rest shape (Document::applyRestShape); the reason in the hint
     /// when it cannot.
     void applyPoseAsRest();
-    /// The gizmo's arrow tips on screen (X, Y, Z), from the selection's centre; empty when the pose tool
-    /// has nothing selected.
-    std::vector<QPointF> gizmoTips() const;
-    /// The selected nodes' centre on screen (where the gizmo's arrows start).
-    QPointF gizmoCentre() const;
+    /// The pose tool's gizmo as drawn now, in widget pixels, per world axis X, Y, Z: drag an arrow to move
+    /// along it, its square to scale along it, the ring about it to turn about it.
+    struct Gizmo {
+        QPointF centre;                              ///< The selected nodes' centre.
+        std::array<QPointF, 3> tips;                 ///< Move arrows' tips.
+        std::array<QPointF, 3> scaleHandles;         ///< Scale squares, on the arrows.
+        std::array<std::vector<QPointF>, 3> rings;   ///< Rotation rings (closed polylines).
+    };
+    /// std::nullopt outside the pose tool or with nothing selected.
+    std::optional<Gizmo> gizmo() const;
 
     /// The keys the viewport handles itself (view, pose and transform keys: they act on the view, so they
     /// are not window shortcuts), as (what, keys) rows for Help ▸ Keyboard Shortcuts. The same table
@@ -225,8 +232,8 @@ private:
         std::function<bool(QKeyEvent*)> run;  ///< False: not applicable now; the key goes on to the window.
     };
     std::vector<KeyBinding> keyBindings();
-    /// The gizmo arrow (0 X, 1 Y, 2 Z) within a few pixels of `pos`, -1 when none.
-    int gizmoArrowAt(const QPointF& pos) const;
+    /// The gizmo part within a few pixels of `pos`: what it does and along or about which axis.
+    std::optional<std::pair<TransformKind, TransformAxis>> gizmoPartAt(const QPointF& pos) const;
     void drawGizmo(QPainter& painter) const;
     std::vector<int> nodesInRect(const QRectF& rect) const;
     int grabSlotDragged() const { return m_dragSlot; }

@@ -1,4 +1,4 @@
-// The viewport's pose tool: G/R/S transforms of the selected lattice nodes and the move gizmo
+// The viewport's pose tool: G/R/S transforms of the selected lattice nodes and the gizmo (arrows, squares, rings)
 // (ui/node_transform.h holds the arithmetic; this file maps the mouse and keys onto it).
 
 #include "ui/edit_commands.h"
@@ -148,21 +148,10 @@ void Viewport::applyPoseAsRest() {
         emit hint(tr("The pose is the rest shape now (Ctrl+Z takes it back)."));
 }
 
-QPointF Viewport::gizmoCentre() const {
-    const SceneSimulation* sim = m_simulation->simulation();
-    if (!sim || std::size_t(m_object) >= sim->objectCount() || m_selection.empty())
-        return {};
-    const std::vector<Vec3>& x = sim->simulator(std::size_t(m_object)).state().position;
-    Vec3 centre = Vec3::Zero();
-    for (int n : m_selection)
-        centre += x[std::size_t(n)];
-    return toWidget(centre / double(m_selection.size()));
-}
-
-std::vector<QPointF> Viewport::gizmoTips() const {
+std::optional<Viewport::Gizmo> Viewport::gizmo() const {
     const SceneSimulation* sim = m_simulation->simulation();
     if (m_tool != Tool::Pose || !sim || std::size_t(m_object) >= sim->objectCount() || m_selection.empty())
-        return {};
+        return std::nullopt;
     const std::vector<Vec3>& x = sim->simulator(std::size_t(m_object)).state().position;
     Vec3 centre = Vec3::Zero();
     for (int n : m_selection)
@@ -172,47 +161,72 @@ std::vector<QPointF> Viewport::gizmoTips() const {
     const QPointF c = toWidget(centre);
     const double metres = (m_camera.pointOnViewPlane(c.x() + kGizmoPixels, c.y(), width(), height(), centre) -
                            m_camera.pointOnViewPlane(c.x(), c.y(), width(), height(), centre)).norm();
-    return {toWidget(centre + metres * Vec3::UnitX()), toWidget(centre + metres * Vec3::UnitY()),
-            toWidget(centre + metres * Vec3::UnitZ())};
+    Gizmo g;
+    g.centre = c;
+    for (int a = 0; a < 3; ++a) {
+        const Vec3 axis = Vec3::Unit(a);
+        g.tips[std::size_t(a)] = toWidget(centre + metres * axis);
+        g.scaleHandles[std::size_t(a)] = toWidget(centre + 0.6 * metres * axis);
+        // The ring about this axis: a circle in the plane through the centre at right angles to it.
+        const Vec3 u = Vec3::Unit((a + 1) % 3), v = Vec3::Unit((a + 2) % 3);
+        for (int k = 0; k <= 48; ++k) {
+            const double t = 2.0 * std::numbers::pi * k / 48.0;
+            g.rings[std::size_t(a)].push_back(toWidget(centre + 0.85 * metres * (std::cos(t) * u + std::sin(t) * v)));
+        }
+    }
+    return g;
 }
 
-int Viewport::gizmoArrowAt(const QPointF& pos) const {
-    const std::vector<QPointF> tips = gizmoTips();
-    const QPointF centre = gizmoCentre();
-    int best = -1;
+std::optional<std::pair<TransformKind, TransformAxis>> Viewport::gizmoPartAt(const QPointF& pos) const {
+    const std::optional<Gizmo> g = gizmo();
+    if (!g)
+        return std::nullopt;
+    std::optional<std::pair<TransformKind, TransformAxis>> best;
     double bestDistance = kGizmoGrabPixels;
-    for (std::size_t a = 0; a < tips.size(); ++a) {
-        const QPointF arrow = tips[a] - centre;
-        if (std::hypot(arrow.x(), arrow.y()) < 10.0)
-            continue;  // seen end-on: no direction to drag along
-        // The outer part of the arrow only: near the centre all three meet.
-        const double d = distanceToSegment(pos, centre + 0.25 * arrow, tips[a]);
+    const auto consider = [&](double d, TransformKind kind, int a) {
         if (d < bestDistance) {
             bestDistance = d;
-            best = int(a);
+            best = std::pair(kind, TransformAxis(a + 1));
         }
+    };
+    for (int a = 0; a < 3; ++a) {
+        const QPointF arrow = g->tips[std::size_t(a)] - g->centre;
+        if (std::hypot(arrow.x(), arrow.y()) >= 10.0) {  // seen end-on: no direction to drag along
+            // Scale handles first (they sit on the arrows), then the arrows' outer part (near the centre all meet).
+            const QPointF h = g->scaleHandles[std::size_t(a)];
+            consider(std::max(std::abs(pos.x() - h.x()), std::abs(pos.y() - h.y())) - 1.0, TransformKind::Scale, a);
+            consider(distanceToSegment(pos, g->centre + 0.75 * arrow, g->tips[std::size_t(a)]) + 0.5, TransformKind::Move, a);
+        }
+        const std::vector<QPointF>& ring = g->rings[std::size_t(a)];
+        for (std::size_t k = 1; k < ring.size(); ++k)
+            consider(distanceToSegment(pos, ring[k - 1], ring[k]) + 1.0, TransformKind::Rotate, a);
     }
     return best;
 }
 
 void Viewport::drawGizmo(QPainter& painter) const {
-    const std::vector<QPointF> tips = gizmoTips();
-    if (!tips.empty()) {
-        const QPointF centre = gizmoCentre();
+    if (const std::optional<Gizmo> g = gizmo()) {
         const QColor colours[3] = {QColor(230, 60, 60), QColor(90, 200, 70), QColor(70, 120, 240)};
         const char* names[3] = {"X", "Y", "Z"};
         painter.setRenderHint(QPainter::Antialiasing);
         for (std::size_t a = 0; a < 3; ++a) {
             const bool held = m_transform && m_transform->axis() == TransformAxis(a + 1);
-            painter.setPen(QPen(colours[a], held ? 4 : 2.5));
-            painter.drawLine(centre, tips[a]);
+            const auto width = [&](TransformKind kind) { return held && m_transform->kind() == kind ? 4.0 : 2.0; };
+            painter.setBrush(Qt::NoBrush);
+            painter.setPen(QPen(colours[a], width(TransformKind::Rotate)));
+            painter.drawPolyline(g->rings[a].data(), int(g->rings[a].size()));
+            painter.setPen(QPen(colours[a], width(TransformKind::Move)));
+            painter.drawLine(g->centre, g->tips[a]);
             painter.setBrush(colours[a]);
-            painter.drawEllipse(tips[a], 5.0, 5.0);
-            painter.drawText(tips[a] + QPointF(7, -7), QString::fromLatin1(names[a]));
+            painter.drawEllipse(g->tips[a], 5.0, 5.0);
+            painter.setPen(QPen(Qt::black, held && m_transform->kind() == TransformKind::Scale ? 2.0 : 1.0));
+            painter.drawRect(QRectF(g->scaleHandles[a] - QPointF(4, 4), QSizeF(8, 8)));
+            painter.setPen(colours[a]);
+            painter.drawText(g->tips[a] + QPointF(7, -7), QString::fromLatin1(names[a]));
         }
         painter.setBrush(Qt::white);
         painter.setPen(QPen(Qt::black, 1));
-        painter.drawEllipse(centre, 3.5, 3.5);
+        painter.drawEllipse(g->centre, 3.5, 3.5);
     }
     if (m_transform) {
         // What the transform does, at the foot of the view (the status bar says it too).

@@ -165,6 +165,7 @@ private slots:
     void latticeToolMovesAndScalesTheBox();
     void poseToolMovesRotatesScalesAndKeys();
     void poseAsRestShapeSavesAndUndoes();
+    void poseGizmoScalesAndTurns();
     void objectsAddDuplicatePickAndDelete();
     void colliderToolAddsMovesScalesAndDeletes();
     void pairSceneTogglesBodyCollisions();
@@ -974,10 +975,10 @@ void TestEditor::poseToolMovesRotatesScalesAndKeys() {
     QVERIFY(std::abs(view->toWidget(dragged[std::size_t(n)]).x() - shownBefore.x() - 40.0) < 1.0);
 
     // The gizmo: dragging its X arrow moves the node along X only.
-    const std::vector<QPointF> tips = view->gizmoTips();
-    QCOMPARE(tips.size(), std::size_t(3));
-    const QPointF centre = view->gizmoCentre();
-    const QPointF along = tips[0] - centre;
+    const std::optional<Viewport::Gizmo> gizmo = view->gizmo();
+    QVERIFY(gizmo);
+    const QPointF centre = gizmo->centre;
+    const QPointF along = gizmo->tips[0] - centre;
     QVERIFY(std::hypot(along.x(), along.y()) > 20.0);
     const QPoint grab = (centre + 0.8 * along).toPoint();
     const QPoint pulled = (centre + 1.6 * along).toPoint();
@@ -1181,6 +1182,68 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     QVERIFY(!w.deleteCurrentObject().ok());
     QVERIFY(answer.seen);
     QCOMPARE(scene.objects.size(), std::size_t(1));
+}
+
+// The pose gizmo's other parts: dragging the Y scale square outward scales the selection along Y only, and
+// dragging along the Z ring (seen face-on from the front) turns it about Z through its centre; each one undo
+// step.
+void TestEditor::poseGizmoScalesAndTurns() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    SimulationController* sim = w.simulation();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    sim->reset();
+    w.findChild<QAction*>("toolPose")->trigger();
+    view->viewFront();
+    const auto nodes = [&] { return sim->simulation()->simulator(0).state().position; };
+    const std::set<int> four = {21, 22, 25, 26};  // the middle of a 4x4x4 lattice, j = 1..2, k = 1
+    view->setSelection(four);
+    const std::vector<Vec3> start = nodes();
+    Vec3 pivot = Vec3::Zero();
+    for (int m : four)
+        pivot += start[std::size_t(m)] / 4.0;
+    const int undo0 = undo->index();
+    // Scale along Y: the Y square dragged to twice its distance from the centre.
+    std::optional<Viewport::Gizmo> g = view->gizmo();
+    QVERIFY(g);
+    const QPointF handle = g->scaleHandles[1];
+    QTest::mousePress(view, Qt::LeftButton, {}, handle.toPoint());
+    QVERIFY(view->transform() && view->transform()->kind() == TransformKind::Scale && view->transform()->axis() == TransformAxis::Y);
+    QTest::mouseMove(view, (g->centre + 1.5 * (handle - g->centre)).toPoint());
+    QTest::mouseMove(view, (g->centre + 2.0 * (handle - g->centre)).toPoint());
+    QTest::mouseRelease(view, Qt::LeftButton, {}, (g->centre + 2.0 * (handle - g->centre)).toPoint());
+    const std::vector<Vec3> scaled = nodes();
+    QCOMPARE(undo->index(), undo0 + 1);
+    double factor = 0.0;
+    for (int m : four) {
+        const Vec3 before = start[std::size_t(m)] - pivot, after = scaled[std::size_t(m)] - pivot;
+            QVERIFY(std::abs(after.x() - before.x()) < 1e-12 && std::abs(after.z() - before.z()) < 1e-12);
+        if (std::abs(before.y()) > 1e-6)
+            factor = after.y() / before.y();
+    }
+    QVERIFY2(factor > 1.8 && factor < 2.2, qPrintable(QString::number(factor)));
+    // Turn about Z: along the Z ring from its point at 22.5° to its point at 67.5° (where the X and Y arrows
+    // cross the ring, the arrows are what a press takes).
+    g = view->gizmo();
+    QTest::mousePress(view, Qt::LeftButton, {}, g->rings[2][3].toPoint());
+    QVERIFY(view->transform() && view->transform()->kind() == TransformKind::Rotate && view->transform()->axis() == TransformAxis::Z);
+    QTest::mouseMove(view, g->rings[2][6].toPoint());
+    QTest::mouseMove(view, g->rings[2][9].toPoint());
+    QTest::mouseRelease(view, Qt::LeftButton, {}, g->rings[2][9].toPoint());
+    const std::vector<Vec3> turned = nodes();
+    QCOMPARE(undo->index(), undo0 + 2);
+    double angle = 0.0;
+    for (int m : four) {
+        const Vec3 before = scaled[std::size_t(m)] - pivot, after = turned[std::size_t(m)] - pivot;
+        QVERIFY(std::abs(after.z() - before.z()) < 1e-12);
+        QVERIFY(std::abs(after.head<2>().norm() - before.head<2>().norm()) < 1e-9);
+        angle = std::atan2(before.x() * after.y() - before.y() * after.x(), before.head<2>().dot(after.head<2>()));
+    }
+    QVERIFY2(std::abs(std::abs(angle) - std::numbers::pi / 4) < 0.05, qPrintable(QString::number(angle)));
+    while (undo->index() > undo0)
+        undo->undo();
+    QVERIFY(nodes() == start);
 }
 
 // Edit ▸ Add Collider puts a sphere below the fish and picks the collider tool; dragging it moves it with the
