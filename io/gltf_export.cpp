@@ -151,17 +151,30 @@ public:
         m_model->asset.generator = "SoftTouch";
         m_model->buffers.emplace_back();
 
-        tinygltf::Primitive primitive;
-        primitive.mode = TINYGLTF_MODE_TRIANGLES;
-        primitive.attributes["POSITION"] = detail::addFloatAccessor(
-            *m_model, setup.restMesh.positions.front().data(), setup.info.pointCount, 3, true, true);
-        primitive.attributes["NORMAL"] = detail::addFloatAccessor(
-            *m_model, setup.restMesh.normals.front().data(), setup.info.pointCount, 3, true, false);
-        primitive.indices = detail::addIndexAccessor(*m_model, setup.restMesh.triangles, 0);
-        tinygltf::Mesh mesh;
-        mesh.name = setup.objects.size() == 1 ? setup.objects.front().name : std::string("clip");
-        mesh.primitives.push_back(primitive);
-        m_model->meshes.push_back(mesh);
+        // One mesh and node per object, each with its own targets, so a DCC or engine sees the objects by
+        // name; compressed morphs share one basis over the whole clip: one mesh.
+        m_parts.clear();
+        if (setup.objects.size() > 1 && !compressed()) {
+            for (const ClipObject& o : setup.objects)
+                m_parts.push_back({o.name, o.firstVertex, o.vertexCount, o.firstTriangle, o.triangleCount});
+        } else {
+            m_parts.push_back({setup.objects.size() == 1 ? setup.objects.front().name : std::string("clip"), 0,
+                               std::uint32_t(setup.info.pointCount), 0, std::uint32_t(setup.restMesh.triangles.size())});
+        }
+        for (const Part& part : m_parts) {
+            tinygltf::Primitive primitive;
+            primitive.mode = TINYGLTF_MODE_TRIANGLES;
+            primitive.attributes["POSITION"] = detail::addFloatAccessor(
+                *m_model, setup.restMesh.positions[part.firstVertex].data(), part.vertexCount, 3, true, true);
+            primitive.attributes["NORMAL"] = detail::addFloatAccessor(
+                *m_model, setup.restMesh.normals[part.firstVertex].data(), part.vertexCount, 3, true, false);
+            primitive.indices = detail::addIndexAccessor(
+                *m_model, std::span(setup.restMesh.triangles).subspan(part.firstTriangle, part.triangleCount), part.firstVertex);
+            tinygltf::Mesh mesh;
+            mesh.name = part.name;
+            mesh.primitives.push_back(primitive);
+            m_model->meshes.push_back(mesh);
+        }
         m_delta.resize(setup.info.pointCount);
         m_framesWritten = 0;
         m_notes.clear();
@@ -198,16 +211,19 @@ public:
             ++m_framesWritten;
             return Status::success();
         }
-        std::map<std::string, int> target;
-        for (std::size_t v = 0; v < m_delta.size(); ++v)
-            m_delta[v] = frame.positions[v] - rest.positions[v];
-        target["POSITION"] = detail::addFloatAccessor(*m_model, m_delta.front().data(), m_delta.size(), 3, true, true);
-        if (m_options.gltfNormals) {
-            for (std::size_t v = 0; v < m_delta.size(); ++v)
-                m_delta[v] = frame.normals[v] - rest.normals[v];
-            target["NORMAL"] = detail::addFloatAccessor(*m_model, m_delta.front().data(), m_delta.size(), 3, true, false);
+        for (std::size_t p = 0; p < m_parts.size(); ++p) {
+            const Part& part = m_parts[p];
+            std::map<std::string, int> target;
+            for (std::size_t v = part.firstVertex; v < part.firstVertex + part.vertexCount; ++v)
+                m_delta[v] = frame.positions[v] - rest.positions[v];
+            target["POSITION"] = detail::addFloatAccessor(*m_model, m_delta[part.firstVertex].data(), part.vertexCount, 3, true, true);
+            if (m_options.gltfNormals) {
+                for (std::size_t v = part.firstVertex; v < part.firstVertex + part.vertexCount; ++v)
+                    m_delta[v] = frame.normals[v] - rest.normals[v];
+                target["NORMAL"] = detail::addFloatAccessor(*m_model, m_delta[part.firstVertex].data(), part.vertexCount, 3, true, false);
+            }
+            m_model->meshes[p].primitives.front().targets.push_back(std::move(target));
         }
-        m_model->meshes.front().primitives.front().targets.push_back(std::move(target));
         ++m_framesWritten;
         return Status::success();
     }
@@ -221,7 +237,6 @@ public:
             abort();
             return s;
         }
-        tinygltf::Mesh& mesh = m_model->meshes.front();
         // Key f's weights, one row per key: frame f's target alone, or [1, w_f1 … w_fK] when compressed.
         std::vector<float> weights;
         std::size_t targets = frames;
@@ -236,17 +251,19 @@ public:
                 names.emplace_back(std::string("frame_") + std::string(number.size() < 4 ? 4 - number.size() : 0, '0') + number);
             }
         }
-        mesh.weights.assign(weights.begin(), weights.begin() + std::ptrdiff_t(targets));  // shown without the animation: frame 0
-        tinygltf::Value::Object extras;
-        extras["targetNames"] = tinygltf::Value(names);  // the de-facto convention Blender and three.js read
-        mesh.extras = tinygltf::Value(extras);
-
-        tinygltf::Node node;
-        node.mesh = 0;
-        node.name = mesh.name;
-        m_model->nodes.push_back(node);
         tinygltf::Scene scene;
-        scene.nodes.push_back(0);
+        for (std::size_t p = 0; p < m_model->meshes.size(); ++p) {
+            tinygltf::Mesh& mesh = m_model->meshes[p];
+            mesh.weights.assign(weights.begin(), weights.begin() + std::ptrdiff_t(targets));  // shown without the animation: frame 0
+            tinygltf::Value::Object extras;
+            extras["targetNames"] = tinygltf::Value(names);  // the de-facto convention Blender and three.js read
+            mesh.extras = tinygltf::Value(extras);
+            tinygltf::Node node;
+            node.mesh = int(p);
+            node.name = mesh.name;
+            m_model->nodes.push_back(node);
+            scene.nodes.push_back(int(p));
+        }
         m_model->scenes.push_back(scene);
         m_model->defaultScene = 0;
 
@@ -259,14 +276,16 @@ public:
         sampler.input = detail::addFloatAccessor(*m_model, times.data(), frames, 1, false, true);
         sampler.output = detail::addFloatAccessor(*m_model, weights.data(), weights.size(), 1, false, false);
         sampler.interpolation = m_options.gltfLinear ? "LINEAR" : "STEP";
-        tinygltf::AnimationChannel channel;
-        channel.sampler = 0;
-        channel.target_node = 0;
-        channel.target_path = "weights";
         tinygltf::Animation animation;
         animation.name = "clip";
         animation.samplers.push_back(sampler);
-        animation.channels.push_back(channel);
+        for (std::size_t p = 0; p < m_model->nodes.size(); ++p) {  // every object keys the same frames
+            tinygltf::AnimationChannel channel;
+            channel.sampler = 0;
+            channel.target_node = int(p);
+            channel.target_path = "weights";
+            animation.channels.push_back(channel);
+        }
         m_model->animations.push_back(animation);
 
         Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path);
@@ -301,6 +320,12 @@ public:
     bool needsNormals() const override { return m_options.gltfNormals; }
 
 private:
+    /// One object's range of the rest mesh: its own glTF mesh and node.
+    struct Part {
+        std::string name;
+        std::uint32_t firstVertex, vertexCount, firstTriangle, triangleCount;
+    };
+
     bool compressed() const { return m_options.gltfMorphError > 0.0; }
 
     /// Fits the compressed basis to the kept frames and adds its targets (mean first); fills the keys'
@@ -404,6 +429,7 @@ private:
     ClipSetup m_setup;                         ///< Copied by begin().
     std::unique_ptr<tinygltf::Model> m_model;  ///< The whole file until finish() (glTF cannot stream).
     std::vector<Vec3f> m_delta;                ///< One frame's deltas, reused.
+    std::vector<Part> m_parts;                 ///< The meshes written: one per object, or the whole rest mesh.
     std::vector<float> m_positionDeltas;       ///< Compressed morphs: every frame's position deltas until finish().
     std::vector<float> m_normalDeltas;         ///< Compressed morphs: every frame's normal deltas until finish().
     std::size_t m_framesWritten = 0;

@@ -382,6 +382,8 @@ void TestExports::gltfRoundTrip_data() {
     QTest::newRow("gltf step without normals") << "clip.gltf" << false << false << "";
     // A body on a base animation (the rig moves the mesh, the lattice adds the wobble) exports the same way.
     QTest::newRow("glb of the rigged guppy") << "clip.glb" << true << true << "guppy-rigged.softtouch";
+    // Two objects: one mesh and node per object, named after it, each with its own targets (#15 item 3).
+    QTest::newRow("glb of the angelfish pair") << "clip.glb" << true << true << "angelfish-pair.softtouch";
 }
 
 void TestExports::gltfRoundTrip() {
@@ -404,26 +406,34 @@ void TestExports::gltfRoundTrip() {
     const VertexCache& reference = pc2.value();
     const double tolerance = 1e-5 * diagonalOf(reference);
 
-    // Re-import with assimp, no post-processing: vertices stay unjoined and in order.
+    // Re-import with assimp, no post-processing: vertices stay unjoined and in order, one mesh per object
+    // (named after it) in scene order, together the cache's vertices.
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFile(out.string(), 0);
     QVERIFY2(scene != nullptr, importer.GetErrorString());
-    QCOMPARE(scene->mNumMeshes, 1u);
-    const aiMesh* mesh = scene->mMeshes[0];
-    QCOMPARE(std::size_t(mesh->mNumVertices), reference.info.pointCount);
-    QCOMPARE(int(mesh->mNumAnimMeshes), kFrames);
-    QCOMPARE(mesh->mAnimMeshes[0]->HasNormals(), normals);
+    QCOMPARE(std::size_t(scene->mNumMeshes), source.objects.size());
     double worst = 0.0;
-    for (int f = 0; f < kFrames; ++f) {
-        const aiAnimMesh* target = mesh->mAnimMeshes[f];
-        QCOMPARE(target->mNumVertices, mesh->mNumVertices);
-        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-            // assimp stores a target as absolute positions (rest + delta).
-            const aiVector3D& p = target->mVertices[v];
-            const Vec3f& expected = reference.frames[std::size_t(f)][v];
-            worst = std::max(worst, double((Vec3f(p.x, p.y, p.z) - expected).norm()));
+    std::size_t first = 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* mesh = scene->mMeshes[m];
+        if (source.objects.size() > 1)
+            QCOMPARE(std::string(mesh->mName.C_Str()), source.objects[m].name);
+        QCOMPARE(std::size_t(mesh->mNumVertices), source.objects[m].mesh.positions.size());
+        QCOMPARE(int(mesh->mNumAnimMeshes), kFrames);
+        QCOMPARE(mesh->mAnimMeshes[0]->HasNormals(), normals);
+        for (int f = 0; f < kFrames; ++f) {
+            const aiAnimMesh* target = mesh->mAnimMeshes[f];
+            QCOMPARE(target->mNumVertices, mesh->mNumVertices);
+            for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+                // assimp stores a target as absolute positions (rest + delta).
+                const aiVector3D& p = target->mVertices[v];
+                const Vec3f& expected = reference.frames[std::size_t(f)][first + v];
+                worst = std::max(worst, double((Vec3f(p.x, p.y, p.z) - expected).norm()));
+            }
         }
+        first += mesh->mNumVertices;
     }
+    QCOMPARE(first, reference.info.pointCount);
     qInfo("worst glTF position error: %.3g of the diagonal", worst / diagonalOf(reference));
     QVERIFY2(worst <= tolerance, qPrintable(QString("error %1 > %2").arg(worst).arg(tolerance)));
     // The clip really moves: the comparison above is not between identical rest poses.
@@ -433,7 +443,7 @@ void TestExports::gltfRoundTrip() {
     // The weights animation: key f at f / fps holds target f alone.
     QCOMPARE(scene->mNumAnimations, 1u);
     const aiAnimation* animation = scene->mAnimations[0];
-    QCOMPARE(animation->mNumMorphMeshChannels, 1u);
+    QCOMPARE(std::size_t(animation->mNumMorphMeshChannels), source.objects.size());  // one per object's node
     const aiMeshMorphAnim* channel = animation->mMorphMeshChannels[0];
     QCOMPARE(int(channel->mNumKeys), kFrames);
     const double ticksPerSecond = animation->mTicksPerSecond > 0 ? animation->mTicksPerSecond : 1.0;
@@ -842,10 +852,9 @@ void TestExports::latticeRoundTrip() {
     const BakeResult baked = bakeTo(source, CacheFormat::Lattice, base);
     QCOMPARE(baked.files, exportOutputs(CacheFormat::Lattice, base));
     bakeTo(source, CacheFormat::Pc2, folder / "clip.pc2");
-    bakeTo(source, CacheFormat::Glb, folder / "normals.glb");  // the bake's normals, as morph targets
+    bakeTo(source, CacheFormat::Glb, folder / "normals.glb");  // the bake's normals, as morph targets (a mesh per object)
     const tinygltf::Model morphs = loadGlb(folder / "normals.glb");
-    const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
-    const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
+    QCOMPARE(morphs.meshes.size(), source.objects.size());
     const Result<VertexCache> pc2 = readPc2(folder / "clip.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const VertexCache& reference = pc2.value();
@@ -872,6 +881,8 @@ void TestExports::latticeRoundTrip() {
         std::size_t firstNode = 0;
         for (std::size_t before = 0; before < o; ++before)
             firstNode += std::size_t(cache.objects[before].nodeCount());
+        const tinygltf::Primitive& morphed = morphs.meshes.at(o).primitives.at(0);
+        const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
         for (std::size_t f = 0; f < cache.frameCount; ++f) {
             const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(f).at("NORMAL"));
             for (std::size_t v = 0; v < object.vertexCount; ++v) {
@@ -880,7 +891,7 @@ void TestExports::latticeRoundTrip() {
                 const auto [x, normal] = evaluateLattice(object, cache.frames[f].data() + firstNode, p, n);
                 const Vec3f& expected = reference.frames[f][object.firstVertex + v];
                 worst = std::max(worst, (x - expected.cast<double>()).norm());
-                const std::size_t g = 3 * (object.firstVertex + v);
+                const std::size_t g = 3 * v;  // in the object's own glTF mesh
                 const Vec3 bakedNormal(morphRestNormals[g] + normalDeltas[g], morphRestNormals[g + 1] + normalDeltas[g + 1],
                                        morphRestNormals[g + 2] + normalDeltas[g + 2]);
                 worstNormal = std::max(worstNormal, (normal - bakedNormal).norm());
