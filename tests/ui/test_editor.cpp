@@ -196,6 +196,9 @@ private slots:
 
 private:
     std::unique_ptr<MainWindow> makeWindow();
+    /// Readies the window for posing: active and focused on the viewport (keys reach it), the drivers
+    /// off and the body at rest, the pose tool picked. Returns the viewport.
+    Viewport* startPosing(MainWindow& w) const;
     QPoint screenOfNode(MainWindow& w, int node) const;
     int isolatedNode(MainWindow& w, int object) const;
 
@@ -236,6 +239,17 @@ std::unique_ptr<MainWindow> TestEditor::makeWindow() {
     if (!QTest::qWaitForWindowExposed(w.get()))
         qWarning("window not exposed");
     return w;
+}
+
+Viewport* TestEditor::startPosing(MainWindow& w) const {
+    w.activateWindow();
+    if (!QTest::qWaitForWindowActive(&w))
+        qWarning("window not active");
+    w.simulation()->setDriversEnabled(false);
+    w.simulation()->reset();
+    w.findChild<QAction*>("toolPose")->trigger();
+    w.viewport()->setFocus();
+    return w.viewport();
 }
 
 QPoint TestEditor::screenOfNode(MainWindow& w, int node) const {
@@ -886,17 +900,11 @@ void TestEditor::latticeToolMovesAndScalesTheBox() {
 // key holds it; Play lets physics take over; undo takes every pose back to rest.
 void TestEditor::poseToolMovesRotatesScalesAndKeys() {
     MainWindow& w = *m_window;
-    w.activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(&w));
-    Viewport* view = w.viewport();
+    Viewport* view = startPosing(w);
     SimulationController* sim = w.simulation();
     QUndoStack* undo = w.document()->undoStack();
-    sim->setDriversEnabled(false);
-    sim->reset();
-    w.findChild<QAction*>("toolPose")->trigger();
     QCOMPARE(view->tool(), Tool::Pose);
     QCOMPARE(w.findChild<ToolOptionsBar*>()->shownTool(), Tool::Pose);
-    view->setFocus();
     const auto nodes = [&] { return sim->simulation()->simulator(0).state().position; };
     const std::vector<Vec3> rest = nodes();
     const int undo0 = undo->index();
@@ -1025,14 +1033,8 @@ void TestEditor::poseToolMovesRotatesScalesAndKeys() {
 // reopens with the same mesh.
 void TestEditor::poseAsRestShapeSavesAndUndoes() {
     MainWindow& w = *m_window;
-    w.activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(&w));
-    Viewport* view = w.viewport();
+    Viewport* view = startPosing(w);
     SimulationController* sim = w.simulation();
-    sim->setDriversEnabled(false);
-    sim->reset();
-    w.findChild<QAction*>("toolPose")->trigger();
-    view->setFocus();
     const Lattice& lattice = w.document()->scene().objects[0].lattice;
     std::set<int> tail;
     for (int n = 0; n < lattice.nodeCount(); ++n)
@@ -1189,12 +1191,9 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
 // step.
 void TestEditor::poseGizmoScalesAndTurns() {
     MainWindow& w = *m_window;
-    Viewport* view = w.viewport();
+    Viewport* view = startPosing(w);
     SimulationController* sim = w.simulation();
     QUndoStack* undo = w.document()->undoStack();
-    sim->setDriversEnabled(false);
-    sim->reset();
-    w.findChild<QAction*>("toolPose")->trigger();
     view->viewFront();
     const auto nodes = [&] { return sim->simulation()->simulator(0).state().position; };
     const std::set<int> four = {21, 22, 25, 26};  // the middle of a 4x4x4 lattice, j = 1..2, k = 1
