@@ -70,12 +70,8 @@ AffineGuess fitAffine(const Lattice& lattice, std::span<const Vec3> nodes) {
 }
 
 std::pair<Vec3, Vec3> allNodeBounds(const BodyState& state) {
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (const Vec3& p : state.position) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-    }
-    return {lo, hi};
+    const Bounds b = boundsOf(state.position);
+    return {b.min, b.max};
 }
 
 /// Signed distance in the rest frame: to the rest mesh, or to the lattice box when the body has none.

@@ -23,12 +23,8 @@ Result<std::unique_ptr<HapticLoop>> createHapticSession(const Scene& scene, std:
 
     HapticSettings settings;
     if (options.fitWorkspace) {
-        Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-        for (const Vec3& p : o.lattice.restNodes()) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-        }
-        settings.calibration = DeviceCalibration::fit(device->info(), lo, hi);
+        const Bounds rest = boundsOf(o.lattice.restNodes());
+        settings.calibration = DeviceCalibration::fit(device->info(), rest.min, rest.max);
         settings.calibration.scale *= options.workspaceScale;
     }
     settings.recordCapacity = options.recordCapacity;

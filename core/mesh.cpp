@@ -49,6 +49,17 @@ void Mesh::computeNormals() {
     areaWeightedNormals(positions, triangles, normals);
 }
 
+Bounds boundsOf(std::span<const Vec3> points) {
+    if (points.empty())
+        return {};
+    Bounds b{points.front(), points.front()};
+    for (const Vec3& p : points) {
+        b.min = b.min.cwiseMin(p);
+        b.max = b.max.cwiseMax(p);
+    }
+    return b;
+}
+
 Bounds Mesh::bounds() const {
     Bounds b;
     if (positions.empty())

@@ -24,7 +24,12 @@ struct Bounds {
     Vec3 max = Vec3::Zero(); ///< Largest coordinates.
     /// Length of the diagonal (metres).
     double diagonal() const { return (max - min).norm(); }
+    /// The bounds holding both these and `other`.
+    Bounds united(const Bounds& other) const { return {min.cwiseMin(other.min), max.cwiseMax(other.max)}; }
 };
+
+/// Bounds of points; zero bounds for none.
+Bounds boundsOf(std::span<const Vec3> points);
 
 /// Indexed triangle mesh. Vertex order is the order every vertex cache uses.
 /// Unit vertex normals from the triangles around each vertex, weighted by their areas (+z where none).

@@ -37,6 +37,15 @@ Status WorldSettings::validate() {
     return bodyCollisions.validate();
 }
 
+Bounds restBounds(const Scene& scene) {
+    if (scene.objects.empty())
+        return {};
+    Bounds all = scene.objects.front().mesh.bounds();
+    for (const SceneObject& o : scene.objects)
+        all = all.united(o.mesh.bounds());
+    return all;
+}
+
 SimulationSettings newSceneSimulation(const Scene& scene) {
     SimulationSettings settings;
     settings.integrator = IntegratorKind::Verlet;

@@ -57,6 +57,9 @@ struct Scene {
     WorldSettings world;              ///< Shared settings.
 };
 
+/// Every object's rest mesh together: their bounds (zero bounds for no objects).
+Bounds restBounds(const Scene& scene);
+
 /// Most explicit substeps per step a new scene accepts at its default step: a body that needs more
 /// (very stiff or very light for its size) starts on implicit Euler instead, which is stable at any step.
 inline constexpr int kNewSceneMaxSubsteps = 32;

@@ -100,11 +100,7 @@ Camera modeCamera(const SceneObject& object, const VibrationMode& mode, double a
         const std::vector<Vec3> displaced = modePose(points, mode, room);
         points.insert(points.end(), displaced.begin(), displaced.end());
     }
-    Bounds bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
-    for (const Vec3& p : points) {
-        bounds.min = bounds.min.cwiseMin(p);
-        bounds.max = bounds.max.cwiseMax(p);
-    }
+    const Bounds bounds = boundsOf(points);
     const Vec3 centre = 0.5 * (bounds.min + bounds.max);
     const double aspect = double(width) / double(height);
     // The top kCaptionRoom of the picture is left to the caption: the body is fitted below it.

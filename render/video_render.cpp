@@ -31,17 +31,14 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
     MeshRenderer renderer;
     if (Status s = renderer.initialize(); !s)
         return s;
-    Bounds bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
     for (const SceneObject& object : scene.objects) {
         auto id = renderer.addObject(object.mesh, object.lattice);
         if (!id) {
             renderer.release();
             return Status::error("object '" + object.name + "': " + id.message());
         }
-        const Bounds b = object.mesh.bounds();
-        bounds.min = bounds.min.cwiseMin(b.min);
-        bounds.max = bounds.max.cwiseMax(b.max);
     }
+    const Bounds bounds = restBounds(scene);
     renderer.setPlanes(scene.world.planes, float(1.2 * bounds.diagonal()));
     renderer.setColliders(scene.world.colliders);
     const float aspect = float(settings.width) / float(settings.height);

@@ -75,12 +75,7 @@ Status Document::addMesh(const QString& path) {
     SceneObject object = std::move(made->objects.front());
     Vec3 offset = Vec3::Zero();
     if (!m_project.scene.objects.empty()) {
-        Bounds scene = m_project.scene.objects.front().mesh.bounds();
-        for (const SceneObject& o : m_project.scene.objects) {
-            const Bounds b = o.mesh.bounds();
-            scene.min = scene.min.cwiseMin(b.min);
-            scene.max = scene.max.cwiseMax(b.max);
-        }
+        const Bounds scene = restBounds(m_project.scene);
         const Bounds added = object.mesh.bounds();
         if ((added.min.array() <= scene.max.array()).all() && (added.max.array() >= scene.min.array()).all())
             offset.x() = scene.max.x() - added.min.x() + 0.2 * (added.max.x() - added.min.x());

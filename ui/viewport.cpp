@@ -918,22 +918,14 @@ void Viewport::frameAll() {
     const Scene& scene = m_document->scene();
     if (scene.objects.empty())
         return;
-    Bounds all = scene.objects.front().mesh.bounds();
-    for (const SceneObject& o : scene.objects) {
-        const Bounds b = o.mesh.bounds();
-        all.min = all.min.cwiseMin(b.min);
-        all.max = all.max.cwiseMax(b.max);
-    }
+    Bounds all = restBounds(scene);
     // Where the bodies are now, not where they rested: an unanchored body that fell or was thrown away is
     // found. The deformed mesh lies in the hull of its lattice's nodes (the basis weights are ≥ 0 and sum to
     // 1 inside the box), so the nodes' bounds enclose it.
     if (const SceneSimulation* sim = m_simulation->simulation(); sim && sim->objectCount() > 0) {
-        all = Bounds{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
-        for (std::size_t i = 0; i < sim->objectCount(); ++i)
-            for (const Vec3& x : sim->simulator(i).state().position) {
-                all.min = all.min.cwiseMin(x);
-                all.max = all.max.cwiseMax(x);
-            }
+        all = boundsOf(sim->simulator(0).state().position);
+        for (std::size_t i = 1; i < sim->objectCount(); ++i)
+            all = all.united(boundsOf(sim->simulator(i).state().position));
     }
     m_camera.frame(all);
     update();
@@ -946,11 +938,10 @@ void Viewport::frameSelection() {
         return;
     }
     const std::vector<Vec3>& x = sim->simulator(std::size_t(m_object)).state().position;
-    Bounds b{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
-    for (int n : m_selection) {
-        b.min = b.min.cwiseMin(x[std::size_t(n)]);
-        b.max = b.max.cwiseMax(x[std::size_t(n)]);
-    }
+    std::vector<Vec3> selected;
+    for (int n : m_selection)
+        selected.push_back(x[std::size_t(n)]);
+    Bounds b = boundsOf(selected);
     // A single node still gets a view of its neighbourhood: a tenth of the object's size around it.
     const Vec3 room = Vec3::Constant(0.05 * sim->object(std::size_t(m_object)).mesh.bounds().diagonal());
     b.min -= room;
