@@ -161,17 +161,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     // The clips' own menu: play, rename (or double-click), duplicate, frame rate, delete (or Delete).
     m_clips->setContextMenuPolicy(Qt::CustomContextMenu);
     connect(m_clips, &QListWidget::customContextMenuRequested, this, &TimelinePanel::showClipMenu);
-    connect(m_clips, &QListWidget::itemDoubleClicked, this, [this] {
-        const int row = m_clips->currentRow();
-        const ClipLibrary& library = m_document->project().clips;
-        if (row < 0 || std::size_t(row) >= library.clips.size())
-            return;
-        bool ok = false;
-        const QString name = QInputDialog::getText(this, tr("Rename Clip"), tr("Name"), QLineEdit::Normal,
-                                                   QString::fromStdString(library.clips[std::size_t(row)].name), &ok);
-        if (ok)
-            renameClip(row, name);
-    });
+    connect(m_clips, &QListWidget::itemDoubleClicked, this, [this] { askToRenameClip(m_clips->currentRow()); });
     m_clips->installEventFilter(this);
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
@@ -669,6 +659,17 @@ bool TimelinePanel::retimeClip(int index, double rate) {
     });
 }
 
+void TimelinePanel::askToRenameClip(int index) {
+    const ClipLibrary& library = m_document->project().clips;
+    if (index < 0 || std::size_t(index) >= library.clips.size())
+        return;
+    bool ok = false;
+    const QString name = QInputDialog::getText(this, tr("Rename Clip"), tr("Name"), QLineEdit::Normal,
+                                               QString::fromStdString(library.clips[std::size_t(index)].name), &ok);
+    if (ok)
+        renameClip(index, name);
+}
+
 void TimelinePanel::showClipMenu(const QPoint& pos) {
     const int row = m_clips->indexAt(pos).row();
     if (row < 0)
@@ -680,13 +681,7 @@ void TimelinePanel::showClipMenu(const QPoint& pos) {
         if (!isPlaying())
             togglePlayback();
     });
-    menu.addAction(tr("Rename…"), this, [this, row, clip] {
-        bool ok = false;
-        const QString name = QInputDialog::getText(this, tr("Rename Clip"), tr("Name"), QLineEdit::Normal,
-                                                   QString::fromStdString(clip.name), &ok);
-        if (ok)
-            renameClip(row, name);
-    });
+    menu.addAction(tr("Rename…"), this, [this, row] { askToRenameClip(row); });
     menu.addAction(tr("Duplicate"), this, [this, row] { duplicateClip(row); });
     menu.addAction(tr("Frame Rate…"), this, [this, row, clip] {
         bool ok = false;

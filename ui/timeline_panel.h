@@ -114,6 +114,8 @@ private:
     /// shown, when the result does not validate.
     bool editClips(const QString& text, const std::function<Status(ClipLibrary&)>& change);
     void showClipMenu(const QPoint& pos);
+    /// Asks for clip `index`'s new name (double-click, the list's menu) and renames it.
+    void askToRenameClip(int index);
 
     Document* m_document;
     SimulationController* m_simulation;
