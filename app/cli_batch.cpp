@@ -58,7 +58,7 @@ Options:
   --quiet       No progress line (run).
 )";
 
-int usage(const std::string& message) { return usageError(message, "batch"); }
+int batchUsage(const std::string& message) { return usageError(message, "batch"); }
 
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
 Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io::BatchJob& job) {
@@ -340,14 +340,14 @@ int check(const io::BatchManifest& manifest, const std::vector<io::BatchJob>& jo
 
 int runBatch(const std::vector<std::string>& args) {
     if (args.empty())
-        return usage("batch needs plan, run, slurm or check and a MANIFEST");
+        return batchUsage("batch needs plan, run, slurm or check and a MANIFEST");
     if (args.front() == "--help" || args.front() == "-h") {
         std::fputs(kBatchUsage, stdout);
         return 0;
     }
     const std::string action = args.front();
     if (action != "plan" && action != "run" && action != "slurm" && action != "check")
-        return usage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
+        return batchUsage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
     std::string manifestPath, jobId, outDir, library;
     std::optional<double> parallel;
     bool force = false, quiet = false;
@@ -363,7 +363,7 @@ int runBatch(const std::vector<std::string>& args) {
             quiet = true;
         } else if (a == "--jobs" || a == "--job" || a == "--out" || a == "--library") {
             if (i + 1 >= args.size())
-                return usage(a + " needs a value");
+                return batchUsage(a + " needs a value");
             const std::string& v = args[++i];
             if (a == "--job") {
                 jobId = v;
@@ -374,24 +374,24 @@ int runBatch(const std::vector<std::string>& args) {
             } else {
                 parallel = parseNumber(v);
                 if (!parallel || *parallel < 1 || *parallel > 256 || std::floor(*parallel) != *parallel)
-                    return usage("--jobs must be a whole number in [1, 256], got '" + v + "'");
+                    return batchUsage("--jobs must be a whole number in [1, 256], got '" + v + "'");
             }
         } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
+            return batchUsage("unknown option '" + a + "'");
         } else if (manifestPath.empty()) {
             manifestPath = a;
         } else {
-            return usage("unexpected argument '" + a + "'");
+            return batchUsage("unexpected argument '" + a + "'");
         }
     }
     if (manifestPath.empty())
-        return usage("batch " + action + " needs a MANIFEST");
+        return batchUsage("batch " + action + " needs a MANIFEST");
     if (action == "slurm" && outDir.empty())
-        return usage("batch slurm needs --out DIR");
+        return batchUsage("batch slurm needs --out DIR");
     if ((!jobId.empty() || parallel) && action != "run")
-        return usage("--job and --jobs are for batch run");
+        return batchUsage("--job and --jobs are for batch run");
     if (!jobId.empty() && parallel)
-        return usage("--job runs one job; --jobs is for the whole library");
+        return batchUsage("--job runs one job; --jobs is for the whole library");
 
     auto loaded = io::loadBatchManifest(manifestPath);
     if (!loaded)

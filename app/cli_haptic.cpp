@@ -34,7 +34,7 @@ rate and jitter, the largest force sent and a hash of the final lattice state.
   --record FILE        save every device sample of the session as a trajectory file
 )";
 
-int usage(const std::string& message) { return usageError(message, "haptic"); }
+int hapticUsage(const std::string& message) { return usageError(message, "haptic"); }
 
 bool parseDouble(const std::string& text, double& value) {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -73,14 +73,14 @@ int runHaptic(const std::vector<std::string>& args) {
         } else if (a == "--device" || a == "--device-arg" || a == "--plugins" || a == "--record" || a == "--seconds" ||
                    a == "--grab") {
             const std::string* v = value();
-            if (!v) return usage(a + " needs a value");
+            if (!v) return hapticUsage(a + " needs a value");
             if (a == "--device") deviceName = *v;
             else if (a == "--device-arg") deviceArg = *v;
             else if (a == "--plugins") pluginDir = *v;
             else if (a == "--record") recordPath = *v;
             else if (a == "--seconds") {
                 if (!parseDouble(*v, seconds) || seconds <= 0.0 || seconds > 3600.0)
-                    return usage("--seconds expects a number in (0, 3600], got '" + *v + "'");
+                    return hapticUsage("--seconds expects a number in (0, 3600], got '" + *v + "'");
             } else {
                 double uvw[3];
                 std::size_t start = 0;
@@ -88,20 +88,20 @@ int runHaptic(const std::vector<std::string>& args) {
                     const std::size_t comma = c < 2 ? v->find(',', start) : v->size();
                     if (comma == std::string::npos || !parseDouble(v->substr(start, comma - start), uvw[c]) ||
                         uvw[c] < 0.0 || uvw[c] > 1.0)
-                        return usage("--grab expects U,V,W in [0,1], got '" + *v + "'");
+                        return hapticUsage("--grab expects U,V,W in [0,1], got '" + *v + "'");
                     start = comma + 1;
                 }
                 grab = Vec3(uvw[0], uvw[1], uvw[2]);
             }
         } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
+            return hapticUsage("unknown option '" + a + "'");
         } else if (scenePath.empty()) {
             scenePath = a;
         } else {
-            return usage("unexpected argument '" + a + "'");
+            return hapticUsage("unexpected argument '" + a + "'");
         }
     }
-    if (scenePath.empty()) return usage("haptic needs a SCENE file");
+    if (scenePath.empty()) return hapticUsage("haptic needs a SCENE file");
 
     auto project = io::loadProject(scenePath);
     if (!project) return fail(project.message());

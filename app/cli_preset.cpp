@@ -22,7 +22,7 @@ apply   Puts a setup preset onto one object of SCENE and writes the result as a 
         The result is validated before anything is written.
 )";
 
-int usage(const std::string& message) { return usageError(message, "preset"); }
+int presetUsage(const std::string& message) { return usageError(message, "preset"); }
 
 /// Index of the object named `name` (empty: the first).
 Result<std::size_t> findObject(const io::Project& project, const std::string& name) {
@@ -41,14 +41,14 @@ Result<std::size_t> findObject(const io::Project& project, const std::string& na
 
 int runPreset(const std::vector<std::string>& args) {
     if (args.empty())
-        return usage("preset needs 'export' or 'apply'");
+        return presetUsage("preset needs 'export' or 'apply'");
     if (args.front() == "--help" || args.front() == "-h") {
         std::fputs(kPresetUsage, stdout);
         return 0;
     }
     const std::string action = args.front();
     if (action != "export" && action != "apply")
-        return usage("unknown preset action '" + action + "' (expected export or apply)");
+        return presetUsage("unknown preset action '" + action + "' (expected export or apply)");
     std::vector<std::string> positional;
     std::string out, objectName, name, description;
     bool named = false, described = false;
@@ -60,24 +60,24 @@ int runPreset(const std::vector<std::string>& args) {
         }
         if (a == "--out" || a == "--object" || a == "--name" || a == "--description") {
             if (i + 1 >= args.size())
-                return usage(a + " needs a value");
+                return presetUsage(a + " needs a value");
             const std::string& v = args[++i];
             if (a == "--out") out = v;
             else if (a == "--object") objectName = v;
             else if (a == "--name") { name = v; named = true; }
             else { description = v; described = true; }
         } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
+            return presetUsage("unknown option '" + a + "'");
         } else {
             positional.push_back(a);
         }
     }
     if (out.empty())
-        return usage("preset " + action + " needs --out FILE");
+        return presetUsage("preset " + action + " needs --out FILE");
 
     if (action == "export") {
         if (positional.size() != 1)
-            return usage("preset export needs exactly one SCENE");
+            return presetUsage("preset export needs exactly one SCENE");
         auto project = io::loadProject(positional[0]);
         if (!project)
             return fail(project.message());
@@ -97,7 +97,7 @@ int runPreset(const std::vector<std::string>& args) {
         return 0;
     }
     if (positional.size() != 2)
-        return usage("preset apply needs a PRESET and a SCENE");
+        return presetUsage("preset apply needs a PRESET and a SCENE");
     auto preset = io::loadSetupPreset(positional[0]);
     if (!preset)
         return fail(preset.message());

@@ -39,7 +39,7 @@ size, matte draws a white silhouette on black, readback writes the canvas as a P
 (tests use these).
 )";
 
-int usage(const std::string& message) { return usageError(message, "preview"); }
+int previewUsage(const std::string& message) { return usageError(message, "preview"); }
 
 std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -58,23 +58,23 @@ int runPreview(const std::vector<std::string>& args) {
             quiet = true;
         } else if (a == "--out" || a == "--size") {
             if (i + 1 >= args.size())
-                return usage(a + " needs a value");
+                return previewUsage(a + " needs a value");
             (a == "--out" ? outDir : sizeText) = args[++i];
         } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
+            return previewUsage("unknown option '" + a + "'");
         } else if (clipPath.empty()) {
             clipPath = a;
         } else {
-            return usage("unexpected argument '" + a + "'");
+            return previewUsage("unexpected argument '" + a + "'");
         }
     }
     if (clipPath.empty())
-        return usage("preview needs a CLIP file");
+        return previewUsage("preview needs a CLIP file");
     if (outDir.empty())
-        return usage("preview needs --out DIR");
+        return previewUsage("preview needs --out DIR");
     const auto size = parseSize(sizeText);
     if (!size)
-        return usage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+        return previewUsage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
 
     auto clip = io::inspectPreviewClip(clipPath);
     if (!clip)

@@ -32,7 +32,7 @@ Options:
   --quiet           No progress output.
 )";
 
-int usage(const std::string& message) { return usageError(message, "render"); }
+int renderUsage(const std::string& message) { return usageError(message, "render"); }
 
 }  // namespace
 
@@ -50,7 +50,7 @@ int runRender(const std::vector<std::string>& args) {
             quiet = true;
         } else if (a == "--out" || a == "--size" || a == "--clip" || a == "--fps" || a == "--frames" || a == "--crf") {
             if (i + 1 >= args.size())
-                return usage(a + " needs a value");
+                return renderUsage(a + " needs a value");
             const std::string& v = args[++i];
             if (a == "--out") {
                 outPath = v;
@@ -61,33 +61,33 @@ int runRender(const std::vector<std::string>& args) {
             } else {
                 const auto n = parseNumber(v);
                 if (!n)
-                    return usage(a + " expects a number, got '" + v + "'");
+                    return renderUsage(a + " expects a number, got '" + v + "'");
                 (a == "--frames" ? frames : a == "--fps" ? fps : crf) = *n;
             }
         } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
+            return renderUsage("unknown option '" + a + "'");
         } else if (scenePath.empty()) {
             scenePath = a;
         } else {
-            return usage("unexpected argument '" + a + "'");
+            return renderUsage("unexpected argument '" + a + "'");
         }
     }
     if (scenePath.empty())
-        return usage("render needs a SCENE file");
+        return renderUsage("render needs a SCENE file");
     if (outPath.empty())
-        return usage("render needs --out FILE.mp4, FILE.gif or DIR/");
+        return renderUsage("render needs --out FILE.mp4, FILE.gif or DIR/");
     const auto format = io::videoFormatFromPath(outPath);
     if (!format)
-        return usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
+        return renderUsage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
     const auto size = parseSize(sizeText);
     if (!size)
-        return usage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+        return renderUsage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
     if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
-        return usage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
+        return renderUsage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
     if (fps && (*fps < ranges::kMinFps || *fps > 240))
-        return usage("--fps must be in [1, 240], got " + formatValue(*fps));
+        return renderUsage("--fps must be in [1, 240], got " + formatValue(*fps));
     if (crf && (*crf < 0 || *crf > 51 || std::floor(*crf) != *crf))
-        return usage("--crf must be a whole number in [0, 51], got " + formatValue(*crf));
+        return renderUsage("--crf must be a whole number in [0, 51], got " + formatValue(*crf));
 
     auto project = io::loadProject(scenePath);
     if (!project)

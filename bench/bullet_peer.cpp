@@ -228,10 +228,6 @@ private:
     Vec3 m_rest = Vec3::Zero();
 };
 
-bool allFinite(std::span<const Vec3f> positions) {
-    return std::all_of(positions.begin(), positions.end(), [](const Vec3f& p) { return p.allFinite(); });
-}
-
 }  // namespace
 
 bool bulletAvailable() { return true; }

@@ -38,11 +38,11 @@ std::shared_ptr<const BodyModel> meshModel(const InteractionScenario& s, bool lo
     return buildBodyModel(describeMeshBody(s.mesh, settings)).value();
 }
 
-bool allFinite(std::span<const Vec3f> v) {
-    return std::all_of(v.begin(), v.end(), [](const Vec3f& p) { return p.allFinite(); });
-}
-
 }  // namespace
+
+bool allFinite(std::span<const Vec3f> positions) {
+    return std::all_of(positions.begin(), positions.end(), [](const Vec3f& p) { return p.allFinite(); });
+}
 
 std::string_view contenderName(Contender contender) {
     switch (contender) {

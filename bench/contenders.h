@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct ContenderRun {
     /// Wall time for the whole scenario: measured, or extrapolated from the steps run.
     double scenarioSeconds() const { return steps > 0 ? seconds * totalSteps / steps : 0.0; }
 };
+
+/// Every position finite (ContenderRun::finite, for our bodies and the peer alike).
+bool allFinite(std::span<const Vec3f> positions);
 
 /// A body of ours built for one scenario and stiffness, ready to run or settle. Set-up (fitting the
 /// lattice, binding, building the springs) happens here, once, and is never timed.

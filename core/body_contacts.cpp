@@ -13,8 +13,6 @@ namespace softtouch {
 
 namespace {
 
-/// Gauss-Seidel sweeps over the contacts, as for colliders (core/colliders.cpp).
-constexpr int kSweeps = 4;
 /// Position sweeps at most: each finds the points inside afresh, and ends the pass once none is.
 constexpr int kPositionSweeps = 8;
 constexpr int kNewtonIterations = 24;
@@ -268,7 +266,7 @@ BodyContactPass resolveBodyContacts(ContactBody& a, ContactBody& b, const BodyCo
         return pass;
     // Velocities: sequential impulses (core/contact_impulse.h, as resolveColliders) on the relative velocity
     // of the two material points; each impulse acts on both with opposite signs.
-    for (int sweep = 0; sweep < 4 * kSweeps; ++sweep)
+    for (int sweep = 0; sweep < 4 * kContactSweeps; ++sweep)
         for (Contact& c : contacts) {
             const Vec3 relative = c.point.at(c.point.body->state->velocity) - c.other.at(c.other.body->state->velocity);
             const Vec3 impulse = sequentialImpulse(c.impulse, relative, settings.friction);

@@ -1,14 +1,17 @@
 #include "core/body_model.h"
 
+#include "core/ranges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
 
 namespace softtouch {
-namespace {
 
-bool inRange(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+using ranges::finiteIn;
+
+namespace {
 
 /// Largest eigenvalue of M^-1 K (K the rest stiffness matrix of the springs, free nodes only) by
 /// power iteration on the symmetric form M^-1/2 K M^-1/2. K's Rayleigh quotient is bounded by the
@@ -73,7 +76,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         return Status::error("anchor has " + std::to_string(d.anchor.size()) + " values for " + std::to_string(n) + " nodes");
     if (!d.isVoid.empty() && d.isVoid.size() != n)
         return Status::error("void has " + std::to_string(d.isVoid.size()) + " values for " + std::to_string(n) + " nodes");
-    if (!inRange(d.heavyAnchorRatio, 1.0, 1e9))
+    if (!finiteIn(d.heavyAnchorRatio, 1.0, 1e9))
         return Status::error("heavy anchor ratio must be in [1, 1e9], got " + std::to_string(d.heavyAnchorRatio));
     if (!d.nodeDamping.empty() && d.nodeDamping.size() != n)
         return Status::error("node damping has " + std::to_string(d.nodeDamping.size()) + " values for " +
@@ -102,7 +105,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
             model->simulated[i] = 0;
             continue;
         }
-        if (!inRange(d.mass[i], 1e-12, 1e12))
+        if (!finiteIn(d.mass[i], 1e-12, 1e12))
             return Status::error(node + " has mass " + std::to_string(d.mass[i]) +
                                  " kg; a mass must be finite and in [1e-12, 1e12] kg");
         const AnchorMode mode = d.anchor.empty() ? AnchorMode::Free : d.anchor[i];
@@ -110,7 +113,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         model->pinned[i] = mode == AnchorMode::Pinned;
         model->inverseMass[i] = mode == AnchorMode::Pinned ? 0.0 : 1.0 / model->mass[i];
         const double damping = d.nodeDamping.empty() ? 0.0 : d.nodeDamping[i];
-        if (!inRange(damping, 0.0, 1e6))
+        if (!finiteIn(damping, 0.0, 1e6))
             return Status::error(node + " has node damping " + std::to_string(damping) +
                                  " N·s/m; it must be finite and in [0, 1e6] N·s/m");
         model->nodeDamping[i] = damping;
@@ -125,13 +128,13 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         const std::string spring = "spring " + std::to_string(k);
         if (s.a >= n || s.b >= n || s.a == s.b)
             return Status::error(spring + " joins invalid nodes " + std::to_string(s.a) + " and " + std::to_string(s.b));
-        if (!inRange(s.stiffness, 0.0, 1e9))
+        if (!finiteIn(s.stiffness, 0.0, 1e9))
             return Status::error(spring + " has stiffness " + std::to_string(s.stiffness) +
                                  " N/m; it must be finite and in [0, 1e9] N/m");
-        if (!inRange(s.damping, 0.0, 1e6))
+        if (!finiteIn(s.damping, 0.0, 1e6))
             return Status::error(spring + " has damping " + std::to_string(s.damping) +
                                  " N·s/m; it must be finite and in [0, 1e6] N·s/m");
-        if (!inRange(s.restLength, 1e-12, 1e12))
+        if (!finiteIn(s.restLength, 1e-12, 1e12))
             return Status::error(spring + " has a zero or invalid rest length; its nodes coincide");
         if (!model->simulated[s.a] || !model->simulated[s.b])
             continue;  // a void node takes its springs with it

@@ -7,9 +7,10 @@
 #include <set>
 
 namespace softtouch {
-namespace {
 
-bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+using ranges::finiteIn;
+
+namespace {
 
 double smoothstep(double x) {
     x = std::clamp(x, 0.0, 1.0);

@@ -13,10 +13,6 @@ namespace softtouch {
 
 namespace {
 
-/// Gauss-Seidel sweeps over the contact points: the points share nodes, so one point's correction moves
-/// its neighbours; a resting body needs a few rounds to settle them all.
-constexpr int kSweeps = 4;
-
 bool finite(const Vec3& v) { return v.allFinite(); }
 
 /// A unit vector perpendicular to `n`.
@@ -241,7 +237,7 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
         }
         // Positions: every point inside is pushed back onto the surface (Gauss-Seidel: points share nodes).
         touching.clear();
-        for (int sweep = 0; sweep < kSweeps; ++sweep) {
+        for (int sweep = 0; sweep < kContactSweeps; ++sweep) {
             for (std::size_t q = 0; q < count; ++q) {
                 if (atNodes && model.inverseMass[q] == 0.0)
                     continue;
@@ -280,7 +276,7 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
             i.frictionImpulse = friction;
             apply(contact.point, i.inverseMass, Vec3::Zero(), i.inverseMass * (i.normalImpulse * i.normal + i.frictionImpulse));
         }
-        for (int sweep = 0; sweep < 4 * kSweeps; ++sweep) {
+        for (int sweep = 0; sweep < 4 * kContactSweeps; ++sweep) {
             for (Contact& contact : touching) {
                 Vec3 x, v;
                 pointState(contact.point, x, v);

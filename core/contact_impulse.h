@@ -10,6 +10,10 @@
 
 namespace softtouch {
 
+/// Gauss-Seidel sweeps over the contacts per velocity pass: contacts share nodes, so one contact's
+/// correction moves its neighbours, and a resting body needs a few rounds to settle them all.
+inline constexpr int kContactSweeps = 4;
+
 /// One contact's impulses as the sweeps accumulate them.
 struct ContactImpulse {
     Vec3 normal = Vec3::UnitY();          ///< Unit: the way the contact pushes.

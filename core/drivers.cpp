@@ -6,9 +6,10 @@
 #include <numbers>
 
 namespace softtouch {
-namespace {
 
-bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+using ranges::finiteIn;
+
+namespace {
 
 Status validatePoint(const Vec3& p) {
     if (!isFinite(p) || (p.array() < 0.0).any() || (p.array() > 1.0).any())

@@ -1,13 +1,13 @@
 #include "core/haptic_coupling.h"
 
+#include "core/ranges.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace softtouch {
 
-namespace {
-bool inRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
-}  // namespace
+using ranges::finiteIn;
 
 DeviceCalibration DeviceCalibration::fit(const DeviceInfo& device, const Vec3& sceneMin, const Vec3& sceneMax) {
     DeviceCalibration c;
@@ -23,11 +23,11 @@ DeviceCalibration DeviceCalibration::fit(const DeviceInfo& device, const Vec3& s
 }
 
 Status CouplingSettings::validate() const {
-    if (!inRange(stiffness, 1e-12, 1e9)) return Status::error("coupling stiffness must be in (0, 1e9] N/m");
-    if (!inRange(damping, 0.0, 1e6)) return Status::error("coupling damping must be in [0, 1e6] N·s/m");
-    if (!inRange(avatarMassKg, 1e-9, 100.0)) return Status::error("avatar mass must be in (0, 100] kg");
-    if (!inRange(contactEpsilon, 0.0, 1.0)) return Status::error("contact epsilon must be in [0, 1] m");
-    if (!inRange(wallStiffness, 0.0, 1e9)) return Status::error("wall stiffness must be in [0, 1e9] N/m");
+    if (!finiteIn(stiffness, 1e-12, 1e9)) return Status::error("coupling stiffness must be in (0, 1e9] N/m");
+    if (!finiteIn(damping, 0.0, 1e6)) return Status::error("coupling damping must be in [0, 1e6] N·s/m");
+    if (!finiteIn(avatarMassKg, 1e-9, 100.0)) return Status::error("avatar mass must be in (0, 100] kg");
+    if (!finiteIn(contactEpsilon, 0.0, 1.0)) return Status::error("contact epsilon must be in [0, 1] m");
+    if (!finiteIn(wallStiffness, 0.0, 1e9)) return Status::error("wall stiffness must be in [0, 1e9] N/m");
     return Status::success();
 }
 

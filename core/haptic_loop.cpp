@@ -1,5 +1,7 @@
 #include "core/haptic_loop.h"
 
+#include "core/ranges.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -12,9 +14,9 @@
 
 namespace softtouch {
 
-namespace {
+using ranges::finiteIn;
 
-bool inRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+namespace {
 
 double percentile(std::vector<double>& values, std::size_t count, double p) {
     // Nearest-rank percentile of the first `count` values (reorders them).
@@ -50,10 +52,10 @@ HapticCommand HapticCommand::setDamping(double dampingNsPerM) {
 }
 
 Status HapticSettings::validate() const {
-    if (!inRange(rateHz, 1.0, 20000.0)) return Status::error("haptic rate must be in [1, 20000] Hz");
+    if (!finiteIn(rateHz, 1.0, 20000.0)) return Status::error("haptic rate must be in [1, 20000] Hz");
     if (statsWindow < 10 || statsWindow > 1000000) return Status::error("stats window must be in [10, 1e6] ticks");
     if (realtimePriority < 0 || realtimePriority > 99) return Status::error("real-time priority must be in [0, 99]");
-    if (!inRange(calibration.scale, 1e-12, 1e6)) return Status::error("calibration scale must be in (0, 1e6]");
+    if (!finiteIn(calibration.scale, 1e-12, 1e6)) return Status::error("calibration scale must be in (0, 1e6]");
     if (!calibration.origin.allFinite() || !calibration.rotation.allFinite())
         return Status::error("calibration origin and rotation must be finite");
     return coupling.validate();

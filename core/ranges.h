@@ -5,9 +5,13 @@
 /// 1/kMinFps simulated seconds, a second at most 1/kMinDt steps, and a clip starts at most
 /// kMaxClipStart seconds in.
 
+#include <cmath>
 #include <cstddef>
 
 namespace softtouch::ranges {
+
+/// True when x is a finite number in [lo, hi]: the check every setting's validation makes (NaN fails it).
+inline bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
 
 /// Fixed step, seconds. Below 1e-5 s a one-second clip is over 100,000 steps (the study's converged
 /// reference runs at 1/4000 s); above 0.1 s no scheme follows a wobble.

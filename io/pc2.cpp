@@ -30,7 +30,7 @@ namespace {
 using detail::ByteOrder;
 
 constexpr std::array<char, 12> kSignature = {'P', 'O', 'I', 'N', 'T', 'C', 'A', 'C', 'H', 'E', '2', '\0'};
-constexpr std::int32_t kVersion = 1;
+constexpr std::int32_t kPc2Version = 1;
 constexpr std::uint64_t kHeaderSize = 32;
 constexpr std::uint64_t kBytesPerPoint = 12;
 
@@ -47,7 +47,7 @@ protected:
             return Status::error("cannot write " + detail::quoted(path) + ": the start frame " +
                                  detail::formatNumber(info.startFrame) + " does not fit PC2's float32");
         out.insert(out.end(), kSignature.begin(), kSignature.end());
-        detail::appendI32<ByteOrder::Little>(out, kVersion);
+        detail::appendI32<ByteOrder::Little>(out, kPc2Version);
         detail::appendI32<ByteOrder::Little>(out, static_cast<std::int32_t>(info.pointCount));
         detail::appendF32<ByteOrder::Little>(out, static_cast<float>(info.startFrame));
         detail::appendF32<ByteOrder::Little>(out, 1.0f);  // one sample per frame (a frame step, see above)
@@ -90,7 +90,7 @@ Result<VertexCache> readPc2(const std::filesystem::path& path) {
     const std::int32_t points = detail::loadI32<ByteOrder::Little>(&header[16]);
     const float startFrame = detail::loadF32<ByteOrder::Little>(&header[20]);
     const std::int32_t samples = detail::loadI32<ByteOrder::Little>(&header[28]);
-    if (version != kVersion)
+    if (version != kPc2Version)
         return Status::error(name + " has PC2 version " + std::to_string(version) +
                              "; only version 1 exists");
     if (points <= 0)

@@ -11,7 +11,7 @@ namespace softtouch::io {
 namespace {
 
 constexpr const char* kFormat = "softtouch-trajectory";
-constexpr int kVersion = 1;
+constexpr int kTrajectoryVersion = 1;
 
 void readDevice(const JsonValue& v, DeviceInfo& info) {
     if (!v.expectObject()) return;
@@ -59,9 +59,9 @@ Result<Trajectory> loadTrajectory(const std::filesystem::path& path) {
     root.checkKeys({"format", "version", "device", "samples"});
     const auto format = root["format"].string(true);
     if (format && *format != kFormat) root["format"].problem(std::string("expected \"") + kFormat + "\", got \"" + *format + "\"");
-    if (const auto version = root["version"].integer(1, 1000000, true); version && *version > kVersion)
+    if (const auto version = root["version"].integer(1, 1000000, true); version && *version > kTrajectoryVersion)
         root["version"].problem("version " + std::to_string(*version) + " was written by a newer SoftTouch; this build reads up to " +
-                                std::to_string(kVersion));
+                                std::to_string(kTrajectoryVersion));
     if (!issues.empty()) return Status::error(issues.summary());
 
     Trajectory trajectory;
@@ -138,7 +138,7 @@ Result<Trajectory> loadTrajectory(const std::filesystem::path& path) {
 Status saveTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
     nlohmann::json doc;
     doc["format"] = kFormat;
-    doc["version"] = kVersion;
+    doc["version"] = kTrajectoryVersion;
     const DeviceInfo& d = trajectory.device;
     doc["device"] = {{"name", d.name},
                      {"degreesOfFreedom", d.degreesOfFreedom},

@@ -58,50 +58,51 @@ void setFlatLayout() {
     glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(7 * sizeof(float)));
 }
 
-/// Triangles for the flat program, rebuilt on the CPU and uploaded before the next draw that needs them
-/// (the collision planes; the colliders).
-struct FlatTriangles {
-    GLuint vao = 0;
-    GLuint buffer = 0;
-    std::vector<float> vertices;  ///< kFlatStride floats per vertex; uploaded when `dirty`.
-    GLsizei count = 0;            ///< Vertices uploaded or pending.
-    bool dirty = false;
-
-    void create() {
-        glGenVertexArrays(1, &vao);
-        glGenBuffers(1, &buffer);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, buffer);
-        setFlatLayout();
-    }
-    void release() {
-        glDeleteVertexArrays(1, &vao);
-        glDeleteBuffers(1, &buffer);
-    }
-    /// After `vertices` was rebuilt.
-    void changed() {
-        count = GLsizei(vertices.size() / kFlatStride);
-        dirty = true;
-    }
-    /// Uploads if changed and draws, with the flat program already in use.
-    void draw() {
-        if (dirty) {
-            glBindBuffer(GL_ARRAY_BUFFER, buffer);
-            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_DYNAMIC_DRAW);
-            glBindBuffer(GL_ARRAY_BUFFER, 0);
-            dirty = false;
-        }
-        if (count > 0) {
-            glBindVertexArray(vao);
-            glDrawArrays(GL_TRIANGLES, 0, count);
-        }
-    }
-};
-
 }  // namespace
 
 /// GL objects shared by every object.
 struct MeshRenderer::Shared {
+    /// Triangles for the flat program, rebuilt on the CPU and uploaded before the next draw that needs them
+    /// (the collision planes; the colliders).
+    struct FlatTriangles {
+        GLuint vao = 0;
+        GLuint buffer = 0;
+        std::vector<float> vertices;  ///< kFlatStride floats per vertex; uploaded when `dirty`.
+        GLsizei count = 0;            ///< Vertices uploaded or pending.
+        bool dirty = false;
+
+        void create() {
+            glGenVertexArrays(1, &vao);
+            glGenBuffers(1, &buffer);
+            glBindVertexArray(vao);
+            glBindBuffer(GL_ARRAY_BUFFER, buffer);
+            setFlatLayout();
+        }
+        void release() {
+            glDeleteVertexArrays(1, &vao);
+            glDeleteBuffers(1, &buffer);
+        }
+        /// After `vertices` was rebuilt.
+        void changed() {
+            count = GLsizei(vertices.size() / kFlatStride);
+            dirty = true;
+        }
+        /// Uploads if changed and draws, with the flat program already in use.
+        void draw() {
+            if (dirty) {
+                glBindBuffer(GL_ARRAY_BUFFER, buffer);
+                glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(),
+                             GL_DYNAMIC_DRAW);
+                glBindBuffer(GL_ARRAY_BUFFER, 0);
+                dirty = false;
+            }
+            if (count > 0) {
+                glBindVertexArray(vao);
+                glDrawArrays(GL_TRIANGLES, 0, count);
+            }
+        }
+    };
+
     GlProgram mesh;              ///< Deforming vertex shader + shading; also the transform feedback source.
     GlProgram flat;              ///< Overlay points and lines, planes.
     GlProgram background;        ///< Gradient.
