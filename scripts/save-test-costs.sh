@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Writes tests/test_costs.txt from the timings ctest kept in build/ and build-asan/ (run both suites first).
+# Each line: a ctest entry that took 2 s or more in either suite, then its seconds under the sanitizers and in
+# release ("-": not run there). tests/CMakeLists.txt gives each its COST, so a fresh build's ctest, which has no
+# timings of its own yet, starts the longest entries first (docs/reliability.md, "What CI spends its 40 minutes on").
+set -euo pipefail
+cd "$(dirname "$0")/.."
+asan=build-asan/Testing/Temporary/CTestCostData.txt
+release=build/Testing/Temporary/CTestCostData.txt
+for f in "$asan" "$release"; do
+  [ -f "$f" ] || { echo "save-test-costs: $f is missing: run that build's ctest first" >&2; exit 1; }
+done
+{
+  echo "# ctest entry, seconds under ASan + UBSan, seconds in release (- : not run there). Written by"
+  echo "# scripts/save-test-costs.sh from the suites' own timings; only the order matters, not the values."
+  awk 'FNR == 1 { file++ } /^---/ { nextfile } NF == 3 { cost[$1, file] = $3; names[$1] = 1 }
+       END {
+         for (n in names) {
+           a = ((n, 1) in cost) ? cost[n, 1] : -1; r = ((n, 2) in cost) ? cost[n, 2] : -1
+           if (a >= 2 || r >= 2)
+             printf "%s %s %s\n", n, a < 0 ? "-" : sprintf("%.0f", a), r < 0 ? "-" : sprintf("%.0f", r)
+         }
+       }' "$asan" "$release" | sort
+} > tests/test_costs.txt.new
+mv tests/test_costs.txt.new tests/test_costs.txt
+echo "tests/test_costs.txt: $(grep -vc '^#' tests/test_costs.txt) entries"
