@@ -167,11 +167,11 @@ private slots:
                     sim.evaluate(std::size_t(b), deformed[std::size_t(b)], normals, 1);
                 for (int b = 0; b < 2; ++b) {
                     const ContactPoints& points = sim.simulator(std::size_t(b)).model().contactPoints;
-                    const auto& otherNodes = sim.simulator(std::size_t(1 - b)).state().position;
-                    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);  // the other mesh lies in its nodes' hull
-                    for (const Vec3& n : otherNodes) {
-                        lo = lo.cwiseMin(n);
-                        hi = hi.cwiseMax(n);
+                    // Only a point inside the other mesh's bounding box can be inside the mesh.
+                    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+                    for (const Vec3f& v : deformed[std::size_t(1 - b)]) {
+                        lo = lo.cwiseMin(v.cast<double>());
+                        hi = hi.cwiseMax(v.cast<double>());
                     }
                     for (std::size_t q = 0; q < points.size(); ++q) {
                         const Vec3 p = points.at(q, sim.simulator(std::size_t(b)).state().position);
