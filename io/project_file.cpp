@@ -24,6 +24,10 @@ namespace {
 
 constexpr const char* kProjectFormat = "softtouch-project";
 constexpr const char* kPresetFormat = "softtouch-preset";
+/// A preset file's kind: a setup preset says "kind": "setup"; a material preset has no kind.
+bool declaresSetup(const nlohmann::json& doc) {
+    return doc.is_object() && doc.contains("kind") && doc["kind"] == "setup";
+}
 
 /// Checks "format" and "version" of a document.
 bool readHeader(const JsonValue& root, const char* format, int maxVersion) {
@@ -1107,7 +1111,7 @@ std::vector<std::string> validateFile(const fs::path& path) {
         all.addGeneral(trajectory.message());
         return all.messages();
     }
-    if (format == kPresetFormat && (*doc).contains("kind") && (*doc)["kind"] == "setup") {
+    if (format == kPresetFormat && declaresSetup(*doc)) {
         auto setup = loadSetupPreset(path);
         if (setup)
             return {};
@@ -1516,6 +1520,23 @@ Status saveSetupPreset(const SetupPreset& preset, const fs::path& path) {
         clips.push_back(clipJson(c));
     body["clips"] = clips;
     return writeFileAtomically(path, body.dump(2) + "\n");
+}
+
+Result<AnyPreset> loadPreset(const fs::path& path) {
+    JsonIssues issues(path.string());
+    const auto doc = parseJsonFile(path.string(), issues);
+    if (!doc)
+        return Status::error(issues.summary());
+    if (declaresSetup(*doc)) {
+        auto setup = loadSetupPreset(path);
+        if (!setup)
+            return setup.status();
+        return AnyPreset(std::move(setup.value()));
+    }
+    auto material = loadMaterialPreset(path);
+    if (!material)
+        return material.status();
+    return AnyPreset(std::move(material.value()));
 }
 
 Result<SetupPreset> loadSetupPreset(const fs::path& path) {

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace softtouch::io {
@@ -82,6 +83,10 @@ Result<SetupPreset> setupFromProject(const Project& project, std::size_t object)
 Status saveSetupPreset(const SetupPreset& preset, const std::filesystem::path& path);
 /// Loads and validates a setup preset; errors name the file, the JSON pointer and the problem.
 Result<SetupPreset> loadSetupPreset(const std::filesystem::path& path);
+/// A preset file of either kind: a setup preset says "kind": "setup", a material preset has no kind.
+using AnyPreset = std::variant<MaterialPreset, SetupPreset>;
+/// Loads a preset of whichever kind the file declares; errors are that kind's loader's.
+Result<AnyPreset> loadPreset(const std::filesystem::path& path);
 /// Applies a setup to object `object` of `project`: the object keeps its mesh and lattice box; the
 /// material (with anchors and voids) is carried over node for node when the lattice shapes match and
 /// remapped with resampleMaterial (continuum scaling) when they differ; the drivers are replaced; the

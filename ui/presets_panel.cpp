@@ -212,17 +212,11 @@ Status PresetsPanel::saveSetup(const QString& name) {
 }
 
 Status PresetsPanel::importFile(const QString& path) {
-    // Valid as either kind, or refused with the reason (file, JSON pointer, what was expected).
-    auto material = io::loadMaterialPreset(path.toStdString());
-    std::string name;
-    if (material) {
-        name = material->name;
-    } else if (auto setup = io::loadSetupPreset(path.toStdString())) {
-        name = setup->name;
-    } else {
-        const std::string reason = setup.message().find("\"setup\"") != std::string::npos ? material.message() : setup.message();
-        return Status::error(reason);
-    }
+    // Valid as the kind it declares, or refused with the reason (file, JSON pointer, what was expected).
+    const auto preset = io::loadPreset(path.toStdString());
+    if (!preset)
+        return preset.status();
+    const std::string name = std::visit([](const auto& p) { return p.name; }, preset.value());
     QDir().mkpath(userFolder());
     const QString target = presetFileName(QString::fromStdString(name));
     QFile::remove(target + ".part");

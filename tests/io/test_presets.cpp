@@ -128,6 +128,14 @@ void TestPresets::shippedSetupAppliesToEveryFish() {
     auto setup = loadSetupPreset(kPresets / "setups/fish-swim.stpreset");
     QVERIFY2(setup.ok(), setup.message().c_str());
     QVERIFY(!setup->name.empty() && !setup->description.empty());
+    // Read without saying which kind, each shipped preset comes back as the kind it is.
+    const auto asAny = loadPreset(kPresets / "setups/fish-swim.stpreset");
+    QVERIFY2(asAny.ok(), asAny.message().c_str());
+    QVERIFY(std::holds_alternative<SetupPreset>(asAny.value()));
+    QCOMPARE(std::get<SetupPreset>(asAny.value()).name, setup->name);
+    const auto material = loadPreset(kPresets / "materials/jelly.stpreset");
+    QVERIFY2(material.ok(), material.message().c_str());
+    QVERIFY(std::holds_alternative<MaterialPreset>(material.value()));
     for (const char* scene : {"angelfish-swim", "demekin-swim", "guppy-swim"}) {
         auto project = loadProject(kPresets / "scenes" / (std::string(scene) + ".softtouch"));
         QVERIFY(project.ok());
@@ -212,6 +220,12 @@ void TestPresets::badPresetsNameTheProblem() {
     // validateFile judges a file by its own kind: a valid material preset is fine as such.
     if (!text.contains(R"("kind": "material")"))
         QVERIFY(!validateFile(path).empty());
+    // loadPreset goes by the kind the file declares: a setup's problems are the setup loader's own.
+    const auto any = loadPreset(path);
+    if (text.contains(R"("kind": "setup")")) {
+        QVERIFY(!any.ok());
+        QCOMPARE(any.message(), preset.message());
+    }
 }
 
 QTEST_GUILESS_MAIN(TestPresets)
