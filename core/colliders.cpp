@@ -235,6 +235,11 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
             std::fill(warm.normal.begin(), warm.normal.end(), 0.0);
             continue;
         }
+        if (warm.clearance.size() != count || !(warm.queriedFor == c)) {
+            warm.clearance.assign(count, 0.0);  // no bound yet: the first sweep asks for every point
+            warm.queriedAt.assign(count, Vec3::Zero());
+            warm.queriedFor = c;
+        }
         // Positions: every point inside is pushed back onto the surface (Gauss-Seidel: points share nodes).
         touching.clear();
         for (int sweep = 0; sweep < kContactSweeps; ++sweep) {
@@ -243,7 +248,11 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                     continue;
                 Vec3 x, v, n;
                 pointState(q, x, v);
+                if (warm.clearance[q] > (x - warm.queriedAt[q]).norm())
+                    continue;  // still outside (ColliderImpulses): the query would say so
                 const double depth = colliderDistance(c, x, n);
+                warm.clearance[q] = depth;
+                warm.queriedAt[q] = x;
                 if (depth >= 0.0)
                     continue;
                 const double k = pointInverseMass(q);
