@@ -1,6 +1,7 @@
 // softtouch-cli batch: bake and render a clip library described by a manifest (io/batch_plan.h),
 // locally in parallel or as a Slurm job array. docs/farm.md.
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "io/atomic_file.h"
@@ -58,7 +59,6 @@ Options:
   --quiet       No progress line (run).
 )";
 
-int batchUsage(const std::string& message) { return usageError(message, "batch"); }
 
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
 Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io::BatchJob& job) {
@@ -339,59 +339,33 @@ int check(const io::BatchManifest& manifest, const std::vector<io::BatchJob>& jo
 }  // namespace
 
 int runBatch(const std::vector<std::string>& args) {
-    if (args.empty())
-        return batchUsage("batch needs plan, run, slurm or check and a MANIFEST");
-    if (args.front() == "--help" || args.front() == "-h") {
-        std::fputs(kBatchUsage, stdout);
-        return 0;
-    }
-    const std::string action = args.front();
-    if (action != "plan" && action != "run" && action != "slurm" && action != "check")
-        return batchUsage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
-    std::string manifestPath, jobId, outDir, library;
+    std::string action, manifestPath, jobId, outDir, library;
     std::optional<double> parallel;
     bool force = false, quiet = false;
-    for (std::size_t i = 1; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kBatchUsage, stdout);
-            return 0;
-        }
-        if (a == "--force") {
-            force = true;
-        } else if (a == "--quiet") {
-            quiet = true;
-        } else if (a == "--jobs" || a == "--job" || a == "--out" || a == "--library") {
-            if (i + 1 >= args.size())
-                return batchUsage(a + " needs a value");
-            const std::string& v = args[++i];
-            if (a == "--job") {
-                jobId = v;
-            } else if (a == "--out") {
-                outDir = v;
-            } else if (a == "--library") {
-                library = v;
-            } else {
-                parallel = parseNumber(v);
-                if (!parallel || *parallel < 1 || *parallel > 256 || std::floor(*parallel) != *parallel)
-                    return batchUsage("--jobs must be a whole number in [1, 256], got '" + v + "'");
-            }
-        } else if (!a.empty() && a[0] == '-') {
-            return batchUsage("unknown option '" + a + "'");
-        } else if (manifestPath.empty()) {
-            manifestPath = a;
-        } else {
-            return batchUsage("unexpected argument '" + a + "'");
-        }
-    }
+    CommandLine line("batch", kBatchUsage);
+    line.positional("ACTION", action);
+    line.positional("MANIFEST", manifestPath);
+    line.text("--job", jobId);
+    line.number("--jobs", parallel, {1, 256, true});
+    line.text("--out", outDir);
+    line.text("--library", library);
+    line.flag("--force", force);
+    line.flag("--quiet", quiet);
+    if (const auto exit = line.parse(args))
+        return *exit;
+    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
+    if (action.empty())
+        return usage("batch needs plan, run, slurm or check and a MANIFEST");
+    if (action != "plan" && action != "run" && action != "slurm" && action != "check")
+        return usage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
     if (manifestPath.empty())
-        return batchUsage("batch " + action + " needs a MANIFEST");
+        return usage("batch " + action + " needs a MANIFEST");
     if (action == "slurm" && outDir.empty())
-        return batchUsage("batch slurm needs --out DIR");
+        return usage("batch slurm needs --out DIR");
     if ((!jobId.empty() || parallel) && action != "run")
-        return batchUsage("--job and --jobs are for batch run");
+        return usage("--job and --jobs are for batch run");
     if (!jobId.empty() && parallel)
-        return batchUsage("--job runs one job; --jobs is for the whole library");
+        return usage("--job runs one job; --jobs is for the whole library");
 
     auto loaded = io::loadBatchManifest(manifestPath);
     if (!loaded)

@@ -1,6 +1,7 @@
 // softtouch-cli bench (run by softtouch-bench): step cost, throughput and Table 1 against peers.
 #include "app/bench_commands.h"
 #include "app/bundled_paths.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "bench/bench.h"
 #include "io/atomic_file.h"
@@ -16,13 +17,11 @@
 namespace softtouch::cli {
 
 int runBench(const std::vector<std::string>& args) {
-    const auto usage = [](const std::string& message) { return usageError(message, "bench"); };
     bench::BenchOptions options;
     std::string jsonPath;
     std::filesystem::path hapticScene;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        if (args[i] == "--help" || args[i] == "-h") {
-            std::puts("Usage: softtouch-cli bench [--json FILE] [--quick] [--only KEY] [--haptic-scene FILE]\n\n"
+    std::optional<double> priority;
+    CommandLine line("bench", std::string("Usage: softtouch-cli bench [--json FILE] [--quick] [--only KEY] [--haptic-scene FILE]\n\n"
                       "Lattice step cost per integrator, deformation throughput against a plain scalar kernel,\n"
                       "the paper's Table 1 redone (lattice vs global and local mass-spring vs Bullet btSoftBody),\n"
                       "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
@@ -31,31 +30,26 @@ int runBench(const std::vector<std::string>& args) {
                       "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, edit, haptic\n"
                       "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"
                       "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)\n"
-                      "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)");
-            return 0;
-        }
-        if (args[i] == "--quick")
-            options.quick = true;
-        else if (args[i] == "--only" && i + 1 < args.size())
-            options.only = args[++i];
-        else if (args[i] == "--haptic-priority" && i + 1 < args.size()) {
-            const std::string& v = args[++i];
-            int priority = -1;
-            const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), priority);
-            if (ec != std::errc() || end != v.data() + v.size() || priority < 0 || priority > 99)
-                return usage("--haptic-priority expects an integer in [0, 99], got '" + v + "'");
-            options.hapticPriority = priority;
-        } else if (args[i] == "--haptic-scene" && i + 1 < args.size())
-            hapticScene = args[++i];
-        else if (args[i] == "--json" && i + 1 < args.size())
-            jsonPath = args[++i];
-        else
-            return usage("unknown bench argument '" + args[i] + "'");
-    }
-    static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "features",
-                                                   "deform", "table1", "edit", "haptic"};
-    if (!options.only.empty() && !sections.count(options.only))
-        return usage("unknown bench section '" + options.only + "'");
+                      "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)"));
+    line.flag("--quick", options.quick);
+    line.value("--only", [&options](const std::string& v) {
+        static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "features",
+                                                       "deform", "table1", "edit", "haptic"};
+        if (!sections.count(v))
+            return "expects one of lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, edit, haptic, got '" + v + "'";
+        options.only = v;
+        return std::string();
+    });
+    line.number("--haptic-priority", priority, {0, 99, true});
+    line.value("--haptic-scene", [&hapticScene](const std::string& v) {
+        hapticScene = v;
+        return std::string();
+    });
+    line.text("--json", jsonPath);
+    if (const auto exit = line.parse(args))
+        return *exit;
+    if (priority)
+        options.hapticPriority = int(*priority);
     // A bundled scene from the working directory (the repository root), else beside the program.
     const auto bundledScene = [](const std::string& file) {
         const std::filesystem::path local = "presets/scenes/" + file;

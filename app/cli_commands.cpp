@@ -1,5 +1,6 @@
 #include "app/cli_commands.h"
 #include "app/bundled_paths.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "core/ranges.h"
 
@@ -81,76 +82,41 @@ std::string bakeUsage() {
 }  // namespace
 
 int runBake(const std::vector<std::string>& args) {
-    const auto usage = [](const std::string& message) { return usageError(message, "bake"); };
-    std::string scenePath, outPath, formatName, clipName;
+    std::string scenePath, outPath, clipName;
+    const io::ExportFormat* format = nullptr;
     std::optional<double> frames, fps, threads, error, targets, bones;
     std::vector<std::string> objects;
     bool quiet = false, eachObject = false, groups = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&](const char* name) -> std::optional<std::string> {
-            if (i + 1 >= args.size())
-                return std::nullopt;
-            (void)name;
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") {
-            std::fputs(bakeUsage().c_str(), stdout);
-            return 0;
-        }
-        if (a == "--quiet") {
-            quiet = true;
-        } else if (a == "--each-object") {
-            eachObject = true;
-        } else if (a == "--groups") {
-            groups = true;
-        } else if (a == "--out" || a == "--format" || a == "--frames" || a == "--fps" || a == "--threads" ||
-                   a == "--clip" || a == "--error" || a == "--targets" || a == "--bones" || a == "--object") {
-            const auto v = value(a.c_str());
-            if (!v)
-                return usage(a + " needs a value");
-            if (a == "--out") {
-                outPath = *v;
-            } else if (a == "--format") {
-                formatName = *v;
-            } else if (a == "--clip") {
-                clipName = *v;
-            } else if (a == "--object") {
-                objects.push_back(*v);
-            } else {
-                const auto n = parseNumber(*v);
-                if (!n)
-                    return usage(a + " expects a number, got '" + *v + "'");
-                (a == "--frames"        ? frames
-                 : a == "--fps"         ? fps
-                 : a == "--threads"     ? threads
-                 : a == "--error"       ? error
-                 : a == "--targets"     ? targets
-                                        : bones) = *n;
-            }
-        } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return usage("unexpected argument '" + a + "'");
-        }
-    }
+    CommandLine line("bake", bakeUsage());
+    line.positional("SCENE", scenePath);
+    line.text("--out", outPath);
+    line.value("--format", [&format](const std::string& name) {
+        format = io::findExportFormat(name);
+        return format ? std::string() : "expects " + io::exportFormatNames() + ", got '" + name + "'";
+    });
+    line.text("--clip", clipName);
+    line.texts("--object", objects);
+    line.number("--frames", frames, {1, ranges::kMaxFrames, true});
+    line.number("--fps", fps, {ranges::kMinFps, ranges::kMaxFps});
+    line.number("--threads", threads, {0, 1024, true});
+    // The export's own ranges (they depend on the format) are io::exportOptions' to check.
+    line.number("--error", error, {});
+    line.number("--targets", targets, {});
+    line.number("--bones", bones, {});
+    line.flag("--quiet", quiet);
+    line.flag("--each-object", eachObject);
+    line.flag("--groups", groups);
+    if (const auto exit = line.parse(args))
+        return *exit;
+    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
     if (scenePath.empty())
         return usage("bake needs a SCENE file");
     if (outPath.empty())
         return usage("bake needs --out FILE");
-    const io::ExportFormat* format = formatName.empty() ? io::exportFormatForPath(outPath) : io::findExportFormat(formatName);
-    if (!format && !formatName.empty())
-        return usage("unknown format '" + formatName + "' (expected " + io::exportFormatNames() + ")");
+    if (!format)
+        format = io::exportFormatForPath(outPath);
     if (!format)
         return usage("cannot tell the format from '" + outPath + "'; use " + io::exportExtensions() + " or --format");
-    if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
-        return usage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
-    if (fps && (*fps < ranges::kMinFps || *fps > ranges::kMaxFps))
-        return usage("--fps must be in [1, 1000], got " + formatValue(*fps));
-    if (threads && (*threads < 0 || *threads > 1024 || std::floor(*threads) != *threads))
-        return usage("--threads must be a whole number in [0, 1024]");
     if (eachObject && !objects.empty())
         return usage("--each-object bakes every object to its own cache; it takes no --object");
     auto exportOptions = io::exportOptions(*format, {error, targets, bones});
@@ -219,19 +185,18 @@ int runBake(const std::vector<std::string>& args) {
 }
 
 int runValidate(const std::vector<std::string>& args) {
-    const auto usage = [](const std::string& message) { return usageError(message, "validate"); };
-    if (args.empty())
-        return usage("validate needs at least one FILE");
-    if (args.front() == "--help" || args.front() == "-h") {
-        std::puts("Usage: softtouch-cli validate FILE...\n\nCheck *.softtouch projects, *.stpreset presets and *.sttraj device trajectories (the "
-                  "referenced meshes and presets too) and print every problem found, one per line.");
-        return 0;
-    }
-    for (const std::string& file : args)
-        if (file.size() > 1 && file[0] == '-')
-            return usage("unknown option '" + file + "' (validate takes files; write ./" + file + " for a file of that name)");
+    std::vector<std::string> files;
+    CommandLine line("validate", "Usage: softtouch-cli validate FILE...\n\nCheck *.softtouch projects, *.stpreset presets and "
+                                 "*.sttraj device trajectories (the referenced meshes and presets too) and print every problem "
+                                 "found, one per line.\n");
+    line.positionals("FILE", files);
+    line.setUnknownOptionNote(" (validate takes files; write ./NAME or put -- before a file whose name starts with '-')");
+    if (const auto exit = line.parse(args))
+        return *exit;
+    if (files.empty())
+        return line.usage("validate needs at least one FILE");
     int bad = 0;
-    for (const std::string& file : args) {
+    for (const std::string& file : files) {
         const std::vector<std::string> problems = io::validateFile(file);
         for (const std::string& p : problems)
             std::fprintf(stderr, "%s\n", p.c_str());

@@ -1,5 +1,6 @@
 // softtouch-cli haptic: the haptic loop headless, on a scene's first object, with any device plugin.
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "core/haptic_session.h"
 #include "io/project_file.h"
@@ -34,13 +35,6 @@ rate and jitter, the largest force sent and a hash of the final lattice state.
   --record FILE        save every device sample of the session as a trajectory file
 )";
 
-int hapticUsage(const std::string& message) { return usageError(message, "haptic"); }
-
-bool parseDouble(const std::string& text, double& value) {
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    return ec == std::errc() && end == text.data() + text.size() && std::isfinite(value);
-}
-
 /// FNV-1a over the bytes of the positions and velocities: equal hashes mean bit-identical states.
 std::uint64_t stateHash(const BodyState& state) {
     std::uint64_t h = 1469598103934665603ull;
@@ -57,51 +51,37 @@ std::uint64_t stateHash(const BodyState& state) {
 
 int runHaptic(const std::vector<std::string>& args) {
     std::string scenePath, deviceName, deviceArg, pluginDir, recordPath;
-    double seconds = 2.0;
+    std::optional<double> seconds;
     Vec3 grab(0.5, 1.0, 0.5);
     bool manual = false, identity = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string* { return i + 1 < args.size() ? &args[++i] : nullptr; };
-        if (a == "--help" || a == "-h") {
-            std::fputs(kHelp, stdout);
-            return 0;
-        } else if (a == "--manual") {
-            manual = true;
-        } else if (a == "--identity") {
-            identity = true;
-        } else if (a == "--device" || a == "--device-arg" || a == "--plugins" || a == "--record" || a == "--seconds" ||
-                   a == "--grab") {
-            const std::string* v = value();
-            if (!v) return hapticUsage(a + " needs a value");
-            if (a == "--device") deviceName = *v;
-            else if (a == "--device-arg") deviceArg = *v;
-            else if (a == "--plugins") pluginDir = *v;
-            else if (a == "--record") recordPath = *v;
-            else if (a == "--seconds") {
-                if (!parseDouble(*v, seconds) || seconds <= 0.0 || seconds > 3600.0)
-                    return hapticUsage("--seconds expects a number in (0, 3600], got '" + *v + "'");
-            } else {
-                double uvw[3];
-                std::size_t start = 0;
-                for (int c = 0; c < 3; ++c) {
-                    const std::size_t comma = c < 2 ? v->find(',', start) : v->size();
-                    if (comma == std::string::npos || !parseDouble(v->substr(start, comma - start), uvw[c]) ||
-                        uvw[c] < 0.0 || uvw[c] > 1.0)
-                        return hapticUsage("--grab expects U,V,W in [0,1], got '" + *v + "'");
-                    start = comma + 1;
-                }
-                grab = Vec3(uvw[0], uvw[1], uvw[2]);
-            }
-        } else if (!a.empty() && a[0] == '-') {
-            return hapticUsage("unknown option '" + a + "'");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return hapticUsage("unexpected argument '" + a + "'");
+    CommandLine line("haptic", kHelp);
+    line.positional("SCENE", scenePath);
+    line.text("--device", deviceName);
+    line.text("--device-arg", deviceArg);
+    line.text("--plugins", pluginDir);
+    line.text("--record", recordPath);
+    line.number("--seconds", seconds, {0, 3600, false, false});
+    line.value("--grab", [&grab](const std::string& text) {
+        Vec3 uvw;
+        std::size_t start = 0;
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t comma = c < 2 ? text.find(',', start) : text.size();
+            double value = 0.0;
+            if (comma == std::string::npos || !readNumber(text.substr(start, comma - start), {0, 1}, value).empty())
+                return "expects U,V,W in [0,1], got '" + text + "'";
+            uvw[c] = value;
+            start = comma + 1;
         }
-    }
-    if (scenePath.empty()) return hapticUsage("haptic needs a SCENE file");
+        grab = uvw;
+        return std::string();
+    });
+    line.flag("--manual", manual);
+    line.flag("--identity", identity);
+    if (const auto exit = line.parse(args))
+        return *exit;
+    if (scenePath.empty())
+        return line.usage("haptic needs a SCENE file");
+    const double duration = seconds.value_or(2.0);
 
     auto project = io::loadProject(scenePath);
     if (!project) return fail(project.message());
@@ -119,7 +99,7 @@ int runHaptic(const std::vector<std::string>& args) {
 
     HapticSessionOptions options;
     options.fitWorkspace = !identity;
-    options.recordCapacity = recordPath.empty() ? 0 : std::size_t(seconds * HapticSettings{}.rateHz * 1.5) + 1000;
+    options.recordCapacity = recordPath.empty() ? 0 : std::size_t(duration * HapticSettings{}.rateHz * 1.5) + 1000;
     auto created = createHapticSession(project->scene, 0, std::move(device), options);
     if (!created) return fail(scenePath + ": " + created.message());
     HapticLoop& loop = *created.value();
@@ -132,14 +112,14 @@ int runHaptic(const std::vector<std::string>& args) {
     double largest = 0.0;
     HapticSnapshot snapshot;
     if (manual) {
-        const long long ticks = std::llround(seconds * settings.rateHz);
+        const long long ticks = std::llround(duration * settings.rateHz);
         for (long long t = 0; t < ticks; ++t) {
             loop.tick();
             if (loop.readSnapshot(snapshot)) largest = std::max(largest, snapshot.deviceForce.norm());
         }
     } else {
         loop.start();
-        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration);
         while (std::chrono::steady_clock::now() < end) {
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
             if (loop.readSnapshot(snapshot)) largest = std::max(largest, snapshot.deviceForce.norm());

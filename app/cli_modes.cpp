@@ -3,6 +3,7 @@
 // (render/mode_pictures.h). The editor's Properties show the same figures and animate the shapes.
 #include "app/bench_commands.h"
 #include "app/cli_offscreen_gui.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "core/mode_accuracy.h"
@@ -46,54 +47,22 @@ Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad u
 int runModes(const std::vector<std::string>& args) {
     std::string scenePath, objectName, picturePrefix;
     render::ModePictureOptions pictureOptions;
-    int count = 3;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kModesUsage, stdout);
-            return 0;
-        }
-        if (a == "--count" || a == "--object" || a == "--pictures" || a == "--size" || a == "--amplitude") {
-            if (i + 1 == args.size())
-                return usageError(a + " needs a value", "modes");
-            const std::string& value = args[++i];
-            if (a == "--object") {
-                objectName = value;
-                continue;
-            }
-            if (a == "--pictures") {
-                picturePrefix = value;
-                continue;
-            }
-            if (a == "--size") {
-                const auto size = parseSize(value);
-                if (!size)
-                    return usageError("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + value + "'", "modes");
-                pictureOptions.width = size->first;
-                pictureOptions.height = size->second;
-                continue;
-            }
-            if (a == "--amplitude") {
-                const auto f = parseNumber(value);
-                if (!f || *f < 0.0 || *f > 1.0)
-                    return usageError("--amplitude must be a fraction in [0, 1], got '" + value + "'", "modes");
-                pictureOptions.amplitudeFraction = *f;
-                continue;
-            }
-            const auto n = parseNumber(value);
-            if (!n || *n < 1 || *n > 20 || *n != double(int(*n)))
-                return usageError("--count must be a whole number in [1, 20], got '" + value + "'", "modes");
-            count = int(*n);
-        } else if (!a.empty() && a[0] == '-') {
-            return usageError("unknown modes option '" + a + "'", "modes");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return usageError("unexpected argument '" + a + "'", "modes");
-        }
-    }
+    std::pair<int, int> size{pictureOptions.width, pictureOptions.height};
+    std::optional<double> count, amplitude;
+    CommandLine line("modes", kModesUsage);
+    line.positional("SCENE", scenePath);
+    line.number("--count", count, {1, 20, true});
+    line.text("--object", objectName);
+    line.text("--pictures", picturePrefix);
+    line.value("--size", sizeReader(size));
+    line.number("--amplitude", amplitude, {0, 1});
+    if (const auto exit = line.parse(args))
+        return *exit;
     if (scenePath.empty())
-        return usageError("modes needs a SCENE", "modes");
+        return line.usage("modes needs a SCENE");
+    pictureOptions.width = size.first;
+    pictureOptions.height = size.second;
+    pictureOptions.amplitudeFraction = amplitude.value_or(pictureOptions.amplitudeFraction);
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());
@@ -108,7 +77,7 @@ int runModes(const std::vector<std::string>& args) {
         auto body = buildLatticeBody(object.lattice, simulatedMaterial(object));
         if (!body)
             return fail(scenePath + ": object '" + object.name + "': " + body.message());
-        auto modes = objectModes(object, count);  // with goal springs on a base animation
+        auto modes = objectModes(object, int(count.value_or(3)));  // with goal springs on a base animation
         if (!modes)
             return fail(scenePath + ": object '" + object.name + "': " + modes.message());
         const double h = integrationStep(Simulator(body.value(), settings));

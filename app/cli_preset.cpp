@@ -1,5 +1,6 @@
 // `softtouch-cli preset export|apply`: share an object's setup (lattice, painted maps, drivers, clips).
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "io/project_file.h"
@@ -22,7 +23,6 @@ apply   Puts a setup preset onto one object of SCENE and writes the result as a 
         The result is validated before anything is written.
 )";
 
-int presetUsage(const std::string& message) { return usageError(message, "preset"); }
 
 /// Index of the object named `name` (empty: the first).
 Result<std::size_t> findObject(const io::Project& project, const std::string& name) {
@@ -40,44 +40,29 @@ Result<std::size_t> findObject(const io::Project& project, const std::string& na
 }  // namespace
 
 int runPreset(const std::vector<std::string>& args) {
-    if (args.empty())
-        return presetUsage("preset needs 'export' or 'apply'");
-    if (args.front() == "--help" || args.front() == "-h") {
-        std::fputs(kPresetUsage, stdout);
-        return 0;
-    }
-    const std::string action = args.front();
-    if (action != "export" && action != "apply")
-        return presetUsage("unknown preset action '" + action + "' (expected export or apply)");
+    std::string action;
     std::vector<std::string> positional;
-    std::string out, objectName, name, description;
-    bool named = false, described = false;
-    for (std::size_t i = 1; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kPresetUsage, stdout);
-            return 0;
-        }
-        if (a == "--out" || a == "--object" || a == "--name" || a == "--description") {
-            if (i + 1 >= args.size())
-                return presetUsage(a + " needs a value");
-            const std::string& v = args[++i];
-            if (a == "--out") out = v;
-            else if (a == "--object") objectName = v;
-            else if (a == "--name") { name = v; named = true; }
-            else { description = v; described = true; }
-        } else if (!a.empty() && a[0] == '-') {
-            return presetUsage("unknown option '" + a + "'");
-        } else {
-            positional.push_back(a);
-        }
-    }
+    std::string out, objectName;
+    std::optional<std::string> name, description;
+    CommandLine line("preset", kPresetUsage);
+    line.positional("ACTION", action);
+    line.positionals("FILE", positional);
+    line.text("--out", out);
+    line.text("--object", objectName);
+    line.text("--name", name);
+    line.text("--description", description);
+    if (const auto exit = line.parse(args))
+        return *exit;
+    if (action.empty())
+        return line.usage("preset needs 'export' or 'apply'");
+    if (action != "export" && action != "apply")
+        return line.usage("unknown preset action '" + action + "' (expected export or apply)");
     if (out.empty())
-        return presetUsage("preset " + action + " needs --out FILE");
+        return line.usage("preset " + action + " needs --out FILE");
 
     if (action == "export") {
         if (positional.size() != 1)
-            return presetUsage("preset export needs exactly one SCENE");
+            return line.usage("preset export needs exactly one SCENE");
         auto project = io::loadProject(positional[0]);
         if (!project)
             return fail(project.message());
@@ -87,8 +72,8 @@ int runPreset(const std::vector<std::string>& args) {
         auto preset = io::setupFromProject(project.value(), object.value());
         if (!preset)
             return fail(preset.message());
-        if (named) preset->name = name;
-        if (described) preset->description = description;
+        if (name) preset->name = *name;
+        if (description) preset->description = *description;
         if (Status s = io::saveSetupPreset(preset.value(), out); !s)
             return fail(s.message());
         std::printf("wrote %s (setup of '%s': %dx%dx%d lattice, %zu drivers, %zu clips)\n", out.c_str(),
@@ -97,7 +82,7 @@ int runPreset(const std::vector<std::string>& args) {
         return 0;
     }
     if (positional.size() != 2)
-        return presetUsage("preset apply needs a PRESET and a SCENE");
+        return line.usage("preset apply needs a PRESET and a SCENE");
     auto preset = io::loadSetupPreset(positional[0]);
     if (!preset)
         return fail(preset.message());

@@ -1,6 +1,7 @@
 // softtouch-cli preview: a web page that plays an exported clip with three.js, as a game would.
 #include "app/bundled_paths.h"
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "io/atomic_file.h"
@@ -39,47 +40,30 @@ size, matte draws a white silhouette on black, readback writes the canvas as a P
 (tests use these).
 )";
 
-int previewUsage(const std::string& message) { return usageError(message, "preview"); }
-
 std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
 int runPreview(const std::vector<std::string>& args) {
-    std::string clipPath, outDir, sizeText = "960x540";
+    std::string clipPath, outDir;
+    std::pair<int, int> size{960, 540};
     bool quiet = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kPreviewUsage, stdout);
-            return 0;
-        }
-        if (a == "--quiet") {
-            quiet = true;
-        } else if (a == "--out" || a == "--size") {
-            if (i + 1 >= args.size())
-                return previewUsage(a + " needs a value");
-            (a == "--out" ? outDir : sizeText) = args[++i];
-        } else if (!a.empty() && a[0] == '-') {
-            return previewUsage("unknown option '" + a + "'");
-        } else if (clipPath.empty()) {
-            clipPath = a;
-        } else {
-            return previewUsage("unexpected argument '" + a + "'");
-        }
-    }
+    CommandLine line("preview", kPreviewUsage);
+    line.positional("CLIP", clipPath);
+    line.text("--out", outDir);
+    line.value("--size", sizeReader(size));
+    line.flag("--quiet", quiet);
+    if (const auto exit = line.parse(args))
+        return *exit;
     if (clipPath.empty())
-        return previewUsage("preview needs a CLIP file");
+        return line.usage("preview needs a CLIP file");
     if (outDir.empty())
-        return previewUsage("preview needs --out DIR");
-    const auto size = parseSize(sizeText);
-    if (!size)
-        return previewUsage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
+        return line.usage("preview needs --out DIR");
 
     auto clip = io::inspectPreviewClip(clipPath);
     if (!clip)
         return fail(clip.message());
-    const float aspect = float(size->first) / float(size->second);
+    const float aspect = float(size.first) / float(size.second);
     const render::CameraPlacement placement = render::videoCameraPlacement(clip->restBounds, aspect);
     io::PreviewCamera camera;
     camera.eye = array3(placement.eye);

@@ -1,5 +1,6 @@
 // softtouch-cli render: simulate a scene and write a video, headless (EGL, no X server).
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "core/ranges.h"
 
@@ -32,62 +33,31 @@ Options:
   --quiet           No progress output.
 )";
 
-int renderUsage(const std::string& message) { return usageError(message, "render"); }
-
 }  // namespace
 
 int runRender(const std::vector<std::string>& args) {
-    std::string scenePath, outPath, clipName, sizeText = "960x540";
+    std::string scenePath, outPath, clipName;
+    std::pair<int, int> size{960, 540};
     std::optional<double> frames, fps, crf;
     bool quiet = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kRenderUsage, stdout);
-            return 0;
-        }
-        if (a == "--quiet") {
-            quiet = true;
-        } else if (a == "--out" || a == "--size" || a == "--clip" || a == "--fps" || a == "--frames" || a == "--crf") {
-            if (i + 1 >= args.size())
-                return renderUsage(a + " needs a value");
-            const std::string& v = args[++i];
-            if (a == "--out") {
-                outPath = v;
-            } else if (a == "--size") {
-                sizeText = v;
-            } else if (a == "--clip") {
-                clipName = v;
-            } else {
-                const auto n = parseNumber(v);
-                if (!n)
-                    return renderUsage(a + " expects a number, got '" + v + "'");
-                (a == "--frames" ? frames : a == "--fps" ? fps : crf) = *n;
-            }
-        } else if (!a.empty() && a[0] == '-') {
-            return renderUsage("unknown option '" + a + "'");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return renderUsage("unexpected argument '" + a + "'");
-        }
-    }
+    CommandLine line("render", kRenderUsage);
+    line.positional("SCENE", scenePath);
+    line.text("--out", outPath);
+    line.value("--size", sizeReader(size));
+    line.text("--clip", clipName);
+    line.number("--frames", frames, {1, ranges::kMaxFrames, true});
+    line.number("--fps", fps, {ranges::kMinFps, 240});
+    line.number("--crf", crf, {0, 51, true});
+    line.flag("--quiet", quiet);
+    if (const auto exit = line.parse(args))
+        return *exit;
     if (scenePath.empty())
-        return renderUsage("render needs a SCENE file");
+        return line.usage("render needs a SCENE file");
     if (outPath.empty())
-        return renderUsage("render needs --out FILE.mp4, FILE.gif or DIR/");
+        return line.usage("render needs --out FILE.mp4, FILE.gif or DIR/");
     const auto format = io::videoFormatFromPath(outPath);
     if (!format)
-        return renderUsage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
-    const auto size = parseSize(sizeText);
-    if (!size)
-        return renderUsage("--size expects WIDTHxHEIGHT with whole numbers in 16..8192, got '" + sizeText + "'");
-    if (frames && (*frames < 1 || *frames > ranges::kMaxFrames || std::floor(*frames) != *frames))
-        return renderUsage("--frames must be a whole number in [1, 1000000], got " + formatValue(*frames));
-    if (fps && (*fps < ranges::kMinFps || *fps > 240))
-        return renderUsage("--fps must be in [1, 240], got " + formatValue(*fps));
-    if (crf && (*crf < 0 || *crf > 51 || std::floor(*crf) != *crf))
-        return renderUsage("--crf must be a whole number in [0, 51], got " + formatValue(*crf));
+        return line.usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
 
     auto project = io::loadProject(scenePath);
     if (!project)
@@ -95,8 +65,8 @@ int runRender(const std::vector<std::string>& args) {
     render::VideoRenderOptions options;
     options.video.output = outPath;
     options.video.format = *format;
-    options.video.width = size->first;
-    options.video.height = size->second;
+    options.video.width = size.first;
+    options.video.height = size.second;
     options.video.crf = crf ? int(*crf) : 20;
     options.frames.clips = &project->clips;
     options.frames.clip = clipName;

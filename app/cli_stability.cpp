@@ -1,6 +1,7 @@
 // `softtouch-cli stability`: runs the stability grid (analysis/stability_grid.h), prints the counts and
 // writes the docs page.
 #include "app/bench_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "analysis/stability_grid.h"
@@ -36,21 +37,11 @@ written, 2 on bad usage.
 int runStability(const std::vector<std::string>& args) {
     analysis::StabilityGridOptions options;
     std::string outPath;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        if (args[i] == "--help" || args[i] == "-h") {
-            std::fputs(kStabilityUsage, stdout);
-            return 0;
-        }
-        if (args[i] == "--quick") {
-            options.quick = true;
-        } else if (args[i] == "--out") {
-            if (i + 1 == args.size())
-                return usageError("--out needs a FILE.md", "stability");
-            outPath = args[++i];
-        } else {
-            return usageError("unknown stability argument '" + args[i] + "'", "stability");
-        }
-    }
+    CommandLine line("stability", kStabilityUsage);
+    line.flag("--quick", options.quick);
+    line.text("--out", outPath);
+    if (const auto exit = line.parse(args))
+        return *exit;
 
     // Open the output first so that a bad path fails in a second, not after the whole grid.
     std::optional<io::AtomicFile> file;

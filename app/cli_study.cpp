@@ -1,6 +1,7 @@
 // softtouch-cli study (run by softtouch-bench): the speed/accuracy trade of a scene, its plot and picks.
 #include "app/bench_commands.h"
 #include "app/cli_offscreen_gui.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "analysis/study.h"
 #include "io/atomic_file.h"
@@ -12,19 +13,31 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 namespace softtouch::cli {
 
+namespace {
+
+/// The words of a comma-separated list ("verlet,xpbd").
+std::vector<std::string> commaSeparated(const std::string& text) {
+    std::vector<std::string> items;
+    for (std::size_t start = 0; start <= text.size();) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        items.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return items;
+}
+
+}  // namespace
+
 int runStudy(const std::vector<std::string>& args) {
-    const auto usage = [](const std::string& message) { return usageError(message, "study"); };
     std::string scenePath, outDir, applyPath;
-    std::optional<double> target;
+    std::optional<double> target, repeats;
     analysis::StudyOptions options;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::puts("Usage: softtouch-cli study SCENE [--out DIR] [--quick] [--error KIND] [--repeats N]\n"
+    CommandLine line("study", std::string("Usage: softtouch-cli study SCENE [--out DIR] [--quick] [--error KIND] [--repeats N]\n"
                       "                           [--target ERROR [--apply OUT.softtouch]]\n\n"
                       "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3, 6^3, 8^3 Bezier; 6^3, 8^3\n"
                       "B-spline), on the scene's first object over the scene's clip (world frames / fps, as bake runs it):\n"
@@ -41,71 +54,55 @@ int runStudy(const std::vector<std::string>& args) {
                       "  --steps S       the steps per second instead of the grid's: e.g. 24,240\n"
                       "  --target ERROR  print the cheapest setting whose error is at most ERROR (e.g. 0.005)\n"
                       "  --apply OUT     write SCENE with that setting (integrator, dt; the first object moved to its\n"
-                      "                  lattice, material carried over) to OUT, read it back and re-measure it as written");
-            return 0;
+                      "                  lattice, material carried over) to OUT, read it back and re-measure it as written"));
+    line.positional("SCENE", scenePath);
+    line.flag("--quick", options.quick);
+    line.text("--out", outDir);
+    line.text("--apply", applyPath);
+    line.number("--target", target, {0, std::numeric_limits<double>::infinity(), false, false});
+    line.number("--repeats", repeats, {1, 100, true});
+    line.value("--error", [&options](const std::string& v) {
+        const auto kind = analysis::parseStudyError(v);
+        if (!kind)
+            return "expects total, integration or model, got '" + v + "'";
+        options.error = *kind;
+        return std::string();
+    });
+    line.value("--lattices", [&options](const std::string& v) {
+        for (const std::string& item : commaSeparated(v)) {
+            const bool bezier = item.rfind("bezier", 0) == 0, bspline = item.rfind("bspline", 0) == 0;
+            const auto n = bezier || bspline ? parseNumber(item.substr(bezier ? 6 : 7)) : std::nullopt;
+            const int nodes = n && *n >= 0 && *n <= 1000 ? int(*n) : 0;
+            const LatticeShape shape{bezier ? LatticeKind::Bezier : LatticeKind::BSpline, {nodes, nodes, nodes}};
+            if (!n || *n != std::floor(*n) || !shape.validate())
+                return "expects bezierN or bsplineN (N nodes per axis) separated by commas, got '" + item + "'";
+            options.lattices.push_back(shape);
         }
-        if (a == "--quick") {
-            options.quick = true;
-        } else if ((a == "--out" || a == "--target" || a == "--apply" || a == "--error" || a == "--repeats" ||
-                    a == "--lattices" || a == "--integrators" || a == "--steps") &&
-                   i + 1 < args.size()) {
-            const std::string v = args[++i];
-            std::vector<std::string> items;
-            for (std::size_t start = 0; start <= v.size();) {
-                const std::size_t comma = std::min(v.find(',', start), v.size());
-                items.push_back(v.substr(start, comma - start));
-                start = comma + 1;
-            }
-            if (a == "--lattices") {
-                for (const std::string& item : items) {
-                    const bool bezier = item.rfind("bezier", 0) == 0, bspline = item.rfind("bspline", 0) == 0;
-                    const auto n = bezier || bspline ? parseNumber(item.substr(bezier ? 6 : 7)) : std::nullopt;
-                    const LatticeShape shape{bezier ? LatticeKind::Bezier : LatticeKind::BSpline, {int(n.value_or(0)), int(n.value_or(0)), int(n.value_or(0))}};
-                    if (!n || *n != std::floor(*n) || !shape.validate())
-                        return usage("--lattices expects bezierN or bsplineN (N nodes per axis) separated by commas, got '" + item + "'");
-                    options.lattices.push_back(shape);
-                }
-            } else if (a == "--integrators") {
-                for (const std::string& item : items) {
-                    const auto kind = parseIntegratorKind(item);
-                    if (!kind)
-                        return usage("--integrators expects integrator names separated by commas, got '" + item + "'");
-                    options.integrators.push_back(*kind);
-                }
-            } else if (a == "--steps") {
-                for (const std::string& item : items) {
-                    const auto rate = parseNumber(item);
-                    if (!rate || *rate < 1 || *rate > 1e5)
-                        return usage("--steps expects steps per second from 1 to 100000, got '" + item + "'");
-                    options.steps.push_back(1.0 / *rate);
-                }
-            } else if (a == "--out") {
-                outDir = v;
-            } else if (a == "--apply") {
-                applyPath = v;
-            } else if (a == "--error") {
-                const auto kind = analysis::parseStudyError(v);
-                if (!kind)
-                    return usage("--error expects total, integration or model, got '" + v + "'");
-                options.error = *kind;
-            } else if (a == "--repeats") {
-                const auto n = parseNumber(v);
-                if (!n || *n < 1 || *n > 100 || *n != std::floor(*n))
-                    return usage("--repeats expects a whole number from 1 to 100, got '" + v + "'");
-                options.repeats = int(*n);
-            } else {
-                target = parseNumber(v);
-                if (!target || *target <= 0)
-                    return usage("--target expects a positive number, got '" + v + "'");
-            }
-        } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown study argument '" + a + "'");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return usage("unexpected argument '" + a + "'");
+        return std::string();
+    });
+    line.value("--integrators", [&options](const std::string& v) {
+        for (const std::string& item : commaSeparated(v)) {
+            const auto kind = parseIntegratorKind(item);
+            if (!kind)
+                return "expects integrator names separated by commas, got '" + item + "'";
+            options.integrators.push_back(*kind);
         }
-    }
+        return std::string();
+    });
+    line.value("--steps", [&options](const std::string& v) {
+        for (const std::string& item : commaSeparated(v)) {
+            double rate = 0.0;
+            if (!readNumber(item, {1, 1e5}, rate).empty())
+                return "expects steps per second from 1 to 100000 separated by commas, got '" + item + "'";
+            options.steps.push_back(1.0 / rate);
+        }
+        return std::string();
+    });
+    if (const auto exit = line.parse(args))
+        return *exit;
+    if (repeats)
+        options.repeats = int(*repeats);
+    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
     if (scenePath.empty())
         return usage("study needs a SCENE file");
     if (!applyPath.empty() && !target)

@@ -2,6 +2,7 @@
 // lattice) as Continuum materials (values of the solid, the same on every lattice) that keep each
 // body's mass, lowest mode and its damping (core/material_conversion.h), printing what moved.
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 
 #include "core/material_conversion.h"
@@ -28,26 +29,13 @@ Exit status: 0 on success, 1 when SCENE cannot be loaded, converted or written, 
 
 int runUpgrade(const std::vector<std::string>& args) {
     std::string scenePath, outPath;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--help" || a == "-h") {
-            std::fputs(kUpgradeUsage, stdout);
-            return 0;
-        }
-        if (a == "--out") {
-            if (i + 1 == args.size())
-                return usageError("--out needs a value", "upgrade");
-            outPath = args[++i];
-        } else if (!a.empty() && a[0] == '-') {
-            return usageError("unknown upgrade option '" + a + "'", "upgrade");
-        } else if (scenePath.empty()) {
-            scenePath = a;
-        } else {
-            return usageError("unexpected argument '" + a + "'", "upgrade");
-        }
-    }
+    CommandLine line("upgrade", kUpgradeUsage);
+    line.positional("SCENE", scenePath);
+    line.text("--out", outPath);
+    if (const auto exit = line.parse(args))
+        return *exit;
     if (scenePath.empty() || outPath.empty())
-        return usageError("upgrade needs a SCENE and --out NEW.softtouch", "upgrade");
+        return line.usage("upgrade needs a SCENE and --out NEW.softtouch");
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());

@@ -60,9 +60,9 @@ std::string number(double value) {
     return text;
 }
 
-/// "--error is for --format pca and --format skin": the formats whose `takes` flag is set.
+/// "--error: is for --format pca and --format skin": the formats whose `takes` flag is set.
 std::string onlyFor(const char* option, bool ExportFormat::*takes) {
-    std::string text = std::string(option) + " is for";
+    std::string text = std::string(option) + ": is for";
     bool first = true;
     for (const ExportFormat& f : kFormats) {
         if (!(f.*takes))
@@ -147,13 +147,13 @@ Result<ClipExportOptions> exportOptions(const ExportFormat& format, const Export
     if (settings.bones && !format.takesBones)
         return Status::error(onlyFor("--bones", &ExportFormat::takesBones));
     if (settings.bones && settings.error)
-        return Status::error("--bones fixes the bone count; --error chooses it: give one");
+        return Status::error("--bones: fixes the bone count, and --error chooses it: give one");
     if (settings.bones && !(*settings.bones >= 1 && *settings.bones <= 256 && isWhole(*settings.bones)))
-        return Status::error("--bones must be a whole number in [1, 256], got " + number(*settings.bones));
+        return Status::error("--bones: must be a whole number in [1, 256], got " + number(*settings.bones));
     if (settings.error && !(*settings.error > 0 && *settings.error <= 0.1))
-        return Status::error("--error must be in (0, 0.1] (a fraction of the diagonal), got " + number(*settings.error));
+        return Status::error("--error: must be a number in (0, 0.1] (a fraction of the diagonal), got " + number(*settings.error));
     if (settings.targets && !(*settings.targets >= 2 && *settings.targets <= 256 && isWhole(*settings.targets)))
-        return Status::error("--targets must be a whole number in [2, 256] (the mean and at least one component), got " +
+        return Status::error("--targets: must be a whole number in [2, 256] (the mean and at least one component), got " +
                              number(*settings.targets));
     ClipExportOptions options;
     const double error = settings.error.value_or(ClipExportOptions::kDefaultCompressionError);

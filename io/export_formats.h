@@ -72,7 +72,7 @@ CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path
 
 /// The writer options an export of `format` uses with `settings`. Refuses a setting the format does
 /// not take, a value out of range, or --bones with --error, with a message naming the option
-/// ("--targets is for --format pca").
+/// ("--targets: is for --format pca").
 Result<ClipExportOptions> exportOptions(const ExportFormat& format, const ExportSettings& settings = {});
 
 }  // namespace softtouch::io

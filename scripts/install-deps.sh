@@ -15,6 +15,7 @@ packages=(
   libfcl-dev              # distance queries to collider meshes (core/mesh_surface.cpp)
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
+  libcli11-dev            # the command lines of softtouch-cli and softtouch-bench (app/cli_options.cpp)
   fonts-dejavu-core       # text in plots rendered headless (study)
   libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
   libopenexr-dev          # vertex animation textures (bake --format vat)

@@ -6,6 +6,7 @@
 #include "io/export_formats.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
+#include "app/cli_usage.h"
 
 #include "cli_run.h"
 
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <fstream>
 #include <csignal>
+#include <set>
 #include <sys/stat.h>
 
 using namespace softtouch;
@@ -64,6 +66,8 @@ class TestCli : public QObject {
     Q_OBJECT
 private slots:
     void helpAndUsage();
+    void badUsageFollowsOneRule_data();
+    void badUsageFollowsOneRule();
     void productionProgramLinksNoGuiAndNoBenchmarkPeer();
     void bakeEverySample_data();
     void bakeEverySample();
@@ -103,7 +107,15 @@ void TestCli::helpAndUsage() {
         const QString name = QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
         QVERIFY2(bakeHelp.out.contains(QRegularExpression("\\n  " + name + " +\\S")), qPrintable(name));
         QVERIFY2(help.out.contains(QRegularExpression("--format [a-z0-9|]*\\b" + name + "\\b")), qPrintable(name));
-        QVERIFY2(badFormat.err.contains(QRegularExpression("expected [a-z0-9, ]*\\b" + name + "\\b")), qPrintable(badFormat.err));
+        QVERIFY2(badFormat.err.contains(QRegularExpression("expects [a-z0-9, ]*\\b" + name + "\\b")), qPrintable(badFormat.err));
+    }
+    // Every subcommand's --help: exit 0, its usage first.
+    for (const cli::CommandSynopsis& s : cli::kSynopses) {
+        const QString command = QString::fromLatin1(s.command.data(), qsizetype(s.command.size()));
+        const Run commandHelp = runCli({command, "--help"});
+        QVERIFY2(commandHelp.exitCode == 0 && commandHelp.out.startsWith("Usage:") &&
+                     commandHelp.out.left(200).contains("softtouch-cli " + command + " "),
+                 qPrintable(command + ": " + commandHelp.out.left(200) + commandHelp.err));
     }
     const Run none = runCli({});
     QCOMPARE(none.exitCode, 2);
@@ -113,26 +125,91 @@ void TestCli::helpAndUsage() {
     const Run noOut = runCli({"bake", kScenes + "angelfish-swim.softtouch"});
     QCOMPARE(noOut.exitCode, 2);
     QVERIFY(noOut.err.contains("--out"));
-    // One rule for every command: bad usage, an out-of-range or non-numeric value included, exits 2 with the
-    // reason, the command's usage line (the same the top-level help lists) and where its help is.
+}
+
+// The must-show of one parser for every subcommand (app/cli_options.h): each subcommand with a bad number,
+// an unknown option and a missing value, and a few values out of range, all exit 2 with one message shape:
+// "softtouch-cli: PROBLEM" naming the option first, the command's usage line as the top-level help lists
+// it, and where its help is. Every subcommand of the help is in the table.
+void TestCli::badUsageFollowsOneRule_data() {
+    QTest::addColumn<QStringList>("args");
+    QTest::addColumn<QString>("problem");  // the first line after "softtouch-cli: ", as a regular expression
     const QString scene = kScenes + "angelfish-swim.softtouch";
-    const QList<QStringList> bad = {
-        {"bake", scene, "--out", "x.pc2", "--fps", "abc"},   {"bake", scene, "--out", "x.pc2", "--frames", "0"},
-        {"render", scene, "--out", "x.mp4", "--crf", "abc"}, {"render", scene, "--out", "x.mp4", "--size", "9x9"},
-        {"validate", "--bogus"},                             {"modes", scene, "--count", "-1"},
-        {"upgrade", scene},                                  {"preset", "explode"},
-        {"bench", "--bogus"},                                {"study", scene, "--target", "-1"},
-        {"stability", "--bogus"},                            {"haptic", scene, "--seconds", "0"},
+    const QString number = "^--%1: expects (a|a whole) number( in .*| > .*)?, got 'abc'$";
+    const QString missing = "^%1: needs a value$";
+    const QString unknown = "^unknown option '--bogus'";
+    struct Row {
+        const char* name;
+        QStringList args;
+        QString problem;
     };
-    for (const QStringList& args : bad) {
-        const Run r = runCli(args);
-        const QString what = args.join(' ') + ": " + r.err;
-        QVERIFY2(r.exitCode == 2, qPrintable(what));
-        const QStringList lines = r.err.trimmed().split('\n');
-        QVERIFY2(lines.size() == 3 && lines[1].startsWith("Usage: softtouch-cli " + args[0] + " "), qPrintable(what));
-        QVERIFY2(help.out.contains(lines[1].mid(QString("Usage: ").size())), qPrintable(what));
-        QVERIFY2(lines[2] == "See 'softtouch-cli " + args[0] + " --help'.", qPrintable(what));
+    // Commands without a numeric option (validate, upgrade, preset, stability) have no bad-number row;
+    // validate takes no option with a value, so no missing-value row either.
+    const std::vector<Row> rows = {
+        {"bake number", {"bake", scene, "--out", "x.pc2", "--fps", "abc"}, number.arg("fps")},
+        {"bake unknown", {"bake", scene, "--out", "x.pc2", "--bogus"}, unknown},
+        {"bake missing", {"bake", scene, "--out"}, missing.arg("--out")},
+        {"bake range", {"bake", scene, "--out", "x.pc2", "--frames", "0"}, "^--frames: must be a whole number in \\[1, 1000000\\], got '0'$"},
+        {"bake format", {"bake", scene, "--out", "x.pc2", "--format", "fbx"}, "^--format: expects pc2, .*, got 'fbx'$"},
+        {"bake stray", {"bake", scene, "extra", "--out", "x.pc2"}, "^unexpected argument 'extra'$"},
+        {"render number", {"render", scene, "--out", "x.mp4", "--crf", "abc"}, number.arg("crf")},
+        {"render unknown", {"render", scene, "--bogus", "--out", "x.mp4"}, unknown},
+        {"render missing", {"render", scene, "--out", "x.mp4", "--size"}, missing.arg("--size")},
+        {"render range", {"render", scene, "--out", "x.mp4", "--size", "9x9"}, "^--size: expects WIDTHxHEIGHT .*, got '9x9'$"},
+        {"preview number", {"preview", "clip.glb", "--out", "d", "--size", "abc"}, "^--size: expects WIDTHxHEIGHT .*, got 'abc'$"},
+        {"preview unknown", {"preview", "clip.glb", "--bogus"}, unknown},
+        {"preview missing", {"preview", "clip.glb", "--out"}, missing.arg("--out")},
+        {"validate unknown", {"validate", "--bogus"}, unknown},
+        {"modes number", {"modes", scene, "--count", "abc"}, number.arg("count")},
+        {"modes unknown", {"modes", scene, "--bogus"}, unknown},
+        {"modes missing", {"modes", scene, "--object"}, missing.arg("--object")},
+        {"modes range", {"modes", scene, "--count", "-1"}, "^--count: must be a whole number in \\[1, 20\\], got '-1'$"},
+        {"upgrade unknown", {"upgrade", scene, "--bogus"}, unknown},
+        {"upgrade missing", {"upgrade", scene, "--out"}, missing.arg("--out")},
+        {"preset unknown", {"preset", "export", scene, "--bogus"}, unknown},
+        {"preset missing", {"preset", "export", scene, "--out"}, missing.arg("--out")},
+        {"bench number", {"bench", "--haptic-priority", "abc"}, number.arg("haptic-priority")},
+        {"bench unknown", {"bench", "--bogus"}, unknown},
+        {"bench missing", {"bench", "--json"}, missing.arg("--json")},
+        {"study number", {"study", scene, "--target", "abc"}, number.arg("target")},
+        {"study unknown", {"study", scene, "--bogus"}, unknown},
+        {"study missing", {"study", scene, "--out"}, missing.arg("--out")},
+        {"study range", {"study", scene, "--target", "-1"}, "^--target: must be a number > 0, got '-1'$"},
+        {"stability unknown", {"stability", "--bogus"}, unknown},
+        {"stability missing", {"stability", "--out"}, missing.arg("--out")},
+        {"batch number", {"batch", "run", "m.stbatch", "--jobs", "abc"}, number.arg("jobs")},
+        {"batch unknown", {"batch", "run", "m.stbatch", "--bogus"}, unknown},
+        {"batch missing", {"batch", "run", "m.stbatch", "--job"}, missing.arg("--job")},
+        {"haptic number", {"haptic", scene, "--seconds", "abc"}, number.arg("seconds")},
+        {"haptic unknown", {"haptic", scene, "--bogus"}, unknown},
+        {"haptic missing", {"haptic", scene, "--device"}, missing.arg("--device")},
+        {"haptic range", {"haptic", scene, "--seconds", "0"}, "^--seconds: must be a number in \\(0, 3600\\], got '0'$"},
+    };
+    std::set<QString> covered;
+    for (const Row& row : rows) {
+        QTest::newRow(row.name) << row.args << row.problem;
+        covered.insert(row.args.front());
     }
+    // Every subcommand the help lists is in the table.
+    for (const cli::CommandSynopsis& s : cli::kSynopses)
+        QVERIFY2(covered.count(QString::fromLatin1(s.command.data(), qsizetype(s.command.size()))),
+                 s.command.data());
+}
+
+void TestCli::badUsageFollowsOneRule() {
+    QFETCH(QStringList, args);
+    QFETCH(QString, problem);
+    static const Run help = runCli({"--help"});
+    const Run r = runCli(args);
+    const QString what = args.join(' ') + ": " + r.err;
+    QVERIFY2(r.exitCode == 2, qPrintable(what));
+    const QStringList lines = r.err.trimmed().split('\n');
+    QVERIFY2(lines.size() == 3, qPrintable(what));
+    QVERIFY2(lines[0].startsWith("softtouch-cli: "), qPrintable(what));
+    QVERIFY2(QRegularExpression(problem).match(lines[0].mid(QString("softtouch-cli: ").size())).hasMatch(), qPrintable(what));
+    QVERIFY2(lines[1].startsWith("Usage: softtouch-cli " + args[0] + " "), qPrintable(what));
+    QVERIFY2(help.out.contains(lines[1].mid(QString("Usage: ").size())), qPrintable(what));
+    QVERIFY2(lines[2] == "See 'softtouch-cli " + args[0] + " --help'.", qPrintable(what));
 }
 
 // What a farm node runs needs no Qt Gui, no D-Bus and no benchmark peer: the measurements that do (the
@@ -515,11 +592,11 @@ void TestCli::badInputFailsCleanly_data() {
                                           << QStringList() << "box lengths outside its lattice box (at most 10)" << 1;
     QTest::newRow("mesh 1e30 m across") << onMesh.arg("huge.obj") << QStringList() << "its mesh is 1.73e+30 m across" << 1;
     QTest::newRow("gravity 1e30") << good.arg("", R"(, "world": {"gravity": [0, -1e30, 0]})") << QStringList() << "/world/gravity: expected at most 1e4" << 1;
-    QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps must be in [1, 1000]" << 2;
+    QTest::newRow("fps 1e-300") << good.arg("", "") << QStringList{"--fps", "1e-300"} << "--fps: must be a number in [1, 1000], got '1e-300'" << 2;
     QTest::newRow("frames out of range") << good.arg("", "") << QStringList{"--frames", "0"} << "--frames" << 2;
     QTest::newRow("each object and an object") << good.arg("", "") << QStringList{"--each-object", "--object", "x"}
                                                << "--each-object bakes every object to its own cache; it takes no --object" << 2;
-    QTest::newRow("object without a name") << good.arg("", "") << QStringList{"--object"} << "--object needs a value" << 2;
+    QTest::newRow("object without a name") << good.arg("", "") << QStringList{"--object"} << "--object: needs a value" << 2;
     QTest::newRow("dt 1e-7") << good.arg("", R"(, "simulation": {"dt": 1e-7})") << QStringList() << "/simulation/dt" << 1;
     QTest::newRow("clip start 1e5 s") << QString(good.arg("", R"(, "clips": {"library": [{"name": "late", "start": 1e5, "frames": 2, "fps": 24}]})"))
                                              .replace("\"version\": 1", "\"version\": 2")
