@@ -10,6 +10,7 @@
 #include "io/export_formats.h"
 #include "io/lattice_cache.h"
 #include "io/mesh_import.h"
+#include "io/preset_file.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 #include "io/video_encoder.h"

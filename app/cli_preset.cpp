@@ -3,6 +3,7 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
+#include "io/preset_file.h"
 #include "io/project_file.h"
 
 #include <cstdio>

@@ -1,5 +1,6 @@
 // Fuzz target: a material or setup preset (*.stpreset) through both readers.
 #include "fuzz/fuzz_input.h"
+#include "io/preset_file.h"
 #include "io/project_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -3,6 +3,7 @@
 #include "io/atomic_file.h"
 #include "io/export_formats.h"
 #include "io/json_reader.h"
+#include "io/preset_file.h"
 #include "io/project_file.h"
 
 #include <nlohmann/json.hpp>

@@ -2,6 +2,7 @@
 // fish on another lattice (remapped, valid, simulates); bad presets name the problem.
 #include "core/modes.h"
 #include "io/bake.h"
+#include "io/preset_file.h"
 #include "io/project_file.h"
 
 #include <QTemporaryDir>

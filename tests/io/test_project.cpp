@@ -3,6 +3,7 @@
 #include "core/mode_accuracy.h"
 #include "core/modes.h"
 #include "io/mesh_import.h"
+#include "io/preset_file.h"
 #include "io/project_file.h"
 
 #include <assimp/Exporter.hpp>

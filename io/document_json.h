@@ -1,0 +1,63 @@
+#pragma once
+/// What a project (*.softtouch) and a preset (*.stpreset) share: the header check, a lattice, its
+/// material with painted per-node maps, anchors and voids, and drivers. Each reader sits beside its
+/// writer in document_json.cpp, so a key's two sides are read together. Internal to io/.
+
+#include "core/drivers.h"
+#include "core/lattice.h"
+#include "core/lattice_body.h"
+#include "core/mesh.h"
+#include "io/json_reader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+namespace softtouch::io::document {
+
+inline constexpr const char* kProjectFormat = "softtouch-project";
+inline constexpr const char* kPresetFormat = "softtouch-preset";
+
+/// A preset file's kind: a setup preset says "kind": "setup"; a material preset has no kind.
+bool declaresSetup(const nlohmann::json& doc);
+/// Checks "format" and "version" of a document.
+bool readHeader(const JsonValue& root, const char* format, int maxVersion);
+
+/// A per-node field: one number for every node, or an array of one number per node (i fastest).
+void readPerNode(const JsonValue& v, std::vector<double>& out, double lo, double hi, const char* unit);
+/// A per-node field as written: one number when every node has it, else the array.
+nlohmann::json perNode(const std::vector<double>& values);
+/// A node's [i, j, k], checked against the lattice.
+std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice);
+/// Nodes selected by {"nodes": [[i,j,k],…]} or {"region": {"min": [u,v,w], "max": [u,v,w]}}.
+std::vector<int> readNodeSelection(const JsonValue& v, const Lattice& lattice);
+/// Nodes as a list of [i, j, k].
+nlohmann::json nodeList(const Lattice& lattice, const std::vector<int>& nodes);
+/// An "anchors" array: groups of nodes (by list or region) with a mode, pinned or heavy.
+void readAnchors(const JsonValue& anchors, const Lattice& lattice, std::vector<AnchorMode>& out);
+
+/// Applies a "material" object onto `m`. `totalMass` is returned for spreading once voids are known.
+void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>& totalMass, bool allowPreset,
+                  const std::filesystem::path& baseDir);
+/// A "totalMass" spread evenly over the non-void nodes (once voids are known).
+void spreadTotalMass(const Lattice& lattice, LatticeMaterial& material, const std::optional<double>& totalMass);
+/// The material, anchors and voids of a lattice as a project object writes them.
+void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, nlohmann::json& object);
+
+/// An object's "lattice": kind, nodes per axis and its box (or fitted around `mesh`).
+std::optional<Lattice> readLattice(const JsonValue& v, const Mesh& mesh);
+/// [x, y, z].
+nlohmann::json vec(const Vec3& v);
+/// A lattice as written: kind, nodes per axis and its box.
+nlohmann::json latticeJson(const LatticeShape& shape, const OrientedBox& box);
+
+/// One driver, validated (problems reported at its pointer).
+std::optional<Driver> readDriver(const JsonValue& v);
+/// A "drivers" array, each driver validated.
+void readDrivers(const JsonValue& drivers, std::vector<Driver>& out);
+nlohmann::json driverJson(const Driver& driver);
+
+}  // namespace softtouch::io::document
