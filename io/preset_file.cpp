@@ -212,6 +212,7 @@ std::optional<SetupPreset> readSetupPreset(const json& doc, const fs::path& path
     preset.name = root["name"].string(true).value_or("");
     preset.description = root["description"].string().value_or("");
     const JsonValue lat = root["lattice"];
+    const std::size_t before = issues.messages().size();
     if (lat.expectObject(true)) {
         lat.checkKeys({"kind", "nodes"});
         if (auto k = lat["kind"].string()) {
@@ -225,7 +226,7 @@ std::optional<SetupPreset> readSetupPreset(const json& doc, const fs::path& path
         if (Status st = preset.shape.validate(); !st)
             lat["nodes"].problem(st.message());
     }
-    if (!issues.empty())
+    if (issues.messages().size() > before)  // the maps are per node of this lattice: nothing to read them on
         return std::nullopt;
     // Painted maps are per node of the preset's own lattice; the box does not matter (parameters).
     const Lattice lattice = Lattice::create(preset.shape, OrientedBox{}).value();

@@ -54,6 +54,7 @@ private slots:
     void everyMaterialPresetWobblesAlikeOn4And8();
     void badPresetsNameTheProblem_data();
     void badPresetsNameTheProblem();
+    void validateListsEveryProblemOfAPreset();
 };
 
 void TestPresets::exportThenApplyOnTheSameMeshIsIdentical() {
@@ -227,6 +228,31 @@ void TestPresets::badPresetsNameTheProblem() {
         QVERIFY(!any.ok());
         QCOMPARE(any.message(), preset.message());
     }
+}
+
+// validateFile lists every problem of a preset of either kind, each with its own pointer (it used to give
+// the loader's one-line summary: the first problem and how many more).
+void TestPresets::validateListsEveryProblemOfAPreset() {
+    QTemporaryDir dir;
+    const auto setup = inDir(dir, "setup.stpreset");
+    std::ofstream(setup, std::ios::binary)
+        << R"({"format": "softtouch-preset", "version": 3, "kind": "setup", "name": "x", "lattice": {"nodes": [2, 2, 2]},
+              "material": {"airDamping": -1}, "anchors": [{"nodes": [[2, 0, 0]]}], "driver": []})";
+    const auto setupProblems = validateFile(setup);
+    QVERIFY2(setupProblems.size() == 3, std::to_string(setupProblems.size()).c_str());
+    for (const char* pointer : {"/material/airDamping", "/anchors/0/nodes/0", "driver"})
+        QVERIFY2(std::any_of(setupProblems.begin(), setupProblems.end(),
+                             [&](const std::string& p) { return p.find(pointer) != std::string::npos && p.find("setup.stpreset") != std::string::npos; }),
+                 pointer);
+    const auto material = inDir(dir, "material.stpreset");
+    std::ofstream(material, std::ios::binary)
+        << R"({"format": "softtouch-preset", "version": 3, "name": "m", "material": {"stiffness": [1, 2], "damping": -1}})";
+    const auto materialProblems = validateFile(material);
+    for (const char* pointer : {"/kind", "/material/stiffness", "/material/damping"})
+        QVERIFY2(std::any_of(materialProblems.begin(), materialProblems.end(),
+                             [&](const std::string& p) { return p.find(pointer) != std::string::npos; }),
+                 pointer);
+    QVERIFY(!loadMaterialPreset(material).ok());
 }
 
 QTEST_GUILESS_MAIN(TestPresets)
