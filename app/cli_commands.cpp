@@ -96,13 +96,13 @@ int runBake(const std::vector<std::string>& args) {
     });
     line.text("--clip", clipName);
     line.texts("--object", objects);
-    line.number("--frames", frames, {1, ranges::kMaxFrames, true});
-    line.number("--fps", fps, {ranges::kMinFps, ranges::kMaxFps});
+    line.number("--frames", frames, ranges::kFrames);
+    line.number("--fps", fps, ranges::kFps);
     line.number("--threads", threads, {0, 1024, true});
     // The export's own ranges (they depend on the format) are io::exportOptions' to check.
-    line.number("--error", error, {});
-    line.number("--targets", targets, {});
-    line.number("--bones", bones, {});
+    line.number("--error", error, NumberRange{});
+    line.number("--targets", targets, NumberRange{});
+    line.number("--bones", bones, NumberRange{});
     line.flag("--quiet", quiet);
     line.flag("--each-object", eachObject);
     line.flag("--groups", groups);

@@ -45,7 +45,7 @@ int runRender(const std::vector<std::string>& args) {
     line.text("--out", outPath);
     line.value("--size", sizeReader(size));
     line.text("--clip", clipName);
-    line.number("--frames", frames, {1, ranges::kMaxFrames, true});
+    line.number("--frames", frames, ranges::kFrames);
     line.number("--fps", fps, {ranges::kMinFps, 240});
     line.number("--crf", crf, {0, 51, true});
     line.flag("--quiet", quiet);

@@ -5,6 +5,7 @@
 #include "core/contact_impulse.h"
 #include "core/forces.h"
 #include "core/mesh_surface.h"
+#include "core/ranges.h"
 
 #include <algorithm>
 #include <cmath>
@@ -210,10 +211,9 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
 }  // namespace
 
 Status BodyCollisionSettings::validate() const {
-    if (!(restitution >= 0.0 && restitution <= 1.0))
-        return Status::error("body restitution must be in [0, 1], got " + std::to_string(restitution));
-    if (!(friction >= 0.0 && friction <= 10.0))
-        return Status::error("body friction must be in [0, 10], got " + std::to_string(friction));
+    for (const auto& [range, value] : {std::pair{ranges::kRestitution, restitution}, std::pair{ranges::kFriction, friction}})
+        if (const std::string problem = range.problem(value); !problem.empty())
+            return Status::error("body " + problem);
     return Status::success();
 }
 

@@ -4,6 +4,7 @@
 #include "core/contact_impulse.h"
 #include "core/forces.h"
 #include "core/mesh_surface.h"
+#include "core/ranges.h"
 
 #include <algorithm>
 #include <cmath>
@@ -49,28 +50,26 @@ const char* colliderShapeName(ColliderShape shape) {
 Status Collider::validate() {
     if (!finite(centre))
         return Status::error("the collider's centre must be finite");
-    if (!(restitution >= 0.0 && restitution <= 1.0))
-        return Status::error("restitution must be in [0, 1], got " + std::to_string(restitution));
-    if (!(friction >= 0.0 && friction <= 10.0))
-        return Status::error("friction must be in [0, 10], got " + std::to_string(friction));
+    for (const auto& [range, value] : {std::pair{ranges::kRestitution, restitution}, std::pair{ranges::kFriction, friction}})
+        if (std::string problem = range.problem(value); !problem.empty())
+            return Status::error(std::move(problem));
     switch (shape) {
     case ColliderShape::Capsule:
-        if (!(halfLength >= 0.0 && halfLength <= 1e6))
-            return Status::error("a capsule's halfLength must be in [0, 1e6] m, got " + std::to_string(halfLength));
+        if (const std::string problem = ranges::kCapsuleHalfLength.problem(halfLength); !problem.empty())
+            return Status::error("a capsule's " + problem);
         if (!finite(axis) || axis.norm() < 1e-9)
             return Status::error("a capsule's axis must be a non-zero direction");
         axis.normalize();
         [[fallthrough]];
     case ColliderShape::Sphere:
-        if (!(radius > 0.0 && radius <= 1e6))
-            return Status::error(std::string("a ") + colliderShapeName(shape) + "'s radius must be in (0, 1e6] m, got " +
-                                 std::to_string(radius));
+        if (const std::string problem = ranges::kColliderRadius.problem(radius); !problem.empty())
+            return Status::error(std::string("a ") + colliderShapeName(shape) + "'s " + problem);
         break;
     case ColliderShape::Mesh:
         if (!surface)
             return Status::error("a mesh collider needs a mesh");
-        if (!(scale > 0.0 && scale <= 1e6))
-            return Status::error("a mesh collider's scale must be in (0, 1e6], got " + std::to_string(scale));
+        if (const std::string problem = ranges::kMeshColliderScale.problem(scale); !problem.empty())
+            return Status::error("a mesh collider's " + problem);
         if (!axes.allFinite() || (axes.transpose() * axes - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-6)
             return Status::error("a mesh collider's axes must be orthonormal");
         break;

@@ -11,6 +11,7 @@
 
 #include "core/body_model.h"
 #include "core/lattice.h"
+#include "core/ranges.h"
 #include "core/mesh.h"
 
 #include <array>
@@ -62,15 +63,9 @@ struct LatticeMaterial {
                                          ///< the stiffness and each region counts by its value.
 };
 
-/// Name, valid range and unit of each field under a model: one table for validation, the project
-/// files' keys and the editor's labels.
-struct MaterialRange {
-    const char* name = "";  ///< As files call it ("density", "modulus", "airDamping", …).
-    const char* label = ""; ///< What it is, as the editor and messages say it ("node damping", …).
-    double low = 0.0;
-    double high = 0.0;
-    const char* unit = "";
-};
+/// Name, valid range and unit of each field under a model (core/ranges.h's FieldRange): one table for
+/// validation, the project files' keys and the editor's labels.
+using MaterialRange = FieldRange;
 /// The painted volume preservation and goal weight, the same under both models (fractions, no unit).
 inline constexpr MaterialRange kVolumePreservationRange{"volumePreservation", "volume preservation", 0.0, 1.0, ""};
 inline constexpr MaterialRange kGoalWeightRange{"goalWeight", "goal weight", 0.0, 1.0, ""};

@@ -7,6 +7,35 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
+
+namespace softtouch {
+
+/// A setting's name in files, what it is in words, its valid range and its unit, declared once: core's
+/// validate() checks it (check()), the project reader reads its key by it (io::JsonValue::field), the
+/// writer writes that key, and the CLI and the editor take their limits from it. Before, each range was
+/// written in three places and two of them had drifted apart (a collider's radius: (0, 1e6] in core,
+/// [1e-6, 1e6] in the reader).
+struct FieldRange {
+    const char* name = "";      ///< The key in project files ("dt", "restitution", "density", …).
+    const char* label = "";     ///< What it is, as messages and the editor say it ("time step dt", …).
+    double low = 0.0;
+    double high = 0.0;
+    const char* unit = "";      ///< "s", "m", "kg/m³", … or "".
+    bool lowIncluded = true;    ///< False: low itself is out ("(0, 1e6]").
+    bool whole = false;         ///< Whole numbers only.
+
+    /// True when x is finite, within the range, and whole if it must be (NaN fails).
+    bool contains(double x) const {
+        return std::isfinite(x) && (lowIncluded ? x >= low : x > low) && x <= high && (!whole || std::floor(x) == x);
+    }
+    /// "a number in [1e-05, 0.1] (s)", "a whole number in [1, 10000]", "a number in (0, 1e+06] (m)".
+    std::string describe() const;
+    /// Empty when contains(x), else "LABEL must be DESCRIBE, got X".
+    std::string problem(double x) const;
+};
+
+}  // namespace softtouch
 
 namespace softtouch::ranges {
 
@@ -42,5 +71,17 @@ inline constexpr double kMaxOutsideBox = 10.0;
 /// B-spline's first step takes 4 s, 24x24x24 70 s and 0.6 GB; 64x64x64 ran out of memory). Larger
 /// lattices run with the explicit schemes or XPBD, whose cost is linear in the springs.
 inline constexpr std::size_t kMaxImplicitNodes = 4096;
+
+/// The settings a project's world, simulation and clip hold, and its colliders' (core/scene.h,
+/// core/simulator.h, core/colliders.h, core/body_contacts.h).
+inline constexpr FieldRange kDt{"dt", "time step dt", kMinDt, kMaxDt, "s"};
+inline constexpr FieldRange kXpbdSubsteps{"xpbdSubsteps", "XPBD substeps", 1, 10000, "", true, true};
+inline constexpr FieldRange kFrames{"frames", "frames", 1, kMaxFrames, "", true, true};
+inline constexpr FieldRange kFps{"fps", "fps", kMinFps, kMaxFps, "frames per second"};
+inline constexpr FieldRange kRestitution{"restitution", "restitution", 0.0, 1.0, ""};
+inline constexpr FieldRange kFriction{"friction", "friction", 0.0, 10.0, "Coulomb coefficient"};
+inline constexpr FieldRange kColliderRadius{"radius", "radius", 0.0, 1e6, "m", false};
+inline constexpr FieldRange kCapsuleHalfLength{"halfLength", "halfLength", 0.0, 1e6, "m"};
+inline constexpr FieldRange kMeshColliderScale{"scale", "scale", 0.0, 1e6, "", false};
 
 }  // namespace softtouch::ranges

@@ -16,20 +16,18 @@ Status WorldSettings::validate() {
         return Status::error("gravity must be finite and at most 1e4 m/s² (a thousand g)");
     if (Status s = simulation.validate(); !s)
         return s;
-    if (frames < 1 || frames > ranges::kMaxFrames)
-        return Status::error("frames must be in [1, 1000000], got " + std::to_string(frames));
-    if (!(std::isfinite(fps) && fps >= ranges::kMinFps && fps <= ranges::kMaxFps))
-        return Status::error("fps must be in [1, 1000], got " + std::to_string(fps));
+    for (const auto& [range, value] : {std::pair{ranges::kFrames, double(frames)}, std::pair{ranges::kFps, fps}})
+        if (std::string problem = range.problem(value); !problem.empty())
+            return Status::error(std::move(problem));
     for (std::size_t i = 0; i < planes.size(); ++i) {
         CollisionPlane& p = planes[i];
         const std::string name = "plane " + std::to_string(i);
         if (!isFinite(p.point) || !isFinite(p.normal) || p.normal.norm() < 1e-9)
             return Status::error(name + ": point and normal must be finite and the normal non-zero");
         p.normal.normalize();
-        if (!(p.restitution >= 0.0 && p.restitution <= 1.0))
-            return Status::error(name + ": restitution must be in [0, 1]");
-        if (!(p.friction >= 0.0 && p.friction <= 10.0))
-            return Status::error(name + ": friction must be in [0, 10]");
+        for (const auto& [range, value] : {std::pair{ranges::kRestitution, p.restitution}, std::pair{ranges::kFriction, p.friction}})
+            if (const std::string problem = range.problem(value); !problem.empty())
+                return Status::error(name + ": " + problem);
     }
     for (std::size_t i = 0; i < colliders.size(); ++i)
         if (Status s = colliders[i].validate(); !s)

@@ -12,10 +12,9 @@
 namespace softtouch {
 
 Status SimulationSettings::validate() const {
-    if (!(std::isfinite(dt) && dt >= ranges::kMinDt && dt <= ranges::kMaxDt))
-        return Status::error("time step dt must be in [1e-05, 0.1] s, got " + std::to_string(dt));
-    if (xpbdSubsteps < 1 || xpbdSubsteps > 10000)
-        return Status::error("XPBD substeps must be in [1, 10000], got " + std::to_string(xpbdSubsteps));
+    for (const auto& [range, value] : {std::pair{ranges::kDt, dt}, std::pair{ranges::kXpbdSubsteps, double(xpbdSubsteps)}})
+        if (std::string problem = range.problem(value); !problem.empty())
+            return Status::error(std::move(problem));
     if (!(std::isfinite(stabilitySafety) && stabilitySafety > 0.0 && stabilitySafety <= 2.0))
         return Status::error("stability safety must be in (0, 2], got " + std::to_string(stabilitySafety));
     if (maxSubsteps < 1)

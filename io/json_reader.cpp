@@ -201,6 +201,19 @@ std::optional<double> JsonValue::number(double lo, double hi, const char* unit, 
     return x;
 }
 
+std::optional<double> JsonValue::field(const FieldRange& range, bool required) const {
+    const JsonValue member = (*this)[range.name];
+    if (member.missing(required))
+        return std::nullopt;
+    const bool number = range.whole ? member.m_value->is_number_integer() : member.m_value->is_number();
+    const double x = member.m_value->is_number() ? member.m_value->get<double>() : 0.0;
+    if (!number || !range.contains(x)) {
+        member.problem("expected " + range.describe() + ", got " + describe(*member.m_value));
+        return std::nullopt;
+    }
+    return x;
+}
+
 std::optional<int> JsonValue::integer(int lo, int hi, bool required) const {
     if (missing(required))
         return std::nullopt;

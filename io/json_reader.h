@@ -3,6 +3,7 @@
 /// the value and what was expected ("scene.softtouch: /objects/0/material/mass: expected a number
 /// in [1e-12, 1e12] (kg), got -1"). Problems are collected, not thrown, so `validate` lists them all.
 
+#include "core/ranges.h"
 #include "core/types.h"
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,9 @@ public:
 
     std::optional<double> number(double lo, double hi, const char* unit = "", bool required = false) const;
     std::optional<int> integer(int lo, int hi, bool required = false) const;
+    /// The member `range.name` of this object, checked against `range` (core/ranges.h): a whole number must be
+    /// written as an integer. Problems are reported at the member.
+    std::optional<double> field(const FieldRange& range, bool required = false) const;
     std::optional<std::string> string(bool required = false) const;
     std::optional<bool> boolean(bool required = false) const;
     /// Three finite numbers.

@@ -266,16 +266,16 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                 else
                     plane.normal = n->normalized();
             }
-            if (auto x = p["restitution"].number(0.0, 1.0)) plane.restitution = *x;
-            if (auto x = p["friction"].number(0.0, 10.0)) plane.friction = *x;
+            if (auto x = p.field(ranges::kRestitution)) plane.restitution = *x;
+            if (auto x = p.field(ranges::kFriction)) plane.friction = *x;
             w.planes.push_back(plane);
         }
         // Objects against each other (core/body_contacts.h): off unless the file turns them on.
         if (const JsonValue bodies = world["bodyCollisions"]; bodies.exists() && bodies.expectObject()) {
             bodies.checkKeys({"enabled", "restitution", "friction"});
             if (auto x = bodies["enabled"].boolean()) w.bodyCollisions.enabled = *x;
-            if (auto x = bodies["restitution"].number(0.0, 1.0)) w.bodyCollisions.restitution = *x;
-            if (auto x = bodies["friction"].number(0.0, 10.0)) w.bodyCollisions.friction = *x;
+            if (auto x = bodies.field(ranges::kRestitution)) w.bodyCollisions.restitution = *x;
+            if (auto x = bodies.field(ranges::kFriction)) w.bodyCollisions.friction = *x;
         }
         // Spheres, capsules, boxes and meshes (core/colliders.h); each shape has its own size keys.
         const JsonValue colliders = world["colliders"];
@@ -306,7 +306,7 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                     else
                         v["mesh"].problem(surface.message());
                 }
-                if (auto x = v["scale"].number(1e-6, 1e6)) c.scale = *x;
+                if (auto x = v.field(ranges::kMeshColliderScale)) c.scale = *x;
             } else if (c.shape == ColliderShape::Sphere)
                 v.checkKeys({"shape", "centre", "radius", "restitution", "friction"});
             else if (c.shape == ColliderShape::Capsule)
@@ -315,9 +315,9 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                 v.checkKeys({"shape", "centre", "halfExtents", "axes", "restitution", "friction"});
             if (auto x = v["centre"].vec3(true)) c.centre = *x;
             if (c.shape == ColliderShape::Sphere || c.shape == ColliderShape::Capsule)
-                if (auto x = v["radius"].number(1e-6, 1e6, "m", true)) c.radius = *x;
+                if (auto x = v.field(ranges::kColliderRadius, true)) c.radius = *x;
             if (c.shape == ColliderShape::Capsule) {
-                if (auto x = v["halfLength"].number(0.0, 1e6, "m", true)) c.halfLength = *x;
+                if (auto x = v.field(ranges::kCapsuleHalfLength, true)) c.halfLength = *x;
                 if (auto a = v["axis"].vec3(true)) {
                     if (a->norm() < 1e-9)
                         v["axis"].problem("the axis must not be zero");
@@ -346,15 +346,15 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                     }
                 }
             }
-            if (auto x = v["restitution"].number(0.0, 1.0)) c.restitution = *x;
-            if (auto x = v["friction"].number(0.0, 10.0)) c.friction = *x;
+            if (auto x = v.field(ranges::kRestitution)) c.restitution = *x;
+            if (auto x = v.field(ranges::kFriction)) c.friction = *x;
             if (c.shape == ColliderShape::Mesh && !c.surface)
                 continue;  // its mesh's problem is reported
             w.colliders.push_back(c);
         }
     }
     if (const JsonValue sim = root["simulation"]; sim.expectObject()) {
-        sim.checkKeys({"integrator", "dt", "xpbdSubsteps", "sleep"});
+        sim.checkKeys({"integrator", ranges::kDt.name, ranges::kXpbdSubsteps.name, "sleep"});
         if (auto name = sim["integrator"].string()) {
             if (auto kind = parseIntegratorKind(*name))
                 w.simulation.integrator = *kind;
@@ -362,14 +362,14 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                 sim["integrator"].problem("expected \"symplectic-euler\", \"verlet\", \"implicit-euler\" or \"xpbd\", got \"" +
                                           *name + "\"");
         }
-        if (auto x = sim["dt"].number(ranges::kMinDt, ranges::kMaxDt, "s")) w.simulation.dt = *x;
-        if (auto x = sim["xpbdSubsteps"].integer(1, 10000)) w.simulation.xpbdSubsteps = *x;
+        if (auto x = sim.field(ranges::kDt)) w.simulation.dt = *x;
+        if (auto x = sim.field(ranges::kXpbdSubsteps)) w.simulation.xpbdSubsteps = int(*x);
         if (auto x = sim["sleep"].boolean()) w.simulation.sleep = *x;
     }
     if (const JsonValue clip = root["clip"]; clip.expectObject()) {
-        clip.checkKeys({"frames", "fps"});
-        if (auto x = clip["frames"].integer(1, ranges::kMaxFrames)) w.frames = *x;
-        if (auto x = clip["fps"].number(ranges::kMinFps, ranges::kMaxFps, "frames per second")) w.fps = *x;
+        clip.checkKeys({ranges::kFrames.name, ranges::kFps.name});
+        if (auto x = clip.field(ranges::kFrames)) w.frames = int(*x);
+        if (auto x = clip.field(ranges::kFps)) w.fps = *x;
     }
     // What core checks beyond each field (a safety net: a rule added there is enforced here too).
     WorldSettings checked = w;
@@ -487,27 +487,27 @@ Status saveProject(const Project& project, const fs::path& path) {
     const WorldSettings& w = project.scene.world;
     json planes = json::array();
     for (const CollisionPlane& p : w.planes)
-        planes.push_back({{"point", vec(p.point)}, {"normal", vec(p.normal)}, {"restitution", p.restitution},
-                          {"friction", p.friction}});
+        planes.push_back({{"point", vec(p.point)}, {"normal", vec(p.normal)}, {ranges::kRestitution.name, p.restitution},
+                          {ranges::kFriction.name, p.friction}});
     json colliders = json::array();
     for (const Collider& c : w.colliders) {
         json entry = {{"shape", colliderShapeName(c.shape)}, {"centre", vec(c.centre)}};
         if (c.shape == ColliderShape::Sphere || c.shape == ColliderShape::Capsule)
-            entry["radius"] = c.radius;
+            entry[ranges::kColliderRadius.name] = c.radius;
         if (c.shape == ColliderShape::Capsule) {
             entry["axis"] = vec(c.axis);
-            entry["halfLength"] = c.halfLength;
+            entry[ranges::kCapsuleHalfLength.name] = c.halfLength;
         }
         if (c.shape == ColliderShape::Box)
             entry["halfExtents"] = vec(c.halfExtents);
         if (c.shape == ColliderShape::Mesh) {
             entry["mesh"] = rebased(c.surface->source());
-            entry["scale"] = c.scale;
+            entry[ranges::kMeshColliderScale.name] = c.scale;
         }
         if (c.shape == ColliderShape::Box || c.shape == ColliderShape::Mesh)
             entry["axes"] = {vec(c.axes.col(0)), vec(c.axes.col(1)), vec(c.axes.col(2))};
-        entry["restitution"] = c.restitution;
-        entry["friction"] = c.friction;
+        entry[ranges::kRestitution.name] = c.restitution;
+        entry[ranges::kFriction.name] = c.friction;
         colliders.push_back(entry);
     }
     json world = {{"gravity", vec(w.gravity)}, {"planes", planes}};
@@ -515,18 +515,18 @@ Status saveProject(const Project& project, const fs::path& path) {
         world["colliders"] = colliders;
     if (w.bodyCollisions.enabled)
         world["bodyCollisions"] = {{"enabled", true},
-                                   {"restitution", w.bodyCollisions.restitution},
-                                   {"friction", w.bodyCollisions.friction}};
+                                   {ranges::kRestitution.name, w.bodyCollisions.restitution},
+                                   {ranges::kFriction.name, w.bodyCollisions.friction}};
     json doc = {{"format", kProjectFormat},
                       {"version", kProjectVersion},
                       {"objects", objects},
                       {"world", world},
                       {"simulation",
                        {{"integrator", std::string(integratorName(w.simulation.integrator))},
-                        {"dt", w.simulation.dt},
-                        {"xpbdSubsteps", w.simulation.xpbdSubsteps},
+                        {ranges::kDt.name, w.simulation.dt},
+                        {ranges::kXpbdSubsteps.name, w.simulation.xpbdSubsteps},
                         {"sleep", w.simulation.sleep}}},
-                      {"clip", {{"frames", w.frames}, {"fps", w.fps}}}};
+                      {"clip", {{ranges::kFrames.name, w.frames}, {ranges::kFps.name, w.fps}}}};
     writeClipLibrary(project.clips, doc);
     return writeFileAtomically(path, doc.dump(2) + "\n");
 }

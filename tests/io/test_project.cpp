@@ -1,6 +1,7 @@
 // Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
 #include "core/mesh_surface.h"
 #include "core/mode_accuracy.h"
+#include "core/ranges.h"
 #include "core/modes.h"
 #include "io/mesh_import.h"
 #include "io/preset_file.h"
@@ -59,6 +60,8 @@ private slots:
     void paintedNodeDampingRoundTrips();
     void strainLimitsRoundTripAndBind();
     void collidersRoundTrip();
+    void fieldRangesMeanTheSameInFileAndCore_data();
+    void fieldRangesMeanTheSameInFileAndCore();
     void rockSampleSquashesTheTail();
     void pairSampleTailsMeetAndPart();
     void meshColliderFromAFile();
@@ -232,6 +235,63 @@ void TestProject::strainLimitsRoundTripAndBind() {
 
 // World colliders: each shape with its own keys, saved and read back as written; the body built from a
 // project with a mesh tests contact at mesh surface points.
+// Each setting's range is declared once (core/ranges.h) and read, validated and written by that
+// declaration: at both edges and just beyond them, the reader accepts exactly what core's validate() and
+// FieldRange::contains accept, and a value it accepts is written back under the same key and read again
+// unchanged. (A collider's radius used to be (0, 1e6] in core and [1e-6, 1e6] in the reader.)
+void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
+    QTest::addColumn<QString>("where");  // the JSON the value goes into, %1 standing for it
+    QTest::addColumn<QString>("field");
+    const auto add = [](const FieldRange& r, const char* where) {
+        QTest::newRow(r.name) << QString::fromLatin1(where) << QString::fromLatin1(r.name);
+    };
+    add(ranges::kDt, R"(, "simulation": {"dt": %1})");
+    add(ranges::kXpbdSubsteps, R"(, "simulation": {"integrator": "xpbd", "xpbdSubsteps": %1})");
+    add(ranges::kFrames, R"(, "clip": {"frames": %1})");
+    add(ranges::kFps, R"(, "clip": {"fps": %1})");
+    add(ranges::kRestitution, R"(, "world": {"planes": [{"point": [0, -2, 0], "normal": [0, 1, 0], "restitution": %1}]})");
+    add(ranges::kFriction, R"(, "world": {"colliders": [{"shape": "sphere", "centre": [0, -9, 0], "radius": 1, "friction": %1}]})");
+    add(ranges::kColliderRadius, R"(, "world": {"colliders": [{"shape": "sphere", "centre": [0, -9, 0], "radius": %1}]})");
+    add(ranges::kCapsuleHalfLength,
+        R"(, "world": {"colliders": [{"shape": "capsule", "centre": [0, -9, 0], "radius": 1, "axis": [1, 0, 0], "halfLength": %1}]})");
+}
+
+void TestProject::fieldRangesMeanTheSameInFileAndCore() {
+    QFETCH(QString, where);
+    QFETCH(QString, field);
+    const FieldRange* range = nullptr;
+    for (const FieldRange* r : {&ranges::kDt, &ranges::kXpbdSubsteps, &ranges::kFrames, &ranges::kFps, &ranges::kRestitution,
+                                &ranges::kFriction, &ranges::kColliderRadius, &ranges::kCapsuleHalfLength})
+        if (field == r->name)
+            range = r;
+    QVERIFY(range);
+    QTemporaryDir dir;
+    const double step = range->whole ? 1.0 : std::max(1e-9, 1e-6 * std::abs(range->high));
+    const double lowStep = range->whole ? 1.0 : (range->low == 0.0 ? 1e-12 : 1e-6 * std::abs(range->low));
+    for (const double value : {range->low, range->low - lowStep, range->low + lowStep, range->high, range->high + step}) {
+        char text[40];
+        std::snprintf(text, sizeof text, range->whole ? "%.0f" : "%.17g", value);
+        const auto path = writeFile(dir, "p.softtouch", projectText("", where.arg(text).toStdString()));
+        auto project = loadProject(path);
+        const QString what = field + " = " + text + ": " + QString::fromStdString(project.ok() ? "read" : project.message());
+        QVERIFY2(project.ok() == range->contains(value), qPrintable(what));
+        if (!project.ok()) {
+            QVERIFY2(project.message().find(std::string("/") + range->name) != std::string::npos, qPrintable(what));
+            continue;
+        }
+        WorldSettings world = project->scene.world;
+        QVERIFY2(world.validate().ok(), qPrintable(what));
+        const auto saved = std::filesystem::path(dir.path().toStdString()) / "saved.softtouch";
+        QVERIFY(saveProject(project.value(), saved).ok());
+        auto reloaded = loadProject(saved);
+        QVERIFY2(reloaded.ok(), qPrintable(what + " (saved): " + QString::fromStdString(reloaded.message())));
+        QVERIFY2(reloaded->scene.world.simulation.dt == world.simulation.dt && reloaded->scene.world.fps == world.fps &&
+                     reloaded->scene.world.frames == world.frames && reloaded->scene.world.colliders == world.colliders &&
+                     reloaded->scene.world.simulation.xpbdSubsteps == world.simulation.xpbdSubsteps,
+                 qPrintable(what));
+    }
+}
+
 void TestProject::collidersRoundTrip() {
     QTemporaryDir dir;
     const auto path = writeFile(dir, "rock.softtouch", projectText("", R"(, "world": {"colliders": [

@@ -1,0 +1,36 @@
+#include "core/ranges.h"
+
+#include <cstdio>
+
+namespace softtouch {
+namespace {
+
+/// 0.1, 1e-05, 1000000: whole numbers in full, the rest as %g (what a user types back).
+std::string rangeBound(double x) {
+    char text[32];
+    if (std::abs(x) < 1e15 && std::floor(x) == x)
+        std::snprintf(text, sizeof text, "%.0f", x);
+    else
+        std::snprintf(text, sizeof text, "%g", x);
+    return text;
+}
+
+}  // namespace
+
+std::string FieldRange::describe() const {
+    std::string text = std::string(whole ? "a whole number in " : "a number in ") + (lowIncluded ? "[" : "(") + rangeBound(low) +
+                       ", " + rangeBound(high) + "]";
+    if (unit && *unit)
+        text += std::string(" (") + unit + ")";
+    return text;
+}
+
+std::string FieldRange::problem(double x) const {
+    if (contains(x))
+        return {};
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", x);
+    return std::string(label) + " must be " + describe() + ", got " + value;
+}
+
+}  // namespace softtouch
