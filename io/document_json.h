@@ -7,6 +7,7 @@
 #include "core/lattice.h"
 #include "core/lattice_body.h"
 #include "core/mesh.h"
+#include "core/result.h"
 #include "io/json_reader.h"
 
 #include <nlohmann/json.hpp>
@@ -20,6 +21,18 @@ namespace softtouch::io::document {
 
 inline constexpr const char* kProjectFormat = "softtouch-project";
 inline constexpr const char* kPresetFormat = "softtouch-preset";
+
+/// Parses the file at `path` and hands the document to `read(doc, path, issues)`, which returns an
+/// optional T: how projects and presets are loaded (each file parsed once; the failure is the issues'
+/// summary: the first problem and how many more).
+template <typename T, typename Read>
+Result<T> loadDocument(const std::filesystem::path& path, Read read) {
+    JsonIssues issues(path.string());
+    if (const auto doc = parseJsonFile(path.string(), issues))
+        if (std::optional<T> value = read(*doc, path, issues))
+            return std::move(*value);
+    return Status::error(issues.summary());
+}
 
 /// A preset file's kind: a setup preset says "kind": "setup"; a material preset has no kind.
 bool declaresSetup(const nlohmann::json& doc);

@@ -49,14 +49,7 @@ std::optional<MaterialPreset> readMaterialPreset(const json& doc, const fs::path
     return preset;
 }
 
-Result<MaterialPreset> loadMaterialPreset(const fs::path& path) {
-    JsonIssues issues(path.string());
-    const auto doc = parseJsonFile(path.string(), issues);
-    if (doc)
-        if (auto preset = readMaterialPreset(*doc, path, issues))
-            return std::move(*preset);
-    return Status::error(issues.summary());
-}
+Result<MaterialPreset> loadMaterialPreset(const fs::path& path) { return loadDocument<MaterialPreset>(path, readMaterialPreset); }
 
 Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice, LatticeMaterial& material,
                            const std::vector<int>& nodes) {
@@ -184,17 +177,11 @@ Status saveSetupPreset(const SetupPreset& preset, const fs::path& path) {
 }
 
 Result<AnyPreset> loadPreset(const fs::path& path) {
-    JsonIssues issues(path.string());
-    const auto doc = parseJsonFile(path.string(), issues);
-    if (doc) {
-        if (declaresSetup(*doc)) {
-            if (auto setup = readSetupPreset(*doc, path, issues))
-                return AnyPreset(std::move(*setup));
-        } else if (auto material = readMaterialPreset(*doc, path, issues)) {
-            return AnyPreset(std::move(*material));
-        }
-    }
-    return Status::error(issues.summary());
+    return loadDocument<AnyPreset>(path, [](const json& doc, const fs::path& at, JsonIssues& issues) -> std::optional<AnyPreset> {
+        if (declaresSetup(doc))
+            return readSetupPreset(doc, at, issues);
+        return readMaterialPreset(doc, at, issues);
+    });
 }
 
 std::optional<SetupPreset> readSetupPreset(const json& doc, const fs::path& path, JsonIssues& issues) {
@@ -263,14 +250,7 @@ std::optional<SetupPreset> readSetupPreset(const json& doc, const fs::path& path
     return preset;
 }
 
-Result<SetupPreset> loadSetupPreset(const fs::path& path) {
-    JsonIssues issues(path.string());
-    const auto doc = parseJsonFile(path.string(), issues);
-    if (doc)
-        if (auto preset = readSetupPreset(*doc, path, issues))
-            return std::move(*preset);
-    return Status::error(issues.summary());
-}
+Result<SetupPreset> loadSetupPreset(const fs::path& path) { return loadDocument<SetupPreset>(path, readSetupPreset); }
 
 Result<Project> applySetupPreset(const SetupPreset& preset, Project project, std::size_t object) {
     if (object >= project.scene.objects.size())

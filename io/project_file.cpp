@@ -404,14 +404,7 @@ std::optional<Project> readProject(const json& doc, const fs::path& path, JsonIs
 
 }  // namespace
 
-Result<Project> loadProject(const fs::path& path) {
-    JsonIssues issues(path.string());
-    const auto doc = parseJsonFile(path.string(), issues);
-    if (doc)
-        if (auto project = readProject(*doc, path, issues))
-            return std::move(*project);
-    return Status::error(issues.summary());
-}
+Result<Project> loadProject(const fs::path& path) { return loadDocument<Project>(path, readProject); }
 
 std::vector<std::string> validateFile(const fs::path& path) {
     JsonIssues issues(path.string());
