@@ -97,16 +97,16 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     model->nodeDamping.assign(n, 0.0);
     bool anySimulated = false;
     for (std::size_t i = 0; i < n; ++i) {
-        const std::string node = "node " + std::to_string(i);
+        const auto node = [i] { return "node " + std::to_string(i); };  // for a message only: a build names no node
         if (!isFinite(d.restPositions[i]))
-            return Status::error(node + " has a non-finite rest position");
+            return Status::error(node() + " has a non-finite rest position");
         const bool isVoid = !d.isVoid.empty() && d.isVoid[i] != 0;
         if (isVoid) {
             model->simulated[i] = 0;
             continue;
         }
         if (!finiteIn(d.mass[i], 1e-12, 1e12))
-            return Status::error(node + " has mass " + std::to_string(d.mass[i]) +
+            return Status::error(node() + " has mass " + std::to_string(d.mass[i]) +
                                  " kg; a mass must be finite and in [1e-12, 1e12] kg");
         const AnchorMode mode = d.anchor.empty() ? AnchorMode::Free : d.anchor[i];
         model->mass[i] = mode == AnchorMode::Heavy ? d.mass[i] * d.heavyAnchorRatio : d.mass[i];
@@ -114,7 +114,7 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         model->inverseMass[i] = mode == AnchorMode::Pinned ? 0.0 : 1.0 / model->mass[i];
         const double damping = d.nodeDamping.empty() ? 0.0 : d.nodeDamping[i];
         if (!finiteIn(damping, 0.0, 1e6))
-            return Status::error(node + " has node damping " + std::to_string(damping) +
+            return Status::error(node() + " has node damping " + std::to_string(damping) +
                                  " N·s/m; it must be finite and in [0, 1e6] N·s/m");
         model->nodeDamping[i] = damping;
         model->anyNodeDamping = model->anyNodeDamping || damping > 0.0;
@@ -125,17 +125,17 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         return Status::error("every node is void: nothing is left to simulate");
     for (std::size_t k = 0; k < d.springs.size(); ++k) {
         const Spring& s = d.springs[k];
-        const std::string spring = "spring " + std::to_string(k);
+        const auto spring = [k] { return "spring " + std::to_string(k); };
         if (s.a >= n || s.b >= n || s.a == s.b)
-            return Status::error(spring + " joins invalid nodes " + std::to_string(s.a) + " and " + std::to_string(s.b));
+            return Status::error(spring() + " joins invalid nodes " + std::to_string(s.a) + " and " + std::to_string(s.b));
         if (!finiteIn(s.stiffness, 0.0, 1e9))
-            return Status::error(spring + " has stiffness " + std::to_string(s.stiffness) +
+            return Status::error(spring() + " has stiffness " + std::to_string(s.stiffness) +
                                  " N/m; it must be finite and in [0, 1e9] N/m");
         if (!finiteIn(s.damping, 0.0, 1e6))
-            return Status::error(spring + " has damping " + std::to_string(s.damping) +
+            return Status::error(spring() + " has damping " + std::to_string(s.damping) +
                                  " N·s/m; it must be finite and in [0, 1e6] N·s/m");
         if (!finiteIn(s.restLength, 1e-12, 1e12))
-            return Status::error(spring + " has a zero or invalid rest length; its nodes coincide");
+            return Status::error(spring() + " has a zero or invalid rest length; its nodes coincide");
         if (!model->simulated[s.a] || !model->simulated[s.b])
             continue;  // a void node takes its springs with it
         model->springs.push_back(s);
