@@ -4,6 +4,8 @@
 
 #include "core/ranges.h"
 
+#include "io/vertex_cache_internal.h"
+
 #include <algorithm>
 #include <cmath>
 
