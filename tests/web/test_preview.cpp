@@ -197,6 +197,38 @@ private slots:
         }
     }
 
+    // The page of every kind is built from a real bake (the part of the test above that is SoftTouch's own
+    // code, so the sanitizer run, which leaves the browser comparison to release, still runs it).
+    void everyKindBuildsItsPage_data() {
+        QTest::addColumn<QString>("format");
+        QTest::addColumn<QString>("out");
+        QTest::addColumn<QString>("clip");
+        QTest::addColumn<QString>("kind");
+        QTest::newRow("skinned") << "skin" << "s.glb" << "s.glb" << "skinned";
+        QTest::newRow("morph") << "pca" << "m.glb" << "m.glb" << "morph";
+        QTest::newRow("vat") << "vat" << "v" << "v.vat.json" << "vat";
+        QTest::newRow("lattice") << "lattice" << "l" << "l.lattice.bin" << "lattice";
+    }
+
+    void everyKindBuildsItsPage() {
+        QFETCH(QString, format);
+        QFETCH(QString, out);
+        QFETCH(QString, clip);
+        QFETCH(QString, kind);
+        const QString folder = m_dir.filePath("pages/" + format);
+        QVERIFY(QDir().mkpath(folder));
+        const auto bake = runCli({"bake", kScene, "--clip", "swim", "--frames", "3", "--format", format, "--out",
+                                  folder + "/" + out, "--quiet"});
+        QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
+        const auto preview = runCli({"preview", folder + "/" + clip, "--out", folder + "/page"});
+        QVERIFY2(preview.exitCode == 0, qPrintable(preview.err));
+        QVERIFY2(preview.out.contains(kind + " clip") && preview.out.contains("3 frames at 24 fps"), qPrintable(preview.out));
+        QFile page(folder + "/page/index.html");
+        QVERIFY(page.open(QIODevice::ReadOnly));
+        const QByteArray html = page.readAll();
+        QVERIFY2(html.size() > 100000 && html.contains("<script type=\"importmap\">"), qPrintable(QString::number(html.size())));
+    }
+
     void clipsItCannotPlayAreRefusedByName() {
         const QString folder = m_dir.filePath("bad");
         QVERIFY(QDir().mkpath(folder));
