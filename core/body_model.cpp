@@ -17,8 +17,8 @@ using ranges::finiteIn;
 namespace {
 
 /// Largest eigenvalue of M^-1 K (K the rest stiffness matrix of the springs, free nodes only), by Lanczos
-/// on the symmetric form A = M^-1/2 K M^-1/2 with full reorthogonalisation. The largest Ritz value rises to
-/// the largest eigenvalue from below; it is taken once it moves by less than 1e-9 of itself.
+/// on the symmetric form A = M^-1/2 K M^-1/2. The largest Ritz value rises to the largest eigenvalue from
+/// below; it is taken once it moves by less than 1e-9 of itself.
 /// Power iteration, used before, needed all of its 200 rounds on every body of a swimming fish (the
 /// stiffest modes of a lattice lie close together, and power iteration converges as their ratio) and
 /// still stopped short; Lanczos settles in a few dozen products with A.
@@ -51,18 +51,19 @@ double largestStiffnessOverMass(const BodyModel& m) {
                                   : Vec3::Zero();
     if (q.norm() == 0.0)
         return 0.0;
-    const int most = int(std::min<std::size_t>(3 * n, 80));
-    Eigen::MatrixXd basis(3 * n, most);
+    // The three-term recurrence only: two vectors, whatever the lattice's size (a basis kept for
+    // reorthogonalisation would take 3n x its length). Lost orthogonality adds copies of converged Ritz
+    // values, never one above the spectrum, so the largest still rises to λ_max from below.
+    const int most = int(std::min<std::size_t>(3 * n, 120));
     std::vector<double> alpha, beta;
-    Eigen::VectorXd w(3 * n);
-    basis.col(0) = q / q.norm();
+    Eigen::VectorXd previous = Eigen::VectorXd::Zero(3 * n), current = q / q.norm(), w(3 * n);
     double largest = 0.0;
     for (int j = 0; j < most; ++j) {
-        apply(basis.col(j), w);
-        alpha.push_back(basis.col(j).dot(w));
-        // Full reorthogonalisation (twice is enough): the basis is small, and it keeps the Ritz values honest.
-        for (int pass = 0; pass < 2; ++pass)
-            w -= basis.leftCols(j + 1) * (basis.leftCols(j + 1).transpose() * w);
+        apply(current, w);
+        alpha.push_back(current.dot(w));
+        w -= alpha.back() * current;
+        if (!beta.empty())
+            w -= beta.back() * previous;
         Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
         const Eigen::VectorXd diagonal = Eigen::Map<const Eigen::VectorXd>(alpha.data(), Eigen::Index(alpha.size()));
         const Eigen::VectorXd off = Eigen::Map<const Eigen::VectorXd>(beta.data(), Eigen::Index(beta.size()));
@@ -71,10 +72,11 @@ double largestStiffnessOverMass(const BodyModel& m) {
         const double b = w.norm();
         const bool settled = j > 0 && std::abs(next - largest) <= 1e-9 * std::abs(next);
         largest = next;
-        if (settled || b <= 1e-12 * std::max(std::abs(next), 1e-300) || j + 1 == most)
+        if (settled || b <= 1e-12 * std::max(std::abs(next), 1e-300))
             break;
         beta.push_back(b);
-        basis.col(j + 1) = w / b;
+        previous.swap(current);
+        current = w / b;
     }
     return largest;
 }
