@@ -23,7 +23,6 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
-#include <set>
 #include <thread>
 
 #include <fcntl.h>
@@ -354,19 +353,18 @@ int runBatch(const std::vector<std::string>& args) {
     line.flag("--quiet", quiet);
     if (const auto exit = line.parse(args))
         return *exit;
-    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
     if (action.empty())
-        return usage("batch needs plan, run, slurm or check and a MANIFEST");
+        return line.usage("batch needs plan, run, slurm or check and a MANIFEST");
     if (action != "plan" && action != "run" && action != "slurm" && action != "check")
-        return usage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
+        return line.usage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
     if (manifestPath.empty())
-        return usage("batch " + action + " needs a MANIFEST");
+        return line.usage("batch " + action + " needs a MANIFEST");
     if (action == "slurm" && outDir.empty())
-        return usage("batch slurm needs --out DIR");
+        return line.usage("batch slurm needs --out DIR");
     if ((!jobId.empty() || parallel) && action != "run")
-        return usage("--job and --jobs are for batch run");
+        return line.usage("--job and --jobs are for batch run");
     if (!jobId.empty() && parallel)
-        return usage("--job runs one job; --jobs is for the whole library");
+        return line.usage("--job runs one job; --jobs is for the whole library");
 
     auto loaded = io::loadBatchManifest(manifestPath);
     if (!loaded)

@@ -7,7 +7,6 @@
 #include "io/atomic_file.h"
 #include "io/project_file.h"
 
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>

@@ -9,13 +9,10 @@
 #include "io/export_formats.h"
 #include "io/project_file.h"
 
-#include <charconv>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <set>
 
 namespace softtouch::cli {
 namespace {
@@ -108,20 +105,19 @@ int runBake(const std::vector<std::string>& args) {
     line.flag("--groups", groups);
     if (const auto exit = line.parse(args))
         return *exit;
-    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
     if (scenePath.empty())
-        return usage("bake needs a SCENE file");
+        return line.usage("bake needs a SCENE file");
     if (outPath.empty())
-        return usage("bake needs --out FILE");
+        return line.usage("bake needs --out FILE");
     if (!format)
         format = io::exportFormatForPath(outPath);
     if (!format)
-        return usage("cannot tell the format from '" + outPath + "'; use " + io::exportExtensions() + " or --format");
+        return line.usage("cannot tell the format from '" + outPath + "'; use " + io::exportExtensions() + " or --format");
     if (eachObject && !objects.empty())
-        return usage("--each-object bakes every object to its own cache; it takes no --object");
+        return line.usage("--each-object bakes every object to its own cache; it takes no --object");
     auto exportOptions = io::exportOptions(*format, {error, targets, bones});
     if (!exportOptions)
-        return usage(exportOptions.message());
+        return line.usage(exportOptions.message());
     io::BakeOptions options;
     options.output = outPath;
     options.format = io::exportWriter(*format, outPath);

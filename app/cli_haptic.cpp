@@ -7,7 +7,6 @@
 #include "io/trajectory_file.h"
 #include "plugins/device_registry.h"
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <filesystem>

@@ -10,22 +10,12 @@
 namespace softtouch::cli {
 
 std::string readNumber(const std::string& text, NumberRange range, double& value) {
-    const auto bound = [](double b) {  // 1000000, not 1e+06
-        return std::abs(b) < 1e15 && std::floor(b) == b ? std::to_string(static_cast<long long>(b)) : formatValue(b);
-    };
+    // The range's containment and wording are core's (FieldRange), so an option and a file say the same.
+    const FieldRange field{"", "", range.min, range.max, "", range.minIncluded, range.whole};
     const bool bounded = std::isfinite(range.min) || std::isfinite(range.max);
-    std::string expected = range.whole ? "a whole number" : "a number";
-    if (std::isfinite(range.min) && std::isfinite(range.max))
-        expected += std::string(" in ") + (range.minIncluded ? "[" : "(") + bound(range.min) + ", " + bound(range.max) + "]";
-    else if (std::isfinite(range.min))
-        expected += (range.minIncluded ? " >= " : " > ") + bound(range.min);
-    else if (std::isfinite(range.max))
-        expected += " <= " + bound(range.max);
     const auto number = parseNumber(text);
-    const bool fits = number && (range.minIncluded ? *number >= range.min : *number > range.min) &&
-                      *number <= range.max && (!range.whole || std::floor(*number) == *number);
-    if (!fits)
-        return (number && bounded ? "must be " : "expects ") + expected + ", got '" + text + "'";
+    if (!number || !field.contains(*number))
+        return (number && bounded ? "must be " : "expects ") + field.describe() + ", got '" + text + "'";
     value = *number;
     return {};
 }

@@ -8,7 +8,6 @@
 #include "io/video_encoder.h"
 #include "render/video_render.h"
 
-#include <cmath>
 #include <cstdio>
 #include <optional>
 

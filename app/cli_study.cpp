@@ -8,7 +8,6 @@
 #include "io/project_file.h"
 #include "ui/study_plot.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -102,11 +101,10 @@ int runStudy(const std::vector<std::string>& args) {
         return *exit;
     if (repeats)
         options.repeats = int(*repeats);
-    const auto usage = [&line](const std::string& problem) { return line.usage(problem); };
     if (scenePath.empty())
-        return usage("study needs a SCENE file");
+        return line.usage("study needs a SCENE file");
     if (!applyPath.empty() && !target)
-        return usage("--apply needs --target: it writes the pick for that target");
+        return line.usage("--apply needs --target: it writes the pick for that target");
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());

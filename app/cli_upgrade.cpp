@@ -8,7 +8,6 @@
 #include "core/material_conversion.h"
 #include "io/project_file.h"
 
-#include <cmath>
 #include <cstdio>
 
 namespace softtouch::cli {

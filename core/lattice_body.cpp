@@ -258,7 +258,7 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     };
     // "node (1,2,0) node damping (airDamping) -1 N·s/m is outside [0, 1e+06]": what it is and the file's key.
     auto check = [&](double x, const MaterialRange& r, const std::string& node) -> Status {
-        if (std::isfinite(x) && x >= r.low && x <= r.high)
+        if (r.contains(x))
             return Status::success();
         const std::string label = r.label;
         const std::string field = label == r.name ? label : label + " (" + r.name + ")";

@@ -18,8 +18,13 @@ std::string rangeBound(double x) {
 }  // namespace
 
 std::string FieldRange::describe() const {
-    std::string text = std::string(whole ? "a whole number in " : "a number in ") + (lowIncluded ? "[" : "(") + rangeBound(low) +
-                       ", " + rangeBound(high) + "]";
+    std::string text = whole ? "a whole number" : "a number";
+    if (std::isfinite(low) && std::isfinite(high))
+        text += std::string(" in ") + (lowIncluded ? "[" : "(") + rangeBound(low) + ", " + rangeBound(high) + "]";
+    else if (std::isfinite(low))
+        text += (lowIncluded ? " >= " : " > ") + rangeBound(low);
+    else if (std::isfinite(high))
+        text += " <= " + rangeBound(high);
     if (unit && *unit)
         text += std::string(" (") + unit + ")";
     return text;

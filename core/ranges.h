@@ -12,7 +12,7 @@
 namespace softtouch {
 
 /// A setting's name in files, what it is in words, its valid range and its unit, declared once: core's
-/// validate() checks it (check()), the project reader reads its key by it (io::JsonValue::field), the
+/// validate() checks it (problem()), the project reader reads its key by it (io::JsonValue::field), the
 /// writer writes that key, and the CLI and the editor take their limits from it. Before, each range was
 /// written in three places and two of them had drifted apart (a collider's radius: (0, 1e6] in core,
 /// [1e-6, 1e6] in the reader).
@@ -29,7 +29,8 @@ struct FieldRange {
     bool contains(double x) const {
         return std::isfinite(x) && (lowIncluded ? x >= low : x > low) && x <= high && (!whole || std::floor(x) == x);
     }
-    /// "a number in [1e-05, 0.1] (s)", "a whole number in [1, 10000]", "a number in (0, 1e+06] (m)".
+    /// "a number in [1e-05, 0.1] (s)", "a whole number in [1, 10000]", "a number in (0, 1000000] (m)"; an
+    /// infinite bound is left out: "a number > 0", "a whole number >= 1".
     std::string describe() const;
     /// Empty when contains(x), else "LABEL must be DESCRIBE, got X".
     std::string problem(double x) const;
