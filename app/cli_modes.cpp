@@ -109,7 +109,7 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (!picturePrefix.empty() && !pictured) {
             pictured = true;
-            const auto gui = offscreenGuiApplication();
+            const auto gui = offscreenApplication();
             auto written = render::writeModePictures(object, modes->modes, pictureOptions, picturePrefix);
             if (!written)
                 return fail(scenePath + ": object '" + object.name + "': pictures: " + written.message());

@@ -120,7 +120,7 @@ int runStudy(const std::vector<std::string>& args) {
             return fail(s.message());
         if (Status s = io::writeFileAtomically(dir / "study.md", analysis::studyMarkdown(result, command)); !s)
             return fail(s.message());
-        const auto gui = offscreenGuiApplication();
+        const auto gui = offscreenApplication();
         if (const std::string error = ui::writeStudyPlot(result, (dir / "study.png").string()); !error.empty())
             return fail(error);
         std::printf("wrote %s, %s and %s\n", (dir / "study.csv").c_str(), (dir / "study.md").c_str(),

@@ -8,6 +8,7 @@ packages=(
   dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
   qt6-base-dev            # Qt Core/Gui/Widgets/Test
   libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
+  qt6-charts-dev          # the study's error-against-cost chart (ui/study_plot.cpp), in the editor and as study.png
   libgl-dev libegl-dev    # OpenGL 3.3 core through glvnd (render/), EGL for headless rendering
   libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe and EGL surfaceless platform: OpenGL without a GPU or X
   xvfb xauth              # the editor's GUI tests run under a virtual X server

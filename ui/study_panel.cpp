@@ -1,7 +1,7 @@
 #include "ui/study_panel.h"
 
-#include "ui/study_plot.h"
 #include "ui/edit_commands.h"
+#include "ui/study_chart_view.h"
 
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -11,6 +11,8 @@
 #include <QLabel>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QStackedWidget>
+#include <QToolTip>
 #include <QVBoxLayout>
 
 #include <algorithm>
@@ -19,15 +21,6 @@
 
 namespace softtouch::ui {
 namespace {
-
-/// The plot's margins, legend and fonts have fixed pixel sizes (ui/study_plot.cpp): below about this
-/// size its title and axis labels run off the image. A smaller label gets it drawn at this size and
-/// scaled down, smaller text rather than cut text.
-constexpr QSize kPlotMinSize(640, 320);
-/// The plot's title sits in its top 40 px at a fixed 16 px bold, clipped to the axes' width: in a dock it
-/// shows cut. The dock's own title names the plot, so that band is cropped off (study_plot.cpp: title
-/// rect y 10..40, axes from y 50).
-constexpr int kPlotTitleBand = 40;
 
 /// "0.42 %", never broken across lines.
 QString percent(double fraction) { return QString::number(100.0 * fraction, 'g', 2) + QChar(0x00A0) + QLatin1Char('%'); }
@@ -50,15 +43,25 @@ QString errorName(analysis::StudyError kind) { return QString::fromLatin1(analys
 
 StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m_document(document) {
     auto* layout = new QVBoxLayout(this);
-    m_plot = new QLabel;
+    // The chart once measured; before that, what will appear there and how.
+    m_plotStack = new QStackedWidget;
+    m_plotNote = new QLabel;
+    m_plotNote->setObjectName("studyPlotNote");
+    m_plotNote->setAlignment(Qt::AlignCenter);
+    m_plotNote->setWordWrap(true);
+    m_plot = new StudyChartView;
     m_plot->setObjectName("studyPlot");
-    m_plot->setMinimumSize(320, 220);
-    // The pixmap follows the label's size, never the other way round (that would grow the dock).
-    m_plot->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
-    m_plot->setAlignment(Qt::AlignCenter);
-    m_plot->setWordWrap(true);
-    m_plot->installEventFilter(this);
-    layout->addWidget(m_plot, 1);
+    m_plotStack->addWidget(m_plotNote);
+    m_plotStack->addWidget(m_plot);
+    m_plotStack->setMinimumSize(320, 300);
+    // The chart follows the dock's size, never the other way round (that would grow the dock).
+    m_plotStack->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
+    layout->addWidget(m_plotStack, 1);
+    m_pointer = new QLabel;
+    m_pointer->setObjectName("studyPointer");
+    m_pointer->setWordWrap(true);
+    m_pointer->setTextFormat(Qt::RichText);
+    layout->addWidget(m_pointer);
 
     m_text = new QLabel;
     m_text->setObjectName("studyText");
@@ -129,6 +132,8 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     connect(m_measure, &QPushButton::clicked, this, &StudyPanel::measure);
     connect(m_cancelButton, &QPushButton::clicked, this, &StudyPanel::cancel);
     connect(m_apply, &QPushButton::clicked, this, &StudyPanel::applySuggestion);
+    connect(m_plot, &StudyChartView::hovered, this, &StudyPanel::showPointer);
+    connect(m_plot, &StudyChartView::clicked, this, [this](int row) { applyRow(row); });
     refresh();
 }
 
@@ -214,12 +219,18 @@ void StudyPanel::studyDone(analysis::StudyResult result) {
 void StudyPanel::applySuggestion() {
     if (!applyBlocker().isEmpty())
         return;
-    const analysis::StudyRow* pick = suggestion();
+    applyRow(int(suggestion() - m_study.rows.data()));
+}
+
+bool StudyPanel::applyRow(int row) {
+    if (row < 0 || row >= int(m_study.rows.size()) || !rowBlocker(row).isEmpty())
+        return false;
+    const analysis::StudyRow* pick = &m_study.rows[std::size_t(row)];
     const Scene& scene = m_document->scene();
     auto next = analysis::applySetting(scene, pick->setting());
     if (!next) {
         m_check->setText(tr("Not applied: %1").arg(QString::fromStdString(next.message()).toHtmlEscaped()));
-        return;
+        return false;
     }
     // Copies: each command's redo() changes the scene these would otherwise point into.
     const WorldSettings worldBefore = scene.world;
@@ -232,7 +243,8 @@ void StudyPanel::applySuggestion() {
 
     m_applying = true;
     QUndoStack* undo = m_document->undoStack();
-    undo->beginMacro(tr("Use the cheapest setting within the error target"));
+    undo->beginMacro(pick == suggestion() ? tr("Use the cheapest setting within the error target")
+                                          : tr("Use %1 (picked on the study's chart)").arg(settingName(pick->setting())));
     if (newStep)
         undo->push(new WorldEditCommand(m_document, worldBefore, next->world, tr("Integrator and time step")));
     if (newLattice)
@@ -250,6 +262,7 @@ void StudyPanel::applySuggestion() {
         Result<analysis::Remeasured> result = analysis::remeasure(scene, study);
         post([this, result = std::move(result)] { remeasureDone(result); });
     });
+    return true;
 }
 
 void StudyPanel::remeasureDone(Result<analysis::Remeasured> result) {
@@ -280,19 +293,46 @@ void StudyPanel::markCurrent() {
         r.current = !scene.objects.empty() && analysis::sameSetting(r.setting(), analysis::sceneSetting(scene));
 }
 
-QString StudyPanel::applyBlocker() const {
+QString StudyPanel::rowBlocker(int row) const {
     if (isMeasuring())
         return m_remeasuring ? tr("Re-measuring the scene with the new setting…") : tr("Wait for the measurement to finish.");
     if (!hasStudy())
         return tr("Measure this scene first.");
     if (isOutOfDate())
         return tr("The scene changed since it was measured: press <i>Measure again</i> first.");
+    if (row >= 0 && !m_study.rows[std::size_t(row)].finite)
+        return tr("This setting blew up on this scene.");
+    if (row >= 0 && m_study.rows[std::size_t(row)].current)
+        return tr("This is the current setting.");
+    return {};
+}
+
+QString StudyPanel::applyBlocker() const {
+    if (const QString blocked = rowBlocker(-1); !blocked.isEmpty())
+        return blocked;
     const analysis::StudyRow* pick = suggestion();
     if (!pick)
         return tr("No measured setting is within the target: raise the target or choose another error.");
     if (pick->current)
         return tr("The current setting is already the cheapest within the target.");
     return {};
+}
+
+void StudyPanel::showPointer(int row) {
+    if (row < 0 || row >= int(m_study.rows.size())) {
+        m_pointer->setText(hasStudy() ? tr("Ringed dots are the Pareto front (nothing measured is both cheaper and more "
+                                           "accurate). Point at a dot to read its setting; click it to use that setting.")
+                                      : QString());
+        QToolTip::hideText();
+        return;
+    }
+    const analysis::StudyRow& r = m_study.rows[std::size_t(row)];
+    const QString blocker = rowBlocker(row);
+    const QString text = tr("<b>%1</b>: error %2 total, %3 integration, %4 model; %5. %6")
+                             .arg(settingName(r.setting()), percent(r.rmsError), percent(r.timeError), percent(r.modelError),
+                                  cost(r.costPerSecond), blocker.isEmpty() ? tr("Click to use it.") : blocker);
+    m_pointer->setText(text);
+    QToolTip::showText(m_plot->mapToGlobal(m_plot->viewportPositionOf(row)), text, m_plot);
 }
 
 void StudyPanel::refresh() {
@@ -371,25 +411,16 @@ void StudyPanel::refresh() {
 }
 
 void StudyPanel::refreshPlot() {
-    if (!hasStudy()) {
-        m_plot->setPixmap({});
-        m_plot->setText(tr("Error against cost, with the current setting marked, appears here once the scene is measured."));
-        return;
-    }
     std::optional<PlotMarker> marker;
     if (const analysis::StudyRow* current = currentRow())
         marker = PlotMarker{current->costPerSecond, current->error(m_study.error), "current"};
-    const QSize size = m_plot->size();
-    const double enlarge = std::max({1.0, double(kPlotMinSize.width()) / std::max(1, size.width()),
-                                     double(kPlotMinSize.height()) / std::max(1, size.height())});
-    const int width = int(size.width() * enlarge), height = int(size.height() * enlarge);
-    const QImage image = renderStudyPlot(m_study, width, height + kPlotTitleBand, marker);
-    if (image.isNull()) {
-        m_plot->setPixmap({});
-        m_plot->setText(tr("Nothing to plot: no measured setting ran without blowing up."));
-        return;
-    }
-    m_plot->setPixmap(QPixmap::fromImage(image.copy(0, kPlotTitleBand, width, height)).scaled(size, Qt::KeepAspectRatio, Qt::SmoothTransformation));
+    m_plot->setStudy(m_study, marker);
+    if (!hasStudy())
+        m_plotNote->setText(tr("Error against cost, with the current setting marked, appears here once the scene is measured."));
+    else if (!m_plot->studyChart()->hasPoints())
+        m_plotNote->setText(tr("Nothing to plot: no measured setting ran without blowing up."));
+    m_plotStack->setCurrentWidget(m_plot->studyChart()->hasPoints() ? static_cast<QWidget*>(m_plot) : m_plotNote);
+    showPointer(-1);
 }
 
 void StudyPanel::resizeEvent(QResizeEvent* event) {
@@ -414,12 +445,6 @@ void StudyPanel::updateMinimumHeight() {
     needed += std::max(0, shown - 1) * box->spacing();
     if (needed != minimumHeight())
         setMinimumHeight(needed);
-}
-
-bool StudyPanel::eventFilter(QObject* watched, QEvent* event) {
-    if (watched == m_plot && event->type() == QEvent::Resize)
-        refreshPlot();
-    return QWidget::eventFilter(watched, event);
 }
 
 }  // namespace softtouch::ui

@@ -1,8 +1,9 @@
 #pragma once
 /// The speed/accuracy dock: measures the open scene (analysis::runStudy, quick grid, on a worker thread with
-/// progress and Cancel), plots error against cost with the scene's own setting marked, names the
-/// cheapest measured setting within the user's error target, applies it as one undo step and re-measures
-/// the scene as it then stands, so the trade is chosen, and checked, by measurement on this scene.
+/// progress and Cancel), charts error against cost with the scene's own setting marked (point at a dot
+/// to read its setting, click it to use it), names the cheapest measured setting within the user's error
+/// target, applies a pick as one undo step and re-measures the scene as it then stands, so the trade is
+/// chosen, and checked, by measurement on this scene.
 
 #include "analysis/study.h"
 #include "ui/document.h"
@@ -19,8 +20,11 @@ class QDoubleSpinBox;
 class QLabel;
 class QProgressBar;
 class QPushButton;
+class QStackedWidget;
 
 namespace softtouch::ui {
+
+class StudyChartView;
 
 /// Measures the open scene's speed/accuracy trade and applies a pick.
 class StudyPanel : public QWidget {
@@ -56,6 +60,9 @@ public slots:
     void cancel();
     /// Applies suggestion() as one undo step, then re-measures the scene (emits finished() after).
     void applySuggestion();
+    /// Applies the measured setting of row `row` (a click on its point in the chart) the same way;
+    /// false when it cannot be used now (rowBlocker() says why).
+    bool applyRow(int row);
 
 signals:
     /// A measurement or re-measurement ended: finished, cancelled or failed (the dock says which).
@@ -66,8 +73,6 @@ protected:
     /// around it scrolls instead of laying the text over the plot (a layout's minimum ignores wrapping).
     void resizeEvent(QResizeEvent* event) override;
     void updateMinimumHeight();
-    /// Redraws the plot whenever its label changes size (the text below it grows and shrinks too).
-    bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
     /// Runs `job` on the worker thread; the job hands its result to the GUI thread with post().
@@ -83,6 +88,10 @@ private:
     void refreshPlot();
     /// Why "Use the cheapest…" cannot be pressed now and what to do; empty when it can.
     QString applyBlocker() const;
+    /// Why row `row`'s setting cannot be applied now (-1: any row); empty when it can.
+    QString rowBlocker(int row) const;
+    /// Names the setting of the point under the pointer (-1: none) below the chart and in a tooltip.
+    void showPointer(int row);
 
     Document* m_document;
     analysis::StudyResult m_study;
@@ -98,7 +107,10 @@ private:
     bool m_remeasuring = false;       ///< The running job is a re-measure (it cannot be cancelled).
     QString m_notice;                 ///< The last job's outcome when it gave nothing (cancelled, failed).
     std::optional<analysis::Remeasured> m_remeasured;
-    QLabel* m_plot = nullptr;
+    QStackedWidget* m_plotStack = nullptr;
+    QLabel* m_plotNote = nullptr;
+    StudyChartView* m_plot = nullptr;
+    QLabel* m_pointer = nullptr;
     QLabel* m_text = nullptr;
     QDoubleSpinBox* m_target = nullptr;
     QComboBox* m_errorKind = nullptr;

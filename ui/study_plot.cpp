@@ -1,146 +1,231 @@
 #include "ui/study_plot.h"
 
-#include <QImage>
+#include <QGraphicsScene>
+#include <QLegendMarker>
+#include <QLineSeries>
+#include <QLogValueAxis>
 #include <QPainter>
-#include <QPainterPath>
 #include <QSaveFile>
+#include <QScatterSeries>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace softtouch::ui {
 
 using analysis::StudyResult;
 using analysis::StudyRow;
-using analysis::studyErrorName;
 
-QImage renderStudyPlot(const StudyResult& result, int W, int H, const std::optional<PlotMarker>& marker) {
-    const int left = 90, right = 200, top = 50, bottom = 70;
-    QImage image(W, H, QImage::Format_RGB32);
-    image.fill(Qt::white);
-    QPainter p(&image);
-    p.setRenderHint(QPainter::Antialiasing);
+bool plottable(const StudyRow& row, analysis::StudyError error) {
+    return row.finite && row.costPerSecond > 0 && row.error(error) > 0;
+}
 
-    // The error the study picks by (total, integration or model); rows without one (the reference lattice's
-    // model error is 0) have no place on a log axis.
-    auto error = [&](const StudyRow& r) { return r.error(result.error); };
-    double xmin = 1e300, xmax = 0, ymin = 1e300, ymax = 0;
-    for (const auto& r : result.rows) {
-        if (!r.finite || r.costPerSecond <= 0 || error(r) <= 0)
-            continue;
-        xmin = std::min(xmin, r.costPerSecond);
-        xmax = std::max(xmax, r.costPerSecond);
-        ymin = std::min(ymin, error(r));
-        ymax = std::max(ymax, error(r));
+namespace {
+
+constexpr IntegratorKind kKinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                     IntegratorKind::Xpbd};
+const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
+const QColor kMarkerColour(200, 0, 160);
+
+QString name(std::string_view text) { return QString::fromLatin1(text.data(), qsizetype(text.size())); }
+
+/// [low, high] widened by a third of a decade each way (dots clear of the frame), then towards the nearer
+/// power of ten until two lie inside: a log axis labels only those, and two labels give the scale.
+std::pair<double, double> logRange(double low, double high) {
+    double from = std::log10(low) - 0.15, to = std::log10(high) + 0.15;
+    while (std::floor(to) - std::ceil(from) < 1) {
+        const double below = std::ceil(from) - 1, above = std::floor(to) + 1;  // the next powers outside
+        if (from - below <= above - to)
+            from = below;
+        else
+            to = above;
     }
+    return {std::pow(10.0, from), std::pow(10.0, to)};
+}
+
+QLogValueAxis* logAxis(const QString& title, double low, double high, const QFont& font) {
+    auto* axis = new QLogValueAxis;
+    axis->setBase(10.0);
+    axis->setLabelFormat("%g");
+    axis->setMinorTickCount(8);  // 2..9 of each decade: where a point sits between powers of ten reads off
+    axis->setTitleText(title);
+    axis->setTitleFont(font);
+    axis->setLabelsFont(font);
+    const auto [from, to] = logRange(low, high);
+    // A hair beyond the range: the axis takes log(x)/log(10), which puts 0.01 at -1.9999999999999996, and
+    // then leaves a power of ten at the very edge unlabelled.
+    axis->setRange(from * (1 - 1e-9), to * (1 + 1e-9));
+    return axis;
+}
+
+/// A series in the chart but not in its legend (the front's rings repeat the front's line).
+void hideFromLegend(QChart* chart, QAbstractSeries* series) {
+    for (QLegendMarker* marker : chart->legend()->markers(series))
+        marker->setVisible(false);
+}
+
+}  // namespace
+
+StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker>& marker, StudyChartSize size) {
+    const bool dock = size == StudyChartSize::Dock;
+    setBackgroundRoundness(0);
+    QFont font;
+    font.setPixelSize(dock ? 11 : 13);
+    legend()->setFont(font);
+    legend()->setAlignment(dock ? Qt::AlignBottom : Qt::AlignRight);
+    if (dock) {
+        setMargins(QMargins(2, 2, 2, 2));  // the dock's own title names the chart
+    } else {
+        setTitle(QObject::tr("Speed against accuracy (every integrator × dt × lattice)"));
+        QFont title = font;
+        title.setPixelSize(16);
+        title.setBold(true);
+        setTitleFont(title);
+    }
+    const auto error = [&](const StudyRow& r) { return r.error(result.error); };
+
+    double xmin = std::numeric_limits<double>::max(), xmax = 0, ymin = std::numeric_limits<double>::max(), ymax = 0;
+    const auto extend = [&](double x, double y) {
+        xmin = std::min(xmin, x), xmax = std::max(xmax, x), ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+    };
+    for (const StudyRow& r : result.rows)
+        if (plottable(r, result.error))
+            extend(r.costPerSecond, error(r));
+    if (xmax <= 0)
+        return;
+    const bool marked = marker && marker->costPerSecond > 0 && marker->rmsError > 0;
+    if (marked)
+        extend(marker->costPerSecond, marker->rmsError);
     if (result.restError > 0)
         ymax = std::max(ymax, result.restError);  // doing nothing: the line every setting must stay well below
-    if (marker && marker->costPerSecond > 0 && marker->rmsError > 0) {
-        xmin = std::min(xmin, marker->costPerSecond);
-        xmax = std::max(xmax, marker->costPerSecond);
-        ymin = std::min(ymin, marker->rmsError);
-        ymax = std::max(ymax, marker->rmsError);
-    }
-    if (xmax <= 0)
-        return {};
-    const double lx0 = std::floor(std::log10(xmin)), lx1 = std::ceil(std::log10(xmax));
-    const double ly0 = std::floor(std::log10(ymin)), ly1 = std::ceil(std::log10(ymax));
-    auto X = [&](double v) { return left + (std::log10(v) - lx0) / std::max(1e-9, lx1 - lx0) * (W - left - right); };
-    auto Y = [&](double v) { return H - bottom - (std::log10(v) - ly0) / std::max(1e-9, ly1 - ly0) * (H - top - bottom); };
 
-    p.setPen(QColor(220, 220, 220));
-    QFont font = p.font();
-    font.setPixelSize(13);
-    p.setFont(font);
-    for (double e = lx0; e <= lx1; ++e) {
-        p.setPen(QColor(225, 225, 225));
-        p.drawLine(QPointF(X(std::pow(10, e)), top), QPointF(X(std::pow(10, e)), H - bottom));
-        p.setPen(Qt::black);
-        p.drawText(QRectF(X(std::pow(10, e)) - 40, H - bottom + 6, 80, 20), Qt::AlignCenter, QString("1e%1").arg(int(e)));
-    }
-    for (double e = ly0; e <= ly1; ++e) {
-        p.setPen(QColor(225, 225, 225));
-        p.drawLine(QPointF(left, Y(std::pow(10, e))), QPointF(W - right, Y(std::pow(10, e))));
-        p.setPen(Qt::black);
-        p.drawText(QRectF(0, Y(std::pow(10, e)) - 10, left - 8, 20), Qt::AlignRight | Qt::AlignVCenter, QString("1e%1").arg(int(e)));
-    }
-    p.setPen(QPen(Qt::black, 1.5));
-    p.drawRect(QRectF(left, top, W - left - right, H - top - bottom));
-    p.drawText(QRectF(left, H - 35, W - left - right, 25), Qt::AlignCenter, "cost: wall seconds per simulated second (log)");
-    p.save();
-    p.translate(22, (H - bottom + top) / 2.0);
-    p.rotate(-90);
-    p.drawText(QRectF(-250, -12, 500, 24), Qt::AlignCenter,
-               QString("%1 error / box diagonal (RMS, log)").arg(QString::fromLatin1(studyErrorName(result.error).data())));
-    p.restore();
-    font.setPixelSize(16);
-    font.setBold(true);
-    p.setFont(font);
-    p.drawText(QRectF(left, 10, W - left - right, 30), Qt::AlignCenter, "Speed against accuracy (every integrator x dt x lattice)");
-    font.setPixelSize(13);
-    font.setBold(false);
-    p.setFont(font);
+    const QString errorKind = name(analysis::studyErrorName(result.error));
+    auto* x = logAxis(dock ? QObject::tr("cost (s per simulated s)") : QObject::tr("cost: wall seconds per simulated second"), xmin, xmax, font);
+    auto* y = logAxis(dock ? QObject::tr("%1 error / diagonal").arg(errorKind)
+                           : QObject::tr("%1 error / box diagonal (RMS)").arg(errorKind),
+                      ymin, ymax, font);
+    addAxis(x, Qt::AlignBottom);
+    addAxis(y, Qt::AlignLeft);
+    const auto add = [&](QXYSeries* series) {
+        addSeries(series);
+        series->attachAxis(x);
+        series->attachAxis(y);
+    };
 
-    const QColor colours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
-    const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
-                                    IntegratorKind::Xpbd};
-    std::vector<const StudyRow*> front;
     if (result.restError > 0) {
-        p.setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DotLine));
-        p.drawLine(QPointF(left, Y(result.restError)), QPointF(W - right, Y(result.restError)));
-        p.setPen(QColor(90, 90, 90));
-        p.drawText(QRectF(left + 6, Y(result.restError) - 20, 400, 18), Qt::AlignLeft,
-                   QString("doing nothing (the rest pose): %1").arg(result.restError, 0, 'g', 3));
+        auto* rest = new QLineSeries;
+        rest->setName((dock ? QObject::tr("doing nothing: %1") : QObject::tr("doing nothing (the rest pose): %1")).arg(result.restError, 0, 'g', 3));
+        rest->setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DotLine));
+        rest->append(x->min(), result.restError);
+        rest->append(x->max(), result.restError);
+        add(rest);
+        if (dock) {  // named on the line itself: the dock's legend has room for the integrators only
+            hideFromLegend(this, rest);
+            auto* label = new QScatterSeries;
+            label->setMarkerSize(0.1);
+            label->append(std::sqrt(x->min() * x->max()), result.restError);
+            label->setPointLabelsFormat(rest->name());
+            label->setPointLabelsColor(QColor(90, 90, 90));
+            label->setPointLabelsFont(font);
+            label->setPointLabelsVisible(true);
+            add(label);
+            hideFromLegend(this, label);
+        }
     }
-    for (const auto& r : result.rows) {
-        if (!r.finite || r.costPerSecond <= 0 || error(r) <= 0)
+    QScatterSeries* byKind[std::size(kKinds)] = {};
+    for (std::size_t k = 0; k < std::size(kKinds); ++k) {
+        byKind[k] = new QScatterSeries;
+        byKind[k]->setName(name(integratorName(kKinds[k])));
+        byKind[k]->setColor(kColours[k]);
+        byKind[k]->setBorderColor(kColours[k]);
+        byKind[k]->setMarkerSize(dock ? 8 : 9);
+        add(byKind[k]);
+    }
+    std::vector<int> front;
+    for (int i = 0; i < int(result.rows.size()); ++i) {
+        const StudyRow& r = result.rows[std::size_t(i)];
+        if (!plottable(r, result.error))
             continue;
-        const int k = int(std::find(std::begin(kinds), std::end(kinds), r.integrator) - std::begin(kinds));
-        p.setPen(Qt::NoPen);
-        p.setBrush(colours[k % 4]);
-        p.drawEllipse(QPointF(X(r.costPerSecond), Y(error(r))), 4.5, 4.5);
+        const auto k = std::size_t(std::find(std::begin(kKinds), std::end(kKinds), r.integrator) - std::begin(kKinds)) % std::size(kKinds);
+        const QPointF value(r.costPerSecond, error(r));
+        byKind[k]->append(value);
+        m_points.push_back({i, value, byKind[k]});
         if (r.pareto)
-            front.push_back(&r);
+            front.push_back(i);
     }
-    std::sort(front.begin(), front.end(), [](auto* a, auto* b) { return a->costPerSecond < b->costPerSecond; });
-    if (front.size() > 1) {
-        QPainterPath line(QPointF(X(front[0]->costPerSecond), Y(error(*front[0]))));
-        for (auto* r : front)
-            line.lineTo(X(r->costPerSecond), Y(error(*r)));
-        p.setBrush(Qt::NoBrush);
-        p.setPen(QPen(Qt::black, 2, Qt::DashLine));
-        p.drawPath(line);
+    std::sort(front.begin(), front.end(), [&](int a, int b) {
+        return result.rows[std::size_t(a)].costPerSecond < result.rows[std::size_t(b)].costPerSecond;
+    });
+    if (!front.empty()) {
+        auto* line = new QLineSeries;
+        line->setName(QObject::tr("Pareto front"));
+        line->setPen(QPen(Qt::black, 2, Qt::DashLine));
+        auto* rings = new QScatterSeries;
+        rings->setMarkerSize(16);
+        rings->setBrush(Qt::NoBrush);
+        rings->setPen(QPen(Qt::black, 1.5));
+        for (int i : front) {
+            const StudyRow& r = result.rows[std::size_t(i)];
+            line->append(r.costPerSecond, error(r));
+            rings->append(r.costPerSecond, error(r));
+        }
+        add(line);
+        add(rings);
+        hideFromLegend(this, rings);
+        if (dock)
+            hideFromLegend(this, line);  // the dock's text says the ringed dots are the front
     }
-    for (auto* r : front) {
-        p.setPen(QPen(Qt::black, 1.5));
-        p.setBrush(Qt::NoBrush);
-        p.drawEllipse(QPointF(X(r->costPerSecond), Y(error(*r))), 7.5, 7.5);
+    if (marked) {
+        auto* mark = new QScatterSeries;
+        mark->setName(QObject::tr("current settings"));
+        mark->setMarkerShape(QScatterSeries::MarkerShapeStar);
+        mark->setMarkerSize(22);
+        mark->setColor(kMarkerColour);
+        mark->setBorderColor(kMarkerColour);
+        mark->append(marker->costPerSecond, marker->rmsError);
+        mark->setPointLabelsFormat(QString::fromStdString(marker->label));
+        mark->setPointLabelsColor(kMarkerColour);
+        mark->setPointLabelsVisible(!marker->label.empty());
+        add(mark);
+        if (dock)
+            hideFromLegend(this, mark);  // labelled on the chart
     }
-    for (int k = 0; k < 4; ++k) {
-        p.setPen(Qt::NoPen);
-        p.setBrush(colours[k]);
-        p.drawEllipse(QPointF(W - right + 25, top + 20 + 24 * k), 5, 5);
-        p.setPen(Qt::black);
-        p.drawText(QPointF(W - right + 38, top + 25 + 24 * k), QString::fromLatin1(integratorName(kinds[k]).data()));
+}
+
+int StudyChart::rowAt(QPointF position, double radius) const {
+    auto* self = const_cast<StudyChart*>(this);  // QChart::mapToPosition only reads, but is not const
+    int best = -1;
+    double bestDistance = radius;
+    for (const Point& p : m_points) {
+        const double d = QLineF(self->mapToPosition(p.value, p.series), position).length();
+        if (d <= bestDistance)
+            best = p.row, bestDistance = d;
     }
-    p.setPen(QPen(Qt::black, 2, Qt::DashLine));
-    p.drawLine(QPointF(W - right + 15, top + 125), QPointF(W - right + 35, top + 125));
-    p.setPen(Qt::black);
-    p.drawText(QPointF(W - right + 38, top + 130), "Pareto front");
-    if (marker && marker->costPerSecond > 0 && marker->rmsError > 0) {
-        const QPointF at(X(marker->costPerSecond), Y(marker->rmsError));
-        p.setPen(QPen(QColor(200, 0, 160), 3));
-        p.setBrush(Qt::NoBrush);
-        p.drawLine(at + QPointF(-11, 0), at + QPointF(11, 0));
-        p.drawLine(at + QPointF(0, -11), at + QPointF(0, 11));
-        p.drawEllipse(at, 9, 9);
-        p.drawText(QRectF(at.x() + 12, at.y() - 24, 260, 20), Qt::AlignLeft, QString::fromStdString(marker->label));
-        p.drawLine(QPointF(W - right + 17, top + 150), QPointF(W - right + 33, top + 150));
-        p.drawLine(QPointF(W - right + 25, top + 142), QPointF(W - right + 25, top + 158));
-        p.setPen(Qt::black);
-        p.drawText(QPointF(W - right + 38, top + 155), "current settings");
+    return best;
+}
+
+QPointF StudyChart::positionOf(int row) const {
+    const auto it = std::find_if(m_points.begin(), m_points.end(), [row](const Point& p) { return p.row == row; });
+    return it == m_points.end() ? QPointF() : const_cast<StudyChart*>(this)->mapToPosition(it->value, it->series);
+}
+
+QImage renderStudyPlot(const StudyResult& result, int width, int height, const std::optional<PlotMarker>& marker) {
+    QGraphicsScene scene;
+    auto* chart = new StudyChart(result, marker, StudyChartSize::Picture);  // the scene owns it
+    if (!chart->hasPoints()) {
+        delete chart;
+        return {};
     }
-    p.end();
+    scene.addItem(chart);
+    chart->setGeometry(QRectF(0, 0, width, height));
+    scene.setSceneRect(0, 0, width, height);
+    QImage image(width, height, QImage::Format_RGB32);
+    image.fill(Qt::white);
+    QPainter painter(&image);
+    painter.setRenderHint(QPainter::Antialiasing);
+    scene.render(&painter, QRectF(0, 0, width, height), QRectF(0, 0, width, height));
+    painter.end();
     return image;
 }
 

@@ -1,14 +1,17 @@
 #pragma once
-/// The study's error-against-cost plot (log-log, one colour per integrator, the Pareto front joined
-/// by a line), drawn with Qt's raster painter on a QImage: written to a PNG by `softtouch-cli study`,
-/// and shown by the editor with the current settings marked on it.
+/// The study's error-against-cost chart (log-log, one colour per integrator, the Pareto front joined by a
+/// line, the do-nothing line, the current setting marked), built once with Qt Charts: the editor's Study
+/// dock shows it in a StudyChartView (hover a point, click to use it) and `softtouch-bench study` renders
+/// the same chart to study.png.
 
 #include "analysis/study.h"
 
+#include <QChart>
 #include <QImage>
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace softtouch::ui {
 
@@ -19,12 +22,42 @@ struct PlotMarker {
     std::string label;           ///< Shown beside the mark.
 };
 
-/// Draws the plot at the given size (pixels). Needs a QGuiApplication for text. A null image when no
-/// row is finite.
+/// Whether `row` has a place on the log-log chart (finite, measured cost and error above zero: the
+/// reference lattice's model error is 0).
+bool plottable(const analysis::StudyRow& row, analysis::StudyError error);
+
+/// Where the chart is shown: a picture of its own (study.png: legend on the right, full axis titles) or
+/// the editor's dock (legend below, short titles, small text: the plot keeps most of a narrow dock).
+enum class StudyChartSize { Picture, Dock };
+
+/// The chart of one study. Needs a QApplication (Qt Charts draws through QGraphicsWidget).
+class StudyChart : public QChart {
+public:
+    /// An empty chart when no row is plottable (hasPoints() false).
+    StudyChart(const analysis::StudyResult& result, const std::optional<PlotMarker>& marker, StudyChartSize size);
+
+    bool hasPoints() const { return !m_points.empty(); }
+    /// The study row (index into result.rows) drawn nearest `position` (chart item coordinates) within
+    /// `radius` pixels, or -1.
+    int rowAt(QPointF position, double radius) const;
+    /// Where row `row` is drawn (chart item coordinates); only for a row plottable() in the chart's error.
+    QPointF positionOf(int row) const;
+
+private:
+    struct Point {
+        int row;
+        QPointF value;              ///< (cost per second, error)
+        QAbstractSeries* series;    ///< The series it is drawn in (mapToPosition needs it).
+    };
+    std::vector<Point> m_points;
+};
+
+/// Renders the chart at the given size (pixels), titled, on white. Needs a QApplication (headless: the
+/// offscreen platform, app/cli_offscreen_gui.h). A null image when no row is plottable.
 QImage renderStudyPlot(const analysis::StudyResult& result, int width, int height, const std::optional<PlotMarker>& marker = {});
 
-/// Writes the 1000x700 plot as a PNG atomically (needs a QGuiApplication; headless:
-/// app/cli_offscreen_gui.h); returns an empty string or the reason it failed.
+/// Writes the 1000x700 plot as a PNG atomically (needs a QApplication); returns an empty string or the
+/// reason it failed.
 std::string writeStudyPlot(const analysis::StudyResult& result, const std::string& path);
 
 }  // namespace softtouch::ui

@@ -15,6 +15,7 @@
 #include "ui/main_window.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
+#include "ui/study_chart_view.h"
 #include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
@@ -27,6 +28,7 @@
 #include <QScrollArea>
 #include <QAbstractSpinBox>
 #include <QSlider>
+#include <QStackedWidget>
 #include <QLineEdit>
 #include <QDir>
 #include <QFileInfo>
@@ -2056,7 +2058,9 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(study->hasStudy());
     QVERIFY(!study->isMeasuring());
     QVERIFY(!study->study().cancelled);
-    QVERIFY(!study->findChild<QLabel*>("studyPlot")->pixmap().isNull());
+    auto* chart = study->findChild<StudyChartView*>("studyPlot");
+    QVERIFY(chart != nullptr && chart->studyChart()->hasPoints());
+    QCOMPARE(static_cast<QStackedWidget*>(chart->parentWidget())->currentWidget(), chart);
     // The clip moves the mesh, so doing nothing has a price the settings are compared with.
     QVERIFY(study->study().motionAmplitude > 0.0 && study->study().restError > 0.0);
 
@@ -2070,7 +2074,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY2(text->text().contains("Current"), qPrintable(text->text()));
     // Nothing is laid over the plot, in a short window too: the dock scrolls instead (its minimum height
     // once left the wrapped text out, and the text covered the plot's axis labels).
-    auto* plot = study->findChild<QLabel*>("studyPlot");
+    QWidget* plot = chart->parentWidget();  // the chart's place in the dock (its note before a measurement)
     const auto textBelowPlot = [&] {
         QApplication::processEvents();
         return plot->geometry().bottom() < text->geometry().top();
@@ -2149,6 +2153,45 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
              qPrintable(QString("re-measured %1, target %2").arg(study->remeasured()->total).arg(study->target())));
     QVERIFY2(check->text().contains("Re-measured"), qPrintable(check->text()));
 
+    // A dot on the chart names its setting under the pointer, and a click on it uses that setting: one
+    // undo step, re-measured like the dock's own pick.
+    auto* pointer = study->findChild<QLabel*>("studyPointer");
+    w.findChild<QDockWidget*>("studyDock")->raise();
+    QTRY_VERIFY(chart->isVisible());
+    QApplication::processEvents();  // laid out at its shown size
+    // A measured setting other than the current one, drawn clear of every other dot.
+    const auto& rows = study->study().rows;
+    const auto clear = [&](int r) {
+        for (int o = 0; o < int(rows.size()); ++o)
+            if (o != r && plottable(rows[std::size_t(o)], study->study().error) &&
+                QLineF(chart->viewportPositionOf(o), chart->viewportPositionOf(r)).length() < 3 * StudyChartView::kPickRadius)
+                return false;
+        return true;
+    };
+    int other = -1;
+    for (int r = 0; r < int(rows.size()) && other < 0; ++r)
+        if (plottable(rows[std::size_t(r)], study->study().error) && !rows[std::size_t(r)].current && clear(r))
+            other = r;
+    QVERIFY(other >= 0);
+    const analysis::StudyRow clicked = rows[std::size_t(other)];
+    QTest::mouseMove(chart->viewport(), chart->viewportPositionOf(other));
+    QTRY_COMPARE(chart->hoveredRow(), other);
+    QVERIFY2(pointer->text().contains(QString("1/%1 s, %2").arg(std::lround(1.0 / clicked.dt)).arg(QString::fromStdString(clicked.resolution))) &&
+                 pointer->text().contains("Click to use it"),
+             qPrintable(pointer->text()));
+    QTest::mouseClick(chart->viewport(), Qt::LeftButton, {}, chart->viewportPositionOf(other));
+    QCOMPARE(undo->count(), steps + 2);
+    QCOMPARE(scene.world.simulation.integrator, clicked.integrator);
+    QCOMPARE(scene.world.simulation.dt, clicked.dt);
+    QVERIFY(scene.objects[0].lattice.shape().nodes == clicked.lattice.nodes);
+    QVERIFY(study->isMeasuring());
+    QVERIFY(done.wait(kStudyWaitMs));
+    QVERIFY(study->remeasured().has_value());
+    QVERIFY(!study->isOutOfDate());
+    undo->undo();  // back to the dock's own pick
+    QCOMPARE(scene.world.simulation.dt, pick.dt);
+    QCOMPARE(scene.world.simulation.integrator, pick.integrator);
+
     // Undo restores the world and the lattice together; the measurement is then out of date and says so.
     undo->undo();
     QCOMPARE(scene.world.simulation.integrator, worldBefore.simulation.integrator);
@@ -2161,6 +2204,14 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(study->currentRow() == current);  // the mark follows the scene back
     QVERIFY(!apply->isEnabled());
     QCOMPARE(measure->text(), QString("Measure again"));
+    // Out of date, a dot still names its setting but says why it cannot be used, and a click does nothing.
+    QTest::mouseMove(chart->viewport(), chart->viewportPositionOf(other) + QPoint(2, 1));
+    QTRY_COMPARE(chart->hoveredRow(), other);
+    QVERIFY2(pointer->text().contains("Measure again"), qPrintable(pointer->text()));
+    const int stepsNow = undo->count();
+    QTest::mouseClick(chart->viewport(), Qt::LeftButton, {}, chart->viewportPositionOf(other));
+    QCOMPARE(undo->count(), stepsNow);
+    QVERIFY(!study->isMeasuring());
 }
 
 // Cancel stops a measurement after its current run and keeps nothing; closing the window while one runs

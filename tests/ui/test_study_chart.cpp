@@ -1,0 +1,193 @@
+// The study's chart (ui/study_plot.h, ui/study_chart_view.h) on a made-up study, without a scene: every
+// plottable row is drawn where its cost and error put it, in the PNG `softtouch-bench study` writes as
+// in the editor's view; the pointer on a dot names that row and a click picks it.
+
+#include "ui/study_chart_view.h"
+
+#include <QApplication>
+#include <QGraphicsScene>
+#include <QLegendMarker>
+#include <QLineSeries>
+#include <QScatterSeries>
+#include <QSignalSpy>
+#include <QTest>
+
+#include <cmath>
+#include <map>
+
+using namespace softtouch;
+using namespace softtouch::ui;
+
+namespace {
+
+/// Twelve rows, three per integrator, spread over three decades of cost and two of error (no two drawn
+/// within a few pixels of each other), plus one that blew up and one measured at no cost.
+analysis::StudyResult madeUpStudy() {
+    analysis::StudyResult result;
+    const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                    IntegratorKind::Xpbd};
+    for (int i = 0; i < 12; ++i) {
+        analysis::StudyRow r;
+        r.integrator = kinds[i % 4];
+        r.dt = 1.0 / (24 << (i % 3));
+        r.lattice = LatticeShape{LatticeKind::Bezier, {3 + i / 4, 3 + i / 4, 3 + i / 4}};
+        r.costPerSecond = 1e-4 * std::pow(10.0, 3.0 * i / 11.0);
+        r.rmsError = 5e-2 * std::pow(10.0, -2.0 * ((i * 5) % 12) / 11.0);  // not monotonic: a real front
+        r.timeError = r.rmsError / 2;
+        r.modelError = i == 11 ? 0.0 : r.rmsError / 3;  // the reference lattice has no model error
+        result.rows.push_back(r);
+    }
+    analysis::StudyRow blewUp = result.rows[0];
+    blewUp.finite = false;
+    result.rows.push_back(blewUp);
+    result.restError = 0.08;
+    result.motionAmplitude = 0.1;
+    analysis::markPareto(result);
+    return result;
+}
+
+/// Dots in the integrators' series (the front's rings and the marker are series of their own).
+int plottedPoints(const QChart& chart) {
+    int points = 0;
+    for (QAbstractSeries* s : chart.series())
+        for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                       IntegratorKind::Xpbd})
+            if (s->name() == QString::fromLatin1(integratorName(k).data()))
+                points += int(static_cast<QScatterSeries*>(s)->count());
+    return points;
+}
+
+/// How near `image` comes to `colour` within `radius` pixels of `at` (sum of channel differences).
+int nearestColour(const QImage& image, QPoint at, const QColor& colour, int radius) {
+    int best = 3 * 255;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+            const QColor c = image.pixelColor(at + QPoint(dx, dy));
+            best = std::min(best, std::abs(c.red() - colour.red()) + std::abs(c.green() - colour.green()) +
+                                      std::abs(c.blue() - colour.blue()));
+        }
+    return best;
+}
+
+}  // namespace
+
+class TestStudyChart : public QObject {
+    Q_OBJECT
+private slots:
+    // Every finite row with an error above zero is one dot, in its integrator's series; the front is the
+    // rows markPareto flagged, joined in order of cost; the marker is its own series.
+    void chartHoldsEveryPlottableRow() {
+        analysis::StudyResult result = madeUpStudy();
+        for (const analysis::StudyError kind : {analysis::StudyError::Total, analysis::StudyError::Model}) {
+            result.error = kind;
+            analysis::markPareto(result);
+            int expected = 0, front = 0;
+            for (const analysis::StudyRow& r : result.rows) {
+                expected += plottable(r, kind) ? 1 : 0;
+                front += r.pareto && plottable(r, kind) ? 1 : 0;  // a model error of 0 is on the front, off a log axis
+            }
+            QCOMPARE(expected, kind == analysis::StudyError::Model ? 11 : 12);
+            const StudyChart chart(result, PlotMarker{1e-3, 1e-2, "current"}, StudyChartSize::Dock);
+            QVERIFY(chart.hasPoints());
+            QCOMPARE(plottedPoints(chart), expected);
+            int frontPoints = -1, markers = 0;
+            for (QAbstractSeries* s : chart.series()) {
+                if (s->name() == "Pareto front")
+                    frontPoints = int(static_cast<QLineSeries*>(s)->count());
+                if (s->name() == "current settings")
+                    markers = int(static_cast<QScatterSeries*>(s)->count());
+            }
+            QVERIFY(front >= 2);
+            QCOMPARE(frontPoints, front);
+            QCOMPARE(markers, 1);
+        }
+        // Nothing plottable: no chart, and no PNG (the CLI says so rather than write an empty plot).
+        analysis::StudyResult blewUp = madeUpStudy();
+        for (analysis::StudyRow& r : blewUp.rows)
+            r.finite = false;
+        QVERIFY(!StudyChart(blewUp, std::nullopt, StudyChartSize::Picture).hasPoints());
+        QVERIFY(renderStudyPlot(blewUp, 400, 300).isNull());
+        QVERIFY(!writeStudyPlot(blewUp, QDir::temp().filePath("never.png").toStdString()).empty());
+    }
+
+    // The headless PNG is the laid-out chart: at each row's position there is its integrator's colour,
+    // and a row higher in error is drawn higher, a costlier one further right.
+    void renderedPlotDrawsEachRowWhereItBelongs() {
+        const analysis::StudyResult result = madeUpStudy();
+        const QImage image = renderStudyPlot(result, 1000, 700);
+        QCOMPARE(image.size(), QSize(1000, 700));
+        // The same chart laid out at that size gives the positions (renderStudyPlot puts it at the origin).
+        QGraphicsScene scene;
+        auto* chart = new StudyChart(result, std::nullopt, StudyChartSize::Picture);
+        scene.addItem(chart);
+        chart->setGeometry(QRectF(0, 0, 1000, 700));
+        const QRectF plot = chart->plotArea();
+        QVERIFY2(plot.width() > 500 && plot.height() > 400, "the axes take most of the picture");
+        std::map<IntegratorKind, QColor> colours;
+        for (QAbstractSeries* s : chart->series())
+            if (auto* scatter = qobject_cast<QScatterSeries*>(s))
+                for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                               IntegratorKind::Xpbd})
+                    if (scatter->name() == QString::fromLatin1(integratorName(k).data()))
+                        colours[k] = scatter->color();
+        QCOMPARE(int(colours.size()), 4);
+        for (int i = 0; i < 12; ++i) {
+            const QPointF at = chart->positionOf(i);
+            QVERIFY2(plot.adjusted(-1, -1, 1, 1).contains(at), qPrintable(QString("row %1 at %2, %3").arg(i).arg(at.x()).arg(at.y())));
+            // The dot's colour within its radius (the front's dashed line may run through its centre).
+            const QColor want = colours[result.rows[std::size_t(i)].integrator];
+            const int distance = nearestColour(image, at.toPoint(), want, 3);
+            QVERIFY2(distance < 30, qPrintable(QString("row %1: nothing of its series' %2 near it").arg(i).arg(want.name())));
+            // Far from every dot (between two decades of error, above the plot's top row) there is none of it.
+            QVERIFY(nearestColour(image, QPoint(int(at.x()), int(plot.top()) + 2), want, 1) >= 30 ||
+                    std::abs(at.y() - plot.top()) < 12);
+            if (i > 0) {
+                QVERIFY(at.x() > chart->positionOf(i - 1).x());
+                const bool higher = result.rows[std::size_t(i)].rmsError > result.rows[std::size_t(i - 1)].rmsError;
+                QCOMPARE(at.y() < chart->positionOf(i - 1).y(), higher);
+            }
+        }
+        // The row that blew up has no place.
+        QCOMPARE(chart->rowAt(chart->positionOf(0), 1.0), 0);
+        QVERIFY(chart->positionOf(12).isNull());
+    }
+
+    // In the editor's view: the pointer on a dot reports that row, off every dot none; a click on a dot
+    // picks its row and a click beside the dots picks nothing.
+    void pointerAndClickPickARow() {
+        const analysis::StudyResult result = madeUpStudy();
+        StudyChartView view;
+        view.resize(900, 600);
+        view.setStudy(result, PlotMarker{2e-3, 3e-3, "current"});
+        view.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&view));
+        QSignalSpy hovered(&view, &StudyChartView::hovered);
+        QSignalSpy clicked(&view, &StudyChartView::clicked);
+        for (const int row : {0, 5, 11}) {
+            const QPoint at = view.viewportPositionOf(row);
+            QVERIFY(view.viewport()->rect().contains(at));
+            QTest::mouseMove(view.viewport(), at + QPoint(3, -2));
+            QTRY_COMPARE(view.hoveredRow(), row);
+            QCOMPARE(hovered.last().at(0).toInt(), row);
+            QTest::mouseClick(view.viewport(), Qt::LeftButton, {}, at);
+            QCOMPARE(clicked.count(), 1);
+            QCOMPARE(clicked.takeFirst().at(0).toInt(), row);
+        }
+        // Top left of the plot area: far from every dot (errors there are above every row's).
+        const QPoint empty = view.mapFromScene(view.chart()->mapToScene(view.chart()->plotArea().topLeft() + QPointF(4, 4)));
+        QTest::mouseMove(view.viewport(), empty);
+        QTRY_COMPARE(view.hoveredRow(), -1);
+        QCOMPARE(hovered.last().at(0).toInt(), -1);
+        QTest::mouseClick(view.viewport(), Qt::LeftButton, {}, empty);
+        QCOMPARE(clicked.count(), 0);
+    }
+};
+
+int main(int argc, char** argv) {
+    qputenv("QT_QPA_PLATFORM", "offscreen");  // widgets without a display; the chart needs no OpenGL
+    QApplication app(argc, argv);
+    TestStudyChart test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_study_chart.moc"
