@@ -7,6 +7,7 @@
 #include "io/vertex_cache_internal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace softtouch::io::document {
@@ -40,6 +41,8 @@ bool readHeader(const JsonValue& root, const char* format, int maxVersion) {
 
 // --- Per-node maps and node selections. --------------------------------------------------------
 
+namespace {
+
 /// A per-node field: one number for every node, or an array of one number per node (i fastest).
 void readPerNode(const JsonValue& v, std::vector<double>& out, double lo, double hi, const char* unit) {
     if (!v.exists())
@@ -60,6 +63,7 @@ void readPerNode(const JsonValue& v, std::vector<double>& out, double lo, double
         out.assign(out.size(), *x);
 }
 
+/// A per-node field as written: one number when every node has it, else the array.
 json perNode(const std::vector<double>& values) {
     bool uniform = true;
     for (double v : values)
@@ -69,6 +73,7 @@ json perNode(const std::vector<double>& values) {
     return values;
 }
 
+/// A node's [i, j, k], checked against the lattice.
 std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice) {
     const auto c = v.int3(0, 1000000, true);
     if (!c)
@@ -82,6 +87,18 @@ std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& la
     }
     return c;
 }
+
+/// Nodes as a list of [i, j, k].
+json nodeList(const Lattice& lattice, const std::vector<int>& nodes) {
+    json list = json::array();
+    for (int n : nodes) {
+        const auto c = lattice.coords(n);
+        list.push_back(json::array({c[0], c[1], c[2]}));
+    }
+    return list;
+}
+
+}  // namespace
 
 /// Nodes selected by {"nodes": [[i,j,k],…]} or {"region": {"min": [u,v,w], "max": [u,v,w]}}.
 std::vector<int> readNodeSelection(const JsonValue& v, const Lattice& lattice) {
@@ -111,15 +128,6 @@ std::vector<int> readNodeSelection(const JsonValue& v, const Lattice& lattice) {
     if (!v["nodes"].exists() && !v["region"].exists())
         v.problem("expected \"nodes\" or \"region\"");
     return nodes;
-}
-
-json nodeList(const Lattice& lattice, const std::vector<int>& nodes) {
-    json list = json::array();
-    for (int n : nodes) {
-        const auto c = lattice.coords(n);
-        list.push_back(json::array({c[0], c[1], c[2]}));
-    }
-    return list;
 }
 
 /// An "anchors" array: groups of nodes (by list or region) with a mode, pinned or heavy.
@@ -392,6 +400,9 @@ json latticeJson(const LatticeShape& shape, const OrientedBox& box) {
 
 // --- Drivers. ----------------------------------------------------------------------------------
 
+namespace {
+
+/// One driver, validated (problems reported at its pointer).
 std::optional<Driver> readDriver(const JsonValue& v) {
     if (!v.expectObject(true))
         return std::nullopt;
@@ -436,6 +447,8 @@ std::optional<Driver> readDriver(const JsonValue& v) {
     v["type"].problem("expected \"swim\" or \"drag\", got \"" + *type + "\"");
     return std::nullopt;
 }
+
+}  // namespace
 
 /// A "drivers" array, each driver validated (problems reported at its pointer).
 void readDrivers(const JsonValue& drivers, std::vector<Driver>& out) {

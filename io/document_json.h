@@ -12,7 +12,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <filesystem>
 #include <optional>
 #include <vector>
@@ -39,16 +38,8 @@ bool declaresSetup(const nlohmann::json& doc);
 /// Checks "format" and "version" of a document.
 bool readHeader(const JsonValue& root, const char* format, int maxVersion);
 
-/// A per-node field: one number for every node, or an array of one number per node (i fastest).
-void readPerNode(const JsonValue& v, std::vector<double>& out, double lo, double hi, const char* unit);
-/// A per-node field as written: one number when every node has it, else the array.
-nlohmann::json perNode(const std::vector<double>& values);
-/// A node's [i, j, k], checked against the lattice.
-std::optional<std::array<int, 3>> readNode(const JsonValue& v, const Lattice& lattice);
 /// Nodes selected by {"nodes": [[i,j,k],…]} or {"region": {"min": [u,v,w], "max": [u,v,w]}}.
 std::vector<int> readNodeSelection(const JsonValue& v, const Lattice& lattice);
-/// Nodes as a list of [i, j, k].
-nlohmann::json nodeList(const Lattice& lattice, const std::vector<int>& nodes);
 /// An "anchors" array: groups of nodes (by list or region) with a mode, pinned or heavy.
 void readAnchors(const JsonValue& anchors, const Lattice& lattice, std::vector<AnchorMode>& out);
 
@@ -67,8 +58,6 @@ nlohmann::json vec(const Vec3& v);
 /// A lattice as written: kind, nodes per axis and its box.
 nlohmann::json latticeJson(const LatticeShape& shape, const OrientedBox& box);
 
-/// One driver, validated (problems reported at its pointer).
-std::optional<Driver> readDriver(const JsonValue& v);
 /// A "drivers" array, each driver validated.
 void readDrivers(const JsonValue& drivers, std::vector<Driver>& out);
 nlohmann::json driverJson(const Driver& driver);
