@@ -134,7 +134,7 @@ int pushOut(ContactBody& a, ContactBody& b, const BodyCollisionSettings& setting
             BodyContactPass* pass) {
     const auto [lo, hi] = allNodeBounds(*b.state);
     const AffineGuess guess = fitAffine(*b.lattice, b.state->position);
-    const ContactPoints& points = a.model->contactPoints;
+    const ContactPoints& points = a.model->contacts();
     const bool atNodes = points.size() == 0;
     const std::size_t count = atNodes ? a.model->nodeCount() : points.size();
     known.resize(count, -1);

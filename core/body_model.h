@@ -54,7 +54,9 @@ struct BodyDescription {
                                          ///< [0, 1e6]. Empty means none.
     StrainLimits strainLimits;           ///< Stretch and squash limits of every spring; off by default.
     VolumeConstraint volume;             ///< Volume preservation (core/volume_preservation.h); off by default.
-    ContactPoints contactPoints;         ///< Where colliders are tested; empty: at the nodes.
+    /// Where colliders are tested; null or empty: at the nodes. Shared, not copied: the points depend on
+    /// the mesh and lattice only, so every body rebuilt on them (a material edit) keeps the same ones.
+    std::shared_ptr<const ContactPoints> contactPoints;
 };
 
 /// Immutable, validated body.
@@ -70,8 +72,8 @@ struct BodyModel {
     std::vector<double> nodeDamping;     ///< d_i, N·s/m on absolute velocity (the paper's D); 0 for void nodes.
     StrainLimits strainLimits;           ///< Held after every substep (core/strain_limits.h); off by default.
     VolumeConstraint volume;             ///< Kept after every substep (core/volume_preservation.h); off by default.
-    ContactPoints contactPoints;         ///< Mesh surface points colliders are tested at (core/colliders.h);
-                                         ///< empty: the nodes themselves.
+    /// Mesh surface points colliders are tested at (core/colliders.h); null or empty: the nodes themselves.
+    std::shared_ptr<const ContactPoints> contactPoints;
     bool anyNodeDamping = false;         ///< Some d_i > 0 (otherwise the force pass skips the term).
     bool anySpringDamping = false;       ///< Some spring has c > 0 (otherwise the energy account skips it); filled by build.
     double maxNodeDampingRate = 0.0;     ///< Largest d_i / m_i over free nodes (1/s); filled by build.
@@ -80,6 +82,11 @@ struct BodyModel {
     double maxInverseMass = 0.0;         ///< Largest inverse mass of a free node (1/kg); filled by build.
 
     std::size_t nodeCount() const { return restPositions.size(); }
+    /// The contact points; none (size 0) when colliders are tested at the nodes.
+    const ContactPoints& contacts() const {
+        static const ContactPoints none;
+        return contactPoints ? *contactPoints : none;
+    }
 };
 
 /// Validates a description and builds the model (drops void springs, computes inverse masses and

@@ -188,7 +188,7 @@ ColliderPass resolveColliders(const BodyModel& model, std::span<const Collider> 
                               double restingSpeed, std::vector<ColliderImpulses>& impulses) {
     ColliderPass pass;
     const auto [lo, hi] = nodeBounds(model, state);  // see collidersMayTouch
-    const ContactPoints& points = model.contactPoints;
+    const ContactPoints& points = model.contacts();
     const bool atNodes = points.size() == 0;
     const std::size_t count = atNodes ? model.nodeCount() : points.size();
     // k = Σ_j w_j² m_j⁻¹: how point q's velocity answers an impulse on it (m⁻¹ of a node itself).

@@ -349,8 +349,8 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
     }
     if (mesh && !mesh->positions.empty()) {
         if (!derived.contactPoints)
-            derived.contactPoints = meshContactPoints(lattice, *mesh);
-        d.contactPoints = *derived.contactPoints;
+            derived.contactPoints = std::make_shared<const ContactPoints>(meshContactPoints(lattice, *mesh));
+        d.contactPoints = derived.contactPoints;
     }
     if (largestVolumePreservation(material) > 0.0) {
         // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).

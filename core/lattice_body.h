@@ -123,7 +123,7 @@ SpringCounts countSprings(const std::vector<Spring>& springs);
 /// points and the volume samples' occupancy. Each is computed on first need and kept, so bodies rebuilt
 /// on the same mesh and lattice (the editor's material edits) do not compute them again.
 struct MeshLatticeCache {
-    std::optional<ContactPoints> contactPoints;
+    std::shared_ptr<const ContactPoints> contactPoints;
     std::optional<std::vector<double>> volumeOccupancy;  ///< Empty without a closed mesh.
 };
 

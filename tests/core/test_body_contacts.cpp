@@ -166,7 +166,7 @@ private slots:
                 for (int b = 0; b < 2; ++b)
                     sim.evaluate(std::size_t(b), deformed[std::size_t(b)], normals, 1);
                 for (int b = 0; b < 2; ++b) {
-                    const ContactPoints& points = sim.simulator(std::size_t(b)).model().contactPoints;
+                    const ContactPoints& points = sim.simulator(std::size_t(b)).model().contacts();
                     // Only a point inside the other mesh's bounding box can be inside the mesh.
                     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
                     for (const Vec3f& v : deformed[std::size_t(1 - b)]) {

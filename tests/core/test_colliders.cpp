@@ -211,7 +211,7 @@ private slots:
         QVERIFY(c.validate().ok());
         const Ball ball(Vec3(0, 0.04, 0));  // 0.15 m above the collider's top (y = -0.15)
         const auto body = ball.body();
-        QVERIFY(body->contactPoints.size() > 100);
+        QVERIFY(body->contacts().size() > 100);
         const double size = (ball.mesh.bounds().max - ball.mesh.bounds().min).norm();
         SimulationSettings settings = settingsFor(IntegratorKind(integrator), 1.0 / 240.0);
         Simulator sim(body, settings);
@@ -234,7 +234,7 @@ private slots:
             }
             contacts += r.colliderContacts;
             problems += !r.problem.empty();
-            const ContactPoints& points = body->contactPoints;
+            const ContactPoints& points = body->contacts();
             for (std::size_t q = 0; q < points.size(); ++q) {
                 Vec3 n;
                 deepestSample = std::max(deepestSample, -colliderDistance(c, points.at(q, sim.state().position), n));

@@ -43,6 +43,40 @@ std::shared_ptr<const BodyModel> freeCube() {
 class TestModes : public QObject {
     Q_OBJECT
 private slots:
+    // The explicit step bound's λ_max (Lanczos, core/body_model.cpp) is the body's highest mode, ω_max²,
+    // as the dense eigenvalue solve of the modes finds it: on a bar, a cube, a flat fish-like box with a
+    // painted map, a stiffness range of 1e4 and heavy anchors, and a B-spline lattice with void nodes.
+    void stepBoundIsTheHighestMode() {
+        OrientedBox flat;
+        flat.size = Vec3(1.04, 1.36, 0.25);
+        const auto painted = latticeBody({4, 4, 4}, 0.02, 50.0, 0.0,
+                                         [](const Lattice& lattice, LatticeMaterial& m) {
+                                             for (int n = 0; n < lattice.nodeCount(); ++n) {
+                                                 const Vec3 u = lattice.restNodeParameters(n);
+                                                 m.stiffness[std::size_t(n)] = 50.0 * std::pow(1e4, u.x() * u.y());
+                                                 m.mass[std::size_t(n)] = 0.02 * (1.0 + 3.0 * u.z());
+                                             }
+                                             for (int j = 0; j < 4; ++j)
+                                                 m.anchor[std::size_t(lattice.index(3, j, 0))] = AnchorMode::Heavy;
+                                         },
+                                         flat);
+        const auto holed = latticeBody({6, 5, 4}, 0.01, 300.0, 0.0, [](const Lattice& lattice, LatticeMaterial& m) {
+            m.isVoid[std::size_t(lattice.index(5, 4, 3))] = 1;
+            m.isVoid[std::size_t(lattice.index(2, 2, 1))] = 1;
+            m.anchor[std::size_t(lattice.index(0, 0, 0))] = AnchorMode::Pinned;
+        });
+        const std::pair<const char*, std::shared_ptr<const BodyModel>> bodies[] = {
+            {"pinned bar", pinnedBar()}, {"free cube", freeCube()}, {"painted flat box", painted}, {"holed B-spline", holed}};
+        for (const auto& [name, body] : bodies) {
+            const auto modes = analyseModes(*body, kMaxModalUnknowns);
+            QVERIFY2(modes.ok(), modes.message().c_str());
+            const double omega = 2.0 * std::numbers::pi * modes->modes.back().frequencyHz;
+            const double relative = body->maxStiffnessOverMass / (omega * omega) - 1.0;
+            qInfo("%s: λ_max %.9g 1/s², dense %.9g (%+.1e)", name, body->maxStiffnessOverMass, omega * omega, relative);
+            QVERIFY2(std::abs(relative) < 1e-9, name);
+        }
+    }
+
     void freeBodyHasSixRigidModes() {
         const auto modes = analyseModes(*freeCube(), 3);
         QVERIFY2(modes.ok(), modes.message().c_str());

@@ -368,7 +368,7 @@ void TestProject::pairSampleTailsMeetAndPart() {
                 Mesh other = scene.objects[1 - b].mesh;
                 other.positions = deformed[1 - b];
                 const auto surface = MeshSurface::create(other).value();
-                const ContactPoints& points = sim->simulator(b).model().contactPoints;
+                const ContactPoints& points = sim->simulator(b).model().contacts();
                 for (std::size_t q = 0; q < points.size(); ++q) {
                     Vec3 n;
                     const double d = -surface->signedDistance(points.at(q, sim->simulator(b).state().position), n);
@@ -432,21 +432,21 @@ void TestProject::rockSampleSquashesTheTail() {
     auto sim = SceneSimulation::create(project->scene);
     QVERIFY2(sim.ok(), sim.message().c_str());
     const BodyModel& body = sim->simulator(0).model();
-    QVERIFY(body.contactPoints.size() > 100 && body.volume.active());
+    QVERIFY(body.contacts().size() > 100 && body.volume.active());
     double deepest = 0.0, nearest = 1e9;
     std::vector<std::string> problems;
     for (int frame = 1; frame <= 72; ++frame) {
         sim->advanceTo(frame / 24.0, &problems);
         const auto& x = sim->simulator(0).state().position;
-        for (std::size_t q = 0; q < body.contactPoints.size(); ++q) {
+        for (std::size_t q = 0; q < body.contacts().size(); ++q) {
             Vec3 n;
-            const double d = colliderDistance(rock, body.contactPoints.at(q, x), n);
+            const double d = colliderDistance(rock, body.contacts().at(q, x), n);
             deepest = std::max(deepest, -d);
             nearest = std::min(nearest, d);
         }
     }
     const double size = project->scene.objects[0].mesh.bounds().diagonal();
-    qInfo("%zu contact points on %zu vertices", body.contactPoints.size(), project->scene.objects[0].mesh.positions.size());
+    qInfo("%zu contact points on %zu vertices", body.contacts().size(), project->scene.objects[0].mesh.positions.size());
     qInfo("over 3 s: the fish's surface points came within %.2e m of the rock, deepest inside at a frame %.2e m "
           "(%.3f%% of %.2f m); %zu problems", nearest, deepest, 100.0 * deepest / size, size, problems.size());
     QVERIFY2(nearest <= 1e-4, "the tail never reached the rock");  // it rests on it: contact puts it on the surface

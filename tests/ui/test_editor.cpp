@@ -418,7 +418,7 @@ void TestEditor::rockSceneListsItsCollider() {
     QCOMPARE(found[0]->childCount(), 1);
     QCOMPARE(found[0]->child(0)->text(0), QString("sphere 1"));
     QVERIFY2(found[0]->child(0)->text(1).startsWith("r 0.2 m at (-0.42, 0, 0.3)"), qPrintable(found[0]->child(0)->text(1)));
-    QVERIFY(w.simulation()->simulation()->simulator(0).model().contactPoints.size() > 100);
+    QVERIFY(w.simulation()->simulation()->simulator(0).model().contacts().size() > 100);
     // A scene without colliders lists none.
     QVERIFY(w.openFile(kDefaultScene));
     QVERIFY(outliner->findItems("Colliders", Qt::MatchExactly).isEmpty());
