@@ -44,7 +44,7 @@ DrivenRun runDriven(const Scene& scene, double seconds, double fps, bool keepFra
         run.finite = false;
         return run;
     }
-    const std::size_t vertices = scene.objects.front().mesh.positions.size();
+    const std::size_t vertices = scene.objects.front().mesh->positions.size();
     // Frame f at f / fps from f = 0 (the rest pose), as a bake writes them.
     const int frames = int(std::lround(seconds * fps));
     if (keepFrames)
@@ -273,7 +273,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     result.referenceFrames = std::make_shared<const Frames>(reference.frames);
     Frames rest;
     for (int f = 0; f < reference.frameCount; ++f)
-        rest.insert(rest.end(), source.mesh.positions.begin(), source.mesh.positions.end());
+        rest.insert(rest.end(), source.mesh->positions.begin(), source.mesh->positions.end());
     const TrajectoryDistance still = distance(rest, reference.frames, diagonal);
     result.restError = still.rms;
     result.motionAmplitude = still.max;

@@ -68,7 +68,7 @@ void dragTail(softtouch::ui::MainWindow& window, const QPointF& offset, double s
     const softtouch::Lattice& lattice = sim->object(0).lattice;
     softtouch::Vec3 best(0.5, 0.5, 0.5);
     double bestDistance = 1e300;
-    for (const softtouch::Vec3f& p : sim->object(0).mesh.positions) {
+    for (const softtouch::Vec3f& p : sim->object(0).mesh->positions) {
         const softtouch::Vec3 uvw = lattice.box().toParameters(p.cast<double>());
         const double d = std::hypot(uvw.x() - 0.15, uvw.y() - 0.5);
         if (d < bestDistance) {

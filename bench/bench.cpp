@@ -334,21 +334,22 @@ json editCosts(const Scene& scene, double minSeconds, std::ostream& out) {
     const double incrementalMs =
         1e3 * analysis::bestSecondsPerUnit([&] { (void)SceneSimulation::create(dab, &previous.value()); }, 1, minSeconds);
     SceneSimulation sim = std::move(SceneSimulation::create(dab, &previous.value()).value());
-    std::vector<Vec3f> positions(sim.object(0).mesh.positions.size()), normals(positions.size());
+    std::vector<Vec3f> positions(sim.object(0).mesh->positions.size()), normals(positions.size());
     const double frameMs = 1e3 * analysis::bestSecondsPerUnit(
                                      [&] {
                                          sim.advanceTo(sim.time() + 1.0 / 60.0);
                                          sim.evaluate(0, positions, normals);
                                      },
                                      1, minSeconds);
-    char line[320];
+    char line[480];
     std::snprintf(line, sizeof line,
                   "\nEditor edit (a paint dab on %s: %zu vertices, %zu triangles, %zu nodes)\n"
                   "  rebuild from nothing %.3f ms; incremental (binding and samples kept) %.3f ms (%.1fx cheaper)\n"
-                  "  incremental rebuild + one 60 Hz frame %.3f ms (%.2f of a rebuild from nothing)\n",
-                  sim.object(0).name.c_str(), positions.size(), sim.object(0).mesh.triangles.size(),
+                  "  what the dab adds to its frame: the incremental rebuild, %.3f of a rebuild from nothing\n"
+                  "  the 60 Hz frame's own work (4 steps, every vertex deformed), edit or not: %.3f ms\n",
+                  sim.object(0).name.c_str(), positions.size(), sim.object(0).mesh->triangles.size(),
                   sim.simulator(0).state().position.size(), rebuildMs, incrementalMs, rebuildMs / incrementalMs,
-                  incrementalMs + frameMs, (incrementalMs + frameMs) / rebuildMs);
+                  incrementalMs / rebuildMs, frameMs);
     out << line;
     return {{"rebuild_ms", rebuildMs}, {"incremental_ms", incrementalMs}, {"frame_ms", frameMs},
             {"vertices", positions.size()}};

@@ -23,7 +23,7 @@ Scene millionTriangleScene() {
     SceneObject object;
     object.name = "ellipsoid-1M";
     object.mesh = makeUvEllipsoid(501, 1000, Vec3(0.5, 0.4, 0.3));
-    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
+    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh->positions).value()).value();
     object.material = uniformMaterial(object.lattice, 0.0002, 80.0, 0.3);
     object.material.nodeDamping.assign(object.material.mass.size(), 0.004);
     for (int k = 0; k < 4; ++k)
@@ -72,7 +72,7 @@ json runOne(const std::string& name, const Scene& scene, const Vec3& grabUvw, do
     }
     // The editor's side: bind the mesh, then deform it from the newest snapshot at 60 Hz on this
     // thread (one worker thread, so the loop keeps the machine's other core) while the loop runs.
-    const Binding binding = Binding::create(object.lattice, object.mesh.positions, object.mesh.normals);
+    const Binding binding = Binding::create(object.lattice, object.mesh->positions, object.mesh->normals);
     std::vector<Vec3f> positions(binding.vertexCount()), normals(binding.vertexCount());
     HapticSnapshot snapshot;
     long long evaluations = 0;
@@ -91,7 +91,7 @@ json runOne(const std::string& name, const Scene& scene, const Vec3& grabUvw, do
     }
     l.stop();
     const HapticStats& s = l.stats();
-    const std::size_t triangles = object.mesh.triangles.size();
+    const std::size_t triangles = object.mesh->triangles.size();
     char line[300];
     std::snprintf(line, sizeof line,
                   "  %-14s %9zu triangles, %-12s %7.1f Hz  period p50 %.3f  p99 %.3f  max %.3f ms  tick p99 %.0f us  "

@@ -1,6 +1,7 @@
 #include "core/mesh.h"
 
 #include <cmath>
+#include <utility>
 
 namespace softtouch {
 
@@ -71,5 +72,12 @@ Bounds Mesh::bounds() const {
     }
     return b;
 }
+
+SharedMesh::SharedMesh() {
+    static const auto empty = std::make_shared<const Mesh>();
+    m_mesh = empty;
+}
+
+SharedMesh::SharedMesh(Mesh mesh) : m_mesh(std::make_shared<const Mesh>(std::move(mesh))) {}
 
 }  // namespace softtouch

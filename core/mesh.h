@@ -5,6 +5,7 @@
 #include "core/types.h"
 
 #include <array>
+#include <memory>
 #include <string>
 #include <span>
 #include <vector>
@@ -48,6 +49,25 @@ struct Mesh {
     void computeNormals();
     /// Bounds of the positions; zero bounds for an empty mesh.
     Bounds bounds() const;
+};
+
+/// A rest mesh as a scene holds it: shared and immutable. Copying a scene (an undo step, a simulation, the
+/// editor's document) copies a pointer, and whether an edit kept an object's mesh is a pointer comparison.
+/// Made from a Mesh (implicitly: `object.mesh = std::move(mesh)`); read through `->`, `*` or as a
+/// `const Mesh&`. A change is a new mesh.
+class SharedMesh {
+public:
+    /// The empty mesh.
+    SharedMesh();
+    SharedMesh(Mesh mesh);  // NOLINT(google-explicit-constructor): a scene object is given a Mesh
+    const Mesh& operator*() const { return *m_mesh; }
+    const Mesh* operator->() const { return m_mesh.get(); }
+    operator const Mesh&() const { return *m_mesh; }  // NOLINT(google-explicit-constructor)
+    /// The same mesh object, not only equal values (then everything made from one holds for the other).
+    bool sameAs(const SharedMesh& other) const { return m_mesh == other.m_mesh; }
+
+private:
+    std::shared_ptr<const Mesh> m_mesh;
 };
 
 }  // namespace softtouch

@@ -70,9 +70,11 @@ Result<RestShapeChange> withRestShape(const SceneObject& object, std::span<const
     change.edit.box = object.lattice.box();
     change.edit.nodes.assign(pose.begin(), pose.end());
     change.object = object;
-    if (Status s = applyRestShapeEdit(change.object.mesh, change.edit); !s)
+    Mesh mesh = *object.mesh;  // a new rest mesh: the scene's copies (undo) keep the old one
+    if (Status s = applyRestShapeEdit(mesh, change.edit); !s)
         return Status::error("'" + object.name + "': " + s.message());
-    const OrientedBox box = boxHolding(object.lattice.box(), change.object.mesh.positions);
+    change.object.mesh = std::move(mesh);
+    const OrientedBox box = boxHolding(object.lattice.box(), change.object.mesh->positions);
     if (!(box.origin == object.lattice.box().origin && box.size == object.lattice.box().size)) {
         auto lattice = Lattice::create(object.lattice.shape(), box);
         if (!lattice)

@@ -38,9 +38,9 @@ Status WorldSettings::validate() {
 Bounds restBounds(const Scene& scene) {
     if (scene.objects.empty())
         return {};
-    Bounds all = scene.objects.front().mesh.bounds();
+    Bounds all = scene.objects.front().mesh->bounds();
     for (const SceneObject& o : scene.objects)
-        all = all.united(o.mesh.bounds());
+        all = all.united(o.mesh->bounds());
     return all;
 }
 
@@ -62,10 +62,10 @@ SimulationSettings newSceneSimulation(const Scene& scene) {
 Result<Scene> newScene(std::string name, Mesh mesh) {
     SceneObject object;
     object.name = std::move(name);
+    if (mesh.normals.empty())
+        mesh.computeNormals();
     object.mesh = std::move(mesh);
-    if (object.mesh.normals.empty())
-        object.mesh.computeNormals();
-    auto box = fitBox(object.mesh.positions);
+    auto box = fitBox(object.mesh->positions);
     if (!box)
         return Status::error(box.message());
     auto lattice = Lattice::create(LatticeShape{}, box.value());
@@ -98,7 +98,7 @@ Result<ModalAnalysis> objectModes(const Lattice& lattice, const LatticeMaterial&
 }
 
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
-    const Bounds bounds = object.mesh.bounds();
+    const Bounds bounds = object.mesh->bounds();
     const double across = (bounds.max - bounds.min).norm();
     if (!(across >= ranges::kMinMeshSize && across <= ranges::kMaxMeshSize)) {
         char size[32];
@@ -109,7 +109,7 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) 
     // How far outside the box (in box lengths) the farthest vertex lies.
     const OrientedBox& box = object.lattice.box();
     double outside = 0.0;
-    for (const Vec3f& p : object.mesh.positions) {
+    for (const Vec3f& p : object.mesh->positions) {
         const Vec3 t = box.toParameters(p.cast<double>());
         outside = std::max({outside, -t.minCoeff(), t.maxCoeff() - 1.0});
     }
@@ -130,9 +130,12 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) 
 
 namespace {
 
-/// Whether two objects have the same mesh and lattice: what their bindings and samples are made of.
+/// Whether two objects have the same mesh and lattice: what their bindings and samples are made of. The
+/// editor's copies of a scene share one mesh, so comparing values is for meshes made again (a reload).
 bool sameGeometry(const SceneObject& a, const SceneObject& b) {
-    return a.mesh.positions == b.mesh.positions && a.mesh.triangles == b.mesh.triangles && a.mesh.normals == b.mesh.normals &&
+    const Mesh& x = *a.mesh;
+    const Mesh& y = *b.mesh;
+    return (a.mesh.sameAs(b.mesh) || (x.positions == y.positions && x.triangles == y.triangles && x.normals == y.normals)) &&
            a.lattice.shape() == b.lattice.shape() && a.lattice.restNodes() == b.lattice.restNodes();
 }
 
@@ -156,10 +159,17 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
     for (std::size_t i = 0; i < scene->objects.size(); ++i) {
         SceneObject& object = scene->objects[i];
         const std::string where = "object '" + object.name + "': ";
-        if (Status s = object.mesh.validate(); !s)
-            return Status::error(where + s.message());
-        if (object.mesh.normals.empty())
-            object.mesh.computeNormals();
+        // A mesh the previous simulation ran was validated then (shared meshes never change).
+        const bool keptMesh = previous && i < previous->m_objects.size() && previous->m_objects[i].source->mesh.sameAs(object.mesh);
+        if (!keptMesh) {
+            if (Status s = object.mesh->validate(); !s)
+                return Status::error(where + s.message());
+        }
+        if (object.mesh->normals.empty()) {
+            Mesh withNormals = *object.mesh;
+            withNormals.computeNormals();
+            object.mesh = std::move(withNormals);
+        }
         for (std::size_t d = 0; d < object.drivers.size(); ++d) {
             if (Status s = validateDriver(object.drivers[d]); !s)
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
@@ -169,12 +179,12 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
             geometry = previous->m_objects[i].geometry;
         else
             geometry = std::make_shared<Geometry>(
-                Geometry{Binding::create(object.lattice, object.mesh.positions, object.mesh.normals), {}, nullptr});
+                Geometry{Binding::create(object.lattice, object.mesh->positions, object.mesh->normals), {}, nullptr});
         const bool animated = object.baseAnimation != nullptr;
-        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &object.mesh, &geometry->derived);
+        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &*object.mesh, &geometry->derived);
         if (!model)
             return Status::error(where + model.message());
-        if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh.triangles.empty() &&
+        if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh->triangles.empty() &&
             !geometry->restSurface) {
             auto surface = MeshSurface::shared(object.mesh);
             if (!surface)
@@ -183,7 +193,7 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
         }
         std::shared_ptr<BaseMotion> motion;
         if (animated) {
-            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh.positions, geometry->binding.parameters(),
+            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh->positions, geometry->binding.parameters(),
                                               object.baseAnimation, object.material.goalWeight, object.follow);
             if (!created)
                 return Status::error(where + created.message());
@@ -345,7 +355,7 @@ void SceneSimulation::evaluateNodes(std::size_t i, std::span<const Vec3> nodes, 
                                     std::span<Vec3f> normals, int threads) const {
     const Runtime& r = m_objects[i];
     if (r.motion)
-        r.motion->deform(seconds, r.geometry->binding, nodes, r.source->mesh.triangles, positions, normals);
+        r.motion->deform(seconds, r.geometry->binding, nodes, r.source->mesh->triangles, positions, normals);
     else
         r.geometry->binding.evaluate(nodes, positions, normals, threads);
 }

@@ -18,7 +18,7 @@ namespace softtouch {
 /// One deformable object.
 struct SceneObject {
     std::string name;                 ///< Shown to the user; unique in the scene.
-    Mesh mesh;                        ///< Rest mesh (normals filled on load).
+    SharedMesh mesh;                  ///< Rest mesh (normals filled on load), shared between the scene's copies.
     Lattice lattice;                  ///< Lattice around the mesh.
     LatticeMaterial material;         ///< Painted values, anchors, voids.
     std::vector<Driver> drivers;      ///< Headless motion sources.

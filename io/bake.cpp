@@ -145,7 +145,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         for (std::size_t i = 0; i < sim.objectCount(); ++i) {
             if (!written[i])
                 continue;
-            const std::size_t n = sim.object(i).mesh.positions.size();
+            const std::size_t n = sim.object(i).mesh->positions.size();
             const std::span<Vec3f> objectNormals =
                 normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
             if (moved[i].changed(source.nodes(i)) || sim.followsBaseAnimation(i)) {

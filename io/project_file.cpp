@@ -101,6 +101,7 @@ bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShap
         v.problem("expected an array of edits [{\"lattice\": {\"kind\", \"nodes\", \"box\"}, \"nodes\": [[x, y, z], ...]}]");
         return false;
     }
+    Mesh mesh = *object.mesh;  // edited here, then the object's new rest mesh
     for (std::size_t e = 0; e < v.size(); ++e) {
         const JsonValue item = v.at(e);
         if (!item.expectObject(true))
@@ -110,7 +111,7 @@ bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShap
             item["lattice"].problem("expected the \"box\" the edit was made on");
             return false;
         }
-        const auto lattice = readLattice(item["lattice"], object.mesh);
+        const auto lattice = readLattice(item["lattice"], mesh);
         if (!lattice)
             return false;
         RestShapeEdit edit;
@@ -127,12 +128,13 @@ bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShap
                 return false;
             edit.nodes.push_back(*x);
         }
-        if (Status s = applyRestShapeEdit(object.mesh, edit); !s) {
+        if (Status s = applyRestShapeEdit(mesh, edit); !s) {
             item.problem(s.message());
             return false;
         }
         edits.push_back(std::move(edit));
     }
+    object.mesh = std::move(mesh);
     return true;
 }
 
@@ -145,6 +147,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     const auto meshRef = v["mesh"].string(true);
     if (!meshRef)
         return;
+    Mesh mesh;  // as read and placed, then the object's (shared) rest mesh
     if (const JsonValue a = v["animation"]; a.exists()) {
         // The mesh's own animation: the mesh is its first sample (io/animation_import.h).
         auto request = readAnimationRequest(a, object.follow);
@@ -155,21 +158,21 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
             v["mesh"].problem(animated.message());
             return;
         }
-        object.mesh = std::move(animated->mesh);
+        mesh = std::move(animated->mesh);
         object.baseAnimation = std::make_shared<BaseAnimation>(std::move(animated->animation));
         project.importNotes.push_back(object.name + ": take \"" + object.baseAnimation->take + "\" from " +
                                       detail::formatNumber(object.baseAnimation->start) + " s for " +
                                       detail::formatNumber(object.baseAnimation->duration()) + " s at " +
                                       detail::formatNumber(object.baseAnimation->rate) + " samples/s" +
                                       (object.baseAnimation->loop ? ", looping" : "") + "; " +
-                                      std::to_string(object.mesh.positions.size()) + " vertices in " + animated->unit);
+                                      std::to_string(mesh.positions.size()) + " vertices in " + animated->unit);
     } else {
-        auto mesh = importMesh(baseDir / *meshRef);
-        if (!mesh) {
-            v["mesh"].problem(mesh.message());
+        auto imported = importMesh(baseDir / *meshRef);
+        if (!imported) {
+            v["mesh"].problem(imported.message());
             return;
         }
-        object.mesh = std::move(mesh.value());
+        mesh = std::move(imported.value());
     }
     // Where the mesh goes in the scene: its file's coordinates moved by this (a lattice "box", like
     // everything else in the file, is in scene coordinates).
@@ -180,8 +183,9 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
         else
             offset = *x;
     }
-    for (Vec3f& p : object.mesh.positions)
+    for (Vec3f& p : mesh.positions)
         p += offset.cast<float>();
+    object.mesh = std::move(mesh);
     if (object.baseAnimation && !offset.isZero()) {
         auto moved = std::make_shared<BaseAnimation>(*object.baseAnimation);
         for (auto& sample : moved->samples)

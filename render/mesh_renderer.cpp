@@ -654,7 +654,7 @@ void showSceneObject(MeshRenderer& renderer, int id, const SceneSimulation& sim,
         renderer.setNodes(id, nodes);
         return;
     }
-    const std::size_t n = sim.object(i).mesh.positions.size();
+    const std::size_t n = sim.object(i).mesh->positions.size();
     positions.resize(n);
     normals.resize(n);
     sim.evaluateNodes(i, nodes, seconds, positions, normals);

@@ -115,7 +115,7 @@ Status Document::importAnimatedMesh(const QString& path, QString* report) {
         *report = tr("%1: take \"%2\", %3 s, %4 vertices, %5")
                       .arg(QString::fromStdString(added.name), QString::fromStdString(added.baseAnimation->take))
                       .arg(added.baseAnimation->duration())
-                      .arg(added.mesh.positions.size())
+                      .arg(added.mesh->positions.size())
                       .arg(QString::fromStdString(animated->unit));
     }
     return Status::success();

@@ -27,8 +27,10 @@ std::string uniqueName(const Scene& scene, const std::string& name) {
 
 /// Moves an object by `offset`: its mesh, lattice box and (a copy of) its base animation.
 void moveObject(SceneObject& o, const Vec3& offset) {
-    for (Vec3f& p : o.mesh.positions)
+    Mesh mesh = *o.mesh;  // a new mesh: the scene's other copies (undo) keep theirs
+    for (Vec3f& p : mesh.positions)
         p += offset.cast<float>();
+    o.mesh = std::move(mesh);
     OrientedBox box = o.lattice.box();
     box.origin += offset;
     o.lattice = Lattice::create(o.lattice.shape(), box).value();  // the same shape over a moved valid box
@@ -76,7 +78,7 @@ Status Document::addMesh(const QString& path) {
     Vec3 offset = Vec3::Zero();
     if (!m_project.scene.objects.empty()) {
         const Bounds scene = restBounds(m_project.scene);
-        const Bounds added = object.mesh.bounds();
+        const Bounds added = object.mesh->bounds();
         if ((added.min.array() <= scene.max.array()).all() && (added.max.array() >= scene.min.array()).all())
             offset.x() = scene.max.x() - added.min.x() + 0.2 * (added.max.x() - added.min.x());
     }

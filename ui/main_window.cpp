@@ -419,7 +419,7 @@ void MainWindow::refreshOutliner() {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const SceneObject& o = scene.objects[i];
         auto* item = new QTreeWidgetItem(m_outliner, {QString::fromStdString(o.name),
-                                                      tr("%n triangles", nullptr, int(o.mesh.triangles.size()))});
+                                                      tr("%n triangles", nullptr, int(o.mesh->triangles.size()))});
         item->setData(0, Qt::UserRole, int(i));
         const LatticeShape& shape = o.lattice.shape();
         auto* lattice = new QTreeWidgetItem(item, {tr("Lattice"), tr("%1×%2×%3 %4")
@@ -493,7 +493,7 @@ void MainWindow::refreshStatus() {
     std::size_t triangles = 0;
     if (sim)
         for (std::size_t i = 0; i < sim->objectCount(); ++i)
-            triangles += sim->object(i).mesh.triangles.size();
+            triangles += sim->object(i).mesh->triangles.size();
     m_statusMesh->setText(tr("%L1 tris").arg(triangles));
     m_statusHaptic->setText(m_haptics->statusText());
     m_properties->refreshLive();
@@ -608,7 +608,7 @@ Status MainWindow::addCollider(ColliderShape shape, const QString& meshPath) {
         return Status::error("no object to place the collider by");
     // Below the current object, a quarter of its size: in view, and not touching it yet.
     const int current = std::clamp(m_viewport->currentObject(), 0, int(scene.objects.size()) - 1);
-    const Bounds b = scene.objects[std::size_t(current)].mesh.bounds();
+    const Bounds b = scene.objects[std::size_t(current)].mesh->bounds();
     const double size = std::max(b.diagonal(), 1e-3);
     const Vec3 middle = 0.5 * (b.min + b.max);
     Collider c;

@@ -76,7 +76,7 @@ QWidget* PropertiesPanel::buildSimulation() {
         const Scene& scene = m_document->scene();
         double lowest = 0.0;
         for (std::size_t i = 0; i < scene.objects.size(); ++i)
-            lowest = i == 0 ? scene.objects[i].mesh.bounds().min.y() : std::min(lowest, scene.objects[i].mesh.bounds().min.y());
+            lowest = i == 0 ? scene.objects[i].mesh->bounds().min.y() : std::min(lowest, scene.objects[i].mesh->bounds().min.y());
         editWorld(on ? tr("Add ground plane") : tr("Remove planes"), kNoMerge, [on, lowest](WorldSettings& w) {
             w.planes.clear();
             if (on) {
@@ -456,7 +456,7 @@ void PropertiesPanel::transformLattice() {
 void PropertiesPanel::fitLattice() {
     if (std::size_t(object()) >= m_document->scene().objects.size())
         return;
-    auto box = fitBox(m_document->scene().objects[std::size_t(object())].mesh.positions);
+    auto box = fitBox(m_document->scene().objects[std::size_t(object())].mesh->positions);
     if (!box) {
         m_live->setText(tr("Not applied: %1").arg(QString::fromStdString(box.message())));
         return;

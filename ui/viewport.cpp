@@ -247,7 +247,7 @@ void Viewport::uploadScene() {
         }
     }
     m_renderer.setPlanes(m_document->scene().world.planes,
-                         float(std::max(1.0, 1.5 * sim->object(0).mesh.bounds().diagonal())));
+                         float(std::max(1.0, 1.5 * sim->object(0).mesh->bounds().diagonal())));
     m_renderer.setColliders(m_document->scene().world.colliders);
     m_sceneDirty = false;
 }
@@ -378,7 +378,7 @@ std::vector<Vec3f> Viewport::deformedPositions(int object) const {
     const SceneSimulation* sim = m_simulation->simulation();
     if (!sim || object < 0 || std::size_t(object) >= sim->objectCount())
         return {};
-    std::vector<Vec3f> positions(sim->object(std::size_t(object)).mesh.positions.size());
+    std::vector<Vec3f> positions(sim->object(std::size_t(object)).mesh->positions.size());
     sim->evaluate(std::size_t(object), positions, {});
     return positions;
 }
@@ -643,7 +643,7 @@ int Viewport::objectAt(const QPointF& pos, std::optional<SurfaceHit>* hit) const
     int bestObject = -1;
     for (std::size_t i = 0; i < sim->objectCount(); ++i) {
         const std::vector<Vec3f> positions = deformedPositions(int(i));
-        if (auto h = pickSurface(ray, positions, sim->object(i).mesh.triangles); h && (!best || h->distance < best->distance)) {
+        if (auto h = pickSurface(ray, positions, sim->object(i).mesh->triangles); h && (!best || h->distance < best->distance)) {
             best = h;
             bestObject = int(i);
         }
@@ -676,10 +676,10 @@ void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
     }
     // The material point under the cursor: barycentric mix of the triangle's rest parameters.
     const SceneObject& object = sim->object(std::size_t(bestObject));
-    const auto& tri = object.mesh.triangles[best->triangle];
+    const auto& tri = object.mesh->triangles[best->triangle];
     Vec3 uvw = Vec3::Zero();
     for (int k = 0; k < 3; ++k)
-        uvw += best->barycentric[k] * object.lattice.box().toParameters(object.mesh.positions[tri[std::size_t(k)]].cast<double>());
+        uvw += best->barycentric[k] * object.lattice.box().toParameters(object.mesh->positions[tri[std::size_t(k)]].cast<double>());
     Grab grab;
     grab.object = bestObject;
     grab.drag.support = object.lattice.weights(uvw.cwiseMax(0.0).cwiseMin(1.0));
@@ -707,7 +707,7 @@ void Viewport::moveDrag(const QPointF& pos) {
     if (!grab)
         return;
     const Vec3 cursor = m_camera.pointOnViewPlane(pos.x(), pos.y(), width(), height(), m_dragDepthPoint);
-    const double diagonal = m_simulation->simulation()->object(std::size_t(grab->object)).mesh.bounds().diagonal();
+    const double diagonal = m_simulation->simulation()->object(std::size_t(grab->object)).mesh->bounds().diagonal();
     grab->drag.target = cursor - m_grabOffset + m_camera.forward() * (m_tiltDepth * m_drag.tiltDepth * diagonal);
     grab->drag.stiffness = m_drag.stiffness * m_pressure;
     m_simulation->setGrab(m_dragSlot, grab);
@@ -943,7 +943,7 @@ void Viewport::frameSelection() {
         selected.push_back(x[std::size_t(n)]);
     Bounds b = boundsOf(selected);
     // A single node still gets a view of its neighbourhood: a tenth of the object's size around it.
-    const Vec3 room = Vec3::Constant(0.05 * sim->object(std::size_t(m_object)).mesh.bounds().diagonal());
+    const Vec3 room = Vec3::Constant(0.05 * sim->object(std::size_t(m_object)).mesh->bounds().diagonal());
     b.min -= room;
     b.max += room;
     m_camera.frame(b);

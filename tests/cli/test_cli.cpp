@@ -533,7 +533,7 @@ void TestCli::studyPicksHoldWhenRebaked() {
     std::vector<std::vector<Vec3f>> expected;
     for (int f = 0; f < frames; ++f) {
         sim->advanceTo(f / reference.world.fps);
-        expected.emplace_back(object.mesh.positions.size());
+        expected.emplace_back(object.mesh->positions.size());
         sim->evaluate(0, expected.back(), {}, 0);
     }
     const double diagonal = object.lattice.box().diagonal();

@@ -26,8 +26,9 @@ SceneObject fish(const std::string& name, const Vec3& centre) {
     SceneObject o;
     o.name = name;
     const Vec3 radii(0.15, 0.06, 0.04);
-    o.mesh = makeUvEllipsoid(16, 32, radii, centre);
-    o.mesh.computeNormals();
+    Mesh mesh = makeUvEllipsoid(16, 32, radii, centre);
+    mesh.computeNormals();
+    o.mesh = std::move(mesh);
     OrientedBox box;
     box.origin = centre - 1.1 * radii;
     box.size = 2.2 * radii;

@@ -14,7 +14,7 @@ Scene swimmingBall() {
     SceneObject object;
     object.name = "ball";
     object.mesh = test::makeSphere(0.5, Vec3::Zero(), 12, 24);
-    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
+    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh->positions).value()).value();
     object.material = uniformMaterial(object.lattice, 0.01, 80.0, 0.3);
     for (int k = 0; k < 4; ++k)
         for (int j = 0; j < 4; ++j)

@@ -13,7 +13,7 @@ Scene ballScene(bool pinBottom = true) {
     SceneObject object;
     object.name = "ball";
     object.mesh = test::makeSphere(0.5, Vec3::Zero(), 12, 24);
-    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh.positions).value()).value();
+    object.lattice = Lattice::create(LatticeShape{}, fitBox(object.mesh->positions).value()).value();
     object.material = uniformMaterial(object.lattice, 0.01, 80.0, 0.1);
     for (int k = 0; k < object.lattice.count(2) && pinBottom; ++k)
         for (int i = 0; i < object.lattice.count(0); ++i)

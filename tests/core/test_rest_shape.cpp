@@ -33,7 +33,7 @@ private slots:
         const SceneObject ball = anchoredBallScene().objects[0];
         auto change = withRestShape(ball, ball.lattice.restNodes());
         QVERIFY2(change.ok(), change.message().c_str());
-        QVERIFY(maxDistance(change->object.mesh.positions, ball.mesh.positions) < 1e-6);
+        QVERIFY(maxDistance(change->object.mesh->positions, ball.mesh->positions) < 1e-6);
         QVERIFY(change->object.lattice.box().origin == ball.lattice.box().origin);
         QVERIFY(change->object.lattice.box().size == ball.lattice.box().size);
     }
@@ -52,7 +52,7 @@ private slots:
         auto made = SceneSimulation::create(scene);
         QVERIFY(made.ok());
         SceneSimulation& shown = made.value();
-        std::vector<Vec3f> posedMesh(ball.mesh.positions.size());
+        std::vector<Vec3f> posedMesh(ball.mesh->positions.size());
         SceneSimulation::Snapshot snapshot = shown.saveSnapshot();
         snapshot.bodies[0].position = pose;
         shown.restoreSnapshot(snapshot);
@@ -60,7 +60,7 @@ private slots:
 
         auto change = withRestShape(ball, pose);
         QVERIFY2(change.ok(), change.message().c_str());
-        QVERIFY(maxDistance(change->object.mesh.positions, posedMesh) < 1e-6);
+        QVERIFY(maxDistance(change->object.mesh->positions, posedMesh) < 1e-6);
         QVERIFY(change->object.lattice.box().size == ball.lattice.box().size);  // pulled in: the box holds it
         QVERIFY(change->object.material.stiffness == ball.material.stiffness);
         QVERIFY(change->object.material.anchor == ball.material.anchor);
@@ -72,7 +72,7 @@ private slots:
         rested->evaluate(0, atRest, {});
         QVERIFY(maxDistance(atRest, posedMesh) < 1e-5);
         // The normals are the posed map's (unit, and turned with the top).
-        for (const Vec3f& n : change->object.mesh.normals)
+        for (const Vec3f& n : change->object.mesh->normals)
             QVERIFY(std::abs(n.norm() - 1.0f) < 1e-4f);
     }
 
@@ -87,7 +87,7 @@ private slots:
         const OrientedBox& box = change->object.lattice.box();
         QVERIFY(box.size.x() > ball.lattice.box().size.x());
         QCOMPARE(box.size.y(), ball.lattice.box().size.y());
-        for (const Vec3f& p : change->object.mesh.positions) {
+        for (const Vec3f& p : change->object.mesh->positions) {
             const Vec3 uvw = box.toParameters(p.cast<double>());
             QVERIFY((uvw.array() >= 0.0).all() && (uvw.array() <= 1.0).all());
         }

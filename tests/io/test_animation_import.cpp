@@ -127,7 +127,7 @@ private slots:
         auto cache = readPc2(options.output);
         QVERIFY2(cache.ok(), cache.message().c_str());
         QCOMPARE(cache->frames.size(), std::size_t(24));
-        const auto match = matchVertices(project->scene.objects[0].mesh.positions, rig.rest);
+        const auto match = matchVertices(project->scene.objects[0].mesh->positions, rig.rest);
         const double diagonal = diagonalOf(rig.rest);
         double worst = 0.0;
         for (std::size_t f = 0; f < 24; ++f)
@@ -167,7 +167,7 @@ private slots:
         request.clip = "swim";
         auto source = FrameSource::create(project->scene, request);
         QVERIFY2(source.ok(), source.message().c_str());
-        const std::size_t n = guppy.mesh.positions.size();
+        const std::size_t n = guppy.mesh->positions.size();
         std::vector<std::vector<Vec3f>> frames;
         double wobble = 0.0;
         const std::vector<Vec3>& rest = guppy.lattice.restNodes();
@@ -191,7 +191,7 @@ private slots:
             steps.push_back(rms(frames[f], frames[f + 1]));
         std::sort(steps.begin(), steps.end());
         const double median = steps[steps.size() / 2], seam = rms(frames.back(), frames.front());
-        const double diagonal = guppy.mesh.bounds().diagonal();
+        const double diagonal = guppy.mesh->bounds().diagonal();
         qInfo("guppy swim clip, %zu frames: seam %.4f m against a median frame step of %.4f m (%.2fx); free nodes "
               "leave their goal by up to %.4f m, %.1f%% of the diagonal",
               frames.size(), seam, median, seam / median, wobble, 100.0 * wobble / diagonal);
@@ -257,7 +257,7 @@ private slots:
         QVERIFY(bake(project->scene, options).ok());
         auto cache = readPc2(options.output);
         QVERIFY(cache.ok());
-        const auto match = matchVertices(project->scene.objects[0].mesh.positions, rig.rest);
+        const auto match = matchVertices(project->scene.objects[0].mesh->positions, rig.rest);
         double worst = 0.0;
         for (std::size_t f = 0; f < 24; ++f)
             for (std::size_t v = 0; v < match.size(); ++v)

@@ -418,7 +418,7 @@ void TestExports::gltfRoundTrip() {
         const aiMesh* mesh = scene->mMeshes[m];
         if (source.objects.size() > 1)
             QCOMPARE(std::string(mesh->mName.C_Str()), source.objects[m].name);
-        QCOMPARE(std::size_t(mesh->mNumVertices), source.objects[m].mesh.positions.size());
+        QCOMPARE(std::size_t(mesh->mNumVertices), source.objects[m].mesh->positions.size());
         QCOMPARE(int(mesh->mNumAnimMeshes), kFrames);
         QCOMPARE(mesh->mAnimMeshes[0]->HasNormals(), normals);
         for (int f = 0; f < kFrames; ++f) {

@@ -42,7 +42,7 @@ std::vector<Vec3f> simulate(const Scene& scene, double seconds) {
     if (!sim)
         qFatal("%s", sim.message().c_str());
     sim->advanceTo(seconds);
-    std::vector<Vec3f> out(sim->object(0).mesh.positions.size());
+    std::vector<Vec3f> out(sim->object(0).mesh->positions.size());
     sim->evaluate(0, out, {});
     return out;
 }
@@ -97,16 +97,16 @@ void TestProject::samplesLoad() {
     QVERIFY2(project.ok(), project.message().c_str());
     QCOMPARE(int(project->scene.objects.size()), 1);
     const SceneObject& o = project->scene.objects[0];
-    QVERIFY(int(o.mesh.triangles.size()) >= minTriangles);
-    QVERIFY(int(o.mesh.triangles.size()) <= 8800);
-    QVERIFY(o.mesh.parts.size() >= 1);
+    QVERIFY(int(o.mesh->triangles.size()) >= minTriangles);
+    QVERIFY(int(o.mesh->triangles.size()) <= 8800);
+    QVERIFY(o.mesh->parts.size() >= 1);
     QVERIFY(!o.drivers.empty());
     int anchors = 0;
     for (AnchorMode a : o.material.anchor)
         anchors += a != AnchorMode::Free;
     QVERIFY(anchors > 0);
     // Every vertex lies inside the fitted lattice box.
-    for (const Vec3f& p : o.mesh.positions) {
+    for (const Vec3f& p : o.mesh->positions) {
         const Vec3 uvw = o.lattice.box().toParameters(p.cast<double>());
         QVERIFY((uvw.array() >= 0.0).all() && (uvw.array() <= 1.0).all());
     }
@@ -159,7 +159,7 @@ void TestProject::saveRebasesMeshPaths() {
     QVERIFY(saveProject(project.value(), nested / "moved.softtouch").ok());
     auto reloaded = loadProject(nested / "moved.softtouch");
     QVERIFY2(reloaded.ok(), reloaded.message().c_str());
-    QCOMPARE(reloaded->scene.objects[0].mesh.positions.size(), project->scene.objects[0].mesh.positions.size());
+    QCOMPARE(reloaded->scene.objects[0].mesh->positions.size(), project->scene.objects[0].mesh->positions.size());
 }
 
 // A painted node damping map is saved per node (version 4) and reads back to the same map and motion.
@@ -327,7 +327,7 @@ void TestProject::collidersRoundTrip() {
     QVERIFY2(pairAgain.ok(), pairAgain.message().c_str());
     QVERIFY(pairAgain->scene.world.bodyCollisions == pair->scene.world.bodyCollisions);
     QCOMPARE(pairAgain->meshOffsets.at(1), Vec3(0.0, 0.0, 0.22));
-    QVERIFY(pairAgain->scene.objects[1].mesh.positions == pair->scene.objects[1].mesh.positions);
+    QVERIFY(pairAgain->scene.objects[1].mesh->positions == pair->scene.objects[1].mesh->positions);
 }
 
 // presets/scenes/angelfish-rock.softtouch: the swimming tail reaches the rock, and the fin (the mesh's
@@ -341,7 +341,7 @@ void TestProject::pairSampleTailsMeetAndPart() {
     QVERIFY2(project.ok(), project.message().c_str());
     QCOMPARE(int(project->scene.objects.size()), 2);
     QVERIFY(project->scene.world.bodyCollisions.enabled);
-    const Bounds near = project->scene.objects[0].mesh.bounds(), far = project->scene.objects[1].mesh.bounds();
+    const Bounds near = project->scene.objects[0].mesh->bounds(), far = project->scene.objects[1].mesh->bounds();
     QVERIFY(std::abs((far.min - near.min).z() - 0.22) < 1e-6);
     const double size = near.diagonal();
     double deepestOn = 0.0, deepestOff = 0.0;
@@ -360,7 +360,7 @@ void TestProject::pairSampleTailsMeetAndPart() {
             if (frame % 2)
                 continue;  // every other frame: each check builds a surface of the deformed fish
             for (std::size_t b = 0; b < 2; ++b) {
-                deformed[b].resize(scene.objects[b].mesh.positions.size());
+                deformed[b].resize(scene.objects[b].mesh->positions.size());
                 normals.resize(deformed[b].size());
                 sim->evaluate(b, deformed[b], normals, 1);
             }
@@ -445,8 +445,8 @@ void TestProject::rockSampleSquashesTheTail() {
             nearest = std::min(nearest, d);
         }
     }
-    const double size = project->scene.objects[0].mesh.bounds().diagonal();
-    qInfo("%zu contact points on %zu vertices", body.contacts().size(), project->scene.objects[0].mesh.positions.size());
+    const double size = project->scene.objects[0].mesh->bounds().diagonal();
+    qInfo("%zu contact points on %zu vertices", body.contacts().size(), project->scene.objects[0].mesh->positions.size());
     qInfo("over 3 s: the fish's surface points came within %.2e m of the rock, deepest inside at a frame %.2e m "
           "(%.3f%% of %.2f m); %zu problems", nearest, deepest, 100.0 * deepest / size, size, problems.size());
     QVERIFY2(nearest <= 1e-4, "the tail never reached the rock");  // it rests on it: contact puts it on the surface
@@ -596,19 +596,19 @@ void TestProject::restShapeEditsReplayExactlyOnLoad() {
     const SceneObject& bent = reread->scene.objects[0];
     QCOMPARE(reread->restShapeEdits.size(), std::size_t(1));
     QCOMPARE(reread->restShapeEdits[0].size(), std::size_t(2));
-    QVERIFY(bent.mesh.positions == project.scene.objects[0].mesh.positions);
-    QVERIFY(bent.mesh.normals == project.scene.objects[0].mesh.normals);
+    QVERIFY(bent.mesh->positions == project.scene.objects[0].mesh->positions);
+    QVERIFY(bent.mesh->normals == project.scene.objects[0].mesh->normals);
     QVERIFY(bent.lattice.box().origin == project.scene.objects[0].lattice.box().origin);
     QVERIFY(bent.lattice.box().size == project.scene.objects[0].lattice.box().size);
-    QVERIFY(bent.mesh.positions != original.positions);
+    QVERIFY(bent.mesh->positions != original.positions);
     const std::vector<Vec3f> resting = simulate(reread->scene, 0.0);
     double off = 0.0;
     for (std::size_t v = 0; v < resting.size(); ++v)
-        off = std::max(off, double((resting[v] - bent.mesh.positions[v]).norm()));
-    QVERIFY2(off < 1e-5 * bent.mesh.bounds().diagonal(), qPrintable(QString::number(off)));
+        off = std::max(off, double((resting[v] - bent.mesh->positions[v]).norm()));
+    QVERIFY2(off < 1e-5 * bent.mesh->bounds().diagonal(), qPrintable(QString::number(off)));
     // The mesh file still holds the original fish.
     auto plain = loadProject(writeFile(dir, "plain.softtouch", projectText()));
-    QVERIFY(plain.ok() && plain->scene.objects[0].mesh.positions == original.positions);
+    QVERIFY(plain.ok() && plain->scene.objects[0].mesh->positions == original.positions);
 }
 
 void TestProject::badInputNamesFileFieldAndProblem_data() {

@@ -640,7 +640,7 @@ void TestEditor::renderVideoFollowsTheViewportsView() {
     QCOMPARE(defaultA, defaultB);  // the ¾ view ignores the viewport
     QVERIFY(top != front);
     // The fish lands where the viewport's camera projects it.
-    const Bounds bounds = w.document()->scene().objects[0].mesh.bounds();
+    const Bounds bounds = w.document()->scene().objects[0].mesh->bounds();
     const Eigen::Vector3f centre = (0.5 * (bounds.min + bounds.max)).cast<float>();
     const render::Camera camera = render::cameraFor(framed, 160.0f / 90.0f);
     const Eigen::Vector4f clip = camera.projection * camera.view * Eigen::Vector4f(centre.x(), centre.y(), centre.z(), 1.0f);
@@ -880,7 +880,7 @@ void TestEditor::latticeToolMovesAndScalesTheBox() {
     QVERIFY(moved.size == before.size);
     QCOMPARE(w.document()->undoStack()->index(), undoBefore + 1);
     // The mesh did not move with it: at rest the map is still the identity.
-    const std::vector<Vec3f> rest = w.document()->scene().objects[0].mesh.positions;
+    const std::vector<Vec3f> rest = w.document()->scene().objects[0].mesh->positions;
     QVERIFY(maxDistance(view->deformedPositions(0), rest) < 1e-5);
     // Shift+drag up grows the box about its centre.
     const QPoint c = now.toPoint();
@@ -1066,12 +1066,12 @@ void TestEditor::poseAsRestShapeSavesAndUndoes() {
     QVERIFY(w.document()->saveAs(path).ok());
     Document reopened;
     QVERIFY(reopened.open(path).ok());
-    QVERIFY(reopened.scene().objects[0].mesh.positions == after.positions);
+    QVERIFY(reopened.scene().objects[0].mesh->positions == after.positions);
     QCOMPARE(reopened.project().restShapeEdits[0].size(), std::size_t(1));
 
     // One undo step back to the fish as it was.
     w.document()->undoStack()->undo();
-    QVERIFY(w.document()->scene().objects[0].mesh.positions == before.positions);
+    QVERIFY(w.document()->scene().objects[0].mesh->positions == before.positions);
     QVERIFY(w.document()->project().restShapeEdits.empty() || w.document()->project().restShapeEdits[0].empty());
 }
 
@@ -1103,7 +1103,7 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     QCOMPARE(undo->index(), undo0 + 1);
     QCOMPARE(view->currentObject(), 1);
     QCOMPARE(outliner->currentItem()->text(0), QString("guppy"));
-    QVERIFY(scene.objects[1].mesh.bounds().min.x() > scene.objects[0].mesh.bounds().max.x());  // beside, not inside
+    QVERIFY(scene.objects[1].mesh->bounds().min.x() > scene.objects[0].mesh->bounds().max.x());  // beside, not inside
     QVERIFY2(fits().ok(), fits().message().c_str());
     QCOMPARE(w.document()->project().clips.sessions[0].session.start.bodies.size(), std::size_t(2));
     w.timeline()->scrubTo(0, 3);  // the take replays with the guppy at rest
@@ -1113,10 +1113,10 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     QCOMPARE(scene.objects.size(), std::size_t(3));
     QCOMPARE(scene.objects[2].name, std::string("guppy 2"));
     QCOMPARE(view->currentObject(), 2);
-    const float shift = scene.objects[2].mesh.positions[0].x() - scene.objects[1].mesh.positions[0].x();
+    const float shift = scene.objects[2].mesh->positions[0].x() - scene.objects[1].mesh->positions[0].x();
     QVERIFY(shift > 0.0f);
-    for (std::size_t v = 0; v < scene.objects[1].mesh.positions.size(); v += 97)
-        QVERIFY((scene.objects[2].mesh.positions[v] - scene.objects[1].mesh.positions[v] - Vec3f(shift, 0, 0)).norm() < 1e-5f);
+    for (std::size_t v = 0; v < scene.objects[1].mesh->positions.size(); v += 97)
+        QVERIFY((scene.objects[2].mesh->positions[v] - scene.objects[1].mesh->positions[v] - Vec3f(shift, 0, 0)).norm() < 1e-5f);
     QVERIFY2(fits().ok(), fits().message().c_str());
 
     // The swim clip exported with each object in its own cache, and as one OBJ sequence with a group per object.
@@ -1129,7 +1129,7 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
         const QString file = QString::fromStdString(io::perObjectPath((m_dir->filePath("swim.pc2")).toStdString(), scene.objects[i].name).string());
         auto cache = io::readPc2(file.toStdString());
         QVERIFY2(cache.ok(), qPrintable(file));
-        QCOMPARE(cache->info.pointCount, scene.objects[i].mesh.positions.size());
+        QCOMPARE(cache->info.pointCount, scene.objects[i].mesh->positions.size());
     }
     QVERIFY2(w.timeline()->statusText().contains("swim-guppy_2.pc2"), qPrintable(w.timeline()->statusText()));
     QDir(m_dir->path()).mkdir("seq");
@@ -1149,7 +1149,7 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     QVERIFY(reopened.open(path).ok());
     QCOMPARE(reopened.scene().objects.size(), std::size_t(3));
     for (std::size_t i = 0; i < 3; ++i)
-        QVERIFY(maxDistance(reopened.scene().objects[i].mesh.positions, scene.objects[i].mesh.positions) < 1e-6);
+        QVERIFY(maxDistance(reopened.scene().objects[i].mesh->positions, scene.objects[i].mesh->positions) < 1e-6);
 
     // A double-click on the angelfish's front-most face makes it current.
     view->frameAll();
@@ -1157,15 +1157,15 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     const Vec3 eye = view->camera().eye();
     std::size_t front = 0;
     double nearest = 1e300;
-    for (std::size_t t = 0; t < scene.objects[0].mesh.triangles.size(); ++t) {
-        const auto& tri = scene.objects[0].mesh.triangles[t];
+    for (std::size_t t = 0; t < scene.objects[0].mesh->triangles.size(); ++t) {
+        const auto& tri = scene.objects[0].mesh->triangles[t];
         const Vec3 centre = (fish[tri[0]] + fish[tri[1]] + fish[tri[2]]).cast<double>() / 3.0;
         if ((centre - eye).norm() < nearest) {
             nearest = (centre - eye).norm();
             front = t;
         }
     }
-    const auto& tri = scene.objects[0].mesh.triangles[front];
+    const auto& tri = scene.objects[0].mesh->triangles[front];
     const QPoint at = view->toWidget((fish[tri[0]] + fish[tri[1]] + fish[tri[2]]).cast<double>() / 3.0).toPoint();
     QTest::mouseDClick(view, Qt::LeftButton, {}, at);
     QCOMPARE(view->currentObject(), 0);
@@ -1260,7 +1260,7 @@ void TestEditor::colliderToolAddsMovesScalesAndDeletes() {
     QCOMPARE(view->currentCollider(), int(before));
     const Collider added = colliders().back();
     QCOMPARE(added.shape, ColliderShape::Sphere);
-    const Bounds fish = w.document()->scene().objects[0].mesh.bounds();
+    const Bounds fish = w.document()->scene().objects[0].mesh->bounds();
     QVERIFY(added.centre.y() + added.radius < fish.min.y());  // below the fish, not touching it
     QTRY_VERIFY(view->isVisible());
 
@@ -1342,7 +1342,7 @@ void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
     const SceneObject& fish = w.document()->scene().objects[0];
     Vec3 tail = Vec3::Zero();
     int count = 0;
-    for (const Vec3f& p : fish.mesh.positions) {
+    for (const Vec3f& p : fish.mesh->positions) {
         if (fish.lattice.box().toParameters(p.cast<double>()).x() < 0.3) {
             tail += p.cast<double>();
             ++count;
@@ -1356,7 +1356,7 @@ void TestEditor::mouseDragPullsAndReleaseSwingsBack() {
     for (int i = 1; i <= 5; ++i)
         QTest::mouseMove(view, grabAt + QPoint(0, -24 * i));
     w.simulation()->advance(1.0);
-    const double diagonal = fish.mesh.bounds().diagonal();
+    const double diagonal = fish.mesh->bounds().diagonal();
     const double pulled = maxDistance(view->deformedPositions(0), rest);
     QVERIFY2(pulled > 0.05 * diagonal, qPrintable(QString("moved %1 of the diagonal").arg(pulled / diagonal)));
 
@@ -1388,7 +1388,7 @@ void TestEditor::restingFishIsNotRedrawn() {
 
     Viewport* view = w.viewport();
     const SceneObject& fish = w.document()->scene().objects[0];
-    const Bounds bounds = fish.mesh.bounds();
+    const Bounds bounds = fish.mesh->bounds();
     const QPoint grabAt = view->toWidget(0.5 * (bounds.min + bounds.max)).toPoint();
     QTest::mousePress(view, Qt::LeftButton, {}, grabAt);
     w.simulation()->pause();
@@ -1428,7 +1428,7 @@ void TestEditor::secondHandHoldsAndPenPressureScalesTheSpring() {
     QApplication::sendEvent(view, &tilt);
     QTest::mouseMove(view, body + QPoint(0, 10));
     const double depth = (w.simulation()->grab(0)->drag.target - flat).dot(view->camera().forward());
-    const double expected = 0.5 * view->dragSettings().tiltDepth * fish.mesh.bounds().diagonal();
+    const double expected = 0.5 * view->dragSettings().tiltDepth * fish.mesh->bounds().diagonal();
     QVERIFY2(std::abs(depth - expected) < 0.02 * expected, qPrintable(QString("depth %1, expected %2").arg(depth).arg(expected)));
     // Both hands act at once.
     w.simulation()->advance(0.05);
@@ -1463,7 +1463,7 @@ void TestEditor::saveAndReopenGivesTheSameScene() {
     const Scene& a = doc->scene();
     const Scene& b = other->document()->scene();
     QVERIFY(sameMaterial(a.objects[0].material, b.objects[0].material));
-    QVERIFY(a.objects[0].mesh.positions == b.objects[0].mesh.positions);
+    QVERIFY(a.objects[0].mesh->positions == b.objects[0].mesh->positions);
     QVERIFY(a.objects[0].lattice.restNodes() == b.objects[0].lattice.restNodes());
     QVERIFY(a.world.gravity == b.world.gravity);
     QCOMPARE(a.world.simulation.dt, b.world.simulation.dt);
@@ -1740,7 +1740,7 @@ void TestEditor::recordedTakeScrubsAndExports() {
     auto cache = io::readPc2(pc2.toStdString());
     QVERIFY2(cache.ok(), cache.message().c_str());
     QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
-    QCOMPARE(cache->info.pointCount, w.document()->scene().objects[0].mesh.positions.size());
+    QCOMPARE(cache->info.pointCount, w.document()->scene().objects[0].mesh->positions.size());
     // The same clip rendered as a video from the editor (headless EGL beside the viewport's context).
     const QString mp4 = m_dir->filePath("take.mp4");
     const Status rendered = w.timeline()->renderClipTo(clip, mp4, 160, 96);
@@ -2009,7 +2009,7 @@ void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {
     // The editor's simulation takes the pose over and lets the fish swing back.
     w.simulation()->setDriversEnabled(false);
     w.simulation()->advance(5.0);
-    QVERIFY(maxDistance(w.viewport()->deformedPositions(0), rest) < 0.05 * w.document()->scene().objects[0].mesh.bounds().diagonal());
+    QVERIFY(maxDistance(w.viewport()->deformedPositions(0), rest) < 0.05 * w.document()->scene().objects[0].mesh->bounds().diagonal());
 }
 
 // The Speed vs accuracy dock measures the scene that is open, not a stored study: a sphere imported as a
@@ -2454,7 +2454,7 @@ void TestEditor::viewportDrawsTheFish() {
     const qreal scale = double(image.width()) / view->width();
     // Where the fish is: the screen box of its vertices, shrunk to its middle half.
     QRectF box;
-    for (const Vec3f& p : w.document()->scene().objects[0].mesh.positions)
+    for (const Vec3f& p : w.document()->scene().objects[0].mesh->positions)
         box |= QRectF(view->toWidget(p.cast<double>()) * scale, QSizeF(1, 1));
     const QRect middle = QRectF(box.center() - QPointF(box.width(), box.height()) / 4.0,
                                 QSizeF(box.width(), box.height()) / 2.0).toRect();
