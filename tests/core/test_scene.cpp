@@ -113,6 +113,18 @@ void TestScene::editsKeepTheBindingAndMoveAsAFreshBuild() {
     QVERIFY(kept.ok() && fresh.ok());
     QCOMPARE(&kept.value().binding(0), &first.value().binding(0));
     QVERIFY(&fresh.value().binding(0) != &first.value().binding(0));
+    // The copies share one mesh (a pointer, not its vertices), and the rebuilt body the contact samples.
+    QVERIFY(edited.objects[0].mesh.sameAs(scene.objects[0].mesh));
+    QVERIFY(kept.value().object(0).mesh.sameAs(scene.objects[0].mesh));
+    QVERIFY(kept.value().simulator(0).model().contactPoints != nullptr);
+    QCOMPARE(kept.value().simulator(0).model().contactPoints, first.value().simulator(0).model().contactPoints);
+    // A mesh made again with the same values (a reload) is the same geometry: compared by value.
+    Scene reloaded = edited;
+    reloaded.objects[0].mesh = Mesh(*scene.objects[0].mesh);
+    QVERIFY(!reloaded.objects[0].mesh.sameAs(scene.objects[0].mesh));
+    auto again = SceneSimulation::create(reloaded, &first.value());
+    QVERIFY(again.ok());
+    QCOMPARE(&again.value().binding(0), &first.value().binding(0));
     for (SceneSimulation* sim : {&kept.value(), &fresh.value()}) {
         sim->setInteractiveDrags(0, {pullUp(*sim, 0.2)});
         sim->advanceTo(0.5);
