@@ -95,7 +95,7 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
         io::BakeOptions options;
         options.output = job.output;
         const io::ExportFormat& format = *io::findExportFormat(job.format);  // the manifest reader checked the name
-        options.format = io::exportWriter(format, job.output);
+        options.format = &format;
         options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
         options.frames = job.frames;
         options.clips = &project->clips;

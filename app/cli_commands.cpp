@@ -120,7 +120,7 @@ int runBake(const std::vector<std::string>& args) {
         return line.usage(exportOptions.message());
     io::BakeOptions options;
     options.output = outPath;
-    options.format = io::exportWriter(*format, outPath);
+    options.format = format;
     options.exportOptions = exportOptions.value();
     options.frames = frames ? int(*frames) : 0;
     options.fps = fps.value_or(0.0);

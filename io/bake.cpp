@@ -12,15 +12,6 @@
 
 namespace softtouch::io {
 
-std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format) {
-    if (format == CacheFormat::ObjSequence)
-        return cache;
-    std::filesystem::path rest = cache;
-    if (format == CacheFormat::Vat || format == CacheFormat::Lattice)
-        return rest += ".obj";  // a base path: "out/fish.v2" must not lose ".v2"
-    return rest.replace_extension(".obj");
-}
-
 namespace {
 
 /// A target may be absent or a regular file (replaced); anything else (a folder, a device such as
@@ -92,9 +83,10 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     if (rest.normals.size() != rest.positions.size())
         rest.computeNormals();
 
-    result.files = exportOutputs(options.format, options.output);
+    const ExportFormat& format = *options.format;
+    result.files = exportFiles(format, options.output, std::size_t(frames));
     result.cache = result.files.front();
-    result.restMesh = restMeshPath(options.output, options.format);
+    result.restMesh = restMeshPath(options.output, format);
     result.points = rest.positions.size();
     // Every target is checked before anything is written: publishing is a rename per file, and a rename
     // that fails half-way (onto a folder) would leave the files published before it replaced.
@@ -102,16 +94,13 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         return Status::error("--out '" + options.output.string() + "' names a folder, not a file: add a file name");
     std::vector<std::filesystem::path> targets = result.files;
     targets.push_back(result.restMesh);
-    if (options.format == CacheFormat::ObjSequence)
-        for (int f = 1; f < frames; ++f)
-            targets.push_back(objSequenceFramePath(options.output, std::size_t(f)));
     for (const std::filesystem::path& target : targets)
         if (Status s = checkOutputTarget(target); !s)
             return s;
     for (const std::filesystem::path& target : targets)
         removeStaleTemporaries(target);
 
-    auto writer = makeClipWriter(options.format, options.exportOptions);
+    auto writer = format.makeWriter(options.output, options.exportOptions);
     if (writer->needsNodes())
         for (std::size_t i = 0; i < sim.objectCount(); ++i)
             if (written[i] && sim.followsBaseAnimation(i))

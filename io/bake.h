@@ -7,6 +7,7 @@
 #include "core/clip.h"
 #include "core/scene.h"
 #include "io/clip_writer.h"
+#include "io/export_formats.h"
 #include "io/vertex_cache.h"
 
 #include <filesystem>
@@ -20,7 +21,7 @@ namespace softtouch::io {
 /// What to bake.
 struct BakeOptions {
     std::filesystem::path output;           ///< Cache file (OBJ sequence: dir/name.obj; vat, lattice: a base path).
-    CacheFormat format = CacheFormat::Pc2;  ///< Cache or export format.
+    const ExportFormat* format = findExportFormat("pc2");  ///< The export (io/export_formats.h); never null.
     ClipExportOptions exportOptions;        ///< Settings of the glTF, VAT and lattice exports.
     int frames = 0;                         ///< Frames to write; 0 takes the clip's (or the scene's) length.
                                             ///< More frames than a clip has: a loop clip cycles, others hold
@@ -44,7 +45,7 @@ struct BakeOptions {
 /// What a bake wrote.
 struct BakeResult {
     std::filesystem::path cache;     ///< The cache (for an OBJ sequence: the first frame; vat, lattice: the first file).
-    std::vector<std::filesystem::path> files; ///< Every file the export wrote (exportOutputs()), rest mesh excluded.
+    std::vector<std::filesystem::path> files; ///< Every file the export wrote (exportFiles()), rest mesh excluded.
     std::filesystem::path restMesh;  ///< The OBJ whose vertex order the cache follows.
     int frames = 0;                  ///< Frames written.
     int objects = 0;                 ///< Objects in the scene.
@@ -56,10 +57,6 @@ struct BakeResult {
     std::string clip;                ///< The clip baked; empty for the drivers from frame 0.
     std::optional<SeamMeasure> seam; ///< For a loop clip: its seam, measured on the lattice nodes.
 };
-
-/// Where the rest mesh of a cache goes: the cache path with extension .obj (an OBJ sequence's
-/// --out path itself; for the base path of vat and lattice, the base with .obj).
-std::filesystem::path restMeshPath(const std::filesystem::path& cache, CacheFormat format);
 
 /// Plays `scene` (io/frame_source.h) and writes the cache or export and the rest mesh.
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);

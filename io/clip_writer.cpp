@@ -15,20 +15,14 @@ namespace softtouch::io {
 
 namespace {
 
-std::filesystem::path withSuffix(const std::filesystem::path& base, const char* suffix) {
-    std::filesystem::path out = base;
-    out += suffix;
-    return out;
-}
-
 /// A vertex cache (PC2, MDD, OBJ sequence) behind the clip interface: positions only.
 class VertexCacheClipWriter final : public ClipWriter {
 public:
-    explicit VertexCacheClipWriter(CacheFormat format) : m_format(format) {}
+    explicit VertexCacheClipWriter(detail::MakeVertexCacheWriter make) : m_make(make) {}
 
     Status begin(const std::filesystem::path& path, const ClipSetup& setup) override {
         abort();
-        m_writer = makeCacheWriter(m_format, setup.restMesh);
+        m_writer = m_make(setup.restMesh);
         return m_writer->begin(path, setup.info);
     }
     Status writeFrame(const FrameData& frame) override {
@@ -47,48 +41,14 @@ public:
     }
 
 private:
-    CacheFormat m_format;
+    detail::MakeVertexCacheWriter m_make;
     std::unique_ptr<VertexCacheWriter> m_writer;
 };
 
 }  // namespace
 
-std::unique_ptr<ClipWriter> makeClipWriter(CacheFormat format, const ClipExportOptions& options) {
-    switch (format) {
-    case CacheFormat::Pc2:
-    case CacheFormat::Mdd:
-    case CacheFormat::ObjSequence:
-        return std::make_unique<VertexCacheClipWriter>(format);
-    case CacheFormat::Gltf:
-    case CacheFormat::Glb:
-        if (options.skinError > 0.0 || options.skinBones > 0)  // the clip as rigid bones and weights
-            return detail::makeSkinWriter(format == CacheFormat::Glb, options);
-        return detail::makeGltfWriter(format == CacheFormat::Glb, options);
-    case CacheFormat::Vat:
-        return detail::makeVatWriter(options);
-    case CacheFormat::Lattice:
-        return detail::makeLatticeCacheWriter();
-    }
-    return nullptr;  // unreachable: every enumerator is handled above
-}
-
-std::vector<std::filesystem::path> exportOutputs(CacheFormat format, const std::filesystem::path& path) {
-    switch (format) {
-    case CacheFormat::ObjSequence:
-        return {objSequenceFramePath(path, 0)};
-    case CacheFormat::Vat:
-        // The JSON last: a reader that finds it finds the textures and mesh it describes.
-        return {withSuffix(path, ".vat-position.exr"), withSuffix(path, ".vat-normal.exr"),
-                withSuffix(path, ".vat-mesh.glb"), withSuffix(path, ".vat.json")};
-    case CacheFormat::Lattice:
-        return {withSuffix(path, ".lattice.glb"), withSuffix(path, ".lattice.bin")};
-    case CacheFormat::Pc2:
-    case CacheFormat::Mdd:
-    case CacheFormat::Gltf:
-    case CacheFormat::Glb:
-        break;
-    }
-    return {path};
+std::unique_ptr<ClipWriter> detail::makeVertexCacheClipWriter(MakeVertexCacheWriter make) {
+    return std::make_unique<VertexCacheClipWriter>(make);
 }
 
 Status checkFrameData(const std::filesystem::path& path, std::size_t frameIndex, const ClipSetup& setup,

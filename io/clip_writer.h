@@ -98,14 +98,6 @@ protected:
     std::vector<std::string> m_notes;     ///< See notes().
 };
 
-/// A writer for any CacheFormat (vertex caches are adapted; OBJ sequences take the rest mesh's
-/// triangles from the setup).
-std::unique_ptr<ClipWriter> makeClipWriter(CacheFormat format, const ClipExportOptions& options = {});
-
-/// Every file an export of `format` at `path` publishes (for an OBJ sequence: the first frame;
-/// for vat and lattice, `path` is a base path and the names get suffixes, see docs/formats.md).
-std::vector<std::filesystem::path> exportOutputs(CacheFormat format, const std::filesystem::path& path);
-
 /// Checks one frame against the setup (counts, finiteness of positions, normals and nodes);
 /// messages name the frame, what is wrong and end in "nothing was written to '<path>'".
 Status checkFrameData(const std::filesystem::path& path, std::size_t frameIndex, const ClipSetup& setup,

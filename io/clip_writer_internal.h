@@ -73,15 +73,15 @@ int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uin
 /// Serialises the model as .gltf (buffer embedded as a data URI) or .glb.
 Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path);
 
-// ---- Writers ------------------------------------------------------------------------------------
+// ---- Writers (each export's factory is declared with the registry, io/export_formats.cpp) ------------
 
+/// Makes a vertex cache's writer for the rest mesh (an OBJ sequence writes its triangles into every frame).
+using MakeVertexCacheWriter = std::unique_ptr<VertexCacheWriter> (*)(const Mesh& restMesh);
+/// A vertex cache (PC2, MDD, OBJ sequence) behind the clip interface: positions only.
+std::unique_ptr<ClipWriter> makeVertexCacheClipWriter(MakeVertexCacheWriter make);
 /// glTF/GLB morph-target animation (gltf_export.cpp).
 std::unique_ptr<ClipWriter> makeGltfWriter(bool binary, const ClipExportOptions& options);
-/// The skinned glTF/GLB writer (ClipExportOptions::skinError or skinBones set).
+/// The skinned glTF/GLB writer (ClipExportOptions::skinError or skinBones set; gltf_skin_export.cpp).
 std::unique_ptr<ClipWriter> makeSkinWriter(bool binary, const ClipExportOptions& options);
-/// Vertex animation textures (vat_export.cpp).
-std::unique_ptr<ClipWriter> makeVatWriter(const ClipExportOptions& options);
-/// Lattice cache (lattice_cache.cpp).
-std::unique_ptr<ClipWriter> makeLatticeCacheWriter();
 
 }  // namespace softtouch::io::detail

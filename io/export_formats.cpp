@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -9,36 +10,63 @@
 
 namespace softtouch::io {
 
+// Each export's writer, in its own file: a factory with the registry's signature and, for exports of
+// several files, the files it publishes.
+namespace detail {
+std::unique_ptr<ClipWriter> makePc2Export(const std::filesystem::path& path, const ClipExportOptions& options);  // pc2.cpp
+std::unique_ptr<ClipWriter> makeMddExport(const std::filesystem::path& path, const ClipExportOptions& options);  // mdd.cpp
+std::unique_ptr<ClipWriter> makeObjSequenceExport(const std::filesystem::path& path,
+                                                  const ClipExportOptions& options);  // obj_sequence.cpp
+std::vector<std::filesystem::path> objSequenceFiles(const std::filesystem::path& path, std::size_t frames);
+std::unique_ptr<ClipWriter> makeGltfExport(const std::filesystem::path& path, const ClipExportOptions& options);  // gltf_export.cpp
+std::unique_ptr<ClipWriter> makeGlbExport(const std::filesystem::path& path, const ClipExportOptions& options);
+std::unique_ptr<ClipWriter> makeCompressedMorphExport(const std::filesystem::path& path, const ClipExportOptions& options);
+std::unique_ptr<ClipWriter> makeSkinExport(const std::filesystem::path& path,
+                                           const ClipExportOptions& options);  // gltf_skin_export.cpp
+std::unique_ptr<ClipWriter> makeVatExport(const std::filesystem::path& path, const ClipExportOptions& options);  // vat_export.cpp
+std::vector<std::filesystem::path> vatFiles(const std::filesystem::path& path, std::size_t frames);
+std::unique_ptr<ClipWriter> makeLatticeExport(const std::filesystem::path& path,
+                                              const ClipExportOptions& options);  // lattice_cache.cpp
+std::vector<std::filesystem::path> latticeFiles(const std::filesystem::path& path, std::size_t frames);
+}  // namespace detail
+
 namespace {
 
-using enum CacheFormat;
 using enum ExportNeeds;
+using enum RestMeshPlace;
+using namespace detail;
 
-constexpr std::array kFormats = {
-    ExportFormat{"pc2", "Point cache", ".pc2", Pc2, Positions, false, false, false,
-                 "3ds Max point cache: positions per frame"},
-    ExportFormat{"mdd", "MDD", ".mdd", Mdd, Positions, false, false, false,
-                 "LightWave/Blender MDD: positions and frame times"},
-    ExportFormat{"objseq", "OBJ sequence", ".obj", ObjSequence, Positions, false, false, false,
-                 "one OBJ per frame: NAME_0000.obj, NAME_0001.obj, ... beside FILE (the rest mesh)"},
-    ExportFormat{"gltf", "glTF, one morph target per frame", ".gltf", Gltf, Normals, false, false, false,
-                 "glTF 2.0 (JSON, embedded buffer): one morph target per frame and a weights animation"},
-    ExportFormat{"glb", "glTF binary, one morph target per frame", ".glb", Glb, Normals, false, false, false,
-                 "the same as binary glTF"},
-    ExportFormat{"pca", "glTF binary, compressed morph targets", ".glb .gltf", Glb, Normals, true, true, false,
+const std::array kFormats = {
+    ExportFormat{"pc2", "Point cache", ".pc2", Positions, false, false, false,
+                 "3ds Max point cache: positions per frame", makePc2Export, nullptr, ReplaceExtension},
+    ExportFormat{"mdd", "MDD", ".mdd", Positions, false, false, false,
+                 "LightWave/Blender MDD: positions and frame times", makeMddExport, nullptr, ReplaceExtension},
+    ExportFormat{"objseq", "OBJ sequence", ".obj", Positions, false, false, false,
+                 "one OBJ per frame: NAME_0000.obj, NAME_0001.obj, ... beside FILE (the rest mesh)", makeObjSequenceExport,
+                 objSequenceFiles, AtPath},
+    ExportFormat{"gltf", "glTF, one morph target per frame", ".gltf", Normals, false, false, false,
+                 "glTF 2.0 (JSON, embedded buffer): one morph target per frame and a weights animation", makeGltfExport,
+                 nullptr, ReplaceExtension},
+    ExportFormat{"glb", "glTF binary, one morph target per frame", ".glb", Normals, false, false, false,
+                 "the same as binary glTF", makeGlbExport, nullptr, ReplaceExtension},
+    ExportFormat{"pca", "glTF binary, compressed morph targets", ".glb .gltf", Normals, true, true, false,
                  "glTF/GLB (by the extension) with compressed morphs: the frames' mean plus the fewest principal "
                  "components that keep every frame's RMS vertex error within --error (at most --targets); prints "
-                 "the targets, the errors and the size against PC2"},
-    ExportFormat{"skin", "glTF binary, skinned: bones for game engines", ".glb .gltf", Glb, Positions, true, false, true,
+                 "the targets, the errors and the size against PC2",
+                 makeCompressedMorphExport, nullptr, ReplaceExtension},
+    ExportFormat{"skin", "glTF binary, skinned: bones for game engines", ".glb .gltf", Positions, true, false, true,
                  "glTF/GLB (by the extension) as linear blend skinning: rigid bones fitted to the clip (Le & Deng "
                  "2012), at most 4 weights a vertex, a bone animation; the fewest of 8/16/32/64 bones within "
-                 "--error, or --bones K; prints the errors"},
-    ExportFormat{"vat", "Vertex animation textures", "", Vat, Normals, false, false, false,
+                 "--error, or --bones K; prints the errors",
+                 makeSkinExport, nullptr, ReplaceExtension},
+    ExportFormat{"vat", "Vertex animation textures", "", Normals, false, false, false,
                  "FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float), "
-                 "FILE.vat-mesh.glb, FILE.vat.json"},
-    ExportFormat{"lattice", "Lattice cache", "", Lattice, LatticeNodes, false, false, false,
+                 "FILE.vat-mesh.glb, FILE.vat.json",
+                 makeVatExport, vatFiles, AfterBasePath},
+    ExportFormat{"lattice", "Lattice cache", "", LatticeNodes, false, false, false,
                  "FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w), FILE.lattice.bin (node "
-                 "positions per frame); shaders in io/shaders/"},
+                 "positions per frame); shaders in io/shaders/",
+                 makeLatticeExport, latticeFiles, AfterBasePath},
 };
 
 std::string lowercase(std::string_view text) {
@@ -130,14 +158,24 @@ std::string exportExtensions() {
     return text;
 }
 
-CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path& path) {
-    // A format with several extensions (pca, skin) writes what the path's extension names.
-    const std::string extension = lowercase(path.extension().string());
-    if (extensionsOf(format).size() > 1 && listsExtension(format, extension))
-        if (const ExportFormat* byPath = exportFormatForPath(path))
-            return byPath->writer;
-    return format.writer;
+std::vector<std::filesystem::path> exportFiles(const ExportFormat& format, const std::filesystem::path& path, std::size_t frames) {
+    return format.files ? format.files(path, frames) : std::vector<std::filesystem::path>{path};
 }
+
+std::filesystem::path restMeshPath(const std::filesystem::path& path, const ExportFormat& format) {
+    std::filesystem::path rest = path;
+    switch (format.restMesh) {
+    case AtPath:
+        return rest;
+    case AfterBasePath:
+        return rest += ".obj";  // a base path: "out/fish.v2" must not lose ".v2"
+    case ReplaceExtension:
+        break;
+    }
+    return rest.replace_extension(".obj");
+}
+
+bool writesGltfJson(const std::filesystem::path& path) { return lowercase(path.extension().string()) == ".gltf"; }
 
 Result<ClipExportOptions> exportOptions(const ExportFormat& format, const ExportSettings& settings) {
     if (settings.error && !format.takesError)

@@ -1,14 +1,15 @@
 #pragma once
-/// The export registry: every way a clip can be exported, as people name it. `bake --format`, batch
-/// manifests, the editor's Export Clip dialog and the CLI usage text all read this one table, so a new
-/// export is one entry here and its writer (makeClipWriter(), io/clip_writer.h). Several entries may
-/// share a writer: pca and skin are GLB (or glTF) files written with their own options.
+/// The export registry: every way a clip can be exported, as people name it, with its writer. `bake
+/// --format`, batch manifests, the editor's Export Clip dialog and the CLI usage text all read this one
+/// table, so a new export is its writer's file and one entry (with its factory's declaration) in
+/// export_formats.cpp. Several entries may share a writer: pca and skin are GLB (or glTF) files written
+/// with their own options.
 
 #include "core/result.h"
 #include "io/clip_writer.h"
-#include "io/vertex_cache.h"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -32,18 +33,32 @@ struct ExportSettings {
     std::optional<double> bones;    ///< Skinning: exactly this many bones, a whole number in [1, 256].
 };
 
+/// Where an export's rest mesh goes (the OBJ whose vertex order the files follow; bake writes it).
+enum class RestMeshPlace {
+    ReplaceExtension,  ///< out/fish.pc2 -> out/fish.obj.
+    AfterBasePath,     ///< A base path keeps all of its name: out/fish.v2 -> out/fish.v2.obj.
+    AtPath,            ///< The path itself (an OBJ sequence: its frames go beside it).
+};
+
+/// Makes an export's writer for `path` (an export of several extensions writes what the path's names).
+using MakeExportWriter = std::unique_ptr<ClipWriter> (*)(const std::filesystem::path& path, const ClipExportOptions& options);
+/// Every file an export of `frames` frames to `path` publishes, the cache first.
+using ExportFiles = std::vector<std::filesystem::path> (*)(const std::filesystem::path& path, std::size_t frames);
+
 /// One export.
 struct ExportFormat {
     std::string_view name;        ///< What people type: "pc2", "pca", … (case-insensitive when parsed).
     std::string_view label;       ///< For a file dialog: "Point cache".
     std::string_view extensions;  ///< Space-separated, first is the default: ".glb .gltf". Empty for a base
                                   ///< path, whose files get suffixes (vat, lattice; docs/formats.md).
-    CacheFormat writer;           ///< The writer kind; for several extensions, chosen by the path (exportWriter()).
     ExportNeeds needs;            ///< What the bake supplies per frame.
     bool takesError;              ///< Accepts ExportSettings::error.
     bool takesTargets;            ///< Accepts ExportSettings::targets.
     bool takesBones;              ///< Accepts ExportSettings::bones.
     std::string_view help;        ///< A sentence for usage texts (wrapped by the caller).
+    MakeExportWriter makeWriter;  ///< Its writer.
+    ExportFiles files;            ///< The files it publishes; nullptr: the one file at the path.
+    RestMeshPlace restMesh;       ///< Where bake puts the rest mesh.
 };
 
 /// The extensions of `format`, first the default (".glb", ".gltf"); none for a base path.
@@ -66,9 +81,17 @@ std::string exportFormatNames(std::string_view separator = ", ", std::string_vie
 /// ".pc2, .mdd, .obj, .gltf, .glb": every extension that names an export, once each, in registry order.
 std::string exportExtensions();
 
-/// The writer an export of `format` to `path` uses: for pca and skin, glTF JSON when the path ends in
-/// .gltf, GLB otherwise.
-CacheFormat exportWriter(const ExportFormat& format, const std::filesystem::path& path);
+/// Every file an export of `format` with `frames` frames to `path` publishes, the cache first (for an OBJ
+/// sequence every frame; for vat and lattice `path` is a base path and the names get suffixes, see
+/// docs/formats.md). The rest mesh is not among them: restMeshPath().
+std::vector<std::filesystem::path> exportFiles(const ExportFormat& format, const std::filesystem::path& path,
+                                               std::size_t frames = 1);
+
+/// Where the rest mesh of an export of `format` to `path` goes (RestMeshPlace).
+std::filesystem::path restMeshPath(const std::filesystem::path& path, const ExportFormat& format);
+
+/// Whether an export of several extensions writes glTF JSON to `path` (it ends in .gltf) rather than GLB.
+bool writesGltfJson(const std::filesystem::path& path);
 
 /// The writer options an export of `format` uses with `settings`. Refuses a setting the format does
 /// not take, a value out of range, or --bones with --error, with a message naming the option

@@ -18,6 +18,7 @@
 
 #include "core/morph_basis.h"
 #include "io/clip_writer_internal.h"
+#include "io/export_formats.h"
 #include "io/vertex_cache_internal.h"
 
 #include <tiny_gltf.h>
@@ -441,6 +442,29 @@ namespace detail {
 
 std::unique_ptr<ClipWriter> makeGltfWriter(bool binary, const ClipExportOptions& options) {
     return std::make_unique<GltfWriter>(binary, options);
+}
+
+namespace {
+
+/// glTF options that ask for bones (skinError or skinBones) get the skinned writer.
+std::unique_ptr<ClipWriter> gltfOrSkin(bool binary, const ClipExportOptions& options) {
+    if (options.skinError > 0.0 || options.skinBones > 0)
+        return makeSkinWriter(binary, options);
+    return makeGltfWriter(binary, options);
+}
+
+}  // namespace
+
+/// The "gltf" and "glb" exports (io/export_formats.cpp): named, the name decides the file kind.
+std::unique_ptr<ClipWriter> makeGltfExport(const std::filesystem::path&, const ClipExportOptions& options) {
+    return gltfOrSkin(false, options);
+}
+std::unique_ptr<ClipWriter> makeGlbExport(const std::filesystem::path&, const ClipExportOptions& options) {
+    return gltfOrSkin(true, options);
+}
+/// The "pca" export: glTF JSON for a .gltf path, GLB otherwise.
+std::unique_ptr<ClipWriter> makeCompressedMorphExport(const std::filesystem::path& path, const ClipExportOptions& options) {
+    return gltfOrSkin(!writesGltfJson(path), options);
 }
 
 }  // namespace detail

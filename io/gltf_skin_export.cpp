@@ -13,6 +13,7 @@
 
 #include "core/skin_fit.h"
 #include "io/clip_writer_internal.h"
+#include "io/export_formats.h"
 #include "io/vertex_cache_internal.h"
 
 #include <tiny_gltf.h>
@@ -262,6 +263,11 @@ namespace detail {
 
 std::unique_ptr<ClipWriter> makeSkinWriter(bool binary, const ClipExportOptions& options) {
     return std::make_unique<SkinWriter>(binary, options);
+}
+
+/// The "skin" export (io/export_formats.cpp): glTF JSON for a .gltf path, GLB otherwise.
+std::unique_ptr<ClipWriter> makeSkinExport(const std::filesystem::path& path, const ClipExportOptions& options) {
+    return makeSkinWriter(!writesGltfJson(path), options);
 }
 
 }  // namespace detail

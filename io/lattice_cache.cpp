@@ -33,6 +33,16 @@
 
 namespace softtouch::io {
 
+namespace detail {
+
+/// The files of a lattice cache at the base path `path`: the mesh with its lattice coordinates, then the
+/// node positions per frame.
+std::vector<std::filesystem::path> latticeFiles(const std::filesystem::path& path, std::size_t) {
+    return {std::filesystem::path(path) += ".lattice.glb", std::filesystem::path(path) += ".lattice.bin"};
+}
+
+}  // namespace detail
+
 namespace {
 
 using detail::ByteOrder;
@@ -57,7 +67,7 @@ public:
     Status begin(const std::filesystem::path& path, const ClipSetup& setup) override {
         abort();
         m_warnings.clear();
-        const std::vector<std::filesystem::path> outputs = exportOutputs(CacheFormat::Lattice, path);
+        const std::vector<std::filesystem::path> outputs = detail::latticeFiles(path, setup.info.frameCount);
         if (Status s = detail::checkCacheInfo(outputs[1], setup.info); !s)
             return s;
         if (setup.objects.empty())
@@ -249,7 +259,10 @@ private:
 
 namespace detail {
 
-std::unique_ptr<ClipWriter> makeLatticeCacheWriter() { return std::make_unique<LatticeCacheWriter>(); }
+/// The "lattice" export (io/export_formats.cpp).
+std::unique_ptr<ClipWriter> makeLatticeExport(const std::filesystem::path&, const ClipExportOptions&) {
+    return std::make_unique<LatticeCacheWriter>();
+}
 
 }  // namespace detail
 

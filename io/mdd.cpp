@@ -11,6 +11,7 @@
 
 #include "io/vertex_cache.h"
 
+#include "io/clip_writer_internal.h"
 #include "io/vertex_cache_internal.h"
 
 #include <algorithm>
@@ -112,6 +113,11 @@ TimeBase recoverTimeBase(const std::vector<float>& times) {
 namespace detail {
 
 std::unique_ptr<VertexCacheWriter> makeMddWriter() { return std::make_unique<MddWriter>(); }
+
+/// The "mdd" export (io/export_formats.cpp).
+std::unique_ptr<ClipWriter> makeMddExport(const std::filesystem::path&, const ClipExportOptions&) {
+    return makeVertexCacheClipWriter([](const Mesh&) { return makeMddWriter(); });
+}
 
 }  // namespace detail
 

@@ -12,8 +12,10 @@
 #include "io/vertex_cache.h"
 
 #include "io/atomic_file.h"
+#include "io/clip_writer_internal.h"
 #include "io/vertex_cache_internal.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -181,6 +183,19 @@ namespace detail {
 
 std::unique_ptr<VertexCacheWriter> makeObjSequenceWriter(const Mesh& restMesh) {
     return std::make_unique<ObjSequenceWriter>(restMesh.triangles, restMesh.parts);
+}
+
+/// The "objseq" export (io/export_formats.cpp): the rest mesh's triangles in every frame.
+std::unique_ptr<ClipWriter> makeObjSequenceExport(const std::filesystem::path&, const ClipExportOptions&) {
+    return makeVertexCacheClipWriter(makeObjSequenceWriter);
+}
+
+/// Every frame's file, the first one first.
+std::vector<std::filesystem::path> objSequenceFiles(const std::filesystem::path& path, std::size_t frames) {
+    std::vector<std::filesystem::path> files;
+    for (std::size_t f = 0; f < std::max<std::size_t>(frames, 1); ++f)
+        files.push_back(objSequenceFramePath(path, f));
+    return files;
 }
 
 }  // namespace detail

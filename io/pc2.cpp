@@ -15,6 +15,7 @@
 
 #include "io/vertex_cache.h"
 
+#include "io/clip_writer_internal.h"
 #include "io/vertex_cache_internal.h"
 
 #include <algorithm>
@@ -65,6 +66,11 @@ protected:
 namespace detail {
 
 std::unique_ptr<VertexCacheWriter> makePc2Writer() { return std::make_unique<Pc2Writer>(); }
+
+/// The "pc2" export (io/export_formats.cpp).
+std::unique_ptr<ClipWriter> makePc2Export(const std::filesystem::path&, const ClipExportOptions&) {
+    return makeVertexCacheClipWriter([](const Mesh&) { return makePc2Writer(); });
+}
 
 }  // namespace detail
 

@@ -32,6 +32,17 @@
 
 namespace softtouch::io {
 
+namespace detail {
+
+/// The files of a VAT export to the base path `path`, the JSON last: a reader that finds it finds the
+/// textures and mesh it describes.
+std::vector<std::filesystem::path> vatFiles(const std::filesystem::path& path, std::size_t) {
+    const auto with = [&](const char* suffix) { return std::filesystem::path(path) += suffix; };
+    return {with(".vat-position.exr"), with(".vat-normal.exr"), with(".vat-mesh.glb"), with(".vat.json")};
+}
+
+}  // namespace detail
+
 namespace {
 
 /// Largest finite half float.
@@ -49,7 +60,7 @@ public:
         m_warnings.clear();
         if (Status s = detail::checkCacheInfo(path, setup.info); !s)
             return s;
-        const std::vector<std::filesystem::path> outputs = exportOutputs(CacheFormat::Vat, path);
+        const std::vector<std::filesystem::path> outputs = detail::vatFiles(path, setup.info.frameCount);
         if (m_options.vatMaxWidth < 1 || m_options.vatMaxWidth > 16384)
             return Status::error("cannot write " + detail::quoted(outputs[0]) + ": the VAT width limit must be in [1, 16384], got " +
                                  std::to_string(m_options.vatMaxWidth));
@@ -279,7 +290,8 @@ private:
 
 namespace detail {
 
-std::unique_ptr<ClipWriter> makeVatWriter(const ClipExportOptions& options) {
+/// The "vat" export (io/export_formats.cpp).
+std::unique_ptr<ClipWriter> makeVatExport(const std::filesystem::path&, const ClipExportOptions& options) {
     return std::make_unique<VatWriter>(options);
 }
 

@@ -4,6 +4,7 @@
 #include "io/vertex_cache_internal.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -11,34 +12,40 @@
 #include <limits>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include <sys/stat.h>
 
 namespace softtouch::io {
 
+namespace {
+
+constexpr std::array<std::pair<CacheFormat, std::string_view>, 3> kCacheNames = {
+    {{CacheFormat::Pc2, "pc2"}, {CacheFormat::Mdd, "mdd"}, {CacheFormat::ObjSequence, "objseq"}}};
+
+}  // namespace
+
 std::string_view cacheFormatName(CacheFormat format) {
-    // The first export of the registry that uses the writer plainly (glb before pca and skin).
-    for (const ExportFormat& f : exportFormats())
-        if (f.writer == format)
-            return f.name;
-    return "pc2";  // unreachable: the registry names every writer (tests/io/test_exports)
+    for (const auto& [kind, name] : kCacheNames)
+        if (kind == format)
+            return name;
+    return "pc2";  // unreachable: every enumerator is listed
 }
 
 std::optional<CacheFormat> parseCacheFormat(std::string_view name) {
-    const ExportFormat* f = findExportFormat(name);
-    if (!f || cacheFormatName(f->writer) != f->name)  // pca, skin: glb with options, not a writer of their own
-        return std::nullopt;
-    return f->writer;
-}
-
-std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path) {
-    if (const ExportFormat* f = exportFormatForPath(path))
-        return f->writer;
+    std::string key(name);
+    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const auto& [kind, listed] : kCacheNames)
+        if (listed == key)
+            return kind;
     return std::nullopt;
 }
 
-bool isVertexCacheFormat(CacheFormat format) {
-    return format == CacheFormat::Pc2 || format == CacheFormat::Mdd || format == CacheFormat::ObjSequence;
+std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path) {
+    // The registry's extensions: .obj is objseq, the others each name their format.
+    if (const ExportFormat* f = exportFormatForPath(path))
+        return parseCacheFormat(f->name);
+    return std::nullopt;
 }
 
 std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mesh& restMesh) {
@@ -49,11 +56,6 @@ std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mes
         return detail::makeMddWriter();
     case CacheFormat::ObjSequence:
         return detail::makeObjSequenceWriter(restMesh);
-    case CacheFormat::Gltf:
-    case CacheFormat::Glb:
-    case CacheFormat::Vat:
-    case CacheFormat::Lattice:
-        return nullptr;  // not plain vertex caches: makeClipWriter() (io/clip_writer.h)
     }
     return nullptr;  // unreachable: every enumerator is handled above
 }

@@ -15,27 +15,19 @@
 
 namespace softtouch::io {
 
-/// The supported cache and export formats. The first three are plain vertex caches
-/// (VertexCacheWriter); the others need normals, the mesh or the lattice and are written through
-/// ClipWriter (io/clip_writer.h). Layouts: docs/formats.md.
+/// The plain vertex caches: positions per frame (VertexCacheWriter). Every export, these included, is
+/// listed and made through the export registry (io/export_formats.h). Layouts: docs/formats.md.
 enum class CacheFormat {
     Pc2,          ///< 3ds Max point cache.
     Mdd,          ///< LightWave/Blender MDD.
     ObjSequence,  ///< One OBJ per frame.
-    Gltf,         ///< glTF 2.0 JSON with embedded buffer: morph targets + weights animation.
-    Glb,          ///< The same as binary glTF.
-    Vat,          ///< Vertex animation textures: EXR offsets and normals + JSON + mesh (a base path).
-    Lattice,      ///< Lattice cache: mesh with (u,v,w) + node positions per frame (a base path).
 };
 
-/// True for the formats makeCacheWriter() writes (PC2, MDD, OBJ sequence).
-bool isVertexCacheFormat(CacheFormat format);
-
-/// "pc2", "mdd", "objseq", "gltf", "glb", "vat", "lattice".
+/// "pc2", "mdd", "objseq": the export registry's names for them.
 std::string_view cacheFormatName(CacheFormat format);
-/// Parses a name written by cacheFormatName().
+/// Parses a name written by cacheFormatName() (case-insensitive).
 std::optional<CacheFormat> parseCacheFormat(std::string_view name);
-/// From the file extension (.pc2, .mdd, .obj, .gltf, .glb); vat and lattice have none.
+/// From the file extension (.pc2, .mdd, .obj).
 std::optional<CacheFormat> cacheFormatFromPath(const std::filesystem::path& path);
 
 /// What a cache holds.
@@ -60,9 +52,7 @@ public:
     virtual void abort() = 0;
 };
 
-/// A writer for a vertex-cache format (isVertexCacheFormat()); nullptr for the other formats, which
-/// are written through makeClipWriter() (io/clip_writer.h). OBJ sequences need the rest mesh's
-/// triangles (written into every frame).
+/// A writer for a vertex cache. OBJ sequences need the rest mesh's triangles (written into every frame).
 std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mesh& restMesh);
 
 /// A cache read back (tests, round trips, tools).

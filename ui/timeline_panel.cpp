@@ -458,7 +458,7 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
     options.objects = objects.only;
     options.objectGroups = objects.groups;
     options.output = path.toStdString();
-    options.format = io::exportWriter(format, options.output);
+    options.format = &format;
     options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
     options.clips = &library;
     if (index >= 0 && std::size_t(index) < library.clips.size())

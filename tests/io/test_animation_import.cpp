@@ -137,7 +137,7 @@ private slots:
         QVERIFY(worst <= 1e-6 * diagonal);
         // An MDD of the same bake holds the same frames.
         options.output = dir.filePath("rig.mdd").toStdString();
-        options.format = CacheFormat::Mdd;
+        options.format = findExportFormat("mdd");
         QVERIFY(bake(project->scene, options).ok());
         auto mdd = readMdd(options.output);
         QVERIFY2(mdd.ok(), mdd.message().c_str());
@@ -295,7 +295,7 @@ private slots:
         QVERIFY2(project.ok(), project.message().c_str());
         BakeOptions options;
         options.output = dir.filePath("rig-lattice").toStdString();
-        options.format = CacheFormat::Lattice;
+        options.format = findExportFormat("lattice");
         auto refused = bake(project->scene, options);
         QVERIFY(!refused.ok());
         QVERIFY2(refused.message().find("object 'rig' moves with its own base animation") != std::string::npos,

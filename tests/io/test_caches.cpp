@@ -112,11 +112,6 @@ fs::path cachePath(const fs::path& dir, CacheFormat format, const std::string& b
         return dir / (base + ".mdd");
     case CacheFormat::ObjSequence:
         return dir / (base + ".obj");
-    case CacheFormat::Gltf:
-    case CacheFormat::Glb:
-    case CacheFormat::Vat:
-    case CacheFormat::Lattice:
-        break;  // not vertex caches: tests/io/test_exports.cpp
     }
     return {};
 }

@@ -88,10 +88,12 @@ Scene loadScene(const fs::path& path) {
 }
 
 /// Bakes `scene` to `out` in `format` (kFrames frames) and returns the result; fails the test on error.
-BakeResult bakeTo(const Scene& scene, CacheFormat format, const fs::path& out, ClipExportOptions exportOptions = {}) {
+BakeResult bakeTo(const Scene& scene, std::string_view format, const fs::path& out, ClipExportOptions exportOptions = {}) {
     BakeOptions options;
     options.output = out;
-    options.format = format;
+    options.format = findExportFormat(format);
+    if (!options.format)
+        qFatal("no export is called %s", std::string(format).c_str());
     options.frames = kFrames;
     options.threads = 1;
     options.exportOptions = exportOptions;
@@ -269,19 +271,27 @@ private:
 void TestExports::initTestCase() { m_fish = loadScene(kSource / "presets/scenes/angelfish-swim.softtouch"); }
 
 void TestExports::formatNamesAndOutputs() {
-    for (const char* name : kClipFormats) {
+    // The plain vertex caches keep their names; every export (these too) comes from the registry.
+    for (const char* name : {"pc2", "mdd", "objseq"}) {
         const auto format = parseCacheFormat(name);
         QVERIFY(format);
         QCOMPARE(cacheFormatName(*format), std::string_view(name));
-        QVERIFY(!isVertexCacheFormat(*format));
-        QVERIFY(makeCacheWriter(*format, Mesh{}) == nullptr);
-        QVERIFY(makeClipWriter(*format) != nullptr);
+        QVERIFY(findExportFormat(name) != nullptr);
     }
-    QCOMPARE(cacheFormatFromPath("a/b.GLB"), std::optional(CacheFormat::Glb));
-    QCOMPARE(cacheFormatFromPath("a/b.gltf"), std::optional(CacheFormat::Gltf));
-    QCOMPARE(exportOutputs(CacheFormat::Vat, "out/fish").back(), fs::path("out/fish.vat.json"));
-    QCOMPARE(exportOutputs(CacheFormat::Lattice, "out/fish.v2").front(), fs::path("out/fish.v2.lattice.glb"));
-    QCOMPARE(restMeshPath("out/fish.v2", CacheFormat::Lattice), fs::path("out/fish.v2.obj"));
+    for (const char* name : kClipFormats)
+        QVERIFY2(!parseCacheFormat(name), name);
+    QCOMPARE(cacheFormatFromPath("a/b.OBJ"), std::optional(CacheFormat::ObjSequence));
+    QCOMPARE(cacheFormatFromPath("a/b.glb"), std::nullopt);
+    // Where each export's files and rest mesh go.
+    QCOMPARE(exportFiles(*findExportFormat("vat"), "out/fish").back(), fs::path("out/fish.vat.json"));
+    QCOMPARE(exportFiles(*findExportFormat("lattice"), "out/fish.v2").front(), fs::path("out/fish.v2.lattice.glb"));
+    QCOMPARE(exportFiles(*findExportFormat("pc2"), "out/fish.pc2"), std::vector<fs::path>{"out/fish.pc2"});
+    const std::vector<fs::path> frames = exportFiles(*findExportFormat("objseq"), "out/fish.obj", 3);
+    QCOMPARE(frames, (std::vector<fs::path>{objSequenceFramePath("out/fish.obj", 0), objSequenceFramePath("out/fish.obj", 1),
+                                            objSequenceFramePath("out/fish.obj", 2)}));
+    QCOMPARE(restMeshPath("out/fish.v2", *findExportFormat("lattice")), fs::path("out/fish.v2.obj"));
+    QCOMPARE(restMeshPath("out/fish.pc2", *findExportFormat("pc2")), fs::path("out/fish.obj"));
+    QCOMPARE(restMeshPath("out/fish.obj", *findExportFormat("objseq")), fs::path("out/fish.obj"));
 }
 
 void TestExports::registryDescribesEveryExport() {
@@ -298,12 +308,12 @@ void TestExports::registryDescribesEveryExport() {
         const fs::path path = fs::path("out/clip") += std::string(extensions.empty() ? std::string_view() : extensions.front());
         const Result<ClipExportOptions> options = exportOptions(f);
         QVERIFY2(options, options.message().c_str());
-        const auto writer = makeClipWriter(exportWriter(f, path), options.value());
+        const auto writer = f.makeWriter(path, options.value());
         QCOMPARE(writer->needsNormals(), f.needs == ExportNeeds::Normals);
         QCOMPARE(writer->needsNodes(), f.needs == ExportNeeds::LatticeNodes);
         // An export without an extension takes a base path: each file it writes adds a suffix to it.
         if (f.extensions.empty())
-            for (const fs::path& out : exportOutputs(exportWriter(f, path), path))
+            for (const fs::path& out : exportFiles(f, path))
                 QVERIFY2(out.string().starts_with(path.string() + "."), out.string().c_str());
         // Its extensions name it, or an export listed before it (.glb is glb, not pca).
         for (std::string_view one : extensionsOf(f)) {
@@ -319,14 +329,36 @@ void TestExports::registryDescribesEveryExport() {
     QCOMPARE(exportFormatForPath("a/b.obj")->name, std::string_view("objseq"));
     QVERIFY(!exportFormatForPath("a/b"));
     QVERIFY(!exportFormatForPath("a/b.fbx"));
-    QCOMPARE(exportWriter(*findExportFormat("pca"), "a/b.gltf"), CacheFormat::Gltf);
-    QCOMPARE(exportWriter(*findExportFormat("skin"), "a/b.GLTF"), CacheFormat::Gltf);
-    QCOMPARE(exportWriter(*findExportFormat("skin"), "a/b.glb"), CacheFormat::Glb);
-    QCOMPARE(exportWriter(*findExportFormat("pca"), "a/b"), CacheFormat::Glb);
-    QCOMPARE(exportWriter(*findExportFormat("glb"), "a/b.gltf"), CacheFormat::Glb);  // named: the name wins
-    // Writer names stay the plain exports' names; pca and skin are no writers of their own.
-    QCOMPARE(parseCacheFormat("pca"), std::nullopt);
-    QCOMPARE(parseCacheFormat("GLB"), std::optional(CacheFormat::Glb));
+    // pca and skin write what the path names (glTF JSON for .gltf, GLB otherwise); gltf and glb what
+    // their names say, whatever the path: read back from the files each writes.
+    QTemporaryDir dir;
+    const auto written = [&](const char* name, const char* file) {
+        const ExportFormat& f = *findExportFormat(name);
+        const fs::path path = fs::path(dir.path().toStdString()) / file;
+        ClipSetup setup = smallSetup();
+        auto writer = f.makeWriter(path, exportOptions(f).value());
+        if (!writer->begin(path, setup))
+            return std::string("begin failed");
+        std::vector<Vec3f> positions = setup.restMesh.positions;
+        FrameData frame;
+        frame.normals = setup.restMesh.normals;
+        frame.nodes = {setup.objects.front().lattice.restNodes()};
+        for (std::size_t k = 0; k < setup.info.frameCount; ++k) {
+            positions[3].z() = 0.5f + 0.1f * float(k);
+            frame.positions = positions;
+            if (!writer->writeFrame(frame))
+                return std::string("frame failed");
+        }
+        if (Status s = writer->finish(); !s)
+            return s.message();
+        return readText(path).substr(0, 4) == "glTF" ? std::string("glb") : std::string("gltf");
+    };
+    QCOMPARE(written("pca", "a.gltf"), std::string("gltf"));
+    QCOMPARE(written("skin", "b.GLTF"), std::string("gltf"));
+    QCOMPARE(written("skin", "c.glb"), std::string("glb"));
+    QCOMPARE(written("pca", "d"), std::string("glb"));
+    QCOMPARE(written("glb", "e.gltf"), std::string("glb"));  // named: the name wins
+    QCOMPARE(written("gltf", "f.glb"), std::string("gltf"));
 }
 
 void TestExports::registryChecksSettingsOnce_data() {
@@ -394,13 +426,13 @@ void TestExports::gltfRoundTrip() {
     const Scene source = sceneFile.isEmpty() ? m_fish : loadScene(kSource / "presets/scenes" / sceneFile.toStdString());
     QTemporaryDir dir;
     const fs::path out = fs::path(dir.path().toStdString()) / name.toStdString();
-    const CacheFormat format = *cacheFormatFromPath(out);
+    const ExportFormat& format = *exportFormatForPath(out);
     ClipExportOptions options;
     options.gltfLinear = linear;
     options.gltfNormals = normals;
-    const BakeResult baked = bakeTo(source, format, out, options);
+    const BakeResult baked = bakeTo(source, format.name, out, options);
     QCOMPARE(baked.files, std::vector<fs::path>{out});
-    bakeTo(source, CacheFormat::Pc2, out.parent_path() / "clip.pc2");
+    bakeTo(source, "pc2", out.parent_path() / "clip.pc2");
     const Result<VertexCache> pc2 = readPc2(out.parent_path() / "clip.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const VertexCache& reference = pc2.value();
@@ -479,7 +511,7 @@ void TestExports::gltfCompressedMorphsKeepTheErrorTarget() {
     constexpr int kSwimFrames = 24;
     BakeOptions options;
     options.output = out;
-    options.format = CacheFormat::Glb;
+    options.format = findExportFormat("glb");
     options.frames = kSwimFrames;
     options.threads = 1;
     options.exportOptions.gltfMorphError = target;
@@ -487,7 +519,7 @@ void TestExports::gltfCompressedMorphsKeepTheErrorTarget() {
     QVERIFY2(baked, baked.message().c_str());
     QVERIFY(!baked->notes.empty());
     options.output = out.parent_path() / "swim.pc2";
-    options.format = CacheFormat::Pc2;
+    options.format = findExportFormat("pc2");
     QVERIFY(bake(m_fish, options));
     const Result<VertexCache> pc2 = readPc2(out.parent_path() / "swim.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
@@ -556,7 +588,7 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
     constexpr int kSwimFrames = 24;
     BakeOptions options;
     options.output = out;
-    options.format = CacheFormat::Glb;
+    options.format = findExportFormat("glb");
     options.frames = kSwimFrames;
     options.threads = 1;
     options.exportOptions.skinError = error;
@@ -565,7 +597,7 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
     QVERIFY2(baked, baked.message().c_str());
     QVERIFY(!baked->notes.empty());
     options.output = out.parent_path() / "skin.pc2";
-    options.format = CacheFormat::Pc2;
+    options.format = findExportFormat("pc2");
     QVERIFY(bake(m_fish, options));
     const Result<VertexCache> pc2 = readPc2(out.parent_path() / "skin.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
@@ -661,7 +693,7 @@ void TestExports::gltfRefusesClipsTooLongToHold() {
     for (const ClipExportOptions& options : {ClipExportOptions{}, pca}) {
         ClipSetup setup = smallSetup();
         setup.info.frameCount = 1000000;
-        auto writer = makeClipWriter(CacheFormat::Glb, options);
+        auto writer = findExportFormat("glb")->makeWriter(path, options);
         const Status s = writer->begin(path, setup);
         QVERIFY(!s.ok());
         QVERIFY2(QString::fromStdString(s.message()).contains("holds the whole clip in memory") &&
@@ -680,7 +712,7 @@ void TestExports::gltfWarnsAboutTargetCount() {
     for (const std::size_t frames : {std::size_t(64), std::size_t(65)}) {
         ClipSetup setup = smallSetup();
         setup.info.frameCount = frames;
-        auto writer = makeClipWriter(CacheFormat::Glb);
+        auto writer = findExportFormat("glb")->makeWriter(path, {});
         QVERIFY(writer->begin(path, setup));
         FrameData frame;
         frame.normals = setup.restMesh.normals;
@@ -720,12 +752,12 @@ void TestExports::vatRoundTrip() {
     const fs::path base = fs::path(dir.path().toStdString()) / "swim";
     ClipExportOptions options;
     options.vatMaxWidth = maxWidth;
-    const BakeResult baked = bakeTo(source, CacheFormat::Vat, base, options);
-    QCOMPARE(baked.files, exportOutputs(CacheFormat::Vat, base));
+    const BakeResult baked = bakeTo(source, "vat", base, options);
+    QCOMPARE(baked.files, exportFiles(*findExportFormat("vat"), base));
     for (const fs::path& file : baked.files)
         QVERIFY2(fs::is_regular_file(file), file.c_str());
-    bakeTo(source, CacheFormat::Pc2, base.parent_path() / "swim.pc2");
-    bakeTo(source, CacheFormat::Glb, base.parent_path() / "normals.glb");  // the bake's normals, as morph targets
+    bakeTo(source, "pc2", base.parent_path() / "swim.pc2");
+    bakeTo(source, "glb", base.parent_path() / "normals.glb");  // the bake's normals, as morph targets
     const tinygltf::Model morphs = loadGlb(base.parent_path() / "normals.glb");
     const tinygltf::Primitive& morphed = morphs.meshes.at(0).primitives.at(0);
     const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
@@ -849,10 +881,10 @@ void TestExports::latticeRoundTrip() {
     }
     const Scene source = loadScene(project);
     const fs::path base = folder / "clip";
-    const BakeResult baked = bakeTo(source, CacheFormat::Lattice, base);
-    QCOMPARE(baked.files, exportOutputs(CacheFormat::Lattice, base));
-    bakeTo(source, CacheFormat::Pc2, folder / "clip.pc2");
-    bakeTo(source, CacheFormat::Glb, folder / "normals.glb");  // the bake's normals, as morph targets (a mesh per object)
+    const BakeResult baked = bakeTo(source, "lattice", base);
+    QCOMPARE(baked.files, exportFiles(*findExportFormat("lattice"), base));
+    bakeTo(source, "pc2", folder / "clip.pc2");
+    bakeTo(source, "glb", folder / "normals.glb");  // the bake's normals, as morph targets (a mesh per object)
     const tinygltf::Model morphs = loadGlb(folder / "normals.glb");
     QCOMPARE(morphs.meshes.size(), source.objects.size());
     const Result<VertexCache> pc2 = readPc2(folder / "clip.pc2");
@@ -915,7 +947,7 @@ void TestExports::latticeRoundTrip() {
 void TestExports::latticeCacheRejectsBadFiles() {
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / "clip";
-    bakeTo(m_fish, CacheFormat::Lattice, base);
+    bakeTo(m_fish, "lattice", base);
     const fs::path bin = base.string() + ".lattice.bin";
     const std::string good = readText(bin);
     struct Case {
@@ -1029,15 +1061,14 @@ void TestExports::cancelledBakeLeavesOldFiles() {
     const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
-    const CacheFormat kind = exportWriter(registered, base);
-    std::vector<fs::path> outputs = exportOutputs(kind, base);
-    outputs.push_back(restMeshPath(base, kind));
+    std::vector<fs::path> outputs = exportFiles(registered, base, kFrames);  // an OBJ sequence: every frame's
+    outputs.push_back(restMeshPath(base, registered));
     for (const fs::path& path : outputs)
         writeText(path, "previous " + path.filename().string());
     const QStringList before = folderEntries(base.parent_path());
     BakeOptions options;
     options.output = base;
-    options.format = kind;
+    options.format = &registered;
     options.exportOptions = exportOptions(registered).value();
     options.frames = kFrames;
     options.threads = 1;
@@ -1063,14 +1094,13 @@ void TestExports::nonFiniteFrameLeavesOldFiles() {
     const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path base = fs::path(dir.path().toStdString()) / ("clip." + format.toStdString());
-    const CacheFormat kind = exportWriter(registered, base);
-    const std::vector<fs::path> outputs = exportOutputs(kind, base);
+    const std::vector<fs::path> outputs = exportFiles(registered, base);
     for (const fs::path& path : outputs)
         writeText(path, "previous " + path.filename().string());
     const QStringList before = folderEntries(base.parent_path());
 
     const ClipSetup setup = smallSetup();
-    auto writer = makeClipWriter(kind, exportOptions(registered).value());
+    auto writer = registered.makeWriter(base, exportOptions(registered).value());
     QVERIFY(writer->begin(base, setup));
     std::vector<Vec3f> positions = setup.restMesh.positions;
     std::vector<Vec3f> normals = setup.restMesh.normals;
@@ -1081,7 +1111,7 @@ void TestExports::nonFiniteFrameLeavesOldFiles() {
     frame.nodes = {nodes};
     QVERIFY(writer->writeFrame(frame));
     positions[2].y() = std::numeric_limits<float>::quiet_NaN();
-    if (kind == CacheFormat::Lattice) {  // the lattice cache stores nodes: poison those
+    if (registered.needs == ExportNeeds::LatticeNodes) {  // the lattice cache stores nodes: poison those
         positions[2].y() = 0.0f;
         nodes[5].x() = std::numeric_limits<double>::infinity();
     }
@@ -1104,7 +1134,7 @@ void TestExports::unwritablePathFailsEarly() {
     const ExportFormat& registered = *findExportFormat(format.toStdString());
     QTemporaryDir dir;
     const fs::path missing = fs::path(dir.path().toStdString()) / "no-such-folder" / "clip";
-    auto writer = makeClipWriter(exportWriter(registered, missing), exportOptions(registered).value());
+    auto writer = registered.makeWriter(missing, exportOptions(registered).value());
     const Status s = writer->begin(missing, smallSetup());
     QVERIFY(!s);
     QVERIFY2(QString::fromStdString(s.message()).contains("no-such-folder"), s.message().c_str());
@@ -1118,7 +1148,7 @@ void TestExports::unchangedFramesAreNotDeformedAgain() {
     QTemporaryDir dir;
     const fs::path root(dir.path().toStdString());
     // The swimming fish moves every frame: every frame is deformed.
-    const BakeResult swimming = bakeTo(m_fish, CacheFormat::Pc2, root / "swim.pc2");
+    const BakeResult swimming = bakeTo(m_fish, "pc2", root / "swim.pc2");
     QCOMPARE(swimming.objects, 1);
     QCOMPARE(swimming.meshEvaluations, kFrames);
 
@@ -1128,7 +1158,7 @@ void TestExports::unchangedFramesAreNotDeformedAgain() {
     for (SceneObject& object : still.objects)
         object.drivers.clear();
     still.world.gravity = Vec3::Zero();
-    const BakeResult resting = bakeTo(still, CacheFormat::Pc2, root / "still.pc2");
+    const BakeResult resting = bakeTo(still, "pc2", root / "still.pc2");
     QCOMPARE(resting.meshEvaluations, 1);
     const Result<VertexCache> cache = readPc2(root / "still.pc2");
     QVERIFY2(cache.ok(), cache.message().c_str());

@@ -53,10 +53,10 @@ std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
     return out;
 }
 
-void bakeTo(const Scene& scene, io::CacheFormat format, const fs::path& out) {
+void bakeTo(const Scene& scene, std::string_view format, const fs::path& out) {
     io::BakeOptions options;
     options.output = out;
-    options.format = format;
+    options.format = io::findExportFormat(format);
     options.frames = kFrames;
     options.threads = 1;
     const Result<io::BakeResult> result = io::bake(scene, options);
@@ -94,9 +94,9 @@ void TestShippedShaders::latticeShaderReproducesTheBake() {
     const fs::path folder = dir.path().toStdString();
     const Result<io::Project> project = io::loadProject(kSource / "presets/scenes/angelfish-swim.softtouch");
     QVERIFY2(project, project.message().c_str());
-    bakeTo(project->scene, io::CacheFormat::Lattice, folder / "clip");
-    bakeTo(project->scene, io::CacheFormat::Pc2, folder / "clip.pc2");
-    bakeTo(project->scene, io::CacheFormat::Glb, folder / "normals.glb");
+    bakeTo(project->scene, "lattice", folder / "clip");
+    bakeTo(project->scene, "pc2", folder / "clip.pc2");
+    bakeTo(project->scene, "glb", folder / "normals.glb");
     const Result<io::VertexCache> pc2 = io::readPc2(folder / "clip.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const Result<io::LatticeCache> cache = io::readLatticeCache(folder / "clip.lattice.bin");
@@ -236,13 +236,13 @@ void TestShippedShaders::vatShaderReproducesTheBake() {
     for (const int width : {8192, 1000}) {
         io::BakeOptions options;
         options.output = folder / ("clip" + std::to_string(width));
-        options.format = io::CacheFormat::Vat;
+        options.format = io::findExportFormat("vat");
         options.frames = kFrames;
         options.threads = 1;
         options.exportOptions.vatMaxWidth = width;
         QVERIFY(io::bake(project->scene, options));
         const std::string base = options.output.string();
-        bakeTo(project->scene, io::CacheFormat::Pc2, folder / "clip.pc2");
+        bakeTo(project->scene, "pc2", folder / "clip.pc2");
         const Result<io::VertexCache> pc2 = io::readPc2(folder / "clip.pc2");
         QVERIFY2(pc2, pc2.message().c_str());
         const nlohmann::json sidecar = nlohmann::json::parse(readText(base + ".vat.json"));
