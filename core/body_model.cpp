@@ -126,8 +126,8 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         return Status::error("anchor has " + std::to_string(d.anchor.size()) + " values for " + std::to_string(n) + " nodes");
     if (!d.isVoid.empty() && d.isVoid.size() != n)
         return Status::error("void has " + std::to_string(d.isVoid.size()) + " values for " + std::to_string(n) + " nodes");
-    if (!finiteIn(d.heavyAnchorRatio, 1.0, 1e9))
-        return Status::error("heavy anchor ratio must be in [1, 1e9], got " + std::to_string(d.heavyAnchorRatio));
+    if (std::string p = kHeavyAnchorRatio.problem(d.heavyAnchorRatio); !p.empty())
+        return Status::error(p);
     if (!d.nodeDamping.empty() && d.nodeDamping.size() != n)
         return Status::error("node damping has " + std::to_string(d.nodeDamping.size()) + " values for " +
                              std::to_string(n) + " nodes");

@@ -2,6 +2,7 @@
 /// The immutable description of a mass-spring body: nodes, springs, anchors, voids. Built once by
 /// buildBodyModel() and shared (std::shared_ptr<const BodyModel>) by every simulator that runs it.
 
+#include "core/ranges.h"
 #include "core/result.h"
 #include "core/spring_forces.h"
 #include "core/colliders.h"
@@ -41,6 +42,10 @@ struct VoidFollower {
     std::vector<std::uint32_t> donors;   ///< Nodes whose displacement it copies (resolved before it).
 };
 
+/// How many times its mass a Heavy anchor weighs, as material files name it (the reader and
+/// buildBodyModel() check it).
+inline constexpr FieldRange kHeavyAnchorRatio{"heavyAnchorRatio", "heavy anchor ratio", 1.0, 1e9, ""};
+
 /// Input to buildBodyModel(): plain arrays, one entry per node.
 struct BodyDescription {
     std::vector<Vec3> restPositions;     ///< Metres.
@@ -49,7 +54,7 @@ struct BodyDescription {
     std::vector<std::uint8_t> isVoid;    ///< 1: removed from the simulation. Empty means none.
     std::vector<Spring> springs;         ///< Springs touching void nodes are dropped.
     std::vector<VoidFollower> voidFollowers; ///< In resolution order; see VoidFollower.
-    double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors. Range [1, 1e9]. Paper: 1e4.
+    double heavyAnchorRatio = 1e4;       ///< Mass multiplier of Heavy anchors, kHeavyAnchorRatio. Paper: 1e4.
     std::vector<double> nodeDamping;     ///< Damping on each node's absolute velocity (the paper's d_i), N·s/m,
                                          ///< [0, 1e6]. Empty means none.
     StrainLimits strainLimits;           ///< Stretch and squash limits of every spring; off by default.

@@ -8,8 +8,6 @@
 
 namespace softtouch {
 
-using ranges::finiteIn;
-
 namespace {
 
 double smoothstep(double x) {
@@ -75,12 +73,9 @@ Status Clip::validate() const {
     const std::string where = "clip '" + name + "': ";
     if (name.empty())
         return Status::error("a clip needs a name");
-    if (!finiteIn(startSeconds, 0.0, ranges::kMaxClipStart))
-        return Status::error(where + "start must be in [0, 3600] s");
-    if (frames < 1 || frames > ranges::kMaxFrames)
-        return Status::error(where + "frames must be in [1, 1000000], got " + std::to_string(frames));
-    if (!finiteIn(fps, ranges::kMinFps, ranges::kMaxFps))
-        return Status::error(where + "fps must be in [1, 1000], got " + std::to_string(fps));
+    if (std::string p = firstProblem({{ranges::kClipStart, startSeconds}, {ranges::kFrames, double(frames)}, {ranges::kFps, fps}});
+        !p.empty())
+        return Status::error(where + p);
     if (blendFrames < 0 || blendFrames > frames)
         return Status::error(where + "blend window must be in [0, frames] (" + std::to_string(frames) + "), got " +
                              std::to_string(blendFrames));
@@ -93,9 +88,10 @@ Status Clip::validate() const {
                              clipSourceName(source));
     if (goals && source != ClipSource::Keyframes)
         return Status::error(where + "goal springs apply to keyframe clips only");
-    if (goals && !(finiteIn(goals->stiffness, 0.0, 1e9) && finiteIn(goals->damping, 0.0, 1e6) &&
-                   finiteIn(goals->weight, 0.0, 1e3)))
-        return Status::error(where + "goal stiffness, damping and weight must be in [0, 1e9], [0, 1e6], [0, 1e3]");
+    if (goals)
+        if (std::string p = firstProblem({{kGoalStiffness, goals->stiffness}, {kGoalDamping, goals->damping}, {kGoalWeight, goals->weight}});
+            !p.empty())
+            return Status::error(where + p);
     return Status::success();
 }
 

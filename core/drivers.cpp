@@ -7,8 +7,6 @@
 
 namespace softtouch {
 
-using ranges::finiteIn;
-
 namespace {
 
 Status validatePoint(const Vec3& p) {
@@ -62,21 +60,27 @@ Status validateDriver(const Driver& driver) {
             if (i > 0 && !(d->keys[i].time > d->keys[i - 1].time))
                 return Status::error("keys/" + std::to_string(i) + ": key times must increase");
         }
-        if (!finiteIn(d->stiffness, 1e-12, 1e9)) return Status::error("stiffness must be in (0, 1e9] N/m");
-        if (!finiteIn(d->damping, 0.0, 1e6)) return Status::error("damping must be in [0, 1e6] N·s/m");
-        if (!std::isfinite(d->releaseTime)) return Status::error("releaseTime must be finite");
+        if (!std::isfinite(d->releaseTime))
+            return Status::error("release time must be finite");
+        if (std::string p = firstProblem({{kDriverStiffness, d->stiffness},
+                                          {kDriverDamping, d->damping},
+                                          {kDragRelease, d->releaseTime < 0.0 ? 0.0 : d->releaseTime}});  // < 0: never
+            !p.empty())
+            return Status::error(p);
         return Status::success();
     }
     const auto& s = std::get<SwimDriver>(driver);
     if (Status st = validatePoint(s.point); !st) return st;
     if (!isFinite(s.direction) || s.direction.norm() < 1e-9)
         return Status::error("direction must be a finite, non-zero vector");
-    if (!finiteIn(s.frequencyHz, 1e-9, 100.0)) return Status::error("frequency must be in (0, 100] Hz");
-    if (!finiteIn(s.amplitude, 0.0, 1e3)) return Status::error("amplitude must be in [0, 1e3] m");
-    if (!std::isfinite(s.phase)) return Status::error("phase must be finite");
-    if (!finiteIn(s.rampSeconds, 0.0, 1e6)) return Status::error("ramp must be in [0, 1e6] s");
-    if (!finiteIn(s.stiffness, 1e-12, 1e9)) return Status::error("stiffness must be in (0, 1e9] N/m");
-    if (!finiteIn(s.damping, 0.0, 1e6)) return Status::error("damping must be in [0, 1e6] N·s/m");
+    if (std::string p = firstProblem({{kSwimFrequency, s.frequencyHz},
+                                      {kSwimAmplitude, s.amplitude},
+                                      {kSwimPhase, s.phase},
+                                      {kSwimRamp, s.rampSeconds},
+                                      {kDriverStiffness, s.stiffness},
+                                      {kDriverDamping, s.damping}});
+        !p.empty())
+        return Status::error(p);
     return Status::success();
 }
 

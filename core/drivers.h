@@ -4,6 +4,7 @@
 
 #include "core/forces.h"
 #include "core/lattice.h"
+#include "core/ranges.h"
 
 #include <variant>
 #include <vector>
@@ -40,6 +41,16 @@ struct SwimDriver {
 
 /// Any driver.
 using Driver = std::variant<ScriptedDrag, SwimDriver>;
+
+/// A driver's settings as files name them, each range declared once: validateDriver() checks them and
+/// the project reader reads them by these.
+inline constexpr FieldRange kDriverStiffness{"stiffness", "stiffness", 0.0, 1e9, "N/m", false};
+inline constexpr FieldRange kDriverDamping{"damping", "damping", 0.0, 1e6, "N·s/m"};
+inline constexpr FieldRange kDragRelease{"release", "release time", 0.0, 1e9, "s"};  ///< When given (< 0: never).
+inline constexpr FieldRange kSwimFrequency{"frequency", "frequency", 0.0, 100.0, "Hz", false};
+inline constexpr FieldRange kSwimAmplitude{"amplitude", "amplitude", 0.0, 1e3, "m"};
+inline constexpr FieldRange kSwimPhase{"phase", "phase", -1e6, 1e6, "rad"};
+inline constexpr FieldRange kSwimRamp{"ramp", "ramp", 0.0, 1e6, "s"};
 
 /// Checks a driver's fields; the message names the field.
 Status validateDriver(const Driver& driver);

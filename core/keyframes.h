@@ -13,6 +13,7 @@
 /// derivative). Added through SceneSimulation::setInteractiveDrags (see GoalPlayer), physics adds
 /// follow-through and overlap on top of the keyed motion; the weight sets how tightly the body follows.
 
+#include "core/ranges.h"
 #include "core/scene.h"
 
 #include <vector>
@@ -28,10 +29,15 @@ struct LatticeKey {
 
 /// How keys pull a simulated body.
 struct GoalSettings {
-    double stiffness = 20.0;  ///< Ks per keyed node at weight 1, N/m, [0, 1e9].
-    double damping = 0.2;     ///< Kd per keyed node at weight 1, N·s/m, [0, 1e6].
-    double weight = 1.0;      ///< Scales both; 0 turns the goals off, [0, 1e3].
+    double stiffness = 20.0;  ///< Ks per keyed node at weight 1, N/m, kGoalStiffness.
+    double damping = 0.2;     ///< Kd per keyed node at weight 1, N·s/m, kGoalDamping.
+    double weight = 1.0;      ///< Scales both; 0 turns the goals off, kGoalWeight.
 };
+
+/// The goal springs' ranges as a clip's "goals" names them (Clip::validate() and the reader use these).
+inline constexpr FieldRange kGoalStiffness{"stiffness", "goal stiffness", 0.0, 1e9, "N/m"};
+inline constexpr FieldRange kGoalDamping{"damping", "goal damping", 0.0, 1e6, "N·s/m"};
+inline constexpr FieldRange kGoalWeight{"weight", "goal weight", 0.0, 1e3, ""};
 
 /// The keyframes of one object's lattice.
 class KeyframeAnimation {

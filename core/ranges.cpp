@@ -30,6 +30,13 @@ std::string FieldRange::describe() const {
     return text;
 }
 
+std::string firstProblem(std::initializer_list<RangedValue> fields) {
+    for (const RangedValue& f : fields)
+        if (std::string p = f.range.problem(f.value); !p.empty())
+            return p;
+    return {};
+}
+
 std::string FieldRange::problem(double x) const {
     if (contains(x))
         return {};

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <initializer_list>
 #include <string>
 
 namespace softtouch {
@@ -35,6 +36,15 @@ struct FieldRange {
     /// Empty when contains(x), else "LABEL must be DESCRIBE, got X".
     std::string problem(double x) const;
 };
+
+/// A setting's value beside its range.
+struct RangedValue {
+    const FieldRange& range;
+    double value;
+};
+
+/// The first of `fields` out of its range, as problem() says it; empty when every one is in range.
+std::string firstProblem(std::initializer_list<RangedValue> fields);
 
 }  // namespace softtouch
 
@@ -79,6 +89,7 @@ inline constexpr FieldRange kDt{"dt", "time step dt", kMinDt, kMaxDt, "s"};
 inline constexpr FieldRange kXpbdSubsteps{"xpbdSubsteps", "XPBD substeps", 1, 10000, "", true, true};
 inline constexpr FieldRange kFrames{"frames", "frames", 1, kMaxFrames, "", true, true};
 inline constexpr FieldRange kFps{"fps", "fps", kMinFps, kMaxFps, "frames per second"};
+inline constexpr FieldRange kClipStart{"start", "start", 0.0, kMaxClipStart, "s"};
 inline constexpr FieldRange kRestitution{"restitution", "restitution", 0.0, 1.0, ""};
 inline constexpr FieldRange kFriction{"friction", "friction", 0.0, 10.0, "Coulomb coefficient"};
 inline constexpr FieldRange kColliderRadius{"radius", "radius", 0.0, 1e6, "m", false};

@@ -259,17 +259,17 @@ std::optional<Clip> readClip(const JsonValue& v) {
             v["source"].problem("expected \"drivers\", \"session\" or \"keyframes\", got \"" + *src + "\"");
     }
     if (auto x = v["of"].string()) c.sourceName = *x;
-    if (auto x = v["start"].number(0.0, ranges::kMaxClipStart, "s")) c.startSeconds = *x;
-    if (auto x = v["frames"].integer(1, ranges::kMaxFrames)) c.frames = *x;
-    if (auto x = v["fps"].number(ranges::kMinFps, ranges::kMaxFps, "frames per second")) c.fps = *x;
+    if (auto x = v.field(ranges::kClipStart)) c.startSeconds = *x;
+    if (auto x = v.field(ranges::kFrames)) c.frames = int(*x);
+    if (auto x = v.field(ranges::kFps)) c.fps = *x;
     if (auto x = v["loop"].boolean()) c.loop = *x;
     if (auto x = v["blend"].integer(0, 1000000)) c.blendFrames = *x;
     if (const JsonValue g = v["goals"]; g.expectObject()) {
         g.checkKeys({"stiffness", "damping", "weight"});
         GoalSettings goals;
-        if (auto x = g["stiffness"].number(0.0, 1e9, "N/m")) goals.stiffness = *x;
-        if (auto x = g["damping"].number(0.0, 1e6, "N·s/m")) goals.damping = *x;
-        if (auto x = g["weight"].number(0.0, 1e3)) goals.weight = *x;
+        if (auto x = g.field(kGoalStiffness)) goals.stiffness = *x;
+        if (auto x = g.field(kGoalDamping)) goals.damping = *x;
+        if (auto x = g.field(kGoalWeight)) goals.weight = *x;
         c.goals = goals;
     }
     if (Status s = c.validate(); !s) {

@@ -248,7 +248,7 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
         else
             m.anisotropy = *a;
     }
-    if (auto x = v["heavyAnchorRatio"].number(1.0, 1e9))
+    if (auto x = v.field(kHeavyAnchorRatio))
         m.heavyAnchorRatio = *x;
     // Length / rest length of every spring: 0 (or absent) is no limit, otherwise within core's range.
     auto readLimit = [&](const char* key, double low, double high, double& into) {
@@ -295,7 +295,7 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
                           {key.damping.name, perNode(m.damping)},
                           {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
                           {"anisotropy", vec(m.anisotropy)},
-                          {"heavyAnchorRatio", m.heavyAnchorRatio},
+                          {kHeavyAnchorRatio.name, m.heavyAnchorRatio},
                           {key.nodeDamping.name, perNode(m.nodeDamping)}};
     if (m.strainLimits.stretch > 0.0)
         object["material"]["stretchLimit"] = m.strainLimits.stretch;
@@ -414,12 +414,12 @@ std::optional<Driver> readDriver(const JsonValue& v) {
         SwimDriver s;
         if (auto p = v["point"].vec3()) s.point = *p;
         if (auto d = v["direction"].vec3()) s.direction = *d;
-        if (auto x = v["frequency"].number(1e-9, 100.0, "Hz")) s.frequencyHz = *x;
-        if (auto x = v["amplitude"].number(0.0, 1e3, "m")) s.amplitude = *x;
-        if (auto x = v["phase"].number(-1e6, 1e6, "rad")) s.phase = *x;
-        if (auto x = v["ramp"].number(0.0, 1e6, "s")) s.rampSeconds = *x;
-        if (auto x = v["stiffness"].number(1e-12, 1e9, "N/m")) s.stiffness = *x;
-        if (auto x = v["damping"].number(0.0, 1e6, "N·s/m")) s.damping = *x;
+        if (auto x = v.field(kSwimFrequency)) s.frequencyHz = *x;
+        if (auto x = v.field(kSwimAmplitude)) s.amplitude = *x;
+        if (auto x = v.field(kSwimPhase)) s.phase = *x;
+        if (auto x = v.field(kSwimRamp)) s.rampSeconds = *x;
+        if (auto x = v.field(kDriverStiffness)) s.stiffness = *x;
+        if (auto x = v.field(kDriverDamping)) s.damping = *x;
         return s;
     }
     if (*type == "drag") {
@@ -439,9 +439,9 @@ std::optional<Driver> readDriver(const JsonValue& v) {
             if (t && o)
                 d.keys.push_back({*t, *o});
         }
-        if (auto x = v["stiffness"].number(1e-12, 1e9, "N/m")) d.stiffness = *x;
-        if (auto x = v["damping"].number(0.0, 1e6, "N·s/m")) d.damping = *x;
-        if (auto x = v["release"].number(0.0, 1e9, "s")) d.releaseTime = *x;
+        if (auto x = v.field(kDriverStiffness)) d.stiffness = *x;
+        if (auto x = v.field(kDriverDamping)) d.damping = *x;
+        if (auto x = v.field(kDragRelease)) d.releaseTime = *x;
         return d;
     }
     v["type"].problem("expected \"swim\" or \"drag\", got \"" + *type + "\"");
@@ -471,16 +471,22 @@ json driverJson(const Driver& driver) {
         json keys = json::array();
         for (const PathKey& k : d->keys)
             keys.push_back({{"time", k.time}, {"offset", vec(k.offset)}});
-        json out = {{"type", "drag"}, {"point", vec(d->point)}, {"keys", keys}, {"stiffness", d->stiffness},
-                    {"damping", d->damping}};
+        json out = {{"type", "drag"}, {"point", vec(d->point)}, {"keys", keys}, {kDriverStiffness.name, d->stiffness},
+                    {kDriverDamping.name, d->damping}};
         if (d->releaseTime >= 0.0)
-            out["release"] = d->releaseTime;
+            out[kDragRelease.name] = d->releaseTime;
         return out;
     }
     const auto& s = std::get<SwimDriver>(driver);
-    return {{"type", "swim"},           {"point", vec(s.point)},   {"direction", vec(s.direction)},
-            {"frequency", s.frequencyHz}, {"amplitude", s.amplitude}, {"phase", s.phase},
-            {"ramp", s.rampSeconds},     {"stiffness", s.stiffness}, {"damping", s.damping}};
+    return {{"type", "swim"},
+            {"point", vec(s.point)},
+            {"direction", vec(s.direction)},
+            {kSwimFrequency.name, s.frequencyHz},
+            {kSwimAmplitude.name, s.amplitude},
+            {kSwimPhase.name, s.phase},
+            {kSwimRamp.name, s.rampSeconds},
+            {kDriverStiffness.name, s.stiffness},
+            {kDriverDamping.name, s.damping}};
 }
 
 }  // namespace softtouch::io::document

@@ -239,11 +239,23 @@ void TestProject::strainLimitsRoundTripAndBind() {
 // declaration: at both edges and just beyond them, the reader accepts exactly what core's validate() and
 // FieldRange::contains accept, and a value it accepts is written back under the same key and read again
 // unchanged. (A collider's radius used to be (0, 1e6] in core and [1e-6, 1e6] in the reader.)
+namespace {
+
+/// Every range fieldRangesMeanTheSameInFileAndCore puts at its edges.
+const FieldRange* const kFileRanges[] = {&ranges::kDt,          &ranges::kXpbdSubsteps, &ranges::kFrames,  &ranges::kFps,
+                                         &ranges::kRestitution, &ranges::kFriction,     &ranges::kColliderRadius,
+                                         &ranges::kCapsuleHalfLength, &kSwimFrequency,  &kSwimAmplitude,   &kSwimPhase,
+                                         &kSwimRamp,            &kDriverStiffness,      &kDriverDamping,   &kDragRelease,
+                                         &kHeavyAnchorRatio};
+
+}  // namespace
+
 void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
     QTest::addColumn<QString>("where");  // the JSON the value goes into, %1 standing for it
     QTest::addColumn<QString>("field");
-    const auto add = [](const FieldRange& r, const char* where) {
-        QTest::newRow(r.name) << QString::fromLatin1(where) << QString::fromLatin1(r.name);
+    QTest::addColumn<bool>("inObject");  // `where` goes into the object, else into the project's root
+    const auto add = [](const FieldRange& r, const char* where, bool inObject = false) {
+        QTest::newRow(r.name) << QString::fromLatin1(where) << QString::fromLatin1(r.name) << inObject;
     };
     add(ranges::kDt, R"(, "simulation": {"dt": %1})");
     add(ranges::kXpbdSubsteps, R"(, "simulation": {"integrator": "xpbd", "xpbdSubsteps": %1})");
@@ -254,14 +266,22 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
     add(ranges::kColliderRadius, R"(, "world": {"colliders": [{"shape": "sphere", "centre": [0, -9, 0], "radius": %1}]})");
     add(ranges::kCapsuleHalfLength,
         R"(, "world": {"colliders": [{"shape": "capsule", "centre": [0, -9, 0], "radius": 1, "axis": [1, 0, 0], "halfLength": %1}]})");
+    const char* swim = R"(, "drivers": [{"type": "swim", "point": [0.1, 0.5, 0.5], "direction": [0, 0, 1], "%2": %1}])";
+    for (const FieldRange* r : {&kSwimFrequency, &kSwimAmplitude, &kSwimPhase, &kSwimRamp, &kDriverStiffness, &kDriverDamping})
+        QTest::newRow((std::string("swim ") + r->name).c_str())
+            << QString::fromLatin1(swim).arg("%1", QString::fromLatin1(r->name)) << QString::fromLatin1(r->name) << true;
+    add(kDragRelease,
+        R"(, "drivers": [{"type": "drag", "point": [0.5, 0.5, 0.5], "keys": [{"time": 0, "offset": [0, 0.1, 0]}], "release": %1}])",
+        true);
+    add(kHeavyAnchorRatio, R"(, "material": {"heavyAnchorRatio": %1})", true);
 }
 
 void TestProject::fieldRangesMeanTheSameInFileAndCore() {
     QFETCH(QString, where);
     QFETCH(QString, field);
+    QFETCH(bool, inObject);
     const FieldRange* range = nullptr;
-    for (const FieldRange* r : {&ranges::kDt, &ranges::kXpbdSubsteps, &ranges::kFrames, &ranges::kFps, &ranges::kRestitution,
-                                &ranges::kFriction, &ranges::kColliderRadius, &ranges::kCapsuleHalfLength})
+    for (const FieldRange* r : kFileRanges)
         if (field == r->name)
             range = r;
     QVERIFY(range);
@@ -271,7 +291,8 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore() {
     for (const double value : {range->low, range->low - lowStep, range->low + lowStep, range->high, range->high + step}) {
         char text[40];
         std::snprintf(text, sizeof text, range->whole ? "%.0f" : "%.17g", value);
-        const auto path = writeFile(dir, "p.softtouch", projectText("", where.arg(text).toStdString()));
+        const std::string json = where.arg(text).toStdString();
+        const auto path = writeFile(dir, "p.softtouch", inObject ? projectText(json) : projectText("", json));
         auto project = loadProject(path);
         const QString what = field + " = " + text + ": " + QString::fromStdString(project.ok() ? "read" : project.message());
         QVERIFY2(project.ok() == range->contains(value), qPrintable(what));
@@ -279,15 +300,22 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore() {
             QVERIFY2(project.message().find(std::string("/") + range->name) != std::string::npos, qPrintable(what));
             continue;
         }
+        // What the file took, core takes: the world, each driver, the body.
         WorldSettings world = project->scene.world;
         QVERIFY2(world.validate().ok(), qPrintable(what));
+        const SceneObject& object = project->scene.objects.front();
+        for (const Driver& d : object.drivers)
+            QVERIFY2(validateDriver(d).ok(), qPrintable(what + ": " + QString::fromStdString(validateDriver(d).message())));
+        QVERIFY2(buildLatticeBody(object.lattice, object.material).ok(), qPrintable(what));
+        // And it is written back as read: a second save of the reloaded project is the first, byte for byte.
         const auto saved = std::filesystem::path(dir.path().toStdString()) / "saved.softtouch";
+        const auto again = std::filesystem::path(dir.path().toStdString()) / "again.softtouch";
         QVERIFY(saveProject(project.value(), saved).ok());
         auto reloaded = loadProject(saved);
         QVERIFY2(reloaded.ok(), qPrintable(what + " (saved): " + QString::fromStdString(reloaded.message())));
-        QVERIFY2(reloaded->scene.world.simulation.dt == world.simulation.dt && reloaded->scene.world.fps == world.fps &&
-                     reloaded->scene.world.frames == world.frames && reloaded->scene.world.colliders == world.colliders &&
-                     reloaded->scene.world.simulation.xpbdSubsteps == world.simulation.xpbdSubsteps,
+        QVERIFY(saveProject(reloaded.value(), again).ok());
+        std::ifstream a(saved), b(again);
+        QVERIFY2(std::string(std::istreambuf_iterator<char>(a), {}) == std::string(std::istreambuf_iterator<char>(b), {}),
                  qPrintable(what));
     }
 }
