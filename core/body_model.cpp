@@ -51,7 +51,7 @@ double largestTridiagonalEigenvalue(const std::vector<double>& alpha, const std:
 
 /// Largest eigenvalue of M^-1 K (K the rest stiffness matrix of the springs, free nodes only), by Lanczos
 /// on the symmetric form A = M^-1/2 K M^-1/2. The largest Ritz value rises to the largest eigenvalue from
-/// below; it is taken once it moves by less than 1e-9 of itself.
+/// below; it is looked at every fourth step and taken once it moved by less than 1e-9 of itself since.
 /// Power iteration, used before, needed all of its 200 rounds on every body of a swimming fish (the
 /// stiffest modes of a lattice lie close together, and power iteration converges as their ratio) and
 /// still stopped short; Lanczos settles in a few dozen products with A.
@@ -90,23 +90,30 @@ double largestStiffnessOverMass(const BodyModel& m) {
     const int most = int(std::min<std::size_t>(3 * n, 120));
     std::vector<double> alpha, beta;
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(3 * n), current = q / q.norm(), w(3 * n);
-    double largest = 0.0;
+    double largest = 0.0;  // the largest Ritz value at the last look
+    bool looked = false;
     for (int j = 0; j < most; ++j) {
         apply(current, w);
         alpha.push_back(current.dot(w));
         w -= alpha.back() * current;
         if (!beta.empty())
             w -= beta.back() * previous;
-        // The bracket: the largest Ritz value never falls (interlacing), and adding a row and column moves
-        // it by at most the new off-diagonal (Weyl), above the larger of the last one and the new diagonal.
-        const double next = j == 0 ? alpha[0]
-                                   : largestTridiagonalEigenvalue(alpha, beta, largest,
-                                                                  std::max(largest, alpha.back()) + std::abs(beta.back()));
         const double b = w.norm();
-        const bool settled = j > 0 && std::abs(next - largest) <= 1e-9 * std::abs(next);
-        largest = next;
-        if (settled || b <= 1e-12 * std::max(std::abs(next), 1e-300))
-            break;
+        // The largest Ritz value, every fourth step and at the end (a look costs a bisection; a step, a
+        // product with A): it never falls (interlacing), so the last look bounds it from below, and
+        // Gershgorin's discs bound it from above.
+        double upper = 0.0;
+        for (std::size_t i = 0; i < alpha.size(); ++i)
+            upper = std::max(upper, alpha[i] + (i > 0 ? std::abs(beta[i - 1]) : 0.0) + (i < beta.size() ? std::abs(beta[i]) : 0.0));
+        const bool end = j + 1 == most || b <= 1e-12 * std::max(upper, 1e-300);
+        if (j % 4 == 3 || end) {
+            const double next = largestTridiagonalEigenvalue(alpha, beta, largest, upper);
+            const bool settled = looked && next - largest <= 1e-9 * std::abs(next);
+            largest = next;
+            looked = true;
+            if (settled || end)
+                break;
+        }
         beta.push_back(b);
         previous.swap(current);
         current = w / b;

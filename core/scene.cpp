@@ -97,6 +97,20 @@ Result<ModalAnalysis> objectModes(const Lattice& lattice, const LatticeMaterial&
     return analyseModes(*body.value(), count, goalSprings(*body.value(), material.goalWeight, *follow));
 }
 
+namespace {
+
+/// The solver's limit on an object in this world (the implicit solve's factor grows with the lattice).
+Status checkSolverLimits(const SceneObject& object, const WorldSettings& world) {
+    if (world.simulation.integrator == IntegratorKind::ImplicitEuler &&
+        std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
+        return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
+                             std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
+                             std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
+    return Status::success();
+}
+
+}  // namespace
+
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
     const Bounds bounds = object.mesh->bounds();
     const double across = (bounds.max - bounds.min).norm();
@@ -120,12 +134,7 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) 
                              " box lengths outside its lattice box (at most 10): move or enlarge the box, or leave "
                              "\"box\" out so SoftTouch fits one");
     }
-    if (world.simulation.integrator == IntegratorKind::ImplicitEuler &&
-        std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
-        return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
-                             std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
-                             std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
-    return Status::success();
+    return checkSolverLimits(object, world);
 }
 
 namespace {
@@ -151,17 +160,27 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
         return Status::error("the scene has no objects");
     if (Status s = scene->world.validate(); !s)
         return s;
-    for (const SceneObject& object : scene->objects)
-        if (Status s = checkObjectLimits(object, scene->world); !s)
+    // A mesh and lattice the previous simulation ran were checked then (shared meshes never change): only
+    // what depends on the world is checked again.
+    const auto ranBefore = [&](std::size_t i) {
+        if (!previous || i >= previous->m_objects.size())
+            return false;
+        const SceneObject& before = *previous->m_objects[i].source;
+        const SceneObject& now = scene->objects[i];
+        return before.mesh.sameAs(now.mesh) && before.lattice.shape() == now.lattice.shape() &&
+               before.lattice.restNodes() == now.lattice.restNodes();
+    };
+    for (std::size_t i = 0; i < scene->objects.size(); ++i) {
+        const SceneObject& object = scene->objects[i];
+        if (Status s = ranBefore(i) ? checkSolverLimits(object, scene->world) : checkObjectLimits(object, scene->world); !s)
             return s;
+    }
     SceneSimulation sim;
     sim.m_scene = scene;
     for (std::size_t i = 0; i < scene->objects.size(); ++i) {
         SceneObject& object = scene->objects[i];
         const std::string where = "object '" + object.name + "': ";
-        // A mesh the previous simulation ran was validated then (shared meshes never change).
-        const bool keptMesh = previous && i < previous->m_objects.size() && previous->m_objects[i].source->mesh.sameAs(object.mesh);
-        if (!keptMesh) {
+        if (!ranBefore(i)) {
             if (Status s = object.mesh->validate(); !s)
                 return Status::error(where + s.message());
         }
