@@ -404,8 +404,7 @@ int runBatch(const std::vector<std::string>& args) {
         auto files = runJob(manifest, *it);
         if (!files)
             return fail("job " + it->id + ": " + files.message());
-        for (const fs::path& f : files.value())
-            std::printf("wrote %s\n", f.string().c_str());
+        printWritten(files.value());
         return 0;
     }
     const int threads = parallel ? int(*parallel) : std::max(1u, std::thread::hardware_concurrency());

@@ -161,8 +161,7 @@ int runBake(const std::vector<std::string>& args) {
         std::fprintf(stderr, "softtouch-cli: warning: ... and %zu more\n", result->warnings.size() - shown);
     std::printf("wrote %s (%s, %d frames, %zu points)\n", result->cache.string().c_str(),
                 std::string(format->name).c_str(), result->frames, result->points);
-    for (std::size_t i = 1; i < result->files.size(); ++i)
-        std::printf("wrote %s\n", result->files[i].string().c_str());
+    printWritten(std::span(result->files).subspan(1));
     std::printf("rest mesh %s\n", result->restMesh.string().c_str());
     for (const std::string& note : result->notes)
         std::printf("%s\n", note.c_str());

@@ -6,7 +6,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -27,6 +29,17 @@ inline int usageError(const std::string& message, const std::string& command = {
         std::fprintf(stderr, "Usage: softtouch-cli %s\n", synopsis.c_str());
     std::fprintf(stderr, "See 'softtouch-cli %s--help'.\n", command.empty() ? "" : (command + " ").c_str());
     return 2;
+}
+
+/// Prints "wrote FILE" for each of `files`; more than four (an OBJ sequence's frames) as the first and the
+/// last with the count, not a line each.
+inline void printWritten(std::span<const std::filesystem::path> files) {
+    if (files.size() > 4) {
+        std::printf("wrote %s ... %s (%zu files)\n", files.front().c_str(), files.back().c_str(), files.size());
+        return;
+    }
+    for (const std::filesystem::path& file : files)
+        std::printf("wrote %s\n", file.c_str());
 }
 
 /// A finite number spelled exactly by `text` (no trailing characters), or nothing.

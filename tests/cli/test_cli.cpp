@@ -328,6 +328,12 @@ void TestCli::bakeFormats() {
             QVERIFY2(QFile::exists(frame), qPrintable(frame));
             QCOMPARE(objVertices(frame).size(), rest.size());
         }
+        // A long sequence's frames are reported as one range, not a line each.
+        const Run many = runCli({"bake", kScenes + "guppy-swim.softtouch", "--out", dir.filePath("many.obj"), "--frames", "12",
+                                 "--quiet"});
+        QCOMPARE(many.exitCode, 0);
+        QCOMPARE(many.out.count("wrote "), 2);  // the first frame's line, then the other eleven
+        QVERIFY2(many.out.contains("many_0011.obj (11 files)"), qPrintable(many.out));
     } else {
         QVERIFY(io::readPc2(out.toStdString()).ok());
         QVERIFY(QFile::exists(dir.filePath("fish.obj")));
