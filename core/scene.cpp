@@ -139,13 +139,17 @@ Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) 
 
 namespace {
 
+bool sameLattice(const SceneObject& a, const SceneObject& b) {
+    return a.lattice.shape() == b.lattice.shape() && a.lattice.restNodes() == b.lattice.restNodes();
+}
+
 /// Whether two objects have the same mesh and lattice: what their bindings and samples are made of. The
 /// editor's copies of a scene share one mesh, so comparing values is for meshes made again (a reload).
 bool sameGeometry(const SceneObject& a, const SceneObject& b) {
     const Mesh& x = *a.mesh;
     const Mesh& y = *b.mesh;
     return (a.mesh.sameAs(b.mesh) || (x.positions == y.positions && x.triangles == y.triangles && x.normals == y.normals)) &&
-           a.lattice.shape() == b.lattice.shape() && a.lattice.restNodes() == b.lattice.restNodes();
+           sameLattice(a, b);
 }
 
 }  // namespace
@@ -162,17 +166,14 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
         return s;
     // A mesh and lattice the previous simulation ran were checked then (shared meshes never change): only
     // what depends on the world is checked again.
-    const auto ranBefore = [&](std::size_t i) {
-        if (!previous || i >= previous->m_objects.size())
-            return false;
-        const SceneObject& before = *previous->m_objects[i].source;
-        const SceneObject& now = scene->objects[i];
-        return before.mesh.sameAs(now.mesh) && before.lattice.shape() == now.lattice.shape() &&
-               before.lattice.restNodes() == now.lattice.restNodes();
-    };
+    std::vector<bool> ranBefore(scene->objects.size(), false);
     for (std::size_t i = 0; i < scene->objects.size(); ++i) {
         const SceneObject& object = scene->objects[i];
-        if (Status s = ranBefore(i) ? checkSolverLimits(object, scene->world) : checkObjectLimits(object, scene->world); !s)
+        if (previous && i < previous->m_objects.size()) {
+            const SceneObject& before = *previous->m_objects[i].source;
+            ranBefore[i] = before.mesh.sameAs(object.mesh) && sameLattice(before, object);
+        }
+        if (Status s = ranBefore[i] ? checkSolverLimits(object, scene->world) : checkObjectLimits(object, scene->world); !s)
             return s;
     }
     SceneSimulation sim;
@@ -180,7 +181,7 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
     for (std::size_t i = 0; i < scene->objects.size(); ++i) {
         SceneObject& object = scene->objects[i];
         const std::string where = "object '" + object.name + "': ";
-        if (!ranBefore(i)) {
+        if (!ranBefore[i]) {
             if (Status s = object.mesh->validate(); !s)
                 return Status::error(where + s.message());
         }
@@ -194,7 +195,7 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
                 return Status::error(where + "driver " + std::to_string(d) + ": " + s.message());
         }
         std::shared_ptr<Geometry> geometry;
-        if (previous && i < previous->m_objects.size() && sameGeometry(*previous->m_objects[i].source, object))
+        if (ranBefore[i] || (previous && i < previous->m_objects.size() && sameGeometry(*previous->m_objects[i].source, object)))
             geometry = previous->m_objects[i].geometry;
         else
             geometry = std::make_shared<Geometry>(

@@ -88,9 +88,9 @@ std::optional<AnimationRequest> readAnimationRequest(const JsonValue& a, FollowS
 }
 
 /// An object's "restShape": the edits of its rest shape (core/rest_shape.h), each the lattice it was made on
-/// (with its box) and the posed nodes, replayed in order over the mesh as read and placed. False, with the
-/// problem recorded, when one is malformed or cannot apply.
-bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShapeEdit>& edits) {
+/// (with its box) and the posed nodes, replayed in order over `mesh`, the object's mesh as read and placed.
+/// False, with the problem recorded, when one is malformed or cannot apply.
+bool readRestShape(const JsonValue& v, const SceneObject& object, Mesh& mesh, std::vector<RestShapeEdit>& edits) {
     if (!v.exists())
         return true;
     if (object.baseAnimation) {
@@ -101,7 +101,6 @@ bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShap
         v.problem("expected an array of edits [{\"lattice\": {\"kind\", \"nodes\", \"box\"}, \"nodes\": [[x, y, z], ...]}]");
         return false;
     }
-    Mesh mesh = *object.mesh;  // edited here, then the object's new rest mesh
     for (std::size_t e = 0; e < v.size(); ++e) {
         const JsonValue item = v.at(e);
         if (!item.expectObject(true))
@@ -134,7 +133,6 @@ bool readRestShape(const JsonValue& v, SceneObject& object, std::vector<RestShap
         }
         edits.push_back(std::move(edit));
     }
-    object.mesh = std::move(mesh);
     return true;
 }
 
@@ -185,7 +183,6 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     }
     for (Vec3f& p : mesh.positions)
         p += offset.cast<float>();
-    object.mesh = std::move(mesh);
     if (object.baseAnimation && !offset.isZero()) {
         auto moved = std::make_shared<BaseAnimation>(*object.baseAnimation);
         for (auto& sample : moved->samples)
@@ -194,8 +191,9 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
         object.baseAnimation = std::move(moved);
     }
     std::vector<RestShapeEdit> restShape;
-    if (!readRestShape(v["restShape"], object, restShape))
+    if (!readRestShape(v["restShape"], object, mesh, restShape))
         return;
+    object.mesh = std::move(mesh);
     auto lattice = readLattice(v["lattice"], object.mesh);
     if (!lattice)
         return;

@@ -33,11 +33,11 @@ std::string_view cacheFormatName(CacheFormat format) {
 }
 
 std::optional<CacheFormat> parseCacheFormat(std::string_view name) {
-    std::string key(name);
-    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    for (const auto& [kind, listed] : kCacheNames)
-        if (listed == key)
-            return kind;
+    // The registry's lookup, case-insensitive as people type names; pc2, mdd and objseq are its entries.
+    if (const ExportFormat* f = findExportFormat(name))
+        for (const auto& [kind, listed] : kCacheNames)
+            if (listed == f->name)
+                return kind;
     return std::nullopt;
 }
 

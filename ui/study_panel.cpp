@@ -127,6 +127,7 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
         // The pick, the plot's axis and its front follow the chosen kind (cheapestWithin and the plot read it).
         m_study.error = analysis::StudyError(m_errorKind->currentData().toInt());
         analysis::markPareto(m_study);
+        refreshPlot();
         refresh();
     });
     connect(m_measure, &QPushButton::clicked, this, &StudyPanel::measure);
@@ -134,6 +135,7 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     connect(m_apply, &QPushButton::clicked, this, &StudyPanel::applySuggestion);
     connect(m_plot, &StudyChartView::hovered, this, &StudyPanel::showPointer);
     connect(m_plot, &StudyChartView::clicked, this, [this](int row) { applyRow(row); });
+    refreshPlot();
     refresh();
 }
 
@@ -291,6 +293,7 @@ void StudyPanel::markCurrent() {
     const Scene& scene = m_document->scene();
     for (analysis::StudyRow& r : m_study.rows)
         r.current = !scene.objects.empty() && analysis::sameSetting(r.setting(), analysis::sceneSetting(scene));
+    refreshPlot();  // the mark moved (or a new study came)
 }
 
 QString StudyPanel::rowBlocker(int row) const {
@@ -407,7 +410,7 @@ void StudyPanel::refresh() {
         m_check->setText(blocker);
     }
     updateMinimumHeight();  // the text's height for the panel's width changed with it
-    refreshPlot();
+    showPointer(m_plot->hoveredRow());  // what a click on the dot under the pointer would do now
 }
 
 void StudyPanel::refreshPlot() {
@@ -420,7 +423,6 @@ void StudyPanel::refreshPlot() {
     else if (!m_plot->studyChart()->hasPoints())
         m_plotNote->setText(tr("Nothing to plot: no measured setting ran without blowing up."));
     m_plotStack->setCurrentWidget(m_plot->studyChart()->hasPoints() ? static_cast<QWidget*>(m_plot) : m_plotNote);
-    showPointer(-1);
 }
 
 void StudyPanel::resizeEvent(QResizeEvent* event) {

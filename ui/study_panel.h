@@ -84,7 +84,9 @@ private:
     void sceneChanged();
     /// Flags the row that measured the scene's own setting as current (none when none did).
     void markCurrent();
+    /// The texts, buttons and the line about the dot under the pointer.
     void refresh();
+    /// The chart: rebuilt only when the study, its error kind or the current setting's mark changes.
     void refreshPlot();
     /// Why "Use the cheapest…" cannot be pressed now and what to do; empty when it can.
     QString applyBlocker() const;
