@@ -114,8 +114,10 @@ std::optional<int> CommandLine::parse(const std::vector<std::string>& args) {
             break;
         case Declared::Kind::Value:
         case Declared::Kind::Values:
-            // One value per occurrence (a later word is never taken as a second value); every occurrence kept.
-            app.add_option(d.name, words)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            // One value per occurrence (a later word is never taken as a second value: a vector target lets
+            // CLI11 take every following word up to the next option, so "--frames 5 SCENE" gave --frames the
+            // scene); every occurrence kept.
+            app.add_option(d.name, words)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
             break;
         }
     }

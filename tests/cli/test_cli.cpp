@@ -68,6 +68,7 @@ private slots:
     void helpAndUsage();
     void badUsageFollowsOneRule_data();
     void badUsageFollowsOneRule();
+    void optionsGoBeforeOrAfterTheScene();
     void productionProgramLinksNoGuiAndNoBenchmarkPeer();
     void bakeEverySample_data();
     void bakeEverySample();
@@ -210,6 +211,27 @@ void TestCli::badUsageFollowsOneRule() {
     QVERIFY2(lines[1].startsWith("Usage: softtouch-cli " + args[0] + " "), qPrintable(what));
     QVERIFY2(help.out.contains(lines[1].mid(QString("Usage: ").size())), qPrintable(what));
     QVERIFY2(lines[2] == "See 'softtouch-cli " + args[0] + " --help'.", qPrintable(what));
+}
+
+// An option's value is one word wherever the option stands: before the scene too (the parser once let
+// "--frames 5 SCENE" take the scene as a second value of --frames and refuse it).
+void TestCli::optionsGoBeforeOrAfterTheScene() {
+    QTemporaryDir dir;
+    const QString scene = kScenes + "guppy-swim.softtouch";
+    const QStringList orders[] = {
+        {"bake", "--frames", "3", scene, "--out", dir.filePath("a.pc2")},
+        {"bake", "--format", "mdd", "--frames", "3", "--out", dir.filePath("b.mdd"), scene},
+        {"bake", scene, "--frames", "3", "--out", dir.filePath("c.pc2")},
+    };
+    for (const QStringList& args : orders) {
+        const Run r = runCli(args + QStringList{"--quiet"});
+        QVERIFY2(r.exitCode == 0, qPrintable(args.join(' ') + ": " + r.err));
+        QVERIFY2(r.out.contains("3 frames"), qPrintable(r.out));
+    }
+    // A word that is neither an option, its value nor the scene is still refused.
+    const Run extra = runCli({"bake", "--frames", "3", scene, "extra", "--out", dir.filePath("d.pc2")});
+    QCOMPARE(extra.exitCode, 2);
+    QVERIFY2(extra.err.contains("unexpected argument 'extra'"), qPrintable(extra.err));
 }
 
 // What a farm node runs needs no Qt Gui, no D-Bus and no benchmark peer: the measurements that do (the
