@@ -2,6 +2,7 @@
 #include "core/lattice_body.h"
 #include "core/scene.h"
 #include "core/modes.h"
+#include "core/solid_modes.h"
 #include "io/mesh_import.h"
 #include "io/export_formats.h"
 #include "io/project_file.h"
@@ -78,6 +79,7 @@ private slots:
     void bakeObjectsApartOrGrouped();
     void goldenHash();
     void upgradeKeepsMassLowestModeAndDamping();
+    void modesReferenceIsTheConvergedSolid();
     void studyWritesItsFilesAndAppliesAPick();
     void studyPicksHoldWhenRebaked_data();
     void studyPicksHoldWhenRebaked();
@@ -492,6 +494,36 @@ void TestCli::upgradeKeepsMassLowestModeAndDamping() {
     QCOMPARE(refused.exitCode, 1);
     QVERIFY2(refused.err.contains("modulus") || refused.out.contains("modulus"), qPrintable(refused.err + refused.out));
     QCOMPARE(runCli({"upgrade", old}).exitCode, 2);
+}
+
+// `modes --reference` prints the converged solid's frequencies and the lattice's error against them:
+// the numbers core computes for the scene as loaded, at the degree asked.
+void TestCli::modesReferenceIsTheConvergedSolid() {
+    const QString path = kScenes + "angelfish-swim.softtouch";
+    const Run run = runCli({"modes", path, "--reference-degree", "4"});
+    QVERIFY2(run.exitCode == 0, qPrintable(run.err));
+    const QRegularExpressionMatch solidLine =
+        QRegularExpression(R"(converged solid \(Bernstein degree 4, consistent mass, (\d+) unknowns\): (\S+) (\S+) (\S+) Hz)").match(run.out);
+    const QRegularExpressionMatch errorLine =
+        QRegularExpression(R"(this lattice's error: (\S+)% (\S+)% (\S+)%)").match(run.out);
+    QVERIFY2(solidLine.hasMatch() && errorLine.hasMatch(), qPrintable(run.out));
+    auto project = io::loadProject(path.toStdString());
+    QVERIFY(project);
+    const SceneObject& fish = project->scene.objects.front();
+    auto solid = materialSolidModes(fish.lattice, fish.material, 4, 3);
+    QVERIFY2(solid, solid.message().c_str());
+    auto lattice = analyseModes(*buildLatticeBody(fish.lattice, fish.material).value(), 3);
+    QVERIFY(lattice);
+    QCOMPARE(solidLine.captured(1).toInt(), solid->unknowns);
+    for (int m = 0; m < 3; ++m) {
+        const double printed = solidLine.captured(2 + m).toDouble();
+        QVERIFY2(std::abs(printed / solid->frequencyHz[std::size_t(m)] - 1.0) < 1e-3, qPrintable(solidLine.captured(0)));
+        const double error = 100.0 * (lattice->modes[std::size_t(m)].frequencyHz / solid->frequencyHz[std::size_t(m)] - 1.0);
+        QVERIFY2(std::abs(errorLine.captured(1 + m).toDouble() - error) < 0.051, qPrintable(errorLine.captured(0)));
+    }
+    const Run bad = runCli({"modes", path, "--reference-degree", "9"});
+    QCOMPARE(bad.exitCode, 2);
+    QVERIFY2(bad.err.contains("--reference-degree"), qPrintable(bad.err));
 }
 
 // The study command end to end on a small grid (a few seconds, so it also runs under the sanitizers):

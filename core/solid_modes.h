@@ -1,0 +1,69 @@
+#pragma once
+/// The modes of the solid a lattice material describes, converged: the reference a lattice's own modes
+/// (core/modes.h) are measured against.
+///
+/// A lattice body is a discretisation: its springs on a 4x4x4 control net store the energy of a solid
+/// (core/network_elasticity.h) only under uniform strain, and its lumped node masses carry that solid's
+/// inertia only roughly. How far its modes are from the solid's is the lattice's own error, the part of
+/// "speed against accuracy" a finer lattice buys. This solves the same solid without the lattice's
+/// approximations: a Galerkin (Rayleigh-Ritz) discretisation of linear elasticity over a tensor-product
+/// Bernstein basis of high degree on the lattice box, with the consistent mass matrix ∫ρ N_i N_j:
+///
+///   K_(iα)(jβ) = ∫ e(x) ∂_k N_i T_(αk)(βl) ∂_l N_j dV,   M_(iα)(jβ) = δ_αβ ∫ ρ(x) N_i N_j dV,
+///
+/// with T = Pᵀ C P (C the elasticity per unit of the painted modulus in Voigt order, P the map from the
+/// displacement gradient to Voigt strain), e(x) and ρ(x) the painted modulus and density interpolated by
+/// the body's own lattice basis, Gauss-Legendre quadrature exact for the polynomial parts. Rayleigh-Ritz
+/// frequencies fall towards the solid's as the degree rises (tests/core/test_solid_modes checks an axial
+/// rod against its closed form and the convergence in degree).
+
+#include "core/lattice.h"
+#include "core/lattice_body.h"
+#include "core/result.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+namespace softtouch {
+
+/// Highest Bernstein degree solidModes() takes (kMaxBasisOrder - 1), and the degree it uses by default.
+inline constexpr int kMaxSolidDegree = 7;
+inline constexpr int kDefaultSolidDegree = 5;
+
+/// A solid filling a box, in the box frame (parameters s in [0,1]^3, x = s .* size).
+struct SolidField {
+    Vec3 size = Vec3::Ones();                        ///< Box edge lengths, m.
+    Eigen::Matrix<double, 6, 6> elasticity =         ///< C per unit of `modulus`, Voigt order (uu, vv, ww, vw, uw, uv).
+        Eigen::Matrix<double, 6, 6>::Zero();
+    std::function<double(const Vec3&)> modulus;      ///< Scale of C at parameters s (>= 0).
+    std::function<double(const Vec3&)> density;      ///< kg/m³ at parameters s (> 0).
+    /// Reference nodes held fixed: one flag per node of the (degree+1)^3 Bernstein net, index i + n(j + n k).
+    /// Empty: a free body.
+    std::vector<std::uint8_t> pinned;
+};
+
+/// The result of solidModes().
+struct SolidModes {
+    std::vector<double> frequencyHz;  ///< Lowest elastic modes first, Hz.
+    int degree = 0;                   ///< Bernstein degree per axis used.
+    int unknowns = 0;                 ///< 3 × free reference nodes.
+    int rigidModes = 0;               ///< Zero-frequency modes skipped.
+};
+
+/// The `count` lowest elastic modes of `solid` at Bernstein degree `degree` (1..kMaxSolidDegree).
+/// Fails, saying why, on a bad degree, a field that is not positive and finite, or every node pinned.
+Result<SolidModes> solidModes(const SolidField& solid, int degree, int count = 3);
+
+/// The solid a lattice material describes (either model: the painted values interpolated by the lattice's
+/// basis, the springs' elasticity per unit of them from networkElasticity()), with anchors (pinned and
+/// heavy alike) held where the material holds them, carried to the reference net as resampleMaterial()
+/// carries them. Refuses void nodes: the solid fills the box.
+Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree);
+
+/// materialSolid() then solidModes().
+Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMaterial& material,
+                                      int degree = kDefaultSolidDegree, int count = 3);
+
+}  // namespace softtouch

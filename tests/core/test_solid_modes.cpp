@@ -1,0 +1,167 @@
+// The converged solid a lattice material describes (core/solid_modes.h): the Galerkin reference is
+// checked against closed forms and its own convergence, then the spring lattices against it.
+#include "core/modes.h"
+#include "core/solid_modes.h"
+
+#include <QtTest>
+
+#include <cmath>
+#include <numbers>
+
+using namespace softtouch;
+
+namespace {
+
+/// An isotropic solid with Poisson's ratio 0 (C = diag(E, E, E, E/2, E/2, E/2)): a rod of it stretches
+/// without narrowing, so its axial modes have the closed form of a string of mass.
+SolidField isotropicBar(double modulus, double density, const Vec3& size) {
+    SolidField solid;
+    solid.size = size;
+    for (int i = 0; i < 3; ++i) {
+        solid.elasticity(i, i) = 1.0;
+        solid.elasticity(i + 3, i + 3) = 0.5;
+    }
+    solid.modulus = [modulus](const Vec3&) { return modulus; };
+    solid.density = [density](const Vec3&) { return density; };
+    return solid;
+}
+
+/// Pins the face u = 0 of the Bernstein net of `degree`.
+void clampFirstFace(SolidField& solid, int degree) {
+    const int n = degree + 1;
+    solid.pinned.assign(std::size_t(n * n * n), 0);
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            solid.pinned[std::size_t(n * (j + n * k))] = 1;
+}
+
+/// The angelfish's box (1.04 x 1.36 x 0.25 m), ρ = 1 kg/m³, E = 1000 Pa, pinned where u >= 0.9.
+LatticeMaterial pinnedFishMaterial(const Lattice& lattice) {
+    LatticeMaterial material = continuumMaterial(lattice, 1.0, 1000.0, 0.0);
+    for (int i = 0; i < lattice.nodeCount(); ++i)
+        if (lattice.restNodeParameters(i).x() >= 0.9)
+            material.anchor[std::size_t(i)] = AnchorMode::Pinned;
+    return material;
+}
+
+Lattice bezierOver(const Vec3& size, int nodes) {
+    OrientedBox box;
+    box.size = size;
+    return Lattice::create({LatticeKind::Bezier, {nodes, nodes, nodes}}, box).value();
+}
+
+const Vec3 kFishBox(1.04, 1.36, 0.25);
+
+}  // namespace
+
+class TestSolidModes : public QObject {
+    Q_OBJECT
+private slots:
+    /// A cantilever 1 x 0.1 x 0.1 m: its axial mode is (1/4L)√(E/ρ) exactly, its first bending mode is
+    /// Euler-Bernoulli's 1.875²/(2π)·√(EI/ρAL⁴) less the little shear and rotary inertia take off at a
+    /// slenderness of 10, and the second bending mode lies below Euler-Bernoulli's by more (Timoshenko).
+    void cantileverMatchesClosedForms() {
+        const double modulus = 1e6, density = 1000.0, length = 1.0, side = 0.1;
+        SolidField solid = isotropicBar(modulus, density, Vec3(length, side, side));
+        clampFirstFace(solid, 5);
+        auto modes = solidModes(solid, 5, 8);
+        QVERIFY2(modes, modes.message().c_str());
+        QCOMPARE(modes->rigidModes, 0);
+        QCOMPARE(int(modes->frequencyHz.size()), 8);
+        const std::vector<double>& f = modes->frequencyHz;
+        const double axial = std::sqrt(modulus / density) / (4.0 * length);
+        const double beam = std::sqrt(modulus * std::pow(side, 4) / 12.0 / (density * side * side * std::pow(length, 4))) /
+                            (2.0 * std::numbers::pi);
+        const double bending1 = 1.8751041 * 1.8751041 * beam, bending2 = 4.6940911 * 4.6940911 * beam;
+        // Modes 1-2 and 3-4: bending in the two equal directions; 5: torsion; 6: axial.
+        QVERIFY2(std::abs(f[0] - f[1]) < 1e-6 * f[0], qPrintable(QString::number(f[1] - f[0])));
+        QVERIFY2(f[0] < bending1 && f[0] > 0.99 * bending1, qPrintable(QString("%1 vs %2").arg(f[0]).arg(bending1)));
+        QVERIFY2(f[2] < bending2 && f[2] > 0.95 * bending2, qPrintable(QString("%1 vs %2").arg(f[2]).arg(bending2)));
+        QVERIFY2(std::abs(f[5] / axial - 1.0) < 1e-4, qPrintable(QString("%1 vs %2").arg(f[5]).arg(axial)));
+    }
+
+    /// Rayleigh-Ritz over nested spaces: every frequency falls (or stays) as the degree rises, and the
+    /// default degree is converged to 0.2% on the fish's box and a free cube.
+    void frequenciesFallWithDegreeAndConverge() {
+        for (const bool fish : {true, false}) {
+            const Lattice lattice = bezierOver(fish ? kFishBox : Vec3::Constant(0.5), 4);
+            const LatticeMaterial material = fish ? pinnedFishMaterial(lattice) : continuumMaterial(lattice, 1.0, 1000.0, 0.0);
+            std::vector<double> previous;
+            for (int degree : {3, 4, 5, 6}) {
+                auto modes = materialSolidModes(lattice, material, degree, 3);
+                QVERIFY2(modes, modes.message().c_str());
+                QCOMPARE(modes->rigidModes, fish ? 0 : 6);
+                for (std::size_t m = 0; m < previous.size(); ++m)
+                    QVERIFY2(modes->frequencyHz[m] <= previous[m] * (1.0 + 1e-9),
+                             qPrintable(QString("mode %1 rose from %2 to %3 at degree %4")
+                                            .arg(m + 1).arg(previous[m]).arg(modes->frequencyHz[m]).arg(degree)));
+                previous = modes->frequencyHz;
+            }
+            auto best = materialSolidModes(lattice, material, kMaxSolidDegree, 3);
+            auto usual = materialSolidModes(lattice, material, kDefaultSolidDegree, 3);
+            QVERIFY(best && usual);
+            for (std::size_t m = 0; m < 3; ++m)
+                QVERIFY2(std::abs(usual->frequencyHz[m] / best->frequencyHz[m] - 1.0) < 2e-3,
+                         qPrintable(QString("mode %1: %2 at the default degree, %3 at the highest")
+                                        .arg(m + 1).arg(usual->frequencyHz[m]).arg(best->frequencyHz[m])));
+        }
+    }
+
+    /// The springs approach the solid they describe: on the fish's box the lowest mode of Bezier 4, 6
+    /// and 8 is within 1% of the converged solid's, and the third mode's error shrinks as the lattice is
+    /// refined (the lattice's own error, what the study calls model error).
+    void springLatticesApproachTheirSolid() {
+        const Lattice coarse = bezierOver(kFishBox, 4);
+        auto solid = materialSolidModes(coarse, pinnedFishMaterial(coarse), kDefaultSolidDegree, 3);
+        QVERIFY2(solid, solid.message().c_str());
+        double previousError = 1e300;
+        for (int nodes : {4, 6, 8}) {
+            const Lattice lattice = bezierOver(kFishBox, nodes);
+            const LatticeMaterial material = pinnedFishMaterial(lattice);
+            auto sameSolid = materialSolidModes(lattice, material, kDefaultSolidDegree, 3);
+            QVERIFY(sameSolid);
+            for (std::size_t m = 0; m < 3; ++m)  // the same solid whichever lattice describes it
+                QVERIFY(std::abs(sameSolid->frequencyHz[m] / solid->frequencyHz[m] - 1.0) < 1e-9);
+            auto body = buildLatticeBody(lattice, material);
+            QVERIFY(body);
+            auto springs = analyseModes(*body.value(), 3);
+            QVERIFY(springs);
+            // The table docs/lattice.md quotes ("The lattice's own error").
+            qInfo("Bezier %dx%dx%d springs: %.4f / %.4f / %.4f Hz; converged solid %.4f / %.4f / %.4f Hz; error %+.1f%% / %+.1f%% / %+.1f%%",
+                  nodes, nodes, nodes, springs->modes[0].frequencyHz, springs->modes[1].frequencyHz,
+                  springs->modes[2].frequencyHz, solid->frequencyHz[0], solid->frequencyHz[1], solid->frequencyHz[2],
+                  100.0 * (springs->modes[0].frequencyHz / solid->frequencyHz[0] - 1.0),
+                  100.0 * (springs->modes[1].frequencyHz / solid->frequencyHz[1] - 1.0),
+                  100.0 * (springs->modes[2].frequencyHz / solid->frequencyHz[2] - 1.0));
+            const double lowest = springs->modes[0].frequencyHz / solid->frequencyHz[0] - 1.0;
+            QVERIFY2(std::abs(lowest) < 0.01, qPrintable(QString("Bezier %1: mode 1 off by %2").arg(nodes).arg(lowest)));
+            const double third = std::abs(springs->modes[2].frequencyHz / solid->frequencyHz[2] - 1.0);
+            QVERIFY2(third < previousError, qPrintable(QString("Bezier %1: mode 3 off by %2").arg(nodes).arg(third)));
+            previousError = third;
+        }
+    }
+
+    void badInputIsRefusedWithAReason() {
+        const Lattice lattice = bezierOver(kFishBox, 4);
+        LatticeMaterial material = pinnedFishMaterial(lattice);
+        auto tooHigh = materialSolidModes(lattice, material, kMaxSolidDegree + 1);
+        QVERIFY(!tooHigh);
+        QVERIFY(tooHigh.message().find("degree") != std::string::npos);
+        material.isVoid[5] = 1;
+        auto withVoid = materialSolidModes(lattice, material);
+        QVERIFY(!withVoid);
+        QVERIFY(withVoid.message().find("void") != std::string::npos);
+        SolidField allPinned = isotropicBar(1e6, 1000.0, Vec3::Ones());
+        allPinned.pinned.assign(8, 1);
+        auto pinned = solidModes(allPinned, 1);
+        QVERIFY(!pinned);
+        QVERIFY(pinned.message().find("pinned") != std::string::npos);
+        SolidField negative = isotropicBar(1e6, -1.0, Vec3::Ones());
+        auto bad = solidModes(negative, 2);
+        QVERIFY(!bad);
+        QVERIFY(bad.message().find("density") != std::string::npos);
+    }
+};
+
+QTEST_APPLESS_MAIN(TestSolidModes)
+#include "test_solid_modes.moc"
