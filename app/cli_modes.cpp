@@ -37,8 +37,10 @@ Options:
                   fixed: core/solid_modes.h) and print how far each of the lattice's modes is from it:
                   the lattice's own error, which a finer lattice shrinks (docs/lattice.md).
   --reference-degree P
-                  Degree of that basis per axis, 1..7 (default 5, within 0.2% of 7 on the bundled
-                  scenes; 3 on a 4x4x4 Bezier lattice is the textbook element on the same net).
+                  Degree of that basis per axis, 2..7 (default 5, within 0.2% of 7 on the bundled
+                  scenes; 3 on a 4x4x4 Bezier lattice is the textbook element on the same net). The
+                  solid is solved at P-1 too: when a mode moves by more than 2% it is not converged
+                  (anchors at points or along lines never are) and no error is printed.
   --pictures PREFIX
                   Also draw each mode of the object (the first, or --object) headless on the GPU (EGL,
                   no X server): the mesh deformed by +A x shape over a grey ghost of the rest pose, with
@@ -61,10 +63,17 @@ void printReference(const SceneObject& object, const ModalAnalysis& shown, const
                 plain = std::move(modes.value());
         }
     }
+    if (!solid.converged()) {
+        std::printf("  no converged solid: from Bernstein degree %d to %d a mode moves by %.1f%%. A solid held at points "
+                    "or along lines is not held in the limit; anchor whole faces for a reference (docs/lattice.md)\n",
+                    solid.degree - 1, solid.degree, 100.0 * solid.spread);
+        return;
+    }
     std::printf("  converged solid (Bernstein degree %d, consistent mass, %d unknowns):", solid.degree, solid.unknowns);
     for (double f : solid.frequencyHz)
         std::printf(" %.4f", f);
-    std::printf(" Hz\n  this lattice's error%s:", object.baseAnimation ? " (without the goal springs)" : "");
+    std::printf(" Hz (degree %d: within %.2f%%)\n  this lattice's error%s:", solid.degree - 1, 100.0 * solid.spread,
+                object.baseAnimation ? " (without the goal springs)" : "");
     for (std::size_t m = 0; m < solid.frequencyHz.size() && m < plain.modes.size(); ++m)
         std::printf(" %+.1f%%", 100.0 * (plain.modes[m].frequencyHz / solid.frequencyHz[m] - 1.0));
     std::printf("\n");
@@ -83,7 +92,7 @@ int runModes(const std::vector<std::string>& args) {
     line.number("--count", count, {1, 20, true});
     line.text("--object", objectName);
     line.flag("--reference", reference);
-    line.number("--reference-degree", referenceDegree, {1, double(kMaxSolidDegree), true});
+    line.number("--reference-degree", referenceDegree, {2, double(kMaxSolidDegree), true});
     line.text("--pictures", picturePrefix);
     line.value("--size", sizeReader(size));
     line.number("--amplitude", amplitude, {0, 1});

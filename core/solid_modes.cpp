@@ -231,7 +231,20 @@ Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMater
     auto solid = materialSolid(lattice, material, degree);
     if (!solid)
         return solid.status();
-    return solidModes(solid.value(), degree, count);
+    auto modes = solidModes(solid.value(), degree, count);
+    if (!modes || degree < 2)
+        return modes;
+    auto lowerSolid = materialSolid(lattice, material, degree - 1);
+    auto lower = lowerSolid ? solidModes(lowerSolid.value(), degree - 1, count) : Result<SolidModes>(lowerSolid.status());
+    if (!lower)
+        return modes;  // spread stays unknown (-1): not converged
+    modes->spread = 0.0;
+    for (std::size_t m = 0; m < modes->frequencyHz.size(); ++m) {
+        modes->spread = m < lower->frequencyHz.size()
+                            ? std::max(modes->spread, std::abs(lower->frequencyHz[m] / modes->frequencyHz[m] - 1.0))
+                            : 1.0;
+    }
+    return modes;
 }
 
 }  // namespace softtouch

@@ -44,12 +44,21 @@ struct SolidField {
     std::vector<std::uint8_t> pinned;
 };
 
+/// Largest relative change of a mode between degrees P-1 and P that materialSolidModes() still calls
+/// converged.
+inline constexpr double kSolidConvergedSpread = 0.02;
+
 /// The result of solidModes().
 struct SolidModes {
     std::vector<double> frequencyHz;  ///< Lowest elastic modes first, Hz.
     int degree = 0;                   ///< Bernstein degree per axis used.
     int unknowns = 0;                 ///< 3 × free reference nodes.
     int rigidModes = 0;               ///< Zero-frequency modes skipped.
+    /// materialSolidModes() only: the largest relative change of a mode from degree P-1 to P (-1 when P = 1).
+    /// A solid held at points or along lines is not held at all in the limit (elasticity feels no
+    /// constraint of zero area), so such anchors never converge: its frequencies wander with the degree.
+    double spread = -1.0;
+    bool converged() const { return spread >= 0.0 && spread <= kSolidConvergedSpread; }
 };
 
 /// The `count` lowest elastic modes of `solid` at Bernstein degree `degree` (1..kMaxSolidDegree).
@@ -62,7 +71,7 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count = 3
 /// carries them. Refuses void nodes: the solid fills the box.
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree);
 
-/// materialSolid() then solidModes().
+/// materialSolid() then solidModes(), at `degree` and at degree - 1 to fill `spread`.
 Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMaterial& material,
                                       int degree = kDefaultSolidDegree, int count = 3);
 

@@ -497,20 +497,20 @@ void TestCli::upgradeKeepsMassLowestModeAndDamping() {
 }
 
 // `modes --reference` prints the converged solid's frequencies and the lattice's error against them:
-// the numbers core computes for the scene as loaded, at the degree asked.
+// the numbers core computes for the scene as loaded. A star held at four nodes has none, and says why.
 void TestCli::modesReferenceIsTheConvergedSolid() {
     const QString path = kScenes + "angelfish-swim.softtouch";
-    const Run run = runCli({"modes", path, "--reference-degree", "4"});
+    const Run run = runCli({"modes", path, "--reference"});
     QVERIFY2(run.exitCode == 0, qPrintable(run.err));
     const QRegularExpressionMatch solidLine =
-        QRegularExpression(R"(converged solid \(Bernstein degree 4, consistent mass, (\d+) unknowns\): (\S+) (\S+) (\S+) Hz)").match(run.out);
+        QRegularExpression(R"(converged solid \(Bernstein degree 5, consistent mass, (\d+) unknowns\): (\S+) (\S+) (\S+) Hz \(degree 4: within)").match(run.out);
     const QRegularExpressionMatch errorLine =
         QRegularExpression(R"(this lattice's error: (\S+)% (\S+)% (\S+)%)").match(run.out);
     QVERIFY2(solidLine.hasMatch() && errorLine.hasMatch(), qPrintable(run.out));
     auto project = io::loadProject(path.toStdString());
     QVERIFY(project);
     const SceneObject& fish = project->scene.objects.front();
-    auto solid = materialSolidModes(fish.lattice, fish.material, 4, 3);
+    auto solid = materialSolidModes(fish.lattice, fish.material, kDefaultSolidDegree, 3);
     QVERIFY2(solid, solid.message().c_str());
     auto lattice = analyseModes(*buildLatticeBody(fish.lattice, fish.material).value(), 3);
     QVERIFY(lattice);
@@ -521,6 +521,10 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
         const double error = 100.0 * (lattice->modes[std::size_t(m)].frequencyHz / solid->frequencyHz[std::size_t(m)] - 1.0);
         QVERIFY2(std::abs(errorLine.captured(1 + m).toDouble() - error) < 0.051, qPrintable(errorLine.captured(0)));
     }
+    QVERIFY(solid->converged());
+    const Run star = runCli({"modes", kScenes + "star-drag.softtouch", "--reference"});
+    QVERIFY2(star.exitCode == 0 && star.out.contains("no converged solid") && !star.out.contains("this lattice's error"),
+             qPrintable(star.out));
     const Run bad = runCli({"modes", path, "--reference-degree", "9"});
     QCOMPARE(bad.exitCode, 2);
     QVERIFY2(bad.err.contains("--reference-degree"), qPrintable(bad.err));
