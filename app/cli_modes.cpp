@@ -37,7 +37,7 @@ Options:
                   fixed: core/solid_modes.h) and print how far each of the lattice's modes is from it:
                   the lattice's own error, which a finer lattice shrinks (docs/lattice.md).
   --reference-degree P
-                  Degree of that basis per axis, 2..7 (default 5, within 0.2% of 7 on the bundled
+                  Degree of that basis per axis, 2..7 (default 5, within 0.4% of 7 on the bundled
                   scenes; 3 on a 4x4x4 Bezier lattice is the textbook element on the same net). The
                   solid is solved at P-1 too: when a mode moves by more than 2% it is not converged
                   (anchors at points or along lines never are) and no error is printed.
