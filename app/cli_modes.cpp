@@ -55,14 +55,8 @@ Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad u
 
 /// The converged solid's modes beside the lattice's, and the lattice's error on each. Goal springs toward a
 /// base animation belong to the scene, not to the material, so the lattice is compared without them.
-void printReference(const SceneObject& object, const ModalAnalysis& shown, const SolidModes& solid) {
-    ModalAnalysis plain = shown;
-    if (object.baseAnimation) {
-        if (auto body = buildLatticeBody(object.lattice, object.material)) {
-            if (auto modes = analyseModes(*body.value(), int(shown.modes.size())))
-                plain = std::move(modes.value());
-        }
-    }
+void printReference(const SceneObject& object, const SolidComparison& c) {
+    const SolidModes& solid = c.solid;
     if (!solid.converged()) {
         std::printf("  no converged solid: from Bernstein degree %d to %d a mode moves by %.1f%%. A solid held at points "
                     "or along lines is not held in the limit; anchor whole faces for a reference (docs/lattice.md)\n",
@@ -74,8 +68,8 @@ void printReference(const SceneObject& object, const ModalAnalysis& shown, const
         std::printf(" %.4f", f);
     std::printf(" Hz (degree %d: within %.2f%%)\n  this lattice's error%s:", solid.degree - 1, 100.0 * solid.spread,
                 object.baseAnimation ? " (without the goal springs)" : "");
-    for (std::size_t m = 0; m < solid.frequencyHz.size() && m < plain.modes.size(); ++m)
-        std::printf(" %+.1f%%", 100.0 * (plain.modes[m].frequencyHz / solid.frequencyHz[m] - 1.0));
+    for (double e : c.error)
+        std::printf(" %+.1f%%", 100.0 * e);
     std::printf("\n");
 }
 
@@ -149,10 +143,10 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (reference || referenceDegree) {
             const int degree = int(referenceDegree.value_or(kDefaultSolidDegree));
-            auto solid = materialSolidModes(object.lattice, object.material, degree, int(count.value_or(3)));
-            if (!solid)
-                return fail(scenePath + ": object '" + object.name + "': reference solid: " + solid.message());
-            printReference(object, modes.value(), solid.value());
+            auto compared = compareWithSolid(object.lattice, object.material, degree, int(count.value_or(3)));
+            if (!compared)
+                return fail(scenePath + ": object '" + object.name + "': reference solid: " + compared.message());
+            printReference(object, compared.value());
         }
         if (!picturePrefix.empty() && !pictured) {
             pictured = true;

@@ -1,6 +1,7 @@
 #include "core/solid_modes.h"
 
 #include "core/axis_basis.h"
+#include "core/modes.h"
 #include "core/network_elasticity.h"
 
 #include <Eigen/Eigenvalues>
@@ -245,6 +246,27 @@ Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMater
                             : 1.0;
     }
     return modes;
+}
+
+Result<SolidComparison> compareWithSolid(const Lattice& lattice, const LatticeMaterial& material, int degree, int count) {
+    auto body = buildLatticeBody(lattice, material);
+    if (!body)
+        return body.status();
+    auto modes = analyseModes(*body.value(), count);
+    if (!modes)
+        return modes.status();
+    auto solid = materialSolidModes(lattice, material, degree, count);
+    if (!solid)
+        return solid.status();
+    SolidComparison out;
+    out.solid = std::move(solid.value());
+    for (const VibrationMode& mode : modes->modes)
+        out.latticeHz.push_back(mode.frequencyHz);
+    if (out.solid.converged()) {
+        for (std::size_t m = 0; m < out.latticeHz.size() && m < out.solid.frequencyHz.size(); ++m)
+            out.error.push_back(out.latticeHz[m] / out.solid.frequencyHz[m] - 1.0);
+    }
+    return out;
 }
 
 }  // namespace softtouch

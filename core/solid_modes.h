@@ -75,4 +75,17 @@ Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& 
 Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMaterial& material,
                                       int degree = kDefaultSolidDegree, int count = 3);
 
+/// A lattice body's modes against the converged solid of its material.
+struct SolidComparison {
+    SolidModes solid;                ///< The solid's modes (and whether they converged).
+    std::vector<double> latticeHz;   ///< The body's lowest modes, Hz (its material alone: no goal springs).
+    /// latticeHz[m] / solid.frequencyHz[m] - 1 per mode; empty when the solid did not converge.
+    std::vector<double> error;
+};
+
+/// materialSolidModes() beside the lowest `count` modes of buildLatticeBody(lattice, material): what
+/// `softtouch-cli modes --reference` prints and the editor's "Compare with the solid" shows.
+Result<SolidComparison> compareWithSolid(const Lattice& lattice, const LatticeMaterial& material,
+                                         int degree = kDefaultSolidDegree, int count = 3);
+
 }  // namespace softtouch

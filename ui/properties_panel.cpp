@@ -6,7 +6,9 @@
 
 #include "core/mode_accuracy.h"
 #include "core/network_elasticity.h"
+#include "core/solid_modes.h"
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -187,6 +189,19 @@ QWidget* PropertiesPanel::buildMaterial() {
     // Room for a rigid-mode note and the integrator's effect, which wraps once or twice.
     m_modes->setMinimumHeight(m_modes->fontMetrics().lineSpacing() * 4);
     form->addRow(m_modes);
+    // The lattice's own error: its modes against the solid the material describes, solved without it.
+    m_compareSolid = new QPushButton(tr("Compare with the solid"));
+    m_compareSolid->setObjectName("compareSolid");
+    m_compareSolid->setToolTip(tr("Solve the painted material as a solid, without the lattice (a tenth of a second), "
+                                  "and show how far each of the lattice's modes is from it: what a finer lattice "
+                                  "would change. Display only; the next edit clears it."));
+    connect(m_compareSolid, &QPushButton::clicked, this, &PropertiesPanel::compareWithSolid);
+    m_solid = new QLabel;
+    m_solid->setObjectName("solidModes");
+    m_solid->setWordWrap(true);
+    m_solid->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    form->addRow(m_compareSolid);
+    form->addRow(m_solid);
     m_totalMass = makeSpinBox(1e-6, 1e6, 4, tr(" kg"), 0.1);
     form->addRow(tr("Total mass"), m_totalMass);
     m_stiffness = makeSpinBox(1e-3, 1e12, 2, tr(" N/m"), 5);
@@ -548,6 +563,9 @@ Lattice PropertiesPanel::currentLattice() const {
 }
 
 void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSettings& settings) {
+    m_solid->clear();  // a comparison describes the material it was made for
+    m_solid->setVisible(false);
+    m_compareSolid->setEnabled(false);  // until the lattice's own modes are shown below
     auto body = buildLatticeBody(o.lattice, simulatedMaterial(o));
     int freeNodes = 0;
     if (body) {
@@ -576,6 +594,7 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     }
     m_frequency->setEnabled(true);
     m_dampingRatio->setEnabled(true);
+    m_compareSolid->setEnabled(true);
     const VibrationMode& lowest = modes->modes.front();
     setQuietly(m_frequency, lowest.frequencyHz);
     setQuietly(m_dampingRatio, lowest.dampingRatio);
@@ -597,6 +616,34 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
         lines << springs;
     }
     m_modes->setText(lines.join('\n'));
+}
+
+void PropertiesPanel::compareWithSolid() {
+    const SceneObject& o = m_document->scene().objects[std::size_t(object())];
+    QApplication::setOverrideCursor(Qt::WaitCursor);
+    auto compared = softtouch::compareWithSolid(o.lattice, o.material);
+    QApplication::restoreOverrideCursor();
+    QString text;
+    if (!compared) {
+        text = tr("No comparison: %1").arg(QString::fromStdString(compared.message()));
+    } else if (!compared->solid.converged()) {
+        text = tr("No converged solid: from degree %1 to %2 a mode moves by %3%. A solid held at single nodes or "
+                  "along lines is not held at all once refined; anchor a whole face to compare.")
+                   .arg(compared->solid.degree - 1)
+                   .arg(compared->solid.degree)
+                   .arg(100.0 * compared->solid.spread, 0, 'f', 1);
+    } else {
+        QStringList solid, error;
+        for (double f : compared->solid.frequencyHz)
+            solid << QString::number(f, 'f', 3);
+        for (double e : compared->error)
+            error << QString("%1%2%").arg(e >= 0.0 ? "+" : "").arg(100.0 * e, 0, 'f', 1);
+        text = tr("The solid you painted: %1 Hz. This lattice is %2 off%3; a finer lattice comes closer.")
+                   .arg(solid.join(" / "), error.join(" / "),
+                        o.baseAnimation ? tr(" (both without the goal springs)") : QString());
+    }
+    m_solid->setText(text);
+    m_solid->setVisible(true);
 }
 
 void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {

@@ -40,6 +40,9 @@ private:
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
     /// Shows `modes` in the rows (none: rows hidden).
     void showModeRows(const std::vector<VibrationMode>& modes);
+    /// Solves the current object's material as a converged solid and shows each mode's error (on demand:
+    /// a tenth of a second, too slow for every paint dab; the next edit clears it).
+    void compareWithSolid();
     /// The current object's lattice (a copy, for edits that need its geometry).
     /// The current object's goal springs when it follows a base animation (their stiffness is part of its modes).
     std::optional<FollowSettings> currentFollow() const;
@@ -75,6 +78,8 @@ private:
     std::array<QLabel*, 3> m_modeRows{};   ///< The three lowest modes: frequency and ζ (node + spring).
     std::array<QPushButton*, 3> m_modeShow{}; ///< "Show": animates that mode in the viewport (Viewport::showMode).
     std::vector<VibrationMode> m_analysedModes; ///< The modes the rows show (current object).
+    QPushButton* m_compareSolid = nullptr;  ///< "Compare with the solid": compareWithSolid().
+    QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/solid_modes.h).
     QDoubleSpinBox* m_nodeDamping = nullptr;
     QDoubleSpinBox* m_stretchLimit = nullptr;  ///< Longest spring / rest length; its minimum (1.00) reads "off".
     QDoubleSpinBox* m_squashLimit = nullptr;   ///< Shortest spring / rest length; its minimum (0.00) reads "off".

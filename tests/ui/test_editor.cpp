@@ -53,6 +53,7 @@
 
 #include "../cli/cli_run.h"
 #include "core/modes.h"
+#include "core/solid_modes.h"
 #include "ui/material_tuning.h"
 #include "core/primitives.h"
 
@@ -188,6 +189,7 @@ private slots:
     void studyDockMeasuresTheOpenSceneAndAppliesAPick();
     void studyDockCancelsAndStopsWithTheWindow();
     void propertiesShowTheBodysModes();
+    void propertiesCompareTheLatticeWithTheSolid();
     void modeViewAnimatesTheShapeWithoutEditing();
     void importedMeshStartsOnVerletAndSavesIt();
     void viewportDrawsTheFish_data();
@@ -2284,6 +2286,39 @@ void TestEditor::propertiesShowTheBodysModes() {
     QVERIFY(std::abs(after->modes[0].dampingRatio - match.captured(2).toDouble()) < 1e-4);  // ratio kept
     w.document()->undoStack()->undo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, before));
+}
+
+// "Compare with the solid" shows the converged solid's modes and the lattice's error on each, as core
+// computes them for the open scene; the next edit clears it, since it described the material before.
+void TestEditor::propertiesCompareTheLatticeWithTheSolid() {
+    MainWindow& w = *m_window;
+    auto* compare = w.findChild<QPushButton*>("compareSolid");
+    auto* solid = w.findChild<QLabel*>("solidModes");
+    auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
+    QVERIFY(compare && solid && frequency);
+    QVERIFY(compare->isEnabled());
+    QVERIFY(solid->text().isEmpty());
+    compare->click();
+    const SceneObject& fish = w.document()->scene().objects[0];
+    auto expected = compareWithSolid(fish.lattice, fish.material);
+    QVERIFY2(expected, expected.message().c_str());
+    QVERIFY(expected->solid.converged());
+    QStringList hz, off;
+    for (double f : expected->solid.frequencyHz)
+        hz << QString::number(f, 'f', 3);
+    for (double e : expected->error)
+        off << QString("%1%2%").arg(e >= 0.0 ? "+" : "").arg(100.0 * e, 0, 'f', 1);
+    QVERIFY2(solid->isVisibleTo(&w) && solid->text().contains(hz.join(" / ") + " Hz") &&
+                 solid->text().contains("is " + off.join(" / ") + " off"),
+             qPrintable(solid->text() + " | " + hz.join(" / ") + " | " + off.join(" / ")));
+    // The lowest mode of the bundled fish is right; its third is the coarse net's to get wrong.
+    QVERIFY(std::abs(expected->error[0]) < 0.01 && expected->error[2] < -0.05);
+
+    const int undoBefore = w.document()->undoStack()->count();
+    frequency->setValue(frequency->value() * 1.5);
+    QCOMPARE(w.document()->undoStack()->count(), undoBefore + 1);
+    QVERIFY2(solid->text().isEmpty() && !solid->isVisibleTo(&w), qPrintable(solid->text()));
+    w.document()->undoStack()->undo();
 }
 
 // "Show" beside a mode animates its shape in the viewport: the lattice nodes drawn are rest + a·φ with
