@@ -9,6 +9,7 @@
 #include "ui/timeline_panel.h"
 
 #include <QAction>
+#include <QAbstractButton>
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
@@ -150,8 +151,11 @@ int main(int argc, char** argv) {
     const QCommandLineOption clipOption("clip", "With --screenshot: select this clip in the timeline and show FRAME of it "
                                                 "(NAME or NAME@FRAME).", "NAME[@FRAME]");
     const QCommandLineOption windowSize("window", "With --screenshot: the window's size, e.g. 1280x800.", "WxH");
+    const QCommandLineOption clickOption("click", "With --screenshot: press the button of this object name first, e.g. "
+                                                  "compareSolid (Properties' Compare with the solid).", "NAME");
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
-                       autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption});
+                       autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption,
+                       clickOption});
     parser.process(app);
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
@@ -248,6 +252,16 @@ int main(int argc, char** argv) {
             window.study()->measure();
             if (window.study()->isMeasuring())
                 loop.exec();
+        }
+        if (parser.isSet(clickOption)) {
+            auto* button = window.findChild<QAbstractButton*>(parser.value(clickOption));
+            if (!button || !button->isEnabled()) {
+                std::fprintf(stderr, "softtouch: error: --click: no enabled button named '%s'\n",
+                             qPrintable(parser.value(clickOption)));
+                return 2;
+            }
+            button->click();
+            QApplication::processEvents();
         }
         if (parser.isSet(clipOption)) {
             const QStringList parts = parser.value(clipOption).split('@');

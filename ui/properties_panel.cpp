@@ -200,6 +200,8 @@ QWidget* PropertiesPanel::buildMaterial() {
     m_solid->setObjectName("solidModes");
     m_solid->setWordWrap(true);
     m_solid->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    // A word-wrapped label in a form gets one line's height unless told otherwise; the text wraps to three.
+    m_solid->setMinimumHeight(m_solid->fontMetrics().lineSpacing() * 3);
     form->addRow(m_compareSolid);
     form->addRow(m_solid);
     m_totalMass = makeSpinBox(1e-6, 1e6, 4, tr(" kg"), 0.1);
@@ -627,8 +629,8 @@ void PropertiesPanel::compareWithSolid() {
     if (!compared) {
         text = tr("No comparison: %1").arg(QString::fromStdString(compared.message()));
     } else if (!compared->solid.converged()) {
-        text = tr("No converged solid: from degree %1 to %2 a mode moves by %3%. A solid held at single nodes or "
-                  "along lines is not held at all once refined; anchor a whole face to compare.")
+        text = tr("No converged solid: from degree %1 to %2 a mode moves by %3%. Anchors on single nodes or "
+                  "lines hold nothing in a solid; anchor a face to compare.")
                    .arg(compared->solid.degree - 1)
                    .arg(compared->solid.degree)
                    .arg(100.0 * compared->solid.spread, 0, 'f', 1);
@@ -638,7 +640,7 @@ void PropertiesPanel::compareWithSolid() {
             solid << QString::number(f, 'f', 3);
         for (double e : compared->error)
             error << QString("%1%2%").arg(e >= 0.0 ? "+" : "").arg(100.0 * e, 0, 'f', 1);
-        text = tr("The solid you painted: %1 Hz. This lattice is %2 off%3; a finer lattice comes closer.")
+        text = tr("The solid you painted: %1 Hz; this lattice's modes are %2 from it%3.")
                    .arg(solid.join(" / "), error.join(" / "),
                         o.baseAnimation ? tr(" (both without the goal springs)") : QString());
     }

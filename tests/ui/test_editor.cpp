@@ -2309,7 +2309,7 @@ void TestEditor::propertiesCompareTheLatticeWithTheSolid() {
     for (double e : expected->error)
         off << QString("%1%2%").arg(e >= 0.0 ? "+" : "").arg(100.0 * e, 0, 'f', 1);
     QVERIFY2(solid->isVisibleTo(&w) && solid->text().contains(hz.join(" / ") + " Hz") &&
-                 solid->text().contains("is " + off.join(" / ") + " off"),
+                 solid->text().contains("are " + off.join(" / ") + " from it"),
              qPrintable(solid->text() + " | " + hz.join(" / ") + " | " + off.join(" / ")));
     // The lowest mode of the bundled fish is right; its third is the coarse net's to get wrong.
     QVERIFY(std::abs(expected->error[0]) < 0.01 && expected->error[2] < -0.05);
@@ -2517,7 +2517,7 @@ void TestEditor::screenshotCommandWritesPng() {
     QVERIFY(editor.waitForFinished(60000));
     QVERIFY2(editor.exitCode() == 0, editor.readAll().constData());
     QCOMPARE(QImage(sized).size(), QSize(1280, 800));
-    for (const QStringList& bad : {QStringList{"--window", "10x10"}, QStringList{"--tool", "hammer"}}) {
+    for (const QStringList& bad : {QStringList{"--window", "10x10"}, QStringList{"--tool", "hammer"}, QStringList{"--click", "noSuchButton"}}) {
         editor.start(SOFTTOUCH_BIN_DIR "/softtouch", QStringList{"--screenshot", m_dir->filePath("bad.png")} + bad + QStringList{kDefaultScene});
         QVERIFY(editor.waitForFinished(60000));
         QCOMPARE(editor.exitCode(), 2);
