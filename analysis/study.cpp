@@ -2,6 +2,7 @@
 
 #include "analysis/timer.h"
 #include "analysis/trajectory_error.h"
+#include "core/solid_modes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -291,6 +292,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         DrivenRun converged;
         double modelError = 0.0;
         FreeRun free;
+        std::vector<double> solidModeError;
     };
     std::vector<std::pair<LatticeShape, std::shared_ptr<LatticeRuns>>> lattices;
     auto runsFor = [&](const LatticeShape& shape) -> std::shared_ptr<LatticeRuns> {
@@ -305,8 +307,13 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         runs->converged = runDriven(withSetting(scene, runs->object, IntegratorKind::Verlet, result.referenceDt), seconds, fps);
         runs->modelError = distance(runs->converged.frames, reference.frames, diagonal).rms;
         runs->free = runFree(runs->object, IntegratorKind::Verlet, result.referenceDt, freeSeconds);
+        if (auto compared = compareWithSolid(runs->object.lattice, runs->object.material))
+            runs->solidModeError = compared->error;  // empty unless the solid converged
         lattices.emplace_back(shape, runs);
-        log << "  " << latticeShapeName(shape) << ": model error " << runs->modelError << " (RMS / diagonal)\n";
+        log << "  " << latticeShapeName(shape) << ": model error " << runs->modelError << " (RMS / diagonal)";
+        if (!runs->solidModeError.empty())
+            log << "; modes against the solid " << describeModeErrors(runs->solidModeError);
+        log << "\n";
         return runs;
     };
 
@@ -341,6 +348,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         row.maxError = total.max;
         row.timeError = distance(driven.frames, runs->converged.frames, diagonal).rms;
         row.modelError = runs->modelError;
+        row.solidModeError = runs->solidModeError;
         const FreeRun free = runFree(runs->object, setting.integrator, setting.dt, freeSeconds);
         row.energyDrift = free.energyDrift;
         if (free.periods > 0.0 && runs->free.amplitudeRatio > 0.0)
@@ -399,15 +407,36 @@ Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study) {
     return r;
 }
 
+double worstModeError(const std::vector<double>& errors) {
+    double worst = 0.0;
+    for (double e : errors)
+        worst = std::max(worst, std::abs(e));
+    return worst;
+}
+
+std::string describeModeErrors(const std::vector<double>& errors) {
+    std::string text;
+    for (double e : errors) {
+        char part[32];
+        std::snprintf(part, sizeof part, "%s%+.1f%%", text.empty() ? "" : " / ", 100.0 * e);
+        text += part;
+    }
+    return text;
+}
+
 std::string studyCsv(const StudyResult& result) {
     std::ostringstream out;
     out << "integrator,dt_s,resolution,nodes,cost_s_per_s,cost_spread,rms_error,max_error,time_error,model_error,"
-           "energy_drift,amplitude_loss_per_period,frequency_error,finite,pareto,current\n";
-    for (const StudyRow& r : result.rows)
+           "energy_drift,amplitude_loss_per_period,frequency_error,finite,pareto,current,solid_mode_error\n";
+    for (const StudyRow& r : result.rows) {
         out << integratorName(r.integrator) << ',' << r.dt << ',' << r.resolution << ',' << r.nodes << ',' << r.costPerSecond
             << ',' << r.costSpread << ',' << r.rmsError << ',' << r.maxError << ',' << r.timeError << ',' << r.modelError << ','
             << r.energyDrift << ',' << r.amplitudeLoss << ',' << r.frequencyError << ',' << (r.finite ? 1 : 0) << ','
-            << (r.pareto ? 1 : 0) << ',' << (r.current ? 1 : 0) << '\n';
+            << (r.pareto ? 1 : 0) << ',' << (r.current ? 1 : 0) << ',';
+        if (!r.solidModeError.empty())  // the largest of the three; empty: no converged solid
+            out << worstModeError(r.solidModeError);
+        out << '\n';
+    }
     return out.str();
 }
 
@@ -454,15 +483,17 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
     for (const StudyRow* r : sorted)
         if (r->pareto)
             row(*r);
-    out << "\n## Model error by lattice\n\n| lattice | nodes | model error |\n|---|---|---|\n";
+    out << "\n## Model error by lattice\n\nModel error against the finest lattice, and each lattice's three lowest modes "
+           "against the converged solid of its material (`softtouch-cli modes --reference`; none where the solid does not "
+           "converge):\n\n| lattice | nodes | model error | modes against the solid |\n|---|---|---|---|\n";
     std::vector<std::string> seen;
     for (const StudyRow& r : result.rows) {
         if (std::find(seen.begin(), seen.end(), r.resolution) != seen.end())
             continue;
         seen.push_back(r.resolution);
         char line[160];
-        std::snprintf(line, sizeof line, "| %s | %d | %.2e |\n", r.resolution.c_str(), r.nodes, r.modelError);
-        out << line;
+        std::snprintf(line, sizeof line, "| %s | %d | %.2e | ", r.resolution.c_str(), r.nodes, r.modelError);
+        out << line << (r.solidModeError.empty() ? std::string("none") : describeModeErrors(r.solidModeError)) << " |\n";
     }
     out << "\n## Every setting, cheapest first\n\n" << header;
     for (const StudyRow* r : sorted)

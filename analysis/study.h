@@ -73,6 +73,10 @@ struct StudyRow {
     double energyDrift = 0.0;          ///< Free vibration, no damping: (E_end − E_0) / E_0.
     double amplitudeLoss = 0.0;        ///< Free vibration: fraction of amplitude lost per period.
     double frequencyError = 0.0;       ///< Free vibration: (f − f_ref) / f_ref, f_ref the same lattice converged.
+    /// The lattice's three lowest modes against the converged solid of its material (core/solid_modes.h):
+    /// f_lattice / f_solid − 1 each. Empty when that solid does not converge (point anchors) or cannot be
+    /// analysed. Like the model error it belongs to the lattice, but it needs no finest lattice.
+    std::vector<double> solidModeError;
     bool finite = true;                ///< No non-finite frame.
     bool pareto = false;               ///< No other row is both cheaper and more accurate (in the study's error).
     bool current = false;              ///< The scene's own setting.
@@ -123,6 +127,11 @@ struct Remeasured {
     double error(StudyError kind) const;
 };
 Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study);
+
+/// The largest |error| of a lattice's modes against the solid (StudyRow::solidModeError): the CSV's column.
+double worstModeError(const std::vector<double>& errors);
+/// "+0.3% / -2.6% / -11.9%": a lattice's mode errors as the study's page and log print them.
+std::string describeModeErrors(const std::vector<double>& errors);
 
 /// CSV, one row per cell.
 std::string studyCsv(const StudyResult& result);
