@@ -331,9 +331,14 @@ void StudyPanel::showPointer(int row) {
     }
     const analysis::StudyRow& r = m_study.rows[std::size_t(row)];
     const QString blocker = rowBlocker(row);
-    const QString text = tr("<b>%1</b>: error %2 total, %3 integration, %4 model; %5. %6")
+    // The lattice against the solid it stands for (docs/lattice.md), where that solid converges.
+    const QString solid = r.solidModeError.empty()
+                              ? QString()
+                              : tr(" Its lattice's modes are %1 from the solid.")
+                                    .arg(QString::fromStdString(analysis::describeModeErrors(r.solidModeError)));
+    const QString text = tr("<b>%1</b>: error %2 total, %3 integration, %4 model; %5.%6 %7")
                              .arg(settingName(r.setting()), percent(r.rmsError), percent(r.timeError), percent(r.modelError),
-                                  cost(r.costPerSecond), blocker.isEmpty() ? tr("Click to use it.") : blocker);
+                                  cost(r.costPerSecond), solid, blocker.isEmpty() ? tr("Click to use it.") : blocker);
     m_pointer->setText(text);
     QToolTip::showText(m_plot->mapToGlobal(m_plot->viewportPositionOf(row)), text, m_plot);
 }

@@ -2181,6 +2181,11 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY2(pointer->text().contains(QString("1/%1 s, %2").arg(std::lround(1.0 / clicked.dt)).arg(QString::fromStdString(clicked.resolution))) &&
                  pointer->text().contains("Click to use it"),
              qPrintable(pointer->text()));
+    // The fish's head is pinned on a face, so each lattice has a converged solid to be measured against.
+    QVERIFY2(clicked.solidModeError.size() == 3 &&
+                 pointer->text().contains(QString::fromStdString(analysis::describeModeErrors(clicked.solidModeError)) +
+                                          " from the solid"),
+             qPrintable(pointer->text()));
     QTest::mouseClick(chart->viewport(), Qt::LeftButton, {}, chart->viewportPositionOf(other));
     QCOMPARE(undo->count(), steps + 2);
     QCOMPARE(scene.world.simulation.integrator, clicked.integrator);
