@@ -8,6 +8,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 using namespace softtouch;
 
@@ -143,6 +145,37 @@ private slots:
             const double third = std::abs(springs->modes[2].frequencyHz / solid->frequencyHz[2] - 1.0);
             QVERIFY2(third < previousError, qPrintable(QString("Bezier %1: mode 3 off by %2").arg(nodes).arg(third)));
             previousError = third;
+        }
+    }
+
+    /// A free 0.5 m cube, the same continuum on Bezier 4, 6, 8 and B-spline 6, 8 (printed: docs/lattice.md
+    /// quotes the rows). Bezier lattices approach their solid from below, closer as they are refined; each
+    /// lattice is printed against the solid of its own springs, and against the Bezier solid.
+    void freeCubeAcrossLattices() {
+        const Vec3 size = Vec3::Constant(0.5);
+        const Lattice bezier4 = bezierOver(size, 4);
+        auto cubic = materialSolidModes(bezier4, continuumMaterial(bezier4, 1.0, 1000.0, 0.0), kDefaultSolidDegree, 1);
+        QVERIFY2(cubic && cubic->converged(), cubic ? "not converged" : cubic.message().c_str());
+        double previousError = 1e300;
+        for (const auto& [kind, nodes] : std::vector<std::pair<LatticeKind, int>>{
+                 {LatticeKind::Bezier, 4}, {LatticeKind::Bezier, 6}, {LatticeKind::Bezier, 8},
+                 {LatticeKind::BSpline, 6}, {LatticeKind::BSpline, 8}}) {
+            OrientedBox box;
+            box.size = size;
+            const Lattice lattice = Lattice::create({kind, {nodes, nodes, nodes}}, box).value();
+            auto compared = compareWithSolid(lattice, continuumMaterial(lattice, 1.0, 1000.0, 0.0), kDefaultSolidDegree, 1);
+            QVERIFY2(compared, compared.message().c_str());
+            QCOMPARE(compared->solid.rigidModes, 6);
+            QVERIFY(compared->solid.converged());
+            const double own = compared->error[0];
+            const double againstBezier = compared->latticeHz[0] / cubic->frequencyHz[0] - 1.0;
+            qInfo("free cube, %s %dx%dx%d: springs %.3f Hz; its own solid %.3f Hz (%+.1f%%); the Bezier solid %.3f Hz (%+.1f%%)",
+                  kind == LatticeKind::Bezier ? "Bezier" : "B-spline", nodes, nodes, nodes, compared->latticeHz[0],
+                  compared->solid.frequencyHz[0], 100.0 * own, cubic->frequencyHz[0], 100.0 * againstBezier);
+            if (kind == LatticeKind::Bezier) {
+                QVERIFY2(own < 0.0 && -own < previousError, qPrintable(QString("Bezier %1: %2").arg(nodes).arg(own)));
+                previousError = -own;
+            }
         }
     }
 
