@@ -123,6 +123,11 @@ double largestStiffnessOverMass(const BodyModel& m) {
 
 }  // namespace
 
+double BodyModel::maxStiffnessOverMass() const {
+    std::call_once(m_stepBoundOnce, [this] { m_maxStiffnessOverMass = largestStiffnessOverMass(*this); });
+    return m_maxStiffnessOverMass;
+}
+
 Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d) {
     const std::size_t n = d.restPositions.size();
     if (n == 0)
@@ -204,7 +209,6 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     model->springTable = SpringTable::build(model->springs, model->inverseMass);
     for (double w : model->inverseMass)
         model->maxInverseMass = std::max(model->maxInverseMass, w);
-    model->maxStiffnessOverMass = largestStiffnessOverMass(*model);
     return std::shared_ptr<const BodyModel>(std::move(model));
 }
 

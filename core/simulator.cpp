@@ -42,6 +42,8 @@ constexpr int kCheckSubsteps = 256;
 Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSettings& settings)
     : m_model(std::move(model)), m_settings(settings), m_integrator(makeIntegrator(settings.integrator)) {
     m_state = restState(*m_model);
+    if (m_integrator->isExplicit())
+        (void)m_model->maxStiffnessOverMass();  // the substep bound, here rather than in a step (allocates)
     m_integrator->setMeasuresWork(accountsEnergy());
     if (accountsEnergy()) {
         m_tracker.reset(*m_model);
@@ -250,9 +252,11 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     return false;
 }
 
+bool Simulator::isExplicit() const { return m_integrator->isExplicit(); }
+
 double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
-    double lambda = std::max(m.maxStiffnessOverMass, m_currentStiffness);
+    double lambda = std::max(m.maxStiffnessOverMass(), m_currentStiffness);
     double dampingRate = m.maxNodeDampingRate;  // largest d/m-like rate from node damping and drags
     // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks Σ ŵ²/m (Weyl's bound).
     for (const DragSpring& drag : external.drags) {

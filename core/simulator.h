@@ -102,6 +102,8 @@ public:
     /// the rest stiffness, or the current state's tangent stiffness where that is stiffer (tracked
     /// at each energy check; see current_stiffness.h).
     double stableStep(const ExternalForces& external) const;
+    /// Whether the scheme is explicit: only then does stableStep() bound its substeps.
+    bool isExplicit() const;
     /// λ_max(M⁻¹K) of the springs at the last energy check's state, 1/s² (0 before the first, or
     /// with the guard off); stableStep() uses it where it exceeds the rest value.
     double currentStiffnessOverMass() const { return m_currentStiffness; }

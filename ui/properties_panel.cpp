@@ -675,8 +675,9 @@ void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {
 void PropertiesPanel::refreshLive() {
     const SimulationStats& s = m_simulation->stats();
     // Before any step was timed (paused since opening) the cost is unknown, not 0 µs.
-    QString text = (s.stepMicros > 0.0 ? tr("%1 µs per step").arg(s.stepMicros, 0, 'f', 1) : tr("not run yet")) +
-                   tr(" · stable explicit step %1 ms").arg(s.stableStepSeconds * 1e3, 0, 'g', 3);
+    QString text = s.stepMicros > 0.0 ? tr("%1 µs per step").arg(s.stepMicros, 0, 'f', 1) : tr("not run yet");
+    if (s.stableStepSeconds > 0.0)  // explicit schemes only: what their substeps are cut to
+        text += tr(" · stable explicit step %1 ms").arg(s.stableStepSeconds * 1e3, 0, 'g', 3);
     if (s.substeps > 1)
         text += tr(" · %1 substeps").arg(s.substeps);
     if (!m_simulation->problem().isEmpty())

@@ -52,7 +52,7 @@ void SimulationController::rebuild(bool keepState) {
     m_stats.stepMicros = 0.0;
     if (m_sim) {
         const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
-        m_stats.stableStepSeconds = m_sim->simulator(0).stableStep(forces);
+        m_stats.stableStepSeconds = m_sim->simulator(0).isExplicit() ? m_sim->simulator(0).stableStep(forces) : 0.0;
         m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
     }
     if (!m_problem.isEmpty())
@@ -92,7 +92,7 @@ void SimulationController::advance(double seconds) {
     if (steps > 0)
         m_stats.stepMicros = double(cost.nsecsElapsed()) * 1e-3 / double(steps);
     const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
-    m_stats.stableStepSeconds = m_sim->simulator(0).stableStep(forces);
+    m_stats.stableStepSeconds = m_sim->simulator(0).isExplicit() ? m_sim->simulator(0).stableStep(forces) : 0.0;
     m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
     m_stats.asleep = everyBodyAsleep();
     for (const std::string& p : problems)

@@ -21,7 +21,8 @@ namespace softtouch::ui {
 struct SimulationStats {
     double stepMicros = 0.0;       ///< Mean wall time of one fixed step over the last advance, µs.
     double stepsPerSecond = 0.0;   ///< Fixed steps simulated per wall-clock second while playing.
-    double stableStepSeconds = 0.0;///< Explicit stability bound for the current forces, seconds.
+    double stableStepSeconds = 0.0;///< Explicit stability bound for the current forces, seconds; 0 under an
+                                   ///< implicit scheme (Implicit Euler, XPBD), which it does not bound.
     int substeps = 0;              ///< Substeps the last step took (explicit schemes).
     double realtimeFactor = 0.0;   ///< Simulated seconds per wall second while playing (1 = real time).
     bool asleep = false;           ///< Every body slept through the last advance: nothing moved or was drawn.

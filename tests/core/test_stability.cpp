@@ -238,7 +238,7 @@ void TestStability::undampedLargeDeformationKeepsItsEnergy() {
     qInfo("%s: %d reports; H̃ within %.3g%% after the last (%.3g%% before), %d -> %d substeps; plain energy swings up "
           "to %.3g%% over 10 min; current/rest stiffness %.3f",
           QTest::currentDataTag(), reports, 100.0 * worstSinceReport, 100.0 * worstBeforeReport, substeps0,
-          sim.substepsFor({}), 100.0 * worstPlain, sim.currentStiffnessOverMass() / body->maxStiffnessOverMass);
+          sim.substepsFor({}), 100.0 * worstPlain, sim.currentStiffnessOverMass() / body->maxStiffnessOverMass());
     QVERIFY2(worstSinceReport < 0.02, qPrintable(QString::number(100.0 * worstSinceReport) + "%"));
     QVERIFY(worstPlain < 0.5);  // bounded: no growth
 }
