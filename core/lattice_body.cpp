@@ -146,23 +146,26 @@ std::vector<Spring> latticeSprings(const Lattice& lattice, const LatticeMaterial
     const bool continuum = material.model == MaterialModel::Continuum;
     // Σ share · V_cell / L² over the cells a spring crosses (see kModulusPerCoefficient), in metres.
     auto cellCoefficient = [&](const std::array<int, 3>& from, const std::array<int, 3>& to, double length) {
-        std::array<std::vector<double>, 3> extent;  // lengths of the adjacent cells along each axis
+        // Lengths of the adjacent cells along each axis: the one crossed, or the (at most two) either side of
+        // the node. Fixed arrays, not vectors: a paint dab rebuilds every spring.
+        std::array<std::array<double, 2>, 3> extent{};
+        std::array<int, 3> extents{};
         int spanned = 0;
         for (std::size_t a = 0; a < 3; ++a) {
             if (from[a] != to[a]) {
-                extent[a].push_back(spacing[a][std::size_t(std::min(from[a], to[a]))]);
+                extent[a][std::size_t(extents[a]++)] = spacing[a][std::size_t(std::min(from[a], to[a]))];
                 ++spanned;
             } else {
-                if (from[a] > 0) extent[a].push_back(spacing[a][std::size_t(from[a] - 1)]);
-                if (from[a] < int(spacing[a].size())) extent[a].push_back(spacing[a][std::size_t(from[a])]);
+                if (from[a] > 0) extent[a][std::size_t(extents[a]++)] = spacing[a][std::size_t(from[a] - 1)];
+                if (from[a] < int(spacing[a].size())) extent[a][std::size_t(extents[a]++)] = spacing[a][std::size_t(from[a])];
             }
         }
         const double share = spanned == 1 ? 0.25 : spanned == 2 ? 0.5 : 1.0;
-        double volume = 0.0;
-        for (double x : extent[0])
-            for (double y : extent[1])
-                for (double z : extent[2])
-                    volume += x * y * z;
+        double volume = 0.0;  // Σ x·y·z over the adjacent cells, summed in this order (bakes stay bit-exact)
+        for (int x = 0; x < extents[0]; ++x)
+            for (int y = 0; y < extents[1]; ++y)
+                for (int z = 0; z < extents[2]; ++z)
+                    volume += extent[0][std::size_t(x)] * extent[1][std::size_t(y)] * extent[2][std::size_t(z)];
         return kModulusPerCoefficient * share * volume / (length * length);
     };
     std::vector<Spring> springs;
