@@ -414,16 +414,6 @@ double worstModeError(const std::vector<double>& errors) {
     return worst;
 }
 
-std::string describeModeErrors(const std::vector<double>& errors) {
-    std::string text;
-    for (double e : errors) {
-        char part[32];
-        std::snprintf(part, sizeof part, "%s%+.1f%%", text.empty() ? "" : " / ", 100.0 * e);
-        text += part;
-    }
-    return text;
-}
-
 std::string studyCsv(const StudyResult& result) {
     std::ostringstream out;
     out << "integrator,dt_s,resolution,nodes,cost_s_per_s,cost_spread,rms_error,max_error,time_error,model_error,"

@@ -130,8 +130,6 @@ Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study);
 
 /// The largest |error| of a lattice's modes against the solid (StudyRow::solidModeError): the CSV's column.
 double worstModeError(const std::vector<double>& errors);
-/// "+0.3% / -2.6% / -11.9%": a lattice's mode errors as the study's page and log print them.
-std::string describeModeErrors(const std::vector<double>& errors);
 
 /// CSV, one row per cell.
 std::string studyCsv(const StudyResult& result);

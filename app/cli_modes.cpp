@@ -66,11 +66,8 @@ void printReference(const SceneObject& object, const SolidComparison& c) {
     std::printf("  converged solid (Bernstein degree %d, consistent mass, %d unknowns):", solid.degree, solid.unknowns);
     for (double f : solid.frequencyHz)
         std::printf(" %.4f", f);
-    std::printf(" Hz (degree %d: within %.2f%%)\n  this lattice's error%s:", solid.degree - 1, 100.0 * solid.spread,
-                object.baseAnimation ? " (without the goal springs)" : "");
-    for (double e : c.error)
-        std::printf(" %+.1f%%", 100.0 * e);
-    std::printf("\n");
+    std::printf(" Hz (degree %d: within %.2f%%)\n  this lattice's error%s: %s\n", solid.degree - 1, 100.0 * solid.spread,
+                object.baseAnimation ? " (without the goal springs)" : "", describeModeErrors(c.error).c_str());
 }
 
 }  // namespace

@@ -79,11 +79,7 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const Node
     if (solver.info() != Eigen::Success)
         return Status::error("the eigenvalue solver did not converge on this body's stiffness");
     const Eigen::VectorXd& lambda = solver.eigenvalues();  // ascending
-    // Rigid motions have ω² = 0 up to round-off, which scales with the largest eigenvalue.
-    const double rigidBelow = 1e-9 * std::max(std::abs(lambda[dof - 1]), 1e-300);
-    int first = 0;
-    while (first < dof && lambda[first] <= rigidBelow)
-        ++first;
+    const int first = rigidModeCount(lambda);
     result.rigidModes = first;
 
     for (int m = first; m < dof && int(result.modes.size()) < count; ++m) {
@@ -113,6 +109,18 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const Node
         result.modes.push_back(std::move(mode));
     }
     return result;
+}
+
+int rigidModeCount(const Eigen::VectorXd& ascending) {
+    const Eigen::Index n = ascending.size();
+    if (n == 0)
+        return 0;
+    // Rigid motions have ω² = 0 up to round-off, which scales with the largest eigenvalue.
+    const double rigidBelow = 1e-9 * std::max(std::abs(ascending[n - 1]), 1e-300);
+    int first = 0;
+    while (first < n && ascending[first] <= rigidBelow)
+        ++first;
+    return first;
 }
 
 std::vector<Vec3> modePose(std::span<const Vec3> rest, const VibrationMode& mode, double amplitude) {

@@ -14,6 +14,8 @@
 #include "core/body_model.h"
 #include "core/result.h"
 
+#include <Eigen/Core>
+
 #include <span>
 #include <vector>
 
@@ -37,6 +39,10 @@ struct ModalAnalysis {
     int rigidModes = 0;                ///< Zero-frequency modes skipped (6 for a free body, fewer when anchored).
     int unknowns = 0;                  ///< Size of the eigenproblem (3 × free nodes).
 };
+
+/// How many of `ascending` eigenvalues (ω², lowest first) are rigid motions: zero up to round-off, which scales
+/// with the largest. analyseModes() and the solid reference (core/solid_modes.h) skip them alike.
+int rigidModeCount(const Eigen::VectorXd& ascending);
 
 /// Largest eigenproblem analyseModes() solves (dense; ~3 s at this size on one core).
 inline constexpr int kMaxModalUnknowns = 3000;

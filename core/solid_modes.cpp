@@ -3,11 +3,13 @@
 #include "core/axis_basis.h"
 #include "core/modes.h"
 #include "core/network_elasticity.h"
+#include "core/scene.h"
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -169,10 +171,7 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
     SolidModes result;
     result.degree = degree;
     result.unknowns = dof;
-    const double rigidBelow = 1e-9 * std::max(std::abs(lambda[dof - 1]), 1e-300);
-    int first = 0;
-    while (first < dof && lambda[first] <= rigidBelow)
-        ++first;
+    const int first = rigidModeCount(lambda);
     result.rigidModes = first;
     for (int m = first; m < dof && int(result.frequencyHz.size()) < count; ++m)
         result.frequencyHz.push_back(std::sqrt(lambda[m]) / (2.0 * std::numbers::pi));
@@ -241,18 +240,15 @@ Result<SolidModes> materialSolidModes(const Lattice& lattice, const LatticeMater
         return modes;  // spread stays unknown (-1): not converged
     modes->spread = 0.0;
     for (std::size_t m = 0; m < modes->frequencyHz.size(); ++m) {
-        modes->spread = m < lower->frequencyHz.size()
-                            ? std::max(modes->spread, std::abs(lower->frequencyHz[m] / modes->frequencyHz[m] - 1.0))
-                            : 1.0;
+        // A mode the coarser solid lacks counts as moved entirely.
+        const double change = m < lower->frequencyHz.size() ? std::abs(lower->frequencyHz[m] / modes->frequencyHz[m] - 1.0) : 1.0;
+        modes->spread = std::max(modes->spread, change);
     }
     return modes;
 }
 
 Result<SolidComparison> compareWithSolid(const Lattice& lattice, const LatticeMaterial& material, int degree, int count) {
-    auto body = buildLatticeBody(lattice, material);
-    if (!body)
-        return body.status();
-    auto modes = analyseModes(*body.value(), count);
+    auto modes = objectModes(lattice, material, nullptr, count);  // the material alone: no goal springs
     if (!modes)
         return modes.status();
     auto solid = materialSolidModes(lattice, material, degree, count);
@@ -267,6 +263,16 @@ Result<SolidComparison> compareWithSolid(const Lattice& lattice, const LatticeMa
             out.error.push_back(out.latticeHz[m] / out.solid.frequencyHz[m] - 1.0);
     }
     return out;
+}
+
+std::string describeModeErrors(const std::vector<double>& errors) {
+    std::string text;
+    for (double e : errors) {
+        char part[32];
+        std::snprintf(part, sizeof part, "%s%+.1f%%", text.empty() ? "" : " / ", 100.0 * e);
+        text += part;
+    }
+    return text;
 }
 
 }  // namespace softtouch

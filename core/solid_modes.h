@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace softtouch {
@@ -87,5 +88,8 @@ struct SolidComparison {
 /// `softtouch-cli modes --reference` prints and the editor's "Compare with the solid" shows.
 Result<SolidComparison> compareWithSolid(const Lattice& lattice, const LatticeMaterial& material,
                                          int degree = kDefaultSolidDegree, int count = 3);
+
+/// "+0.3% / -2.6% / -11.9%": mode errors (SolidComparison::error) as every front end prints them.
+std::string describeModeErrors(const std::vector<double>& errors);
 
 }  // namespace softtouch

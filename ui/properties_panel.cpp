@@ -635,13 +635,11 @@ void PropertiesPanel::compareWithSolid() {
                    .arg(compared->solid.degree)
                    .arg(100.0 * compared->solid.spread, 0, 'f', 1);
     } else {
-        QStringList solid, error;
+        QStringList solid;
         for (double f : compared->solid.frequencyHz)
             solid << QString::number(f, 'f', 3);
-        for (double e : compared->error)
-            error << QString("%1%2%").arg(e >= 0.0 ? "+" : "").arg(100.0 * e, 0, 'f', 1);
         text = tr("The solid you painted: %1 Hz; this lattice's modes are %2 from it%3.")
-                   .arg(solid.join(" / "), error.join(" / "),
+                   .arg(solid.join(" / "), QString::fromStdString(describeModeErrors(compared->error)),
                         o.baseAnimation ? tr(" (both without the goal springs)") : QString());
     }
     m_solid->setText(text);

@@ -3,6 +3,8 @@
 #include "ui/edit_commands.h"
 #include "ui/study_chart_view.h"
 
+#include "core/solid_modes.h"
+
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QEvent>
@@ -335,7 +337,7 @@ void StudyPanel::showPointer(int row) {
     const QString solid = r.solidModeError.empty()
                               ? QString()
                               : tr(" Its lattice's modes are %1 from the solid.")
-                                    .arg(QString::fromStdString(analysis::describeModeErrors(r.solidModeError)));
+                                    .arg(QString::fromStdString(describeModeErrors(r.solidModeError)));
     const QString text = tr("<b>%1</b>: error %2 total, %3 integration, %4 model; %5.%6 %7")
                              .arg(settingName(r.setting()), percent(r.rmsError), percent(r.timeError), percent(r.modelError),
                                   cost(r.costPerSecond), solid, blocker.isEmpty() ? tr("Click to use it.") : blocker);

@@ -1,5 +1,6 @@
 // The speed/accuracy study measures what it claims: integrator character, convergence, Pareto front.
 #include "analysis/study.h"
+#include "core/solid_modes.h"
 #include "io/project_file.h"
 
 #include <QtTest>

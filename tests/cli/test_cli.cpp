@@ -505,7 +505,7 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
     const QRegularExpressionMatch solidLine =
         QRegularExpression(R"(converged solid \(Bernstein degree 5, consistent mass, (\d+) unknowns\): (\S+) (\S+) (\S+) Hz \(degree 4: within)").match(run.out);
     const QRegularExpressionMatch errorLine =
-        QRegularExpression(R"(this lattice's error: (\S+)% (\S+)% (\S+)%)").match(run.out);
+        QRegularExpression(R"(this lattice's error: (\S+)% / (\S+)% / (\S+)%)").match(run.out);
     QVERIFY2(solidLine.hasMatch() && errorLine.hasMatch(), qPrintable(run.out));
     auto project = io::loadProject(path.toStdString());
     QVERIFY(project);

@@ -2183,7 +2183,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
              qPrintable(pointer->text()));
     // The fish's head is pinned on a face, so each lattice has a converged solid to be measured against.
     QVERIFY2(clicked.solidModeError.size() == 3 &&
-                 pointer->text().contains(QString::fromStdString(analysis::describeModeErrors(clicked.solidModeError)) +
+                 pointer->text().contains(QString::fromStdString(describeModeErrors(clicked.solidModeError)) +
                                           " from the solid"),
              qPrintable(pointer->text()));
     QTest::mouseClick(chart->viewport(), Qt::LeftButton, {}, chart->viewportPositionOf(other));
