@@ -23,7 +23,7 @@ struct CommandSynopsis {
 };
 
 inline constexpr std::array<CommandSynopsis, 12> kSynopses{{
-    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format {formats}] [--error E] [--targets K | --bones K] [--object NAME | --each-object] [--groups] [--threads N]"},
+    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format {formats}] [--error E] [--targets K | --bones K] [--compress] [--object NAME | --each-object] [--groups] [--threads N]"},
     {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
     {"preview", "preview CLIP --out DIR [--size WxH]"},
     {"validate", "validate FILE..."},

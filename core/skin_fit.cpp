@@ -280,15 +280,49 @@ SkinFit fitRigidSkin(std::span<const Vec3f> rest, const std::vector<std::vector<
         }
     }
 
+    measureSkinError(skin, rest, frames);
+    return skin;
+}
+
+void measureSkinError(SkinFit& skin, std::span<const Vec3f> rest, const std::vector<std::vector<Vec3f>>& frames) {
     double sum2 = 0.0;
-    for (std::size_t f = 0; f < fcount; ++f)
-        for (std::size_t i = 0; i < n; ++i) {
+    skin.maxError = 0.0;
+    for (std::size_t f = 0; f < frames.size(); ++f)
+        for (std::size_t i = 0; i < rest.size(); ++i) {
             const double e = (skinnedPosition(skin, rest, f, i) - frames[f][i].cast<double>()).norm();
             sum2 += e * e;
             skin.maxError = std::max(skin.maxError, e);
         }
-    skin.rmsError = std::sqrt(sum2 / double(n * fcount));
-    return skin;
+    skin.rmsError = frames.empty() || rest.empty() ? 0.0 : std::sqrt(sum2 / double(rest.size() * frames.size()));
+}
+
+void roundSkinWeights(SkinFit& skin, int steps) {
+    for (std::array<float, 4>& w : skin.weights) {
+        // Largest remainder: each weight down to a whole number of steps, then the steps still missing go to
+        // the weights that lost most, so the four sum to exactly `steps`.
+        double sum = 0.0;
+        for (float x : w)
+            sum += double(x);
+        std::array<int, 4> whole{};
+        std::array<double, 4> lost{};
+        int given = 0;
+        for (std::size_t s = 0; s < 4; ++s) {
+            const double exact = sum > 0.0 ? double(w[s]) / sum * steps : (s == 0 ? double(steps) : 0.0);
+            whole[s] = int(std::floor(exact));
+            lost[s] = exact - whole[s];
+            given += whole[s];
+        }
+        for (; given < steps; ++given) {
+            std::size_t most = 0;
+            for (std::size_t s = 1; s < 4; ++s)
+                if (lost[s] > lost[most])
+                    most = s;
+            ++whole[most];
+            lost[most] = -1.0;
+        }
+        for (std::size_t s = 0; s < 4; ++s)
+            w[s] = float(whole[s]) / float(steps);
+    }
 }
 
 }  // namespace softtouch

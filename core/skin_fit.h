@@ -37,6 +37,15 @@ struct SkinFit {
 SkinFit fitRigidSkin(std::span<const Vec3f> rest, const std::vector<std::vector<Vec3f>>& frames, int bones,
                      int iterations = 12);
 
+/// Sets the skin's rmsError and maxError against `frames` (what fitRigidSkin() reports, measured again after
+/// the weights change, e.g. by roundSkinWeights()).
+void measureSkinError(SkinFit& skin, std::span<const Vec3f> rest, const std::vector<std::vector<Vec3f>>& frames);
+
+/// Rounds every vertex's weights to whole multiples of 1/steps that still sum to exactly 1 (largest
+/// remainder), as a file stores them in `steps`-level normalized integers (255: the 8-bit weights engines
+/// ship). The errors are not updated: call measureSkinError().
+void roundSkinWeights(SkinFit& skin, int steps);
+
 /// The skin's position of vertex i at frame f.
 Vec3 skinnedPosition(const SkinFit& skin, std::span<const Vec3f> rest, std::size_t frame, std::size_t i);
 

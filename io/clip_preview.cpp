@@ -1,5 +1,6 @@
 #include "io/clip_preview.h"
 
+#include "io/gltf_meshopt.h"
 #include "io/input_file.h"
 #include "io/lattice_cache.h"
 
@@ -64,6 +65,13 @@ Result<tinygltf::Model> loadGltf(const fs::path& path) {
     auto bytes = readFile(path, kMaxPreviewFileBytes);
     if (!bytes)
         return Status::error(bytes.message());
+    // A compressed GLB (bake --compress) is read here decoded; the page plays it as it is (three.js decodes it).
+    if (usesMeshoptCompression(bytes.value())) {
+        auto expanded = expandGlb(bytes.value(), path.string());
+        if (!expanded)
+            return Status::error(expanded.message());
+        bytes = std::move(expanded.value());
+    }
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string error, warning;

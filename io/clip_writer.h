@@ -68,6 +68,9 @@ struct ClipExportOptions {
     double skinError = 0.0;
     /// glTF/GLB skinned export with exactly this many bones when above 0 (overrides skinError). [0, 256].
     int skinBones = 0;
+    /// GLB only: compress for shipping (io/gltf_meshopt.h): every buffer view through EXT_meshopt_compression,
+    /// normals as 16-bit octahedral vectors; the skinned export also stores 8-bit joints and weights.
+    bool gltfCompress = false;
 };
 
 /// Streaming writer of one clip export.

@@ -70,8 +70,12 @@ int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t co
 /// Appends triangle indices (UNSIGNED_INT) as an index accessor; returns its index.
 int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
                      std::uint32_t baseVertex);
-/// Serialises the model as .gltf (buffer embedded as a data URI) or .glb.
-Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path);
+/// Serialises the model as .gltf (buffer embedded as a data URI) or .glb; a .glb `compress`ed for shipping
+/// (ClipExportOptions::gltfCompress, io/gltf_meshopt.h).
+Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path,
+                                  bool compress = false);
+/// Refuses --compress for a glTF JSON path (the extension packs the GLB's binary chunk).
+Status checkCompressible(const std::filesystem::path& path, bool binary, const ClipExportOptions& options);
 
 // ---- Writers (each export's factory is declared with the registry, io/export_formats.cpp) ------------
 

@@ -37,33 +37,33 @@ using enum RestMeshPlace;
 using namespace detail;
 
 const std::array kFormats = {
-    ExportFormat{"pc2", "Point cache", ".pc2", Positions, false, false, false,
+    ExportFormat{"pc2", "Point cache", ".pc2", Positions, false, false, false, false,
                  "3ds Max point cache: positions per frame", makePc2Export, nullptr, ReplaceExtension},
-    ExportFormat{"mdd", "MDD", ".mdd", Positions, false, false, false,
+    ExportFormat{"mdd", "MDD", ".mdd", Positions, false, false, false, false,
                  "LightWave/Blender MDD: positions and frame times", makeMddExport, nullptr, ReplaceExtension},
-    ExportFormat{"objseq", "OBJ sequence", ".obj", Positions, false, false, false,
+    ExportFormat{"objseq", "OBJ sequence", ".obj", Positions, false, false, false, false,
                  "one OBJ per frame: NAME_0000.obj, NAME_0001.obj, ... beside FILE (the rest mesh)", makeObjSequenceExport,
                  objSequenceFiles, AtPath},
-    ExportFormat{"gltf", "glTF, one morph target per frame", ".gltf", Normals, false, false, false,
+    ExportFormat{"gltf", "glTF, one morph target per frame", ".gltf", Normals, false, false, false, false,
                  "glTF 2.0 (JSON, embedded buffer): one morph target per frame and a weights animation", makeGltfExport,
                  nullptr, ReplaceExtension},
-    ExportFormat{"glb", "glTF binary, one morph target per frame", ".glb", Normals, false, false, false,
+    ExportFormat{"glb", "glTF binary, one morph target per frame", ".glb", Normals, false, false, false, true,
                  "the same as binary glTF", makeGlbExport, nullptr, ReplaceExtension},
-    ExportFormat{"pca", "glTF binary, compressed morph targets", ".glb .gltf", Normals, true, true, false,
+    ExportFormat{"pca", "glTF binary, compressed morph targets", ".glb .gltf", Normals, true, true, false, true,
                  "glTF/GLB (by the extension) with compressed morphs: the frames' mean plus the fewest principal "
                  "components that keep every frame's RMS vertex error within --error (at most --targets); prints "
                  "the targets, the errors and the size against PC2",
                  makeCompressedMorphExport, nullptr, ReplaceExtension},
-    ExportFormat{"skin", "glTF binary, skinned: bones for game engines", ".glb .gltf", Positions, true, false, true,
+    ExportFormat{"skin", "glTF binary, skinned: bones for game engines", ".glb .gltf", Positions, true, false, true, true,
                  "glTF/GLB (by the extension) as linear blend skinning: rigid bones fitted to the clip (Le & Deng "
                  "2012), at most 4 weights a vertex, a bone animation; the fewest of 8/16/32/64 bones within "
                  "--error, or --bones K; prints the errors",
                  makeSkinExport, nullptr, ReplaceExtension},
-    ExportFormat{"vat", "Vertex animation textures", "", Normals, false, false, false,
+    ExportFormat{"vat", "Vertex animation textures", "", Normals, false, false, false, false,
                  "FILE is a base path: FILE.vat-position.exr, FILE.vat-normal.exr (half float), "
                  "FILE.vat-mesh.glb, FILE.vat.json",
                  makeVatExport, vatFiles, AfterBasePath},
-    ExportFormat{"lattice", "Lattice cache", "", LatticeNodes, false, false, false,
+    ExportFormat{"lattice", "Lattice cache", "", LatticeNodes, false, false, false, false,
                  "FILE is a base path: FILE.lattice.glb (mesh with lattice u,v,w), FILE.lattice.bin (node "
                  "positions per frame); shaders in io/shaders/",
                  makeLatticeExport, latticeFiles, AfterBasePath},
@@ -184,6 +184,8 @@ Result<ClipExportOptions> exportOptions(const ExportFormat& format, const Export
         return Status::error(onlyFor("--targets", &ExportFormat::takesTargets));
     if (settings.bones && !format.takesBones)
         return Status::error(onlyFor("--bones", &ExportFormat::takesBones));
+    if (settings.compress && !format.takesCompress)
+        return Status::error(onlyFor("--compress", &ExportFormat::takesCompress));
     if (settings.bones && settings.error)
         return Status::error("--bones: fixes the bone count, and --error chooses it: give one");
     if (settings.bones && !(*settings.bones >= 1 && *settings.bones <= 256 && isWhole(*settings.bones)))
@@ -194,6 +196,7 @@ Result<ClipExportOptions> exportOptions(const ExportFormat& format, const Export
         return Status::error("--targets: must be a whole number in [2, 256] (the mean and at least one component), got " +
                              number(*settings.targets));
     ClipExportOptions options;
+    options.gltfCompress = settings.compress;
     const double error = settings.error.value_or(ClipExportOptions::kDefaultCompressionError);
     if (format.takesTargets) {  // compressed morphs: the mean plus at most targets - 1 components
         options.gltfMorphError = error;

@@ -26,11 +26,12 @@ enum class ExportNeeds {
                    ///< rig of its own cannot be exported this way.
 };
 
-/// Settings an export takes beside its path (bake's --error, --targets, --bones). Unset: the default.
+/// Settings an export takes beside its path (bake's --error, --targets, --bones, --compress). Unset: the default.
 struct ExportSettings {
     std::optional<double> error;  ///< Compression target, a fraction of the rest mesh's diagonal, (0, 0.1].
     std::optional<double> targets;  ///< Compressed morphs: most targets, the mean included, a whole number in [2, 256].
     std::optional<double> bones;    ///< Skinning: exactly this many bones, a whole number in [1, 256].
+    bool compress = false;          ///< GLB for shipping: EXT_meshopt_compression, octahedral normals, 8-bit weights.
 };
 
 /// Where an export's rest mesh goes (the OBJ whose vertex order the files follow; bake writes it).
@@ -55,6 +56,7 @@ struct ExportFormat {
     bool takesError;              ///< Accepts ExportSettings::error.
     bool takesTargets;            ///< Accepts ExportSettings::targets.
     bool takesBones;              ///< Accepts ExportSettings::bones.
+    bool takesCompress;           ///< Accepts ExportSettings::compress (writes GLB).
     std::string_view help;        ///< A sentence for usage texts (wrapped by the caller).
     MakeExportWriter makeWriter;  ///< Its writer.
     ExportFiles files;            ///< The files it publishes; nullptr: the one file at the path.

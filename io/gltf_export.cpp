@@ -19,6 +19,7 @@
 #include "core/morph_basis.h"
 #include "io/clip_writer_internal.h"
 #include "io/export_formats.h"
+#include "io/gltf_meshopt.h"
 #include "io/vertex_cache_internal.h"
 
 #include <tiny_gltf.h>
@@ -100,12 +101,24 @@ int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uin
     return int(model.accessors.size() - 1);
 }
 
-Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path) {
+Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path,
+                                  bool compress) {
     tinygltf::TinyGLTF gltf;
     std::ostringstream out(std::ios::binary);
     if (!gltf.WriteGltfSceneToStream(&model, out, false, binary))
         return Status::error("cannot write " + quoted(path) + ": tinygltf could not serialise the model");
-    return out.str();
+    if (!compress)
+        return out.str();
+    auto packed = compressGlb(out.str(), "cannot write " + quoted(path));
+    if (!packed)
+        return packed.status();
+    return std::move(packed->glb);
+}
+
+Status checkCompressible(const std::filesystem::path& path, bool binary, const ClipExportOptions& options) {
+    if (options.gltfCompress && !binary)
+        return Status::error("cannot write " + quoted(path) + ": --compress packs a GLB's binary chunk; give a .glb path");
+    return Status::success();
 }
 
 }  // namespace detail
@@ -135,6 +148,8 @@ public:
                                  std::to_string(setup.info.pointCount) + " of each");
         if (setup.info.pointCount > std::numeric_limits<std::uint32_t>::max())
             return Status::error("cannot write " + detail::quoted(path) + ": glTF indices hold at most 2^32 vertices");
+        if (Status s = detail::checkCompressible(path, m_binary, m_options); !s)
+            return s;
         if (Status s = detail::checkWritable(path); !s)
             return s;
         {
@@ -289,7 +304,7 @@ public:
         }
         m_model->animations.push_back(animation);
 
-        Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path);
+        Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path, m_options.gltfCompress);
         m_model.reset();
         if (!bytes)
             return Status::error(bytes.message());
@@ -297,7 +312,7 @@ public:
         files.push_back(std::make_unique<detail::StagedFile>(m_path));
         if (Status s = files.front()->write(bytes.value()); !s)
             return s;
-        if (compressed()) {
+        if (compressed() || m_options.gltfCompress) {
             const double pc2Bytes = 32.0 + double(frames) * double(m_setup.info.pointCount) * 12.0;
             char line[200];
             std::snprintf(line, sizeof line, "%zu bytes, %.1f%% of a PC2 of the same clip (%.0f bytes)", bytes.value().size(),

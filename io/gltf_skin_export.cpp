@@ -2,7 +2,8 @@
 // the path every engine plays. Written with tinygltf.
 //
 // One mesh, one primitive: the rest mesh (POSITION, NORMAL, indices, the same bytes as the other
-// exports' rest mesh) plus JOINTS_0 (UNSIGNED_SHORT x 4) and WEIGHTS_0 (FLOAT x 4, ≥ 0, summing to 1).
+// exports' rest mesh) plus JOINTS_0 (UNSIGNED_SHORT x 4) and WEIGHTS_0 (FLOAT x 4, ≥ 0, summing to 1);
+// compressed (--compress, io/gltf_meshopt.h), UNSIGNED_BYTE x 4 both, the weights normalized.
 // Node 0 holds the mesh and the skin; nodes 1..K are the bones, flat under the scene, each with a
 // translation and rotation channel sampled at every frame (LINEAR: slerp between keys). The inverse
 // bind matrices are identities, because each bone's transform maps the rest pose itself: vertex =
@@ -20,6 +21,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -27,6 +29,9 @@
 namespace softtouch::io {
 
 namespace {
+
+/// Levels of the 8-bit normalized weights a compressed file stores.
+constexpr int kWeightSteps = 255;
 
 /// An accessor over raw little-endian bytes already laid out as glTF wants them.
 int addRawAccessor(tinygltf::Model& model, const void* bytes, std::size_t byteCount, std::size_t count, int componentType,
@@ -65,6 +70,8 @@ public:
             return Status::error("cannot write " + detail::quoted(path) + ": the rest mesh does not match the clip's vertex count");
         if (setup.info.frameCount > std::numeric_limits<std::size_t>::max() / 16 / std::max<std::size_t>(1, setup.info.pointCount))
             return Status::error("cannot write " + detail::quoted(path) + ": the clip is too large to fit bones to in memory");
+        if (Status s = detail::checkCompressible(path, m_binary, m_options); !s)
+            return s;
         if (Status s = detail::checkWritable(path); !s)
             return s;
         if (Status s = detail::checkExportMemory(path, double(setup.info.frameCount) * double(setup.info.pointCount) * 12.0,
@@ -102,13 +109,22 @@ public:
         const std::vector<Vec3f>& rest = m_setup.restMesh.positions;
         const double diagonal = std::max(1e-12, m_setup.restMesh.bounds().diagonal());
 
-        // The bones: a fixed count, or the fewest of 8, 16, 32, 64 that meet the error target.
+        // The bones: a fixed count, or the fewest of 8, 16, 32, 64 that meet the error target. A compressed
+        // file stores 8-bit weights, and its error is measured with them.
+        auto fit = [&](int bones) {
+            SkinFit fitted = fitRigidSkin(rest, m_frames, bones);
+            if (m_options.gltfCompress) {
+                roundSkinWeights(fitted, kWeightSteps);
+                measureSkinError(fitted, rest, m_frames);
+            }
+            return fitted;
+        };
         SkinFit skin;
         if (m_options.skinBones > 0) {
-            skin = fitRigidSkin(rest, m_frames, m_options.skinBones);
+            skin = fit(m_options.skinBones);
         } else {
             for (int bones : {8, 16, 32, 64}) {
-                skin = fitRigidSkin(rest, m_frames, bones);
+                skin = fit(bones);
                 if (skin.rmsError <= m_options.skinError * diagonal)
                     break;
             }
@@ -143,10 +159,27 @@ public:
                 weights[4 * i + s] = w;
             }
         }
-        primitive.attributes["JOINTS_0"] = addRawAccessor(model, joints.data(), joints.size() * 2, n,
-                                                          TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4,
-                                                          TINYGLTF_TARGET_ARRAY_BUFFER);
-        primitive.attributes["WEIGHTS_0"] = detail::addFloatAccessor(model, weights.data(), n, 4, true, false);
+        if (m_options.gltfCompress && k <= 256) {
+            // Bytes, as engines ship them: joints exactly, weights as the multiples of 1/255 the fit was
+            // measured with (roundSkinWeights), summing to exactly 255.
+            std::vector<std::uint8_t> joint8(4 * n), weight8(4 * n);
+            for (std::size_t e = 0; e < 4 * n; ++e) {
+                joint8[e] = std::uint8_t(joints[e]);
+                weight8[e] = std::uint8_t(std::lround(double(skin.weights[e / 4][e % 4]) * kWeightSteps));
+            }
+            primitive.attributes["JOINTS_0"] = addRawAccessor(model, joint8.data(), joint8.size(), n,
+                                                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
+                                                              TINYGLTF_TARGET_ARRAY_BUFFER);
+            primitive.attributes["WEIGHTS_0"] = addRawAccessor(model, weight8.data(), weight8.size(), n,
+                                                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
+                                                               TINYGLTF_TARGET_ARRAY_BUFFER);
+            model.accessors.back().normalized = true;
+        } else {
+            primitive.attributes["JOINTS_0"] = addRawAccessor(model, joints.data(), joints.size() * 2, n,
+                                                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4,
+                                                              TINYGLTF_TARGET_ARRAY_BUFFER);
+            primitive.attributes["WEIGHTS_0"] = detail::addFloatAccessor(model, weights.data(), n, 4, true, false);
+        }
         tinygltf::Mesh mesh;
         mesh.name = m_setup.objects.size() == 1 ? m_setup.objects.front().name : std::string("clip");
         mesh.primitives.push_back(primitive);
@@ -223,7 +256,7 @@ public:
         model.scenes.push_back(scene);
         model.defaultScene = 0;
 
-        Result<std::string> bytes = detail::serializeGltf(model, m_binary, m_path);
+        Result<std::string> bytes = detail::serializeGltf(model, m_binary, m_path, m_options.gltfCompress);
         m_started = false;
         if (!bytes)
             return Status::error(bytes.message());

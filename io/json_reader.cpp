@@ -24,7 +24,7 @@ std::string formatNumber(double x) {
 }
 
 /// Line and column (from 1) of a byte offset.
-std::pair<std::size_t, std::size_t> lineAndColumn(const std::string& text, std::size_t offset) {
+std::pair<std::size_t, std::size_t> lineAndColumn(std::string_view text, std::size_t offset) {
     std::size_t line = 1, column = 1;
     for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
         if (text[i] == '\n') {
@@ -39,7 +39,7 @@ std::pair<std::size_t, std::size_t> lineAndColumn(const std::string& text, std::
 
 /// The offset of the first bracket that opens level kMaxJsonDepth + 1, brackets inside strings aside.
 /// A scan, not a parse: it only has to be right for text the parser would accept.
-std::optional<std::size_t> firstTooDeep(const std::string& text) {
+std::optional<std::size_t> firstTooDeep(std::string_view text) {
     int depth = 0;
     bool inString = false;
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -101,7 +101,10 @@ std::optional<nlohmann::json> parseJsonFile(const std::string& path, JsonIssues&
         issues.addGeneral(read.message());
         return std::nullopt;
     }
-    const std::string& text = read.value();
+    return parseJsonText(read.value(), issues);
+}
+
+std::optional<nlohmann::json> parseJsonText(std::string_view text, JsonIssues& issues) {
     if (const auto deep = firstTooDeep(text)) {
         const auto [line, column] = lineAndColumn(text, *deep);
         issues.addGeneral("at line " + std::to_string(line) + ", column " + std::to_string(column) +

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace softtouch::io {
@@ -35,6 +36,8 @@ private:
 
 /// Parses a file into JSON; on failure records the line and column of the syntax error.
 std::optional<nlohmann::json> parseJsonFile(const std::string& path, JsonIssues& issues);
+/// The same for text already read (a GLB's JSON chunk): nesting depth, duplicate keys and syntax checked alike.
+std::optional<nlohmann::json> parseJsonText(std::string_view text, JsonIssues& issues);
 
 /// One JSON value (possibly absent) with its pointer; typed reads report into JsonIssues.
 class JsonValue {

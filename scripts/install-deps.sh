@@ -19,6 +19,7 @@ packages=(
   libcli11-dev            # the command lines of softtouch-cli and softtouch-bench (app/cli_options.cpp)
   fonts-dejavu-core       # text in plots rendered headless (study)
   libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
+  libmeshoptimizer-dev    # compressed GLB for shipping (bake --compress: EXT_meshopt_compression)
   libopenexr-dev          # vertex animation textures (bake --format vat)
   glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
   libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')

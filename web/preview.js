@@ -13,6 +13,7 @@
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -49,7 +50,8 @@ for (const name of Object.keys(decoded))
 manager.setURLModifier((url) => blobUrls[url.split('/').pop()] || url);
 
 function loadGltf(name) {
-    const loader = new GLTFLoader(manager);
+    // bake --compress packs GLBs with EXT_meshopt_compression, as games ship them.
+    const loader = new GLTFLoader(manager).setMeshoptDecoder(MeshoptDecoder);
     const data = name.endsWith('.gltf') ? new TextDecoder().decode(fileBytes(name)) : fileBytes(name);
     return new Promise((resolve, reject) => loader.parse(data, '', resolve, reject));
 }

@@ -4,6 +4,7 @@
 #include "io/bake.h"
 #include "io/clip_writer.h"
 #include "io/export_formats.h"
+#include "io/gltf_meshopt.h"
 #include "io/lattice_cache.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
@@ -247,6 +248,8 @@ private slots:
     void gltfCompressedMorphsKeepTheErrorTarget();
     void gltfSkinnedExportReproducesTheClip_data();
     void gltfSkinnedExportReproducesTheClip();
+    void compressedGlbDecodesToTheSameBytes();
+    void compressedGlbRefusesCorruptInput();
     void vatRoundTrip_data();
     void vatRoundTrip();
     void latticeRoundTrip_data();
@@ -573,16 +576,20 @@ void TestExports::gltfCompressedMorphsKeepTheErrorTarget() {
 void TestExports::gltfSkinnedExportReproducesTheClip_data() {
     QTest::addColumn<double>("error");  // RMS target, fraction of the rest mesh's diagonal (0: fixed bones)
     QTest::addColumn<int>("bones");
-    QTest::newRow("error 0.5%") << 5e-3 << 0;
-    QTest::newRow("16 bones") << 0.0 << 16;
+    QTest::addColumn<bool>("compressed");  // bake --compress: read back through expandGlb
+    QTest::newRow("error 0.5%") << 5e-3 << 0 << false;
+    QTest::newRow("16 bones") << 0.0 << 16 << false;
+    QTest::newRow("error 0.5%, compressed") << 5e-3 << 0 << true;
 }
 
 void TestExports::gltfSkinnedExportReproducesTheClip() {
     // The swim as rigid bones: checked as a validator would (weights ≥ 0 summing to 1, at most 4 per
     // vertex, joints in range, identity inverse binds, one key per frame), then re-imported with assimp and
-    // skinned as an engine does, frame by frame, against the PC2 of the same bake.
+    // skinned as an engine does, frame by frame, against the PC2 of the same bake. Compressed, the file
+    // is at most a tenth of the PC2 and stores 8-bit joints and weights; assimp reads it expanded.
     QFETCH(double, error);
     QFETCH(int, bones);
+    QFETCH(bool, compressed);
     QTemporaryDir dir;
     const fs::path out = fs::path(dir.path().toStdString()) / "skin.glb";
     constexpr int kSwimFrames = 24;
@@ -593,29 +600,62 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
     options.threads = 1;
     options.exportOptions.skinError = error;
     options.exportOptions.skinBones = bones;
+    options.exportOptions.gltfCompress = compressed;
     Result<BakeResult> baked = bake(m_fish, options);
     QVERIFY2(baked, baked.message().c_str());
     QVERIFY(!baked->notes.empty());
+    const fs::path written = out;
     options.output = out.parent_path() / "skin.pc2";
     options.format = findExportFormat("pc2");
     QVERIFY(bake(m_fish, options));
     const Result<VertexCache> pc2 = readPc2(out.parent_path() / "skin.pc2");
     QVERIFY2(pc2, pc2.message().c_str());
     const std::size_t n = pc2->info.pointCount;
+    const fs::path read = compressed ? out.parent_path() / "expanded.glb" : out;
+    if (compressed) {
+        const std::string packed = readText(out);
+        QVERIFY(usesMeshoptCompression(packed));
+        QVERIFY2(fs::file_size(out) * 10 <= fs::file_size(out.parent_path() / "skin.pc2"),
+                 qPrintable(QString("%1 bytes against %2 for PC2").arg(fs::file_size(out)).arg(fs::file_size(out.parent_path() / "skin.pc2"))));
+        Result<std::string> expanded = expandGlb(packed, out.string());
+        QVERIFY2(expanded, expanded.message().c_str());
+        QVERIFY(!usesMeshoptCompression(expanded.value()));
+        writeText(read, expanded.value());
+    }
 
-    const tinygltf::Model model = loadGlb(out);
+    const tinygltf::Model model = loadGlb(read);
     QCOMPARE(model.skins.size(), std::size_t(1));
     const std::size_t joints = model.skins[0].joints.size();
     QVERIFY(joints >= 8 && joints <= 64);
     if (bones > 0)
         QCOMPARE(int(joints), bones);
     const tinygltf::Primitive& primitive = model.meshes.at(0).primitives.at(0);
-    const std::vector<float> weights = accessorFloats(model, primitive.attributes.at("WEIGHTS_0"));
     const tinygltf::Accessor& jointAccessor = model.accessors.at(std::size_t(primitive.attributes.at("JOINTS_0")));
-    QCOMPARE(jointAccessor.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    const tinygltf::Accessor& weightAccessor = model.accessors.at(std::size_t(primitive.attributes.at("WEIGHTS_0")));
+    QCOMPARE(jointAccessor.componentType, compressed ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE : TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
     const tinygltf::BufferView& jointView = model.bufferViews.at(std::size_t(jointAccessor.bufferView));
     std::vector<std::uint16_t> jointIndices(4 * n);
-    std::memcpy(jointIndices.data(), model.buffers[0].data.data() + jointView.byteOffset, jointIndices.size() * 2);
+    std::vector<float> weights(4 * n);
+    if (compressed) {
+        // The file's weights were normalized bytes (expanded to floats for assimp): whole 255ths, each vertex's
+        // summing to exactly 255.
+        QCOMPARE(weightAccessor.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
+        weights = accessorFloats(model, primitive.attributes.at("WEIGHTS_0"));
+        const unsigned char* j8 = model.buffers[0].data.data() + jointView.byteOffset;
+        for (std::size_t v = 0; v < n; ++v) {
+            long sum = 0;
+            for (std::size_t s = 0; s < 4; ++s) {
+                jointIndices[4 * v + s] = j8[4 * v + s];
+                const double steps = double(weights[4 * v + s]) * 255.0;
+                QVERIFY2(std::abs(steps - std::round(steps)) < 1e-4, qPrintable(QString("vertex %1: weight %2").arg(v).arg(steps)));
+                sum += std::lround(steps);
+            }
+            QVERIFY2(sum == 255, qPrintable(QString("vertex %1 weights sum to %2/255").arg(v).arg(sum)));
+        }
+    } else {
+        weights = accessorFloats(model, primitive.attributes.at("WEIGHTS_0"));
+        std::memcpy(jointIndices.data(), model.buffers[0].data.data() + jointView.byteOffset, jointIndices.size() * 2);
+    }
     QCOMPARE(weights.size(), 4 * n);
     for (std::size_t v = 0; v < n; ++v) {
         float sum = 0.0f;
@@ -634,7 +674,7 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
 
     // assimp's view: bones with offset matrices and weights, node animations with one key per frame.
     Assimp::Importer importer;
-    const aiScene* scene = importer.ReadFile(out.string(), 0);
+    const aiScene* scene = importer.ReadFile(read.string(), 0);
     QVERIFY2(scene != nullptr, importer.GetErrorString());
     const aiMesh* mesh = scene->mMeshes[0];
     QCOMPARE(std::size_t(mesh->mNumVertices), n);
@@ -675,11 +715,176 @@ void TestExports::gltfSkinnedExportReproducesTheClip() {
     }
     const double rms = std::sqrt(sum2 / double(n * kSwimFrames));
     qInfo("%zu bones: RMS %.3g, worst %.3g of the diagonal; %lld bytes against %lld for PC2", joints, rms / diagonal,
-          worst / diagonal, (long long)fs::file_size(out), (long long)fs::file_size(out.parent_path() / "skin.pc2"));
+          worst / diagonal, (long long)fs::file_size(written), (long long)fs::file_size(out.parent_path() / "skin.pc2"));
     QVERIFY2(rms <= 5e-3 * diagonal, qPrintable(QString("RMS %1 of the diagonal").arg(rms / diagonal)));
     if (error > 0.0)
         QVERIFY(rms <= error * diagonal * 1.001);
     QVERIFY(fs::file_size(out) < fs::file_size(out.parent_path() / "skin.pc2"));
+}
+
+namespace {
+
+/// The bytes an accessor reads (count elements, the view's stride honoured), tightly packed.
+std::string accessorBytes(const tinygltf::Model& model, int index) {
+    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
+    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
+    const std::size_t element = std::size_t(tinygltf::GetComponentSizeInBytes(std::uint32_t(accessor.componentType)) *
+                                            tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
+    const std::size_t stride = view.byteStride != 0 ? view.byteStride : element;
+    const auto* data = reinterpret_cast<const char*>(model.buffers.at(std::size_t(view.buffer)).data.data()) + view.byteOffset +
+                       accessor.byteOffset;
+    std::string out;
+    for (std::size_t i = 0; i < accessor.count; ++i)
+        out.append(data + i * stride, element);
+    return out;
+}
+
+/// A GLB's JSON and binary chunk, apart and back together (to corrupt one field of a real file).
+std::pair<nlohmann::json, std::string> splitGlb(const std::string& glb) {
+    std::uint32_t jsonLength = 0, binLength = 0;
+    std::memcpy(&jsonLength, glb.data() + 12, 4);
+    std::memcpy(&binLength, glb.data() + 20 + jsonLength, 4);
+    return {nlohmann::json::parse(glb.substr(20, jsonLength)), glb.substr(28 + jsonLength, binLength)};
+}
+
+std::string joinGlb(const nlohmann::json& document, std::string bin) {
+    std::string text = document.dump();
+    while (text.size() % 4 != 0)
+        text += ' ';
+    const auto u32 = [](std::size_t v) {
+        const auto x = std::uint32_t(v);
+        return std::string(reinterpret_cast<const char*>(&x), 4);
+    };
+    return "glTF" + u32(2) + u32(28 + text.size() + bin.size()) + u32(text.size()) + "JSON" + text + u32(bin.size()) +
+           std::string("BIN\0", 4) + bin;
+}
+
+}  // namespace
+
+void TestExports::compressedGlbDecodesToTheSameBytes() {
+    // Compressed morphs, packed and unpacked: every accessor decodes to the bytes the plain export holds
+    // (positions, targets, keys), except the normals, which come back as 16-bit octahedral vectors within
+    // 1e-4 rad, and the triangles, which may start at another corner. Only a GLB takes --compress, and only the formats that write one.
+    QTemporaryDir dir;
+    const fs::path plainPath = fs::path(dir.path().toStdString()) / "plain.glb";
+    const fs::path packedPath = plainPath.parent_path() / "packed.glb";
+    ClipExportOptions options = exportOptions(*findExportFormat("pca")).value();
+    bakeTo(m_fish, "pca", plainPath, options);
+    options.gltfCompress = true;
+    const BakeResult packedBake = bakeTo(m_fish, "pca", packedPath, options);
+    QVERIFY(!packedBake.notes.empty());
+    const std::string packed = readText(packedPath);
+    QVERIFY(usesMeshoptCompression(packed));
+    QVERIFY(packed.size() < fs::file_size(plainPath));
+    const nlohmann::json document = splitGlb(packed).first;
+    QVERIFY(document.at("extensionsRequired").dump().find("EXT_meshopt_compression") != std::string::npos);
+    QVERIFY(document.at("extensionsRequired").dump().find("KHR_mesh_quantization") != std::string::npos);
+    Result<std::string> expanded = expandGlb(packed, packedPath.string());
+    QVERIFY2(expanded, expanded.message().c_str());
+    writeText(plainPath.parent_path() / "expanded.glb", expanded.value());
+    const tinygltf::Model plain = loadGlb(plainPath);
+    const tinygltf::Model unpacked = loadGlb(plainPath.parent_path() / "expanded.glb");
+    QCOMPARE(unpacked.accessors.size(), plain.accessors.size());
+    QVERIFY(unpacked.extensionsRequired.empty());
+    const int normals = plain.meshes.at(0).primitives.at(0).attributes.at("NORMAL");
+    const int indices = plain.meshes.at(0).primitives.at(0).indices;
+    double worstAngle = 0.0;
+    for (int a = 0; a < int(plain.accessors.size()); ++a) {
+        QCOMPARE(unpacked.accessors[std::size_t(a)].count, plain.accessors[std::size_t(a)].count);
+        const std::string before = accessorBytes(plain, a), after = accessorBytes(unpacked, a);
+        QCOMPARE(after.size(), before.size());
+        if (a == indices) {
+            // The triangle codec may start a triangle at another corner: the same triangles, order and winding.
+            for (std::size_t t = 0; t < before.size() / 12; ++t) {
+                std::array<std::uint32_t, 3> x, y;
+                std::memcpy(x.data(), before.data() + 12 * t, 12);
+                std::memcpy(y.data(), after.data() + 12 * t, 12);
+                const bool same = y == x || y == std::array{x[1], x[2], x[0]} || y == std::array{x[2], x[0], x[1]};
+                QVERIFY2(same, qPrintable(QString("triangle %1 is another triangle").arg(t)));
+            }
+            continue;
+        }
+        if (a != normals) {
+            QVERIFY2(after == before, qPrintable(QString("accessor %1 decodes to other bytes").arg(a)));
+            continue;
+        }
+        for (std::size_t i = 0; i < before.size() / 12; ++i) {
+            Vec3f x, y;
+            std::memcpy(x.data(), before.data() + 12 * i, 12);
+            std::memcpy(y.data(), after.data() + 12 * i, 12);
+            worstAngle = std::max(worstAngle, std::atan2(double(x.cross(y).norm()), double(x.dot(y))));
+        }
+    }
+    qInfo("pca: %zu bytes packed against %lld plain; normals within %.2g rad", packed.size(), (long long)fs::file_size(plainPath),
+          worstAngle);
+    QVERIFY2(worstAngle > 0.0 && worstAngle <= 1e-4, qPrintable(QString::number(worstAngle)));
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile((plainPath.parent_path() / "expanded.glb").string(), 0);
+    QVERIFY2(scene != nullptr, importer.GetErrorString());
+    QCOMPARE(std::size_t(scene->mMeshes[0]->mNumVertices), plain.accessors.at(std::size_t(plain.meshes[0].primitives[0].attributes.at("POSITION"))).count);
+
+    // Where --compress does not apply.
+    const auto onPc2 = exportOptions(*findExportFormat("pc2"), {std::nullopt, std::nullopt, std::nullopt, true});
+    QVERIFY(!onPc2);
+    QCOMPARE(QString::fromStdString(onPc2.message()), QString("--compress: is for --format glb and --format pca and --format skin"));
+    QVERIFY(exportOptions(*findExportFormat("skin"), {std::nullopt, std::nullopt, std::nullopt, true})->gltfCompress);
+    BakeOptions json;
+    json.output = plainPath.parent_path() / "packed.gltf";
+    json.format = findExportFormat("pca");
+    json.frames = kFrames;
+    json.exportOptions = options;
+    const Result<BakeResult> refused = bake(m_fish, json);
+    QVERIFY(!refused);
+    QVERIFY2(refused.message().find("packed.gltf") != std::string::npos && refused.message().find(".glb") != std::string::npos,
+             refused.message().c_str());
+    QVERIFY(!fs::exists(json.output));
+}
+
+void TestExports::compressedGlbRefusesCorruptInput() {
+    // A compressed GLB with one thing wrong: every reading fails with the file, the view and the problem,
+    // and nothing crashes (fuzz_glb explores the rest).
+    QTemporaryDir dir;
+    const fs::path path = fs::path(dir.path().toStdString()) / "packed.glb";
+    ClipExportOptions options = exportOptions(*findExportFormat("pca")).value();
+    options.gltfCompress = true;
+    bakeTo(m_fish, "pca", path, options);
+    const std::string packed = readText(path);
+    QVERIFY(expandGlb(packed, "packed.glb"));
+    const auto [document, bin] = splitGlb(packed);
+    int view = -1;  // the first compressed view
+    for (int v = 0; v < int(document["bufferViews"].size()) && view < 0; ++v)
+        if (document["bufferViews"][std::size_t(v)].contains("extensions"))
+            view = v;
+    QVERIFY(view >= 0);
+    const auto changed = [&, document = document, bin = bin](const char* field, const nlohmann::json& value) {
+        nlohmann::json d = document;
+        d["bufferViews"][std::size_t(view)]["extensions"]["EXT_meshopt_compression"][field] = value;
+        return joinGlb(d, bin);
+    };
+    const std::string named = "packed.glb: buffer view " + std::to_string(view);
+    const std::size_t length = document["bufferViews"][std::size_t(view)]["extensions"]["EXT_meshopt_compression"]["byteLength"];
+    std::string scrambled = bin;
+    const std::size_t at = document["bufferViews"][std::size_t(view)]["extensions"]["EXT_meshopt_compression"]["byteOffset"];
+    for (std::size_t i = 1; i < 64 && i < length; ++i)  // the header byte and the first block's control bytes
+        scrambled[at + i] = char(0xFF);
+    scrambled[at] = char(0x00);
+    for (const auto& [input, problem] : std::vector<std::pair<std::string, std::string>>{
+             {packed.substr(0, packed.size() / 2), "packed.glb is truncated"},
+             {"not a glb at all", "packed.glb is not a GLB file"},
+             {changed("byteLength", bin.size() * 2), named + " has compressed data outside the binary chunk"},
+             {changed("count", 7), named + " has a byteStride and count that do not give its byteLength"},
+             {changed("mode", "SPIRAL"), named + " has an unknown compression mode \"SPIRAL\""},
+             {changed("buffer", 1), named + " takes its compressed data from a buffer other than"},
+             {changed("mode", 5), "packed.glb: the glTF JSON is not laid out as glTF 2.0 says"},
+             {changed("byteStride", "eight"), named + " has a byteStride and count that do not give its byteLength"},
+             {joinGlb(document, scrambled), named + " does not decode"}}) {
+        const Result<std::string> read = expandGlb(input, "packed.glb");
+        QVERIFY2(!read, problem.c_str());
+        QVERIFY2(read.message().rfind(problem, 0) == 0, read.message().c_str());
+    }
+    const auto again = compressGlb(packed, "packed.glb");
+    QVERIFY(!again);
+    QVERIFY2(again.message().find("already compressed") != std::string::npos, again.message().c_str());
 }
 
 void TestExports::gltfRefusesClipsTooLongToHold() {

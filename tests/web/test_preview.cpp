@@ -118,11 +118,13 @@ private slots:
         QTest::addColumn<QString>("out");   // as bake takes it
         QTest::addColumn<QString>("clip");  // as preview takes it
         QTest::addColumn<double>("minimumOverlap");
+        QTest::addColumn<bool>("compress");  // bake --compress: three.js decodes EXT_meshopt_compression
         // pca keeps every frame within 0.5% of the diagonal (RMS), so its silhouette may move a pixel.
-        QTest::newRow("skinned") << "skin" << "swim-skin.glb" << "swim-skin.glb" << 0.985;
-        QTest::newRow("morph") << "pca" << "swim-pca.glb" << "swim-pca.glb" << 0.975;
-        QTest::newRow("vat") << "vat" << "swim" << "swim.vat.json" << 0.985;
-        QTest::newRow("lattice") << "lattice" << "swim" << "swim.lattice.bin" << 0.985;
+        QTest::newRow("skinned") << "skin" << "swim-skin.glb" << "swim-skin.glb" << 0.985 << false;
+        QTest::newRow("skinned, compressed") << "skin" << "swim-packed.glb" << "swim-packed.glb" << 0.985 << true;
+        QTest::newRow("morph") << "pca" << "swim-pca.glb" << "swim-pca.glb" << 0.975 << false;
+        QTest::newRow("vat") << "vat" << "swim" << "swim.vat.json" << 0.985 << false;
+        QTest::newRow("lattice") << "lattice" << "swim" << "swim.lattice.bin" << 0.985 << false;
     }
 
     void everyKindPlaysTheFramesTheProjectRenders() {
@@ -130,14 +132,18 @@ private slots:
         QFETCH(QString, out);
         QFETCH(QString, clip);
         QFETCH(double, minimumOverlap);
+        QFETCH(bool, compress);
         m_chromium = QStandardPaths::findExecutable("chromium");
         if (m_chromium.isEmpty())
             QSKIP("preview test skipped: chromium is not installed (scripts/install-deps.sh installs it)");
         renderTheProject();
         QCOMPARE(int(m_rendered.size()), kRenderedFrames);
-        const QString folder = m_dir.filePath(format);
+        const QString folder = m_dir.filePath(format + (compress ? "-packed" : ""));
         QVERIFY(QDir().mkpath(folder));
-        const auto bake = runCli({"bake", kScene, "--clip", "swim", "--format", format, "--out", folder + "/" + out, "--quiet"});
+        QStringList bakeArgs{"bake", kScene, "--clip", "swim", "--format", format, "--out", folder + "/" + out, "--quiet"};
+        if (compress)
+            bakeArgs << "--compress";
+        const auto bake = runCli(bakeArgs);
         QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
         const auto preview = runCli({"preview", folder + "/" + clip, "--out", folder + "/page", "--size",
                                      QString("%1x%2").arg(kWidth).arg(kHeight)});
@@ -204,10 +210,13 @@ private slots:
         QTest::addColumn<QString>("out");
         QTest::addColumn<QString>("clip");
         QTest::addColumn<QString>("kind");
-        QTest::newRow("skinned") << "skin" << "s.glb" << "s.glb" << "skinned";
-        QTest::newRow("morph") << "pca" << "m.glb" << "m.glb" << "morph";
-        QTest::newRow("vat") << "vat" << "v" << "v.vat.json" << "vat";
-        QTest::newRow("lattice") << "lattice" << "l" << "l.lattice.bin" << "lattice";
+        QTest::addColumn<bool>("compress");
+        QTest::newRow("skinned") << "skin" << "s.glb" << "s.glb" << "skinned" << false;
+        QTest::newRow("skinned, compressed") << "skin" << "c.glb" << "c.glb" << "skinned" << true;
+        QTest::newRow("morph") << "pca" << "m.glb" << "m.glb" << "morph" << false;
+        QTest::newRow("morph, compressed") << "pca" << "p.glb" << "p.glb" << "morph" << true;
+        QTest::newRow("vat") << "vat" << "v" << "v.vat.json" << "vat" << false;
+        QTest::newRow("lattice") << "lattice" << "l" << "l.lattice.bin" << "lattice" << false;
     }
 
     void everyKindBuildsItsPage() {
@@ -215,10 +224,13 @@ private slots:
         QFETCH(QString, out);
         QFETCH(QString, clip);
         QFETCH(QString, kind);
-        const QString folder = m_dir.filePath("pages/" + format);
+        QFETCH(bool, compress);
+        const QString folder = m_dir.filePath("pages/" + format + (compress ? "-packed" : ""));
         QVERIFY(QDir().mkpath(folder));
-        const auto bake = runCli({"bake", kScene, "--clip", "swim", "--frames", "3", "--format", format, "--out",
-                                  folder + "/" + out, "--quiet"});
+        QStringList bakeArgs{"bake", kScene, "--clip", "swim", "--frames", "3", "--format", format, "--out", folder + "/" + out, "--quiet"};
+        if (compress)
+            bakeArgs << "--compress";
+        const auto bake = runCli(bakeArgs);
         QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
         const auto preview = runCli({"preview", folder + "/" + clip, "--out", folder + "/page"});
         QVERIFY2(preview.exitCode == 0, qPrintable(preview.err));

@@ -1,0 +1,39 @@
+#pragma once
+/// GLB compression for shipping, the way game pipelines pack glTF (gltfpack): every buffer view through
+/// EXT_meshopt_compression (meshoptimizer's byte codecs: lossless, decoded by three.js, Babylon.js, Unity's
+/// glTFast and Godot), and the mesh's normals as 16-bit octahedral vectors (the extension's OCTAHEDRAL filter
+/// on KHR_mesh_quantization's normalized shorts, the one lossy step: under 1e-4 rad). Nothing is reordered:
+/// positions, indices, weights, joints and animation keys decode to the bytes that went in, so the rest mesh
+/// stays bit-compatible with the other exports. docs/formats.md, "Compressed GLB".
+
+#include "core/result.h"
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace softtouch::io {
+
+/// What compressGlb() did, for the export's note.
+struct GlbCompression {
+    std::string glb;                 ///< The compressed file.
+    std::size_t viewBytes = 0;       ///< Binary data before (every buffer view), bytes.
+    std::size_t packedBytes = 0;     ///< Binary data after, bytes.
+    int views = 0;                   ///< Buffer views.
+    int compressedViews = 0;         ///< Views stored through the extension (the rest are too small to gain).
+    int octahedralNormals = 0;       ///< NORMAL attributes stored as 16-bit octahedral vectors.
+};
+
+/// Compresses a GLB whose data lies in its binary chunk (as SoftTouch's exports write them). `name` names
+/// the file in errors.
+Result<GlbCompression> compressGlb(std::string_view glb, const std::string& name);
+
+/// True when the GLB's JSON lists EXT_meshopt_compression as used (false for anything else, GLB or not).
+bool usesMeshoptCompression(std::string_view glb);
+
+/// The reverse, for readers without the extensions (assimp, tinygltf, the preview's inspection): a core
+/// glTF 2.0 GLB with every view decoded into the binary chunk and octahedral normals back as floats. Corrupt
+/// or truncated input gets an error naming the file, the view and the problem.
+Result<std::string> expandGlb(std::string_view glb, const std::string& name);
+
+}  // namespace softtouch::io
