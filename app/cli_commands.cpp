@@ -40,7 +40,7 @@ constexpr const char* kBakeOptions = R"(  --clip NAME       A clip of the scene'
   --bones K         skin: exactly K bones (1..256) instead of the fewest within --error.
   --targets K       pca: at most K morph targets, the mean included (2..256, default 33).
   --compress        glb, pca, skin (a .glb path): pack the file for shipping with EXT_meshopt_compression
-                    (three.js, Babylon.js, Unity glTFast, Godot read it; assimp and Blender do not):
+                    (three.js, Babylon.js, Unity glTFast read it; assimp, Blender, Godot do not):
                     positions and triangles stay bit-exact, normals become 16-bit octahedral vectors
                     and skin weights 8-bit. Prints the size against PC2.
   --quiet           No progress output.

@@ -1,10 +1,10 @@
 #pragma once
 /// GLB compression for shipping, the way game pipelines pack glTF (gltfpack): every buffer view through
-/// EXT_meshopt_compression (meshoptimizer's byte codecs: lossless, decoded by three.js, Babylon.js, Unity's
-/// glTFast and Godot), and the mesh's normals as 16-bit octahedral vectors (the extension's OCTAHEDRAL filter
+/// EXT_meshopt_compression (meshoptimizer's byte codecs: lossless, decoded by three.js, Babylon.js and Unity's
+/// glTFast), and the mesh's normals as 16-bit octahedral vectors (the extension's OCTAHEDRAL filter
 /// on KHR_mesh_quantization's normalized shorts, the one lossy step: under 1e-4 rad). Nothing is reordered:
-/// positions, indices, weights, joints and animation keys decode to the bytes that went in, so the rest mesh
-/// stays bit-compatible with the other exports. docs/formats.md, "Compressed GLB".
+/// positions, weights, joints and animation keys decode to the bytes that went in (the triangle codec may
+/// start a triangle at another corner), so the vertices stay bit-compatible with the other exports. docs/formats.md, "Compressed GLB".
 
 #include "core/result.h"
 
