@@ -411,37 +411,54 @@ void TimelinePanel::exportClip(int index) {
         return;
     const qsizetype chosen = filters.indexOf(selected);
     const io::ExportFormat& format = chosen < 0 ? formatFor(path) : io::exportFormats()[std::size_t(chosen)];
-    // Several objects: all in one file, the current one, or each in its own; OBJ groups on request.
-    ExportObjects objects;
+    // Several objects: all in one file, the current one, or each in its own; OBJ groups on request. A GLB
+    // for a game: packed for shipping on request.
+    ExportChoices choices;
     const Scene& scene = m_document->scene();
-    if (scene.objects.size() > 1) {
+    const bool packable = format.takesCompress && !io::writesGltfJson(path.toStdString());
+    if (scene.objects.size() > 1 || packable) {
         QDialog ask(this);
-        ask.setWindowTitle(tr("Export Objects"));
+        ask.setWindowTitle(tr("Export Options"));
         auto* form = new QFormLayout(&ask);
-        auto* which = new QComboBox;
-        which->setObjectName("exportObjects");
-        which->addItem(tr("All %1 objects in one file").arg(scene.objects.size()));
-        const int current = m_currentObject ? m_currentObject() : 0;
-        const QString currentName = QString::fromStdString(scene.objects[std::size_t(std::clamp(current, 0, int(scene.objects.size()) - 1))].name);
-        which->addItem(tr("Only %1 (the current object)").arg(currentName));
-        which->addItem(tr("Each object in its own file (name-OBJECT)"));
-        form->addRow(tr("Objects"), which);
-        auto* groups = new QCheckBox(tr("Name each object's faces in OBJ files (g OBJECT)"));
-        groups->setToolTip(tr("A DCC then imports one part per object; some importers reorder vertices when they split "
-                              "groups, which PC2 and MDD caches rely on."));
-        form->addRow(groups);
+        QComboBox* which = nullptr;
+        QCheckBox* groups = nullptr;
+        QCheckBox* compress = nullptr;
+        QString currentName;
+        if (scene.objects.size() > 1) {
+            which = new QComboBox;
+            which->setObjectName("exportObjects");
+            which->addItem(tr("All %1 objects in one file").arg(scene.objects.size()));
+            const int current = m_currentObject ? m_currentObject() : 0;
+            currentName = QString::fromStdString(scene.objects[std::size_t(std::clamp(current, 0, int(scene.objects.size()) - 1))].name);
+            which->addItem(tr("Only %1 (the current object)").arg(currentName));
+            which->addItem(tr("Each object in its own file (name-OBJECT)"));
+            form->addRow(tr("Objects"), which);
+            groups = new QCheckBox(tr("Name each object's faces in OBJ files (g OBJECT)"));
+            groups->setToolTip(tr("A DCC then imports one part per object; some importers reorder vertices when they split "
+                                  "groups, which PC2 and MDD caches rely on."));
+            form->addRow(groups);
+        }
+        if (packable) {
+            compress = new QCheckBox(tr("Pack for shipping (EXT_meshopt_compression)"));
+            compress->setObjectName("exportCompress");
+            compress->setToolTip(tr("A third of the size or less, as games ship glTF: every buffer packed losslessly, normals "
+                                    "as 16-bit octahedral vectors, skin weights in 8 bits. three.js, Babylon.js and Unity's "
+                                    "glTFast read it; Blender, assimp and Godot 4 do not, so keep an unpacked file for a DCC."));
+            form->addRow(compress);
+        }
         auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
         connect(buttons, &QDialogButtonBox::accepted, &ask, &QDialog::accept);
         connect(buttons, &QDialogButtonBox::rejected, &ask, &QDialog::reject);
         form->addRow(buttons);
         if (ask.exec() != QDialog::Accepted)
             return;
-        if (which->currentIndex() == 1)
-            objects.only = {currentName.toStdString()};
-        objects.each = which->currentIndex() == 2;
-        objects.groups = groups->isChecked();
+        if (which && which->currentIndex() == 1)
+            choices.only = {currentName.toStdString()};
+        choices.each = which && which->currentIndex() == 2;
+        choices.groups = groups && groups->isChecked();
+        choices.compress = compress && compress->isChecked();
     }
-    const Status s = exportClipTo(index, path, format, objects);
+    const Status s = exportClipTo(index, path, format, choices);
     if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
         QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));  // never matched)
 }
@@ -449,17 +466,24 @@ void TimelinePanel::exportClip(int index) {
 Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path)); }
 
 Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format) {
-    return exportClipTo(index, path, format, ExportObjects{});
+    return exportClipTo(index, path, format, ExportChoices{});
 }
 
-Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportObjects& objects) {
+Status TimelinePanel::exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportChoices& choices) {
     const ClipLibrary& library = m_document->project().clips;
     io::BakeOptions options;
-    options.objects = objects.only;
-    options.objectGroups = objects.groups;
+    options.objects = choices.only;
+    options.objectGroups = choices.groups;
     options.output = path.toStdString();
     options.format = &format;
-    options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
+    io::ExportSettings settings;
+    settings.compress = choices.compress;
+    auto exportOptions = io::exportOptions(format, settings);  // the defaults, packed or not
+    if (!exportOptions) {
+        m_time->setText(QString::fromStdString(exportOptions.message()));
+        return exportOptions.status();
+    }
+    options.exportOptions = exportOptions.value();
     options.clips = &library;
     if (index >= 0 && std::size_t(index) < library.clips.size())
         options.clip = library.clips[std::size_t(index)].name;
@@ -472,7 +496,7 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
         QApplication::processEvents();
         return !progress.wasCanceled();
     };
-    if (objects.each) {
+    if (choices.each) {
         auto results = io::bakeEachObject(m_document->scene(), options);
         progress.reset();
         if (!results) {

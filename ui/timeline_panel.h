@@ -25,11 +25,12 @@ namespace softtouch::ui {
 
 class FrameRuler;
 
-/// Which objects an export writes, and how (a scene of several objects).
-struct ExportObjects {
+/// How an export writes: which objects (a scene of several), and a GLB packed for shipping.
+struct ExportChoices {
     std::vector<std::string> only;  ///< These objects only, by name (empty: every object).
     bool each = false;              ///< One file per object: the name + "-OBJECT" (io::perObjectPath()).
     bool groups = false;            ///< OBJ files name each object's faces with "g OBJECT".
+    bool compress = false;          ///< A GLB packed for shipping (bake --compress; glb, pca and skin to a .glb).
 };
 
 /// Takes and clips of the open document.
@@ -78,10 +79,10 @@ public slots:
     /// Exports without asking (tests, scripts); returns the message shown. The format comes from the
     /// path's extension (vat and lattice from a base name ending _vat / _lattice), or is given (the
     /// dialog's file type: compressed morphs and skinned glTF are .glb files too) with its default
-    /// settings.
+    /// settings, for the objects the choices name and packed when they say so.
     Status exportClipTo(int index, const QString& path);
     Status exportClipTo(int index, const QString& path, const io::ExportFormat& format);
-    Status exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportObjects& objects);
+    Status exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportChoices& choices);
     /// The object "only the current object" exports (the main window passes the viewport's).
     void setCurrentObjectSource(std::function<int()> current) { m_currentObject = std::move(current); }
     /// Where the export and render dialogs start: beside the project (else the home folder), named after

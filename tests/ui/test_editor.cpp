@@ -5,6 +5,7 @@
 // viewport draws the fish in shaded and wireframe modes.
 #include "core/mesh_surface.h"
 #include "io/bake.h"
+#include "io/gltf_meshopt.h"
 #include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
 #include "io/video_encoder.h"
@@ -1125,7 +1126,7 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     const int swim = 0;
     QVERIFY(w.document()->project().clips.clips[std::size_t(swim)].name == "swim");
     const Status each = w.timeline()->exportClipTo(swim, m_dir->filePath("swim.pc2"), *io::findExportFormat("pc2"),
-                                                   ExportObjects{{}, true, false});
+                                                   ExportChoices{{}, true, false, false});
     QVERIFY2(each.ok(), each.message().c_str());
     for (std::size_t i = 0; i < 3; ++i) {
         const QString file = QString::fromStdString(io::perObjectPath((m_dir->filePath("swim.pc2")).toStdString(), scene.objects[i].name).string());
@@ -1137,7 +1138,7 @@ void TestEditor::objectsAddDuplicatePickAndDelete() {
     QDir(m_dir->path()).mkdir("seq");
     const QString sequence = m_dir->filePath("seq/swim.obj");
     const Status grouped = w.timeline()->exportClipTo(swim, sequence, *io::findExportFormat("objseq"),
-                                                      ExportObjects{{}, false, true});
+                                                      ExportChoices{{}, false, true, false});
     QVERIFY2(grouped.ok(), grouped.message().c_str());
     QFile first(QString::fromStdString(io::objSequenceFramePath(sequence.toStdString(), 0).string()));
     QVERIFY(first.open(QIODevice::ReadOnly));
@@ -1739,6 +1740,21 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QVERIFY(glbFile.open(QIODevice::ReadOnly));
     QVERIFY(glbFile.readAll().contains("\"skins\""));
     QVERIFY2(w.timeline()->statusText().contains("rigid bones"), qPrintable(w.timeline()->statusText()));
+    // Packed for shipping (the export options' "Pack for shipping"): a third of the size or less, and the
+    // status line says how large it is against a PC2. A PC2 cannot be packed, and says so.
+    const QString packedGlb = m_dir->filePath("take-skin-packed.glb");
+    ExportChoices packed;
+    packed.compress = true;
+    const Status packedSkin = w.timeline()->exportClipTo(clip, packedGlb, *io::findExportFormat("skin"), packed);
+    QVERIFY2(packedSkin.ok(), packedSkin.message().c_str());
+    QFile packedFile(packedGlb);
+    QVERIFY(packedFile.open(QIODevice::ReadOnly));
+    QVERIFY(io::usesMeshoptCompression(packedFile.readAll().toStdString()));
+    QVERIFY2(QFileInfo(packedGlb).size() * 3 < QFileInfo(glb).size(), qPrintable(QString::number(QFileInfo(packedGlb).size())));
+    QVERIFY2(w.timeline()->statusText().contains("of a PC2"), qPrintable(w.timeline()->statusText()));
+    const Status packedPc2 = w.timeline()->exportClipTo(clip, m_dir->filePath("packed.pc2"), *io::findExportFormat("pc2"), packed);
+    QVERIFY(!packedPc2.ok());
+    QVERIFY2(packedPc2.message().find("--compress") != std::string::npos, packedPc2.message().c_str());
     auto cache = io::readPc2(pc2.toStdString());
     QVERIFY2(cache.ok(), cache.message().c_str());
     QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
