@@ -96,7 +96,9 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
         options.output = job.output;
         const io::ExportFormat& format = *io::findExportFormat(job.format);  // the manifest reader checked the name
         options.format = &format;
-        options.exportOptions = io::exportOptions(format).value();  // the defaults: always valid
+        io::ExportSettings settings;
+        settings.compress = job.compress;  // the plan set it only for a format that takes it
+        options.exportOptions = io::exportOptions(format, settings).value();
         options.frames = job.frames;
         options.clips = &project->clips;
         options.clip = job.clip;

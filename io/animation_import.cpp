@@ -1,5 +1,6 @@
 #include "io/animation_import.h"
 
+#include "io/assimp_read.h"
 #include "io/isolated_import.h"
 #include "io/scene_units.h"
 
@@ -228,9 +229,10 @@ Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                            aiProcess_ValidateDataStructure;
-    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    std::string problem;
+    const aiScene* scene = readAssimpScene(importer, path, flags, problem);
     if (!scene || !scene->mRootNode)
-        return Status::error("cannot read mesh " + name + ": " + importer.GetErrorString());
+        return Status::error("cannot read mesh " + name + ": " + (scene ? std::string("it has no scene") : problem));
     AnimatedMesh result;
     for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
         const aiAnimation& take = *scene->mAnimations[a];

@@ -104,8 +104,8 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
     const JsonValue root(&*doc, "", &issues);
     if (!root.expectObject(true))
         return Status::error(issues.summary());
-    root.checkKeys({"format", "version", "scenes", "presets", "clips", "formats", "frames", "video", "outputRoot",
-                    "output", "resources"});
+    root.checkKeys({"format", "version", "scenes", "presets", "clips", "formats", "frames", "compress", "video",
+                    "outputRoot", "output", "resources"});
     if (const auto format = root["format"].string(true); format && *format != kFormat)
         root["format"].problem(std::string("expected \"") + kFormat + "\", got \"" + *format + "\"");
     if (const auto version = root["version"].integer(1, 1000000, true); version && *version > kBatchManifestVersion)
@@ -146,6 +146,15 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
         }
     if (auto f = root["frames"].integer(1, 1000000))
         m.frames = *f;
+    if (auto c = root["compress"].boolean()) {
+        m.compress = *c;
+        const bool packable = std::any_of(m.formats.begin(), m.formats.end(), [](const std::string& f) {
+            const ExportFormat* format = findExportFormat(f);
+            return format && format->takesCompress;
+        });
+        if (*c && !packable)
+            root["compress"].problem("packs glb, pca and skin outputs, and the formats list none of them");
+    }
     if (const JsonValue video = root["video"]; video.expectObject()) {
         video.checkKeys({"size"});
         const JsonValue size = video["size"];
@@ -222,6 +231,8 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
                     job.clip = clip;
                     job.format = format;
                     job.frames = manifest.frames;
+                    const ExportFormat* exportFormat = findExportFormat(format);
+                    job.compress = manifest.compress && exportFormat && exportFormat->takesCompress;
                     if (isVideoFormat(format)) {
                         job.videoWidth = manifest.videoWidth;
                         job.videoHeight = manifest.videoHeight;
@@ -253,6 +264,8 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
                     for (const std::string& field : {job.format, job.clip, std::to_string(job.frames),
                                                      std::to_string(job.videoWidth), std::to_string(job.videoHeight)})
                         hash.add(field);
+                    if (job.compress)  // only then: a library planned before the option keeps its hashes
+                        hash.add(std::string("compress"));
                     for (const fs::path& input : job.inputs)
                         if (Status s = hashFile(input, hash); !s)
                             return Status::error(manifest.path.string() + ": job " + job.id + ": " + s.message());

@@ -37,6 +37,8 @@ struct BatchManifest {
     std::vector<std::string> formats;             ///< pc2, mdd, objseq, gltf, glb, pca, skin (GLB files, at bake's
                                                   ///< default error 0.5%), vat, lattice, mp4, gif.
     int frames = 0;                               ///< Frames per output; 0: the clip's. [0, 1e6].
+    bool compress = false;                        ///< Pack the GLB outputs (glb, pca, skin) for shipping, as
+                                                  ///< bake --compress.
     int videoWidth = 640, videoHeight = 360;      ///< Size of mp4/gif previews, pixels. [16, 8192], even.
     std::filesystem::path outputRoot;             ///< Folder of the library (default: "library" beside the manifest).
     std::string output = "{scene}/{preset}/{clip}-{format}"; ///< Path of each output under outputRoot, without
@@ -52,6 +54,7 @@ struct BatchJob {
     std::string clip;                     ///< Clip to play; empty: the scene's default (or its drivers).
     std::string format;                   ///< One of BatchManifest::formats.
     int frames = 0;                       ///< As in the manifest.
+    bool compress = false;                ///< A packed GLB (the manifest's compress, for a format that takes it).
     int videoWidth = 0, videoHeight = 0;  ///< For mp4/gif.
     std::filesystem::path output;         ///< The output's path (the --out a bake or render would get).
     std::vector<std::filesystem::path> inputs; ///< Every file it reads: scene, its meshes, the preset.

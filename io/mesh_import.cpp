@@ -1,6 +1,8 @@
 #include "io/mesh_import.h"
 #include "io/isolated_import.h"
 
+#include "io/assimp_read.h"
+
 #include "io/input_file.h"
 #include "io/mesh_file_check.h"
 #include "io/scene_units.h"
@@ -34,9 +36,10 @@ Result<Mesh> readWithAssimp(const std::filesystem::path& path, const std::string
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    std::string problem;
+    const aiScene* scene = readAssimpScene(importer, path, flags, problem);
     if (!scene)
-        return Status::error("cannot read mesh " + name + ": " + importer.GetErrorString());
+        return Status::error("cannot read mesh " + name + ": " + problem);
 
     Mesh mesh;
     bool allHaveNormals = true;

@@ -186,6 +186,7 @@ void TestCliBatch::badManifestsFailCleanly_data() {
     QTest::newRow("outputs collide") << R"("pc2")" << R"(, "output": "{scene}/{clip}")" << "would both write";
     QTest::newRow("typo") << R"("pc2")" << R"(, "fromats": ["pc2"])" << "/fromats";
     QTest::newRow("odd video size") << R"("mp4")" << R"(, "video": {"size": [641, 360]})" << "/video/size: expected even";
+    QTest::newRow("nothing to pack") << R"("pc2")" << R"(, "compress": true)" << "/compress: packs glb, pca and skin outputs";
     QTest::newRow("output outside the library") << R"("pc2")" << R"(, "output": "../{scene}-{preset}-{format}")"
                                                 << "/output: expected a relative path pattern";
 }
@@ -260,7 +261,7 @@ void TestCliBatch::videoPreviewsAreRenderedHeadless() {
 }
 
 void TestCliBatch::gameReadyExportsInALibrary() {
-    // Skinned and compressed-morph GLBs beside the caches, read back by batch check (assimp).
+    // Skinned and compressed-morph GLBs beside the caches, read back by batch check (assimp); then packed.
     QTemporaryDir dir;
     const QString manifest = writeManifest(dir, R"("skin", "pca")", R"(, "frames": 8)");
     const Run run = runCli({"batch", "run", manifest, "--jobs", "2"});
@@ -269,6 +270,29 @@ void TestCliBatch::gameReadyExportsInALibrary() {
     QVERIFY(QFileInfo(dir.filePath("library/angelfish-swim/jelly/swim-pca.glb")).size() > 0);
     const Run check = runCli({"batch", "check", manifest});
     QVERIFY2(check.exitCode == 0 && check.out.contains("8 of 8 jobs done and readable"), qPrintable(check.out + check.err));
+
+    // Packed for shipping: the skinned outputs are smaller, and batch check still reads them (expanded for
+    // assimp). The setting is part of a packed job's hash: turned off, the skins are made again, the caches
+    // beside them are up to date.
+    QTemporaryDir packed;
+    const QString packedManifest = writeManifest(packed, R"("skin", "pc2")", R"(, "frames": 8, "compress": true)");
+    const Run packedRun = runCli({"batch", "run", packedManifest, "--jobs", "2"});
+    QVERIFY2(packedRun.exitCode == 0 && packedRun.out.contains("8 jobs: 8 ran"), qPrintable(packedRun.out + packedRun.err));
+    const QString skin = "library/guppy-swim/rubber/swim-skin.glb";
+    QFile packedSkin(packed.filePath(skin));
+    QVERIFY(packedSkin.open(QIODevice::ReadOnly));
+    QVERIFY(packedSkin.readAll().contains("EXT_meshopt_compression"));
+    QVERIFY2(QFileInfo(packed.filePath(skin)).size() * 2 < QFileInfo(dir.filePath(skin)).size(),
+             qPrintable(QString("%1 against %2").arg(QFileInfo(packed.filePath(skin)).size()).arg(QFileInfo(dir.filePath(skin)).size())));
+    const Run packedCheck = runCli({"batch", "check", packedManifest});
+    QVERIFY2(packedCheck.exitCode == 0 && packedCheck.out.contains("8 of 8 jobs done and readable"),
+             qPrintable(packedCheck.out + packedCheck.err));
+    writeManifest(packed, R"("skin", "pc2")", R"(, "frames": 8)");
+    const Run unpacked = runCli({"batch", "run", packedManifest, "--jobs", "2"});
+    QVERIFY2(unpacked.exitCode == 0 && unpacked.out.contains("8 jobs: 4 ran, 4 up to date"), qPrintable(unpacked.out + unpacked.err));
+    QFile unpackedSkin(packed.filePath(skin));
+    QVERIFY(unpackedSkin.open(QIODevice::ReadOnly));
+    QVERIFY(!unpackedSkin.readAll().contains("EXT_meshopt_compression"));
 }
 
 QTEST_GUILESS_MAIN(TestCliBatch)

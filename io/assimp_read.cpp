@@ -1,0 +1,40 @@
+#include "io/assimp_read.h"
+
+#include "io/gltf_meshopt.h"
+#include "io/input_file.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+
+#include <fstream>
+#include <string_view>
+
+namespace softtouch::io {
+
+const aiScene* readAssimpScene(Assimp::Importer& importer, const std::filesystem::path& path, unsigned flags,
+                              std::string& problem) {
+    // By content, as assimp itself picks its readers (io/mesh_file_check.cpp): binary glTF whatever the name.
+    char magic[4] = {};
+    std::ifstream(path, std::ios::binary).read(magic, sizeof magic);
+    if (std::string_view(magic, 4) == "glTF") {
+        auto bytes = readInputFile(path, kMaxMeshFileBytes);
+        if (bytes && usesMeshoptCompression(bytes.value())) {
+            auto expanded = expandGlb(bytes.value(), path.string());
+            if (!expanded) {
+                problem = expanded.message();
+                return nullptr;
+            }
+            // assimp keeps what it needs: the buffer may go once the scene is read.
+            const aiScene* scene = importer.ReadFileFromMemory(expanded.value().data(), expanded.value().size(), flags, "glb");
+            if (!scene)
+                problem = importer.GetErrorString();
+            return scene;
+        }
+    }
+    const aiScene* scene = importer.ReadFile(path.string(), flags);
+    if (!scene)
+        problem = importer.GetErrorString();
+    return scene;
+}
+
+}  // namespace softtouch::io
