@@ -441,7 +441,7 @@ void TimelinePanel::exportClip(int index) {
         if (packable) {
             compress = new QCheckBox(tr("Pack for shipping (EXT_meshopt_compression)"));
             compress->setObjectName("exportCompress");
-            compress->setToolTip(tr("A third of the size or less, as games ship glTF: every buffer packed losslessly, normals "
+            compress->setToolTip(tr("About a third of the size, as games ship glTF: every buffer packed losslessly, normals "
                                     "as 16-bit octahedral vectors, skin weights in 8 bits. three.js, Babylon.js and Unity's "
                                     "glTFast read it; Blender, assimp and Godot 4 do not, so keep an unpacked file for a DCC."));
             form->addRow(compress);
