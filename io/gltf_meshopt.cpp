@@ -297,8 +297,16 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             encoded.resize(meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(), count));
         } else if (how == Packing::Octahedral) {
             std::vector<float> unit(4 * count, 0.0f);
-            for (std::size_t i = 0; i < count; ++i)
-                std::memcpy(&unit[4 * i], data + 12 * i, 12);
+            for (std::size_t i = 0; i < count; ++i) {
+                float n[3];
+                std::memcpy(n, data + 12 * i, 12);
+                // The octahedral map divides by |x| + |y| + |z|: a zero or non-finite normal (glTF asks for unit
+                // ones) is stored as +z rather than as whatever a division by zero makes.
+                const double norm = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+                const bool usable = std::isfinite(norm) && norm > 1e-12;
+                for (int c = 0; c < 3; ++c)
+                    unit[4 * i + std::size_t(c)] = usable ? float(n[c] / norm) : (c == 2 ? 1.0f : 0.0f);
+            }
             decodedStride = 8;
             std::vector<unsigned char> filtered(count * decodedStride);
             meshopt_encodeFilterOct(filtered.data(), count, decodedStride, kOctahedralBits, unit.data());

@@ -250,6 +250,7 @@ private slots:
     void gltfSkinnedExportReproducesTheClip();
     void compressedGlbDecodesToTheSameBytes();
     void compressedGlbRefusesCorruptInput();
+    void compressedGlbStoresNormalsAsUnitVectors();
     void vatRoundTrip_data();
     void vatRoundTrip();
     void latticeRoundTrip_data();
@@ -885,6 +886,47 @@ void TestExports::compressedGlbRefusesCorruptInput() {
     const auto again = compressGlb(packed, "packed.glb");
     QVERIFY(!again);
     QVERIFY2(again.message().find("already compressed") != std::string::npos, again.message().c_str());
+}
+
+void TestExports::compressedGlbStoresNormalsAsUnitVectors() {
+    // A triangle whose normals are unit, zero and NaN (glTF asks for unit ones; a degenerate mesh can have
+    // others): packed and expanded, the unit one within 1e-4 rad, the others +z, never a division's garbage.
+    const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float normals[9] = {0.6f, 0.0f, 0.8f, 0, 0, 0, nan, 0, 0};
+    const std::uint32_t indices[3] = {0, 1, 2};
+    std::string bin(reinterpret_cast<const char*>(positions), 36);
+    bin.append(reinterpret_cast<const char*>(normals), 36);
+    bin.append(reinterpret_cast<const char*>(indices), 12);
+    const nlohmann::json document = {
+        {"asset", {{"version", "2.0"}}},
+        {"buffers", {{{"byteLength", 84}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}, {"target", 34962}},
+                         {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 36}, {"target", 34962}},
+                         {{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 12}, {"target", 34963}}}},
+        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"},
+                        {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+                       {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+                       {{"bufferView", 2}, {"componentType", 5125}, {"count", 3}, {"type", "SCALAR"}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}}}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"scenes", {{{"nodes", {0}}}}}};
+    const auto packed = compressGlb(joinGlb(document, bin), "triangle.glb");
+    QVERIFY2(packed, packed.message().c_str());
+    QCOMPARE(packed->octahedralNormals, 1);
+    const auto expanded = expandGlb(packed->glb, "triangle.glb");
+    QVERIFY2(expanded, expanded.message().c_str());
+    const auto [out, outBin] = splitGlb(expanded.value());
+    const nlohmann::json& accessor = out["accessors"][1];
+    QCOMPARE(accessor["componentType"].get<int>(), 5126);
+    const std::size_t offset = out["bufferViews"][accessor["bufferView"].get<std::size_t>()]["byteOffset"];
+    float values[9];
+    std::memcpy(values, outBin.data() + offset, 36);
+    const Vec3f n[3] = {Vec3f(values[0], values[1], values[2]), Vec3f(values[3], values[4], values[5]),
+                        Vec3f(values[6], values[7], values[8])};
+    QVERIFY2(std::acos(std::min(1.0f, n[0].dot(Vec3f(0.6f, 0.0f, 0.8f)))) < 1e-4f, qPrintable(QString::number(double(n[0].z()))));
+    for (int i = 1; i < 3; ++i)
+        QVERIFY2((n[i] - Vec3f(0, 0, 1)).norm() < 1e-4f, qPrintable(QString("normal %1: %2 %3 %4").arg(i).arg(double(n[i].x())).arg(double(n[i].y())).arg(double(n[i].z()))));
 }
 
 void TestExports::gltfRefusesClipsTooLongToHold() {
