@@ -178,6 +178,29 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
     return result;
 }
 
+namespace {
+
+/// The elasticity a Continuum material's painted values mean: the springs' on a uniform cell of the lattice's
+/// mean spacing (box size / (nodes - 1) along each axis). Every cell of a Bezier lattice is that cell, so it is
+/// the lattice's own network; a clamped B-spline's end cells are a third and two thirds as wide and make
+/// another solid, which is the lattice's error, not the material's (docs/lattice.md). A lone cell gives it
+/// exactly, since each spring's coefficient sums its cells' shares. The legacy spring model (a stiffness per
+/// spring, whatever the cells) means nothing beyond its own network.
+NetworkElasticity paintedElasticity(const Lattice& lattice, const LatticeMaterial& unit) {
+    if (unit.model != MaterialModel::Continuum || lattice.shape().kind == LatticeKind::Bezier)
+        return networkElasticity(lattice, unit);
+    OrientedBox cell = lattice.box();
+    for (int a = 0; a < 3; ++a)
+        cell.size[a] /= double(lattice.count(a) - 1);
+    const Lattice one = Lattice::create({LatticeKind::Bezier, {2, 2, 2}}, cell).value();  // a sub-box of a valid box
+    LatticeMaterial cellMaterial = continuumMaterial(one, 1.0, 1.0, 0.0);
+    cellMaterial.kindScale = unit.kindScale;
+    cellMaterial.anisotropy = unit.anisotropy;
+    return networkElasticity(one, cellMaterial);
+}
+
+}  // namespace
+
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree) {
     if (degree < 1 || degree > kMaxSolidDegree)
         return Status::error("the reference solid's degree must be 1 to " + std::to_string(kMaxSolidDegree) + ", not " +
@@ -192,7 +215,7 @@ Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& 
     // The springs' elasticity per unit of the painted stiffness: every spring's k is linear in its two nodes'.
     LatticeMaterial unit = material;
     std::fill(unit.stiffness.begin(), unit.stiffness.end(), 1.0);
-    const NetworkElasticity network = networkElasticity(lattice, unit);
+    const NetworkElasticity network = paintedElasticity(lattice, unit);
     if (!network.resistsEveryStrain)
         return Status::error("the springs do not resist every uniform strain (a spring kind scaled to 0), so they "
                              "describe no solid");

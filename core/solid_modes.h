@@ -67,7 +67,9 @@ struct SolidModes {
 Result<SolidModes> solidModes(const SolidField& solid, int degree, int count = 3);
 
 /// The solid a lattice material describes (either model: the painted values interpolated by the lattice's
-/// basis, the springs' elasticity per unit of them from networkElasticity()), with anchors (pinned and
+/// basis, the springs' elasticity per unit of them from networkElasticity(); for a Continuum material on a
+/// B-spline lattice, that of a uniform cell of its mean spacing, since its uneven end cells are the lattice's
+/// error), with anchors (pinned and
 /// heavy alike) held where the material holds them, carried to the reference net as resampleMaterial()
 /// carries them. Refuses void nodes: the solid fills the box.
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree);
