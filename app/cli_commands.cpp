@@ -39,10 +39,11 @@ constexpr const char* kBakeOptions = R"(  --clip NAME       A clip of the scene'
                     times the rest mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005).
   --bones K         skin: exactly K bones (1..256) instead of the fewest within --error.
   --targets K       pca: at most K morph targets, the mean included (2..256, default 33).
-  --compress        glb, pca, skin (a .glb path): pack the file for shipping with EXT_meshopt_compression
-                    (three.js, Babylon.js, Unity glTFast read it; assimp, Blender, Godot do not):
-                    positions and triangles stay bit-exact, normals become 16-bit octahedral vectors
-                    and skin weights 8-bit. Prints the size against PC2.
+  --compress        glb, pca, skin (a .glb path): pack the file for shipping with
+                    EXT_meshopt_compression (three.js, Babylon.js, Unity glTFast read it; assimp,
+                    Blender, Godot do not): positions stay bit-exact, normals become 16-bit
+                    octahedral vectors, morph targets keep 16-bit mantissas, skin weights 8 bits.
+                    Prints the size against PC2.
   --quiet           No progress output.
 )";
 

@@ -71,9 +71,10 @@ int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t co
 int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
                      std::uint32_t baseVertex);
 /// Serialises the model as .gltf (buffer embedded as a data URI) or .glb; a .glb `compress`ed for shipping
-/// (ClipExportOptions::gltfCompress, io/gltf_meshopt.h).
+/// (ClipExportOptions::gltfCompress, io/gltf_meshopt.h), with the largest change packing made to a morph-target
+/// delta (metres) in `targetChange` when given.
 Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path,
-                                  bool compress = false);
+                                  bool compress = false, double* targetChange = nullptr);
 /// Refuses --compress for a glTF JSON path (the extension packs the GLB's binary chunk).
 Status checkCompressible(const std::filesystem::path& path, bool binary, const ClipExportOptions& options);
 

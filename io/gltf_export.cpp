@@ -25,6 +25,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -102,7 +103,7 @@ int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uin
 }
 
 Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path,
-                                  bool compress) {
+                                  bool compress, double* targetChange) {
     tinygltf::TinyGLTF gltf;
     std::ostringstream out(std::ios::binary);
     if (!gltf.WriteGltfSceneToStream(&model, out, false, binary))
@@ -112,6 +113,8 @@ Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, con
     auto packed = compressGlb(out.str(), "cannot write " + quoted(path));
     if (!packed)
         return packed.status();
+    if (targetChange)
+        *targetChange = packed->largestChange;
     return std::move(packed->glb);
 }
 
@@ -304,10 +307,27 @@ public:
         }
         m_model->animations.push_back(animation);
 
-        Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path, m_options.gltfCompress);
+        double targetChange = 0.0;
+        Result<std::string> bytes = detail::serializeGltf(*m_model, m_binary, m_path, m_options.gltfCompress, &targetChange);
         m_model.reset();
         if (!bytes)
             return Status::error(bytes.message());
+        if (targetChange > 0.0) {
+            // A vertex moves by Σ weight × delta, so packing moves it by at most √3 × the heaviest key's Σ|weight| ×
+            // the largest change of a delta component.
+            double heaviest = 0.0;
+            for (std::size_t f = 0; f < frames; ++f) {
+                double sum = 0.0;
+                for (std::size_t t = 0; t < targets; ++t)
+                    sum += std::abs(double(weights[f * targets + t]));
+                heaviest = std::max(heaviest, sum);
+            }
+            const double diagonal = std::max(1e-12, m_setup.restMesh.bounds().diagonal());
+            char line[200];
+            std::snprintf(line, sizeof line, "packed: morph-target deltas within %.2g m (16-bit mantissas), so every vertex "
+                          "within %.2g of the diagonal of the unpacked file", targetChange, std::sqrt(3.0) * heaviest * targetChange / diagonal);
+            m_notes.push_back(detail::quoted(m_path) + ": " + line);
+        }
         std::vector<std::unique_ptr<detail::StagedFile>> files;
         files.push_back(std::make_unique<detail::StagedFile>(m_path));
         if (Status s = files.front()->write(bytes.value()); !s)

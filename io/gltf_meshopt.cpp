@@ -11,7 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -34,6 +36,10 @@ constexpr std::size_t kMaxExpandedBytes = std::size_t(1) << 31;
 constexpr std::size_t kMaxExpansion = 128;
 /// Bits per octahedral component for normals: 16 (stride 8) keeps them within 1e-4 rad.
 constexpr int kOctahedralBits = 16;
+/// Mantissa bits of morph-target deltas (the EXPONENTIAL filter, an exponent for every value: each within 2^-15
+/// of itself). meshoptimizer 0.18 can share one exponent across a vector, but takes an exact 0 for exponent 0
+/// then, which rounds the vector's other values to 2^-15 whatever their size.
+constexpr int kExponentBits = 16;
 
 constexpr int kFloat = 5126, kShort = 5122, kByte = 5120, kUnsignedShort = 5123, kUnsignedInt = 5125;
 
@@ -167,8 +173,18 @@ void forEachPrimitive(json& document, F&& f) {
                     f(primitive);
 }
 
+/// Per-axis bounds of float triples.
+struct Vec3Bounds {
+    std::array<float, 3> min{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    std::array<float, 3> max{-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+    void add(std::size_t axis, float x) {
+        min[axis] = std::min(min[axis], x);
+        max[axis] = std::max(max[axis], x);
+    }
+};
+
 /// How compressGlb() stores a view.
-enum class Packing { Raw, Attributes, Triangles, Octahedral };
+enum class Packing { Raw, Attributes, Triangles, Octahedral, Exponential };
 
 Result<GlbCompression> compress(std::string_view bytes, const std::string& name);
 Result<std::string> expand(std::string_view bytes, const std::string& name);
@@ -224,7 +240,7 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
     std::vector<std::size_t> element(viewCount, 0), users(viewCount, 0);
     std::vector<char> unsuitable(viewCount, 0);
     std::vector<Packing> packing(viewCount, Packing::Attributes);
-    std::vector<std::size_t> normalAccessor(viewCount, 0);
+    std::vector<std::size_t> filteredAccessor(viewCount, 0);  // the NORMAL or morph target a filter serves
     for (const json& accessor : accessors) {
         const auto v = natural(accessor, "bufferView");
         if (!v || *v >= viewCount)
@@ -254,9 +270,22 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             if (v && *v < viewCount && users[*v] == 1 && natural(accessor, "componentType").value_or(0) == kFloat &&
                 componentCount(accessor) == 3 && !accessor.value("normalized", false)) {
                 packing[*v] = Packing::Octahedral;
-                normalAccessor[*v] = *a;
+                filteredAccessor[*v] = *a;
             }
         }
+        // Morph targets: float deltas the byte codec barely shrinks; with shorter mantissas it does.
+        if (primitive.contains("targets") && primitive["targets"].is_array())
+            for (const json& target : primitive["targets"])
+                for (const char* semantic : {"POSITION", "NORMAL"})
+                    if (const auto a = natural(target, semantic); a && *a < accessors.size()) {
+                        const json& accessor = accessors[*a];
+                        const auto v = natural(accessor, "bufferView");
+                        if (v && *v < viewCount && users[*v] == 1 && natural(accessor, "componentType").value_or(0) == kFloat &&
+                            componentCount(accessor) == 3 && !accessor.value("normalized", false)) {
+                            packing[*v] = Packing::Exponential;
+                            filteredAccessor[*v] = *a;
+                        }
+                    }
     });
 
     GlbCompression result;
@@ -312,13 +341,41 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             meshopt_encodeFilterOct(filtered.data(), count, decodedStride, kOctahedralBits, unit.data());
             encoded.resize(meshopt_encodeVertexBufferBound(count, decodedStride));
             encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), filtered.data(), count, decodedStride));
+        } else if (how == Packing::Exponential) {
+            std::vector<float> values(3 * count);
+            std::memcpy(values.data(), data, 12 * count);
+            if (!std::all_of(values.begin(), values.end(), [](float x) { return std::isfinite(x); })) {
+                how = Packing::Attributes;  // the filter takes finite values only: losslessly instead
+                encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
+                encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), data, count, stride));
+            } else {
+                std::vector<unsigned char> filtered(12 * count);
+                meshopt_encodeFilterExp(filtered.data(), 3 * count, 4, kExponentBits, values.data());  // decoded one by one
+                encoded.resize(meshopt_encodeVertexBufferBound(count, 12));
+                encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), filtered.data(), count, 12));
+                // What a reader gets back: its largest change is reported, and POSITION's bounds must be its own.
+                std::vector<float> decoded(3 * count);
+                std::memcpy(decoded.data(), filtered.data(), 12 * count);
+                meshopt_decodeFilterExp(decoded.data(), count, 12);
+                json& accessor = accessors[filteredAccessor[v]];
+                Vec3Bounds bounds;
+                for (std::size_t i = 0; i < 3 * count; ++i) {
+                    result.largestChange = std::max(result.largestChange, double(std::abs(decoded[i] - values[i])));
+                    bounds.add(i % 3, decoded[i]);
+                }
+                if (accessor.contains("min") && accessor.contains("max") && count > 0) {
+                    accessor["min"] = bounds.min;
+                    accessor["max"] = bounds.max;
+                }
+            }
         } else if (how == Packing::Attributes) {
             encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
             encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), data, count, stride));
         }
-        // Small views (a handful of keys) can grow under the codec: those stay as they are. Normals always
-        // go through it, since only its filter turns the octahedral bytes back into vectors.
-        if (how == Packing::Raw || (how != Packing::Octahedral && encoded.size() >= *length)) {
+        // Small views (a handful of keys) can grow under the codec: those stay as they are. Filtered views always
+        // go through it, since only its filter turns their bytes back into vectors.
+        const bool filtered = how == Packing::Octahedral || how == Packing::Exponential;
+        if (how == Packing::Raw || (!filtered && encoded.size() >= *length)) {
             padTo4(packed, '\0');
             view["buffer"] = 0;
             view["byteOffset"] = packed.size();
@@ -337,12 +394,16 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
         if (how == Packing::Octahedral) {
             extension["filter"] = "OCTAHEDRAL";
             view["byteStride"] = decodedStride;  // three shorts and a pad: a vertex attribute needs the stride
-            json& accessor = accessors[normalAccessor[v]];
+            json& accessor = accessors[filteredAccessor[v]];
             accessor["componentType"] = kShort;
             accessor["normalized"] = true;
             accessor.erase("min");
             accessor.erase("max");
             ++result.octahedralNormals;
+        }
+        if (how == Packing::Exponential) {
+            extension["filter"] = "EXPONENTIAL";
+            ++result.exponentialViews;
         }
         packed.append(reinterpret_cast<const char*>(encoded.data()), encoded.size());
         fallbackSize = (fallbackSize + 7) / 8 * 8;

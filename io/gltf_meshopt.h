@@ -1,10 +1,12 @@
 #pragma once
 /// GLB compression for shipping, the way game pipelines pack glTF (gltfpack): every buffer view through
 /// EXT_meshopt_compression (meshoptimizer's byte codecs: lossless, decoded by three.js, Babylon.js and Unity's
-/// glTFast), and the mesh's normals as 16-bit octahedral vectors (the extension's OCTAHEDRAL filter
-/// on KHR_mesh_quantization's normalized shorts, the one lossy step: under 1e-4 rad). Nothing is reordered:
+/// glTFast). Two steps are lossy: the mesh's normals become 16-bit octahedral vectors (the extension's
+/// OCTAHEDRAL filter on KHR_mesh_quantization's normalized shorts: under 1e-4 rad), and morph-target deltas
+/// keep 16-bit mantissas (the EXPONENTIAL filter: each value within 2^-15 of itself). Nothing is reordered:
 /// positions, weights, joints and animation keys decode to the bytes that went in (the triangle codec may
-/// start a triangle at another corner), so the vertices stay bit-compatible with the other exports. docs/formats.md, "Compressed GLB".
+/// start a triangle at another corner), so the vertices stay bit-compatible with the other exports.
+/// docs/formats.md, "Compressed GLB".
 
 #include "core/result.h"
 
@@ -22,6 +24,8 @@ struct GlbCompression {
     int views = 0;                   ///< Buffer views.
     int compressedViews = 0;         ///< Views stored through the extension (the rest are too small to gain).
     int octahedralNormals = 0;       ///< NORMAL attributes stored as 16-bit octahedral vectors.
+    int exponentialViews = 0;        ///< Morph-target deltas stored with 16-bit mantissas.
+    double largestChange = 0.0;      ///< Largest change of a morph-target delta component, in its units (metres).
 };
 
 /// Compresses a GLB whose data lies in its binary chunk (as SoftTouch's exports write them). `name` names

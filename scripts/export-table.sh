@@ -23,7 +23,7 @@ mkdir -p "$out/seq"; bake --out "$out/seq/c.obj" >/dev/null; row objseq "24 OBJ 
 bake --out "$out/m.glb" >/dev/null; row "glb (one target a frame)" "1 file" "$(bytes "$out/m.glb")" "1e-9 of the diagonal (round trip)"
 n=$(bake --out "$out/p.glb" --format pca | note); row "pca (--error 0.005)" "1 file" "$(bytes "$out/p.glb")" "$n"
 n=$(bake --out "$out/s.glb" --format skin | note); row "skin (--error 0.005)" "1 file" "$(bytes "$out/s.glb")" "$n"
-n=$(bake --out "$out/pz.glb" --format pca --compress | note); row "pca --compress" "1 file" "$(bytes "$out/pz.glb")" "$n; normals 16-bit octahedral"
+n=$(bake --out "$out/pz.glb" --format pca --compress | note); row "pca --compress" "1 file" "$(bytes "$out/pz.glb")" "$n; normals 16-bit octahedral, targets 16-bit mantissas"
 n=$(bake --out "$out/sz.glb" --format skin --compress | note); row "skin --compress" "1 file" "$(bytes "$out/sz.glb")" "$n; 8-bit weights, normals 16-bit octahedral"
 bake --out "$out/v" --format vat >/dev/null; row vat "2 EXR + GLB + JSON" "$(bytes "$out"/v.vat*)" "half float (≤ 4.5e-6 of the diagonal)"
 bake --out "$out/l" --format lattice >/dev/null; row lattice "GLB + BIN" "$(bytes "$out"/l.lattice.*)" "float32 (≤ 2.8e-7 of the diagonal on the GPU)"

@@ -25,12 +25,15 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 
 #include <sys/stat.h>
@@ -764,8 +767,9 @@ std::string joinGlb(const nlohmann::json& document, std::string bin) {
 
 void TestExports::compressedGlbDecodesToTheSameBytes() {
     // Compressed morphs, packed and unpacked: every accessor decodes to the bytes the plain export holds
-    // (positions, targets, keys), except the normals, which come back as 16-bit octahedral vectors within
-    // 1e-4 rad, and the triangles, which may start at another corner. Only a GLB takes --compress, and only the formats that write one.
+    // (positions, keys), except the normals, which come back as 16-bit octahedral vectors within 1e-4 rad,
+    // the morph targets, each value within 2^-15 of itself (16-bit mantissas) and with bounds that are the
+    // decoded values', and the triangles, which may start at another corner. Only a GLB takes --compress, and only the formats that write one.
     QTemporaryDir dir;
     const fs::path plainPath = fs::path(dir.path().toStdString()) / "plain.glb";
     const fs::path packedPath = plainPath.parent_path() / "packed.glb";
@@ -789,7 +793,12 @@ void TestExports::compressedGlbDecodesToTheSameBytes() {
     QVERIFY(unpacked.extensionsRequired.empty());
     const int normals = plain.meshes.at(0).primitives.at(0).attributes.at("NORMAL");
     const int indices = plain.meshes.at(0).primitives.at(0).indices;
-    double worstAngle = 0.0;
+    std::set<int> targets;
+    for (const auto& target : plain.meshes.at(0).primitives.at(0).targets)
+        for (const auto& [semantic, accessor] : target)
+            targets.insert(accessor);
+    QVERIFY(targets.size() >= 2);  // at least the mean, positions and normals
+    double worstAngle = 0.0, worstTarget = 0.0;
     for (int a = 0; a < int(plain.accessors.size()); ++a) {
         QCOMPARE(unpacked.accessors[std::size_t(a)].count, plain.accessors[std::size_t(a)].count);
         const std::string before = accessorBytes(plain, a), after = accessorBytes(unpacked, a);
@@ -805,6 +814,28 @@ void TestExports::compressedGlbDecodesToTheSameBytes() {
             }
             continue;
         }
+        if (targets.count(a)) {
+            const tinygltf::Accessor& unpackedAccessor = unpacked.accessors[std::size_t(a)];
+            std::array<float, 3> lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+            for (std::size_t i = 0; i < before.size() / 12; ++i) {
+                float x[3], y[3];
+                std::memcpy(x, before.data() + 12 * i, 12);
+                std::memcpy(y, after.data() + 12 * i, 12);
+                for (int c = 0; c < 3; ++c) {
+                    QVERIFY2(std::abs(y[c] - x[c]) <= std::abs(x[c]) * 0x1p-15f,
+                             qPrintable(QString("accessor %1, vertex %2: %3 for %4").arg(a).arg(i).arg(double(y[c])).arg(double(x[c]))));
+                    worstTarget = std::max(worstTarget, double(std::abs(y[c] - x[c])));
+                    lo[std::size_t(c)] = std::min(lo[std::size_t(c)], y[c]);
+                    hi[std::size_t(c)] = std::max(hi[std::size_t(c)], y[c]);
+                }
+            }
+            if (!unpackedAccessor.minValues.empty())  // POSITION's bounds: the validator compares them with the data
+                for (std::size_t c = 0; c < 3; ++c) {
+                    QCOMPARE(unpackedAccessor.minValues[c], double(lo[c]));
+                    QCOMPARE(unpackedAccessor.maxValues[c], double(hi[c]));
+                }
+            continue;
+        }
         if (a != normals) {
             QVERIFY2(after == before, qPrintable(QString("accessor %1 decodes to other bytes").arg(a)));
             continue;
@@ -816,9 +847,16 @@ void TestExports::compressedGlbDecodesToTheSameBytes() {
             worstAngle = std::max(worstAngle, std::atan2(double(x.cross(y).norm()), double(x.dot(y))));
         }
     }
-    qInfo("pca: %zu bytes packed against %lld plain; normals within %.2g rad", packed.size(), (long long)fs::file_size(plainPath),
-          worstAngle);
+    qInfo("pca: %zu bytes packed against %lld plain; normals within %.2g rad, morph-target deltas within %.2g m", packed.size(),
+          (long long)fs::file_size(plainPath), worstAngle, worstTarget);
     QVERIFY2(worstAngle > 0.0 && worstAngle <= 1e-4, qPrintable(QString::number(worstAngle)));
+    // The bake says how far packing moved the targets: the largest change, as measured here.
+    const auto said = std::find_if(packedBake.notes.begin(), packedBake.notes.end(),
+                                   [](const std::string& note) { return note.find("packed: morph-target deltas within") != std::string::npos; });
+    QVERIFY2(said != packedBake.notes.end(), packedBake.notes.front().c_str());
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "within %.2g m", worstTarget);
+    QVERIFY2(said->find(expected) != std::string::npos, qPrintable(QString::fromStdString(*said) + " / " + expected));
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFile((plainPath.parent_path() / "expanded.glb").string(), 0);
     QVERIFY2(scene != nullptr, importer.GetErrorString());

@@ -123,6 +123,7 @@ private slots:
         QTest::newRow("skinned") << "skin" << "swim-skin.glb" << "swim-skin.glb" << 0.985 << false;
         QTest::newRow("skinned, compressed") << "skin" << "swim-packed.glb" << "swim-packed.glb" << 0.985 << true;
         QTest::newRow("morph") << "pca" << "swim-pca.glb" << "swim-pca.glb" << 0.975 << false;
+        QTest::newRow("morph, compressed") << "pca" << "swim-packed.glb" << "swim-packed.glb" << 0.975 << true;
         QTest::newRow("vat") << "vat" << "swim" << "swim.vat.json" << 0.985 << false;
         QTest::newRow("lattice") << "lattice" << "swim" << "swim.lattice.bin" << 0.985 << false;
     }
