@@ -252,6 +252,18 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             unsuitable[*v] = 1;
         element[*v] = size;
     }
+    // A filter rewrites a view's bytes as its accessor reads them: only for float triples alone on their view.
+    auto filter = [&](std::optional<std::size_t> a, Packing how) {
+        if (!a || *a >= accessors.size())
+            return;
+        const json& accessor = accessors[*a];
+        const auto v = natural(accessor, "bufferView");
+        if (v && *v < viewCount && users[*v] == 1 && natural(accessor, "componentType").value_or(0) == kFloat &&
+            componentCount(accessor) == 3 && !accessor.value("normalized", false)) {
+            packing[*v] = how;
+            filteredAccessor[*v] = *a;
+        }
+    };
     forEachPrimitive(document, [&](json& primitive) {
         const std::size_t mode = natural(primitive, "mode").value_or(4);
         if (const auto a = natural(primitive, "indices"); a && *a < accessors.size()) {
@@ -264,28 +276,12 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
                 unsuitable[*v] = 1;  // the attribute codec needs a multiple of 4 bytes; other index lists stay raw
         }
         const json& attributes = primitive.contains("attributes") ? primitive["attributes"] : json();
-        if (const auto a = natural(attributes, "NORMAL"); a && *a < accessors.size()) {
-            const json& accessor = accessors[*a];
-            const auto v = natural(accessor, "bufferView");
-            if (v && *v < viewCount && users[*v] == 1 && natural(accessor, "componentType").value_or(0) == kFloat &&
-                componentCount(accessor) == 3 && !accessor.value("normalized", false)) {
-                packing[*v] = Packing::Octahedral;
-                filteredAccessor[*v] = *a;
-            }
-        }
+        filter(natural(attributes, "NORMAL"), Packing::Octahedral);
         // Morph targets: float deltas the byte codec barely shrinks; with shorter mantissas it does.
         if (primitive.contains("targets") && primitive["targets"].is_array())
             for (const json& target : primitive["targets"])
                 for (const char* semantic : {"POSITION", "NORMAL"})
-                    if (const auto a = natural(target, semantic); a && *a < accessors.size()) {
-                        const json& accessor = accessors[*a];
-                        const auto v = natural(accessor, "bufferView");
-                        if (v && *v < viewCount && users[*v] == 1 && natural(accessor, "componentType").value_or(0) == kFloat &&
-                            componentCount(accessor) == 3 && !accessor.value("normalized", false)) {
-                            packing[*v] = Packing::Exponential;
-                            filteredAccessor[*v] = *a;
-                        }
-                    }
+                    filter(natural(target, semantic), Packing::Exponential);
     });
 
     GlbCompression result;
