@@ -5,6 +5,7 @@
 
 #include "io/gltf_meshopt.h"
 
+#include "io/input_file.h"
 #include "io/json_reader.h"
 
 #include <meshoptimizer.h>
@@ -16,6 +17,7 @@
 #include <limits>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <optional>
 #include <vector>
 
@@ -161,6 +163,14 @@ void removeExtension(json& document, const char* list, const char* name) {
         document.erase(list);
 }
 
+/// Whether a glTF document lists EXT_meshopt_compression among the extensions it uses.
+bool listsMeshopt(const json& document) {
+    if (!document.is_object())
+        return false;
+    const auto used = document.find("extensionsUsed");
+    return used != document.end() && used->is_array() && std::find(used->begin(), used->end(), kMeshopt) != used->end();
+}
+
 /// Every primitive of every mesh, morph targets aside.
 template <class F>
 void forEachPrimitive(json& document, F&& f) {
@@ -193,10 +203,22 @@ Result<std::string> expand(std::string_view bytes, const std::string& name);
 
 bool usesMeshoptCompression(std::string_view glb) {
     auto parsed = parseGlb(glb, "GLB");
-    if (!parsed)
+    return parsed && listsMeshopt(parsed->document);
+}
+
+bool fileUsesMeshoptCompression(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    char header[20] = {};
+    in.read(header, sizeof header);
+    if (in.gcount() < 20 || std::string_view(header, 4) != "glTF" || readU32(header + 16) != kJsonChunk)
         return false;
-    const json& used = parsed->document.contains("extensionsUsed") ? parsed->document["extensionsUsed"] : json();
-    return used.is_array() && std::find(used.begin(), used.end(), kMeshopt) != used.end();
+    std::string text(std::min<std::size_t>(readU32(header + 12), kMaxJsonFileBytes), '\0');
+    in.read(text.data(), std::streamsize(text.size()));
+    if (std::size_t(in.gcount()) != text.size())
+        return false;
+    JsonIssues issues(path.string());
+    const auto document = parseJsonText(text, issues);
+    return document && listsMeshopt(*document);
 }
 
 // Both take JSON from the file: a member of an unexpected type (nlohmann's type_error) becomes the file's error.
@@ -224,7 +246,7 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
         return parsed.status();
     json& document = parsed->document;
     const std::string& bin = parsed->bin;
-    if (usesMeshoptCompression(bytes))
+    if (listsMeshopt(document))
         return Status::error(name + " is already compressed (" + kMeshopt + ")");
     const json& buffers = document.contains("buffers") ? document["buffers"] : json();
     if (!buffers.is_array() || buffers.size() != 1 || buffers[0].contains("uri"))
@@ -285,6 +307,7 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
     });
 
     GlbCompression result;
+    int compressedViews = 0;  // through the extension; the rest are too small to gain
     std::string packed;          // the new binary chunk: compressed views and views too small to gain
     std::size_t fallbackSize = 0;  // the decoded layout, in the placeholder buffer
     for (std::size_t v = 0; v < viewCount; ++v) {
@@ -304,6 +327,14 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
         if (how == Packing::Triangles && (*length / stride) % 3 != 0)
             how = Packing::Raw;
         const std::size_t count = stride == 0 ? 0 : *length / stride;
+        if (how == Packing::Exponential) {  // the filter takes finite values only: those views go losslessly
+            for (std::size_t i = 0; i < 3 * count && how == Packing::Exponential; ++i) {
+                float x;
+                std::memcpy(&x, data + 4 * i, 4);
+                if (!std::isfinite(x))
+                    how = Packing::Attributes;
+            }
+        }
         std::vector<unsigned char> encoded;
         std::size_t decodedStride = stride;
         if (how == Packing::Triangles) {
@@ -340,29 +371,23 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
         } else if (how == Packing::Exponential) {
             std::vector<float> values(3 * count);
             std::memcpy(values.data(), data, 12 * count);
-            if (!std::all_of(values.begin(), values.end(), [](float x) { return std::isfinite(x); })) {
-                how = Packing::Attributes;  // the filter takes finite values only: losslessly instead
-                encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
-                encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), data, count, stride));
-            } else {
-                std::vector<unsigned char> filtered(12 * count);
-                meshopt_encodeFilterExp(filtered.data(), 3 * count, 4, kExponentBits, values.data());  // decoded one by one
-                encoded.resize(meshopt_encodeVertexBufferBound(count, 12));
-                encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), filtered.data(), count, 12));
-                // What a reader gets back: its largest change is reported, and POSITION's bounds must be its own.
-                std::vector<float> decoded(3 * count);
-                std::memcpy(decoded.data(), filtered.data(), 12 * count);
-                meshopt_decodeFilterExp(decoded.data(), count, 12);
-                json& accessor = accessors[filteredAccessor[v]];
-                Vec3Bounds bounds;
-                for (std::size_t i = 0; i < 3 * count; ++i) {
-                    result.largestChange = std::max(result.largestChange, double(std::abs(decoded[i] - values[i])));
-                    bounds.add(i % 3, decoded[i]);
-                }
-                if (accessor.contains("min") && accessor.contains("max") && count > 0) {
-                    accessor["min"] = bounds.min;
-                    accessor["max"] = bounds.max;
-                }
+            std::vector<unsigned char> filtered(12 * count);
+            meshopt_encodeFilterExp(filtered.data(), 3 * count, 4, kExponentBits, values.data());  // decoded one by one
+            encoded.resize(meshopt_encodeVertexBufferBound(count, 12));
+            encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), filtered.data(), count, 12));
+            // What a reader gets back: its largest change is reported, and POSITION's bounds must be its own.
+            std::vector<float> decoded(3 * count);
+            std::memcpy(decoded.data(), filtered.data(), 12 * count);
+            meshopt_decodeFilterExp(decoded.data(), count, 12);
+            json& accessor = accessors[filteredAccessor[v]];
+            Vec3Bounds bounds;
+            for (std::size_t i = 0; i < 3 * count; ++i) {
+                result.largestChange = std::max(result.largestChange, double(std::abs(decoded[i] - values[i])));
+                bounds.add(i % 3, decoded[i]);
+            }
+            if (accessor.contains("min") && accessor.contains("max") && count > 0) {
+                accessor["min"] = bounds.min;
+                accessor["max"] = bounds.max;
             }
         } else if (how == Packing::Attributes) {
             encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
@@ -376,8 +401,6 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             view["buffer"] = 0;
             view["byteOffset"] = packed.size();
             packed.append(reinterpret_cast<const char*>(data), *length);
-            result.viewBytes += *length;
-            ++result.views;
             continue;
         }
         padTo4(packed, '\0');
@@ -397,10 +420,8 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
             accessor.erase("max");
             ++result.octahedralNormals;
         }
-        if (how == Packing::Exponential) {
+        if (how == Packing::Exponential)
             extension["filter"] = "EXPONENTIAL";
-            ++result.exponentialViews;
-        }
         packed.append(reinterpret_cast<const char*>(encoded.data()), encoded.size());
         fallbackSize = (fallbackSize + 7) / 8 * 8;
         view["buffer"] = 1;
@@ -408,14 +429,11 @@ Result<GlbCompression> compress(std::string_view bytes, const std::string& name)
         view["byteLength"] = count * decodedStride;
         view["extensions"][kMeshopt] = std::move(extension);
         fallbackSize += count * decodedStride;
-        result.viewBytes += *length;
-        ++result.views;
-        ++result.compressedViews;
+        ++compressedViews;
     }
     padTo4(packed, '\0');
-    result.packedBytes = packed.size();
     document["buffers"] = json::array({{{"byteLength", packed.size()}}});
-    if (result.compressedViews > 0) {
+    if (compressedViews > 0) {
         document["buffers"].push_back({{"byteLength", fallbackSize}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
         addExtension(document, "extensionsUsed", kMeshopt);
         addExtension(document, "extensionsRequired", kMeshopt);

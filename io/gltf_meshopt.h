@@ -10,21 +10,16 @@
 
 #include "core/result.h"
 
-#include <cstddef>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
 namespace softtouch::io {
 
-/// What compressGlb() did, for the export's note.
+/// What compressGlb() made, and what its export's note says of the lossy steps.
 struct GlbCompression {
     std::string glb;                 ///< The compressed file.
-    std::size_t viewBytes = 0;       ///< Binary data before (every buffer view), bytes.
-    std::size_t packedBytes = 0;     ///< Binary data after, bytes.
-    int views = 0;                   ///< Buffer views.
-    int compressedViews = 0;         ///< Views stored through the extension (the rest are too small to gain).
     int octahedralNormals = 0;       ///< NORMAL attributes stored as 16-bit octahedral vectors.
-    int exponentialViews = 0;        ///< Morph-target deltas stored with 16-bit mantissas.
     double largestChange = 0.0;      ///< Largest change of a morph-target delta component, in its units (metres).
 };
 
@@ -34,10 +29,13 @@ Result<GlbCompression> compressGlb(std::string_view glb, const std::string& name
 
 /// True when the GLB's JSON lists EXT_meshopt_compression as used (false for anything else, GLB or not).
 bool usesMeshoptCompression(std::string_view glb);
+/// The same for a file, from its header and JSON chunk only (a large plain GLB is not read whole to tell).
+bool fileUsesMeshoptCompression(const std::filesystem::path& path);
 
 /// The reverse, for readers without the extensions (assimp, tinygltf, the preview's inspection): a core
-/// glTF 2.0 GLB with every view decoded into the binary chunk and octahedral normals back as floats. Corrupt
-/// or truncated input gets an error naming the file, the view and the problem.
+/// glTF 2.0 GLB with every view decoded into the binary chunk, and normals and skin weights stored as
+/// normalized integers back as floats (the only form assimp 5.2 reads right). Corrupt or truncated input
+/// gets an error naming the file, the view and the problem.
 Result<std::string> expandGlb(std::string_view glb, const std::string& name);
 
 }  // namespace softtouch::io

@@ -50,11 +50,8 @@ void SimulationController::rebuild(bool keepState) {
     }
     // The bound and substeps are known before the first step: a paused scene shows them too.
     m_stats.stepMicros = 0.0;
-    if (m_sim) {
-        const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
-        m_stats.stableStepSeconds = m_sim->simulator(0).isExplicit() ? m_sim->simulator(0).stableStep(forces) : 0.0;
-        m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
-    }
+    if (m_sim)
+        measureStepBound();
     if (!m_problem.isEmpty())
         emit problemReported(m_problem);
     emit rebuilt();
@@ -91,14 +88,20 @@ void SimulationController::advance(double seconds) {
     const long long steps = m_sim->stepCount() - before;
     if (steps > 0)
         m_stats.stepMicros = double(cost.nsecsElapsed()) * 1e-3 / double(steps);
-    const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
-    m_stats.stableStepSeconds = m_sim->simulator(0).isExplicit() ? m_sim->simulator(0).stableStep(forces) : 0.0;
-    m_stats.substeps = m_sim->simulator(0).substepsFor(forces);
+    measureStepBound();
     m_stats.asleep = everyBodyAsleep();
     for (const std::string& p : problems)
         emit problemReported(QString::fromStdString(p));
     if (!(wasAsleep && m_stats.asleep))  // asleep before and after: no node moved, nothing to redraw
         emit stepped();
+}
+
+void SimulationController::measureStepBound() {
+    // The first body's: explicit schemes cut their steps to this bound (0 for the others), into this many substeps.
+    const Simulator& first = m_sim->simulator(0);
+    const ExternalForces forces = m_sim->forcesAt(0, m_sim->time());
+    m_stats.stableStepSeconds = first.isExplicit() ? first.stableStep(forces) : 0.0;
+    m_stats.substeps = first.substepsFor(forces);
 }
 
 bool SimulationController::everyBodyAsleep() const {

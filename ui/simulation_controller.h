@@ -104,6 +104,8 @@ signals:
 private:
     /// True when every body is asleep (its steps cost a comparison and move nothing).
     bool everyBodyAsleep() const;
+    /// Fills the stats' stable explicit step and substeps from the current state and forces.
+    void measureStepBound();
     void rebuild(bool keepState);
     void tick();
     void applyGrabs();
