@@ -6,6 +6,7 @@
 #include "core/scene.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 
 #include <algorithm>
 #include <cmath>
@@ -64,68 +65,162 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
     if (degree < 1 || degree > kMaxSolidDegree)
         return Status::error("the reference solid's degree must be 1 to " + std::to_string(kMaxSolidDegree) + ", not " +
                              std::to_string(degree));
+    return solidModes(solid, bernsteinElement(degree), count);
+}
+
+SolidElement bernsteinElement(int degree) {
+    SolidElement element;
+    element.axes.fill(AxisBasis::bezier(degree + 1));
+    return element;
+}
+
+SolidElement latticeElement(const Lattice& lattice) {
+    SolidElement element;
+    for (int a = 0; a < 3; ++a)
+        element.axes[std::size_t(a)] = lattice.axis(a);
+    return element;
+}
+
+namespace {
+
+/// Quadrature on [0,1] for one axis of an element: `perSpan` Gauss points on every knot span.
+struct AxisQuadrature {
+    std::vector<double> point;
+    std::vector<double> weight;
+    std::vector<BasisSample> sample;
+};
+
+AxisQuadrature axisQuadrature(const AxisBasis& basis, int perSpan) {
+    std::vector<double> x, w;
+    gaussLegendre(perSpan, x, w);
+    AxisQuadrature q;
+    const int spans = basis.spanCount();
+    for (int s = 0; s < spans; ++s) {
+        for (std::size_t p = 0; p < x.size(); ++p) {
+            q.point.push_back((s + x[p]) / spans);
+            q.weight.push_back(w[p] / spans);
+            q.sample.push_back(basis.sample(q.point.back()));
+        }
+    }
+    return q;
+}
+
+/// Basis values (or, with `axis` 0..2, slopes along that axis in 1/m) at every point of a tensor quadrature,
+/// one row per point (u fastest), one column per node; sparse, since a B-spline point sees (degree + 1)^3 nodes.
+Eigen::SparseMatrix<double> basisAtPoints(const std::array<AxisQuadrature, 3>& q, const std::array<int, 3>& count, const Vec3& size,
+                              int axis) {
+    const int points = int(q[0].sample.size() * q[1].sample.size() * q[2].sample.size());
+    std::vector<Eigen::Triplet<double>> entries;
+    int row = 0;
+    for (const BasisSample& sw : q[2].sample) {
+        for (const BasisSample& sv : q[1].sample) {
+            for (const BasisSample& su : q[0].sample) {
+                for (int k = 0; k < sw.order; ++k) {
+                    for (int j = 0; j < sv.order; ++j) {
+                        for (int i = 0; i < su.order; ++i) {
+                            const int node = (su.first + i) + count[0] * ((sv.first + j) + count[1] * (sw.first + k));
+                            const std::size_t ui = std::size_t(i), vj = std::size_t(j), wk = std::size_t(k);
+                            double value = su.value[ui] * sv.value[vj] * sw.value[wk];
+                            if (axis == 0)
+                                value = su.slope[ui] * sv.value[vj] * sw.value[wk] / size.x();
+                            else if (axis == 1)
+                                value = su.value[ui] * sv.slope[vj] * sw.value[wk] / size.y();
+                            else if (axis == 2)
+                                value = su.value[ui] * sv.value[vj] * sw.slope[wk] / size.z();
+                            entries.emplace_back(row, node, value);
+                        }
+                    }
+                }
+                ++row;
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> out(points, count[0] * count[1] * count[2]);
+    out.setFromTriplets(entries.begin(), entries.end());
+    return out;
+}
+
+/// Aᵀ diag(w) B as a dense matrix: through dense products where the basis is dense (a Bezier element's points
+/// see every node), sparse ones where it is not.
+Eigen::MatrixXd weightedProduct(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& w, const Eigen::SparseMatrix<double>& b) {
+    if (4 * a.nonZeros() > a.rows() * a.cols())
+        return Eigen::MatrixXd(a).transpose() * w.asDiagonal() * Eigen::MatrixXd(b);
+    return Eigen::MatrixXd(Eigen::SparseMatrix<double>(a.transpose() * w.asDiagonal() * b));
+}
+
+/// The field `f` at every point of the tensor quadrature times its weight and the box volume; fails on a value
+/// that is negative or not finite (or zero, when `positive`).
+Result<Eigen::VectorXd> weightedField(const std::array<AxisQuadrature, 3>& q, const Vec3& size,
+                                      const std::function<double(const Vec3&)>& f, bool positive) {
+    Eigen::VectorXd out(Eigen::Index(q[0].weight.size() * q[1].weight.size() * q[2].weight.size()));
+    Eigen::Index row = 0;
+    for (std::size_t c = 0; c < q[2].weight.size(); ++c) {
+        for (std::size_t b = 0; b < q[1].weight.size(); ++b) {
+            for (std::size_t a = 0; a < q[0].weight.size(); ++a, ++row) {
+                const Vec3 s(q[0].point[a], q[1].point[b], q[2].point[c]);
+                const double value = f(s);
+                if (!std::isfinite(value) || value < 0.0 || (positive && value == 0.0))
+                    return Status::error("the solid's density or modulus is not positive and finite at (" +
+                                         std::to_string(s.x()) + ", " + std::to_string(s.y()) + ", " +
+                                         std::to_string(s.z()) + ")");
+                out[row] = value * q[0].weight[a] * q[1].weight[b] * q[2].weight[c] * size.prod();
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count) {
     if (!solid.size.allFinite() || solid.size.minCoeff() <= 0.0)
         return Status::error("the solid's box has a side that is not a positive length");
     if (!solid.modulus || !solid.density)
         return Status::error("the solid has no modulus or density field");
-    const int n1 = degree + 1;
-    const int nodes = n1 * n1 * n1;
+    std::array<int, 3> counts{};
+    int degree = 0;
+    for (int a = 0; a < 3; ++a) {
+        counts[std::size_t(a)] = element.axes[std::size_t(a)].count();
+        degree = std::max(degree, element.axes[std::size_t(a)].degree());
+        if (counts[std::size_t(a)] < 2)
+            return Status::error("the element has no basis along axis " + std::to_string(a));
+    }
+    const int nodes = counts[0] * counts[1] * counts[2];
     if (!solid.pinned.empty() && int(solid.pinned.size()) != nodes)
         return Status::error("the solid's pinned flags name " + std::to_string(solid.pinned.size()) + " nodes, not " +
                              std::to_string(nodes));
+    if (element.stiffnessPoints < 0)
+        return Status::error("the element's stiffness quadrature has a negative number of points");
 
-    // Quadrature: degree + 3 points per axis integrate N_i N_j (degree 2·degree) times a cubic density exactly.
-    const int q1 = degree + 3;
-    std::vector<double> qx, qw;
-    gaussLegendre(q1, qx, qw);
-    const AxisBasis basis = AxisBasis::bezier(n1);
-    std::vector<BasisSample> samples;
-    for (double x : qx)
-        samples.push_back(basis.sample(x));
-
-    const int points = q1 * q1 * q1;
-    Eigen::MatrixXd value(points, nodes);
-    std::array<Eigen::MatrixXd, 3> gradient{Eigen::MatrixXd(points, nodes), Eigen::MatrixXd(points, nodes),
-                                            Eigen::MatrixXd(points, nodes)};
-    Eigen::VectorXd massWeight(points), stiffnessWeight(points);
-    const double volume = solid.size.prod();
-    for (int c = 0, q = 0; c < q1; ++c) {
-        for (int b = 0; b < q1; ++b) {
-            for (int a = 0; a < q1; ++a, ++q) {
-                const Vec3 s(qx[std::size_t(a)], qx[std::size_t(b)], qx[std::size_t(c)]);
-                const double w = qw[std::size_t(a)] * qw[std::size_t(b)] * qw[std::size_t(c)] * volume;
-                const double rho = solid.density(s), e = solid.modulus(s);
-                if (!std::isfinite(rho) || rho <= 0.0 || !std::isfinite(e) || e < 0.0)
-                    return Status::error("the solid's density or modulus is not positive and finite at (" +
-                                         std::to_string(s.x()) + ", " + std::to_string(s.y()) + ", " + std::to_string(s.z()) + ")");
-                massWeight[q] = w * rho;
-                stiffnessWeight[q] = w * e;
-                const BasisSample& su = samples[std::size_t(a)];
-                const BasisSample& sv = samples[std::size_t(b)];
-                const BasisSample& sw = samples[std::size_t(c)];
-                for (int k = 0; k < n1; ++k) {
-                    for (int j = 0; j < n1; ++j) {
-                        for (int i = 0; i < n1; ++i) {
-                            const int node = i + n1 * (j + n1 * k);
-                            const double nu = su.value[std::size_t(i)], nv = sv.value[std::size_t(j)], nw = sw.value[std::size_t(k)];
-                            value(q, node) = nu * nv * nw;
-                            gradient[0](q, node) = su.slope[std::size_t(i)] * nv * nw / solid.size.x();
-                            gradient[1](q, node) = nu * sv.slope[std::size_t(j)] * nw / solid.size.y();
-                            gradient[2](q, node) = nu * nv * sw.slope[std::size_t(k)] / solid.size.z();
-                        }
-                    }
-                }
-            }
-        }
+    // degree + 3 points per span integrate N_i N_j (degree 2·degree) times a cubic density exactly, and
+    // ∂N_i ∂N_j times a cubic modulus.
+    std::array<AxisQuadrature, 3> massPoints, stiffnessPoints;
+    for (int a = 0; a < 3; ++a) {
+        const AxisBasis& basis = element.axes[std::size_t(a)];
+        massPoints[std::size_t(a)] = axisQuadrature(basis, basis.degree() + 3);
+        stiffnessPoints[std::size_t(a)] =
+            axisQuadrature(basis, element.stiffnessPoints > 0 ? element.stiffnessPoints : basis.degree() + 3);
     }
+    const auto massWeight = weightedField(massPoints, solid.size, solid.density, true);
+    if (!massWeight)
+        return massWeight.status();
+    const auto stiffnessWeight = weightedField(stiffnessPoints, solid.size, solid.modulus, false);
+    if (!stiffnessWeight)
+        return stiffnessWeight.status();
+    const Eigen::SparseMatrix<double> value = basisAtPoints(massPoints, counts, solid.size, -1);
+    const std::array<Eigen::SparseMatrix<double>, 3> gradient{basisAtPoints(stiffnessPoints, counts, solid.size, 0),
+                                                  basisAtPoints(stiffnessPoints, counts, solid.size, 1),
+                                                  basisAtPoints(stiffnessPoints, counts, solid.size, 2)};
 
-    // Scalar matrices: mass ∫ρ N_i N_j and G^(kl) = ∫ e ∂_k N_i ∂_l N_j.
-    const Eigen::MatrixXd mass = value.transpose() * massWeight.asDiagonal() * value;
+    // Scalar matrices: mass ∫ρ N_i N_j (lumped: its row sums ∫ρ N_i, since the basis sums to 1) and
+    // G^(kl) = ∫ e ∂_k N_i ∂_l N_j.
+    Eigen::MatrixXd mass = weightedProduct(value, massWeight.value(), value);
+    if (element.mass == SolidMass::Lumped)
+        mass = Eigen::MatrixXd(mass.rowwise().sum().asDiagonal());
     std::array<std::array<Eigen::MatrixXd, 3>, 3> g;
     for (int k = 0; k < 3; ++k) {
         for (int l = k; l < 3; ++l) {
-            g[std::size_t(k)][std::size_t(l)] = gradient[std::size_t(k)].transpose() * stiffnessWeight.asDiagonal() *
-                                                gradient[std::size_t(l)];
+            g[std::size_t(k)][std::size_t(l)] = weightedProduct(gradient[std::size_t(k)], stiffnessWeight.value(), gradient[std::size_t(l)]);
             if (l != k)
                 g[std::size_t(l)][std::size_t(k)] = g[std::size_t(k)][std::size_t(l)].transpose();
         }
@@ -141,7 +236,7 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
     if (free == 0)
         return Status::error("every node of the reference solid is pinned, so it has no modes");
     const int dof = 3 * free;
-    Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dof, dof), consistentMass = Eigen::MatrixXd::Zero(dof, dof);
+    Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dof, dof), massMatrix = Eigen::MatrixXd::Zero(dof, dof);
     for (int i = 0; i < nodes; ++i) {
         const int si = slot[std::size_t(i)];
         if (si < 0)
@@ -151,7 +246,7 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
             if (sj < 0)
                 continue;
             for (int alpha = 0; alpha < 3; ++alpha) {
-                consistentMass(3 * si + alpha, 3 * sj + alpha) = mass(i, j);
+                massMatrix(3 * si + alpha, 3 * sj + alpha) = mass(i, j);
                 for (int beta = 0; beta < 3; ++beta) {
                     double sum = 0.0;
                     for (int k = 0; k < 3; ++k) {
@@ -164,7 +259,7 @@ Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
         }
     }
 
-    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, consistentMass, Eigen::EigenvaluesOnly);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, massMatrix, Eigen::EigenvaluesOnly);
     if (solver.info() != Eigen::Success)
         return Status::error("the eigenvalue solver did not converge on the reference solid");
     const Eigen::VectorXd& lambda = solver.eigenvalues();  // ascending

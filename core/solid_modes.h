@@ -17,12 +17,14 @@
 /// frequencies fall towards the solid's as the degree rises (tests/core/test_solid_modes checks an axial
 /// rod against its closed form and the convergence in degree).
 
+#include "core/axis_basis.h"
 #include "core/lattice.h"
 #include "core/lattice_body.h"
 #include "core/result.h"
 
 #include <Eigen/Core>
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -54,7 +56,7 @@ struct SolidModes {
     std::vector<double> frequencyHz;  ///< Lowest elastic modes first, Hz.
     int degree = 0;                   ///< Bernstein degree per axis used.
     int unknowns = 0;                 ///< 3 × free reference nodes.
-    int rigidModes = 0;               ///< Zero-frequency modes skipped.
+    int rigidModes = 0;               ///< Zero-frequency modes skipped (rigid motions, and any hourglass modes).
     /// materialSolidModes() only: the largest relative change of a mode from degree P-1 to P (-1 when P = 1).
     /// A solid held at points or along lines is not held at all in the limit (elasticity feels no
     /// constraint of zero area), so such anchors never converge: its frequencies wander with the degree.
@@ -65,6 +67,37 @@ struct SolidModes {
 /// The `count` lowest elastic modes of `solid` at Bernstein degree `degree` (1..kMaxSolidDegree).
 /// Fails, saying why, on a bad degree, a field that is not positive and finite, or every node pinned.
 Result<SolidModes> solidModes(const SolidField& solid, int degree, int count = 3);
+
+/// How a discretisation of the solid carries its inertia.
+enum class SolidMass {
+    Consistent,  ///< ∫ρ N_i N_j: the Galerkin mass (non-diagonal; a simulation would need a mass solve).
+    Lumped,      ///< Row sums ∫ρ N_i on the diagonal: one mass per node, as the lattice's integrators need.
+};
+
+/// A Galerkin element over the box: a tensor-product basis per axis (Bernstein or clamped B-spline), how its
+/// mass is carried and how its stiffness is integrated. The reference is the Bernstein basis of high degree
+/// with everything exact; on a lattice's own basis it is the element a lattice would simulate if it were not
+/// springs (docs/lattice.md, "Could another element on the same net do it?").
+struct SolidElement {
+    std::array<AxisBasis, 3> axes;
+    SolidMass mass = SolidMass::Consistent;
+    /// Gauss points per knot span and axis for the stiffness; 0: degree + 3, exact for a cubic modulus (degree + 1
+    /// is exact for a constant one). Fewer than degree + 1 (reduced integration) softens the element and can leave
+    /// deformations that cost no energy.
+    int stiffnessPoints = 0;
+};
+
+/// The Bernstein element of `degree` per axis, consistent mass, exact stiffness: what solidModes(solid,
+/// degree) solves.
+SolidElement bernsteinElement(int degree);
+
+/// The lattice's own basis as an element (`mass` and `stiffnessPoints` at their defaults).
+SolidElement latticeElement(const Lattice& lattice);
+
+/// The `count` lowest elastic modes of `solid` on `element`; `solid.pinned` names the element's nodes (i +
+/// count_u (j + count_v k)). Fails as solidModes() above does. Deformations that cost no energy (a reduced
+/// integration's hourglass modes) are counted in `rigidModes` with the rigid motions.
+Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count = 3);
 
 /// The solid a lattice material describes (either model: the painted values interpolated by the lattice's
 /// basis, the springs' elasticity per unit of them from networkElasticity(); for a Continuum material on a
