@@ -180,6 +180,48 @@ private slots:
         }
     }
 
+    /// The element on a lattice's own basis: on a Bezier lattice it is the Bernstein element of its degree
+    /// (the same frequencies to round-off), and on a B-spline lattice it integrates span by span: a cubic
+    /// B-spline of 5 nodes (two spans, 225 unknowns) on the clamped cantilever is within 1% of the reference.
+    void latticeElementIsTheLatticesBasis() {
+        const Vec3 size(1.0, 0.2, 0.2);
+        SolidField bar = isotropicBar(1e6, 1000.0, size);
+        clampFirstFace(bar, kDefaultSolidDegree);
+        auto reference = solidModes(bar, kDefaultSolidDegree, 3);
+        QVERIFY2(reference, reference.message().c_str());
+        OrientedBox box;
+        box.size = size;
+        for (const LatticeKind kind : {LatticeKind::Bezier, LatticeKind::BSpline}) {
+            const Lattice lattice = Lattice::create({kind, {kind == LatticeKind::Bezier ? 4 : 5, 4, 4}}, box).value();
+            SolidField own = bar;
+            own.pinned.assign(std::size_t(lattice.nodeCount()), 0);
+            for (int k = 0; k < 4; ++k)
+                for (int j = 0; j < 4; ++j)
+                    own.pinned[std::size_t(lattice.index(0, j, k))] = 1;
+            auto modes = solidModes(own, latticeElement(lattice), 3);
+            QVERIFY2(modes, modes.message().c_str());
+            QCOMPARE(modes->rigidModes, 0);
+            if (kind == LatticeKind::Bezier) {
+                SolidField cubic = bar;
+                clampFirstFace(cubic, 3);
+                auto textbook = solidModes(cubic, 3, 3);
+                QVERIFY(textbook);
+                for (std::size_t m = 0; m < 3; ++m)
+                    QVERIFY(std::abs(modes->frequencyHz[m] / textbook->frequencyHz[m] - 1.0) < 1e-9);
+            } else {
+                for (std::size_t m = 0; m < 3; ++m) {
+                    const double error = modes->frequencyHz[m] / reference->frequencyHz[m] - 1.0;
+                    QVERIFY2(error > -1e-3 && error < 0.01, qPrintable(QString("mode %1: %2").arg(m + 1).arg(error)));
+                }
+            }
+        }
+        SolidElement negative = bernsteinElement(3);
+        negative.stiffnessPoints = -1;
+        auto refused = solidModes(isotropicBar(1e6, 1000.0, size), negative, 3);
+        QVERIFY(!refused);
+        QVERIFY2(refused.message().find("negative") != std::string::npos, refused.message().c_str());
+    }
+
     /// Could another element on the lattice's own control points meet the solid where the springs do not?
     /// The Galerkin element of the lattice's basis (core::latticeElement) on the fish's box (pinned on its
     /// last plane, the anchors carried to every lattice by extent) and the free cube, three ways (printed:
