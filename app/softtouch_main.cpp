@@ -24,8 +24,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <numbers>
 #include <set>
+#include <string>
 
 namespace {
 
@@ -106,6 +109,27 @@ bool showMode(softtouch::ui::MainWindow& window, int n, bool hold) {
     return window.viewport()->shownMode() == n;
 }
 
+/// Whether the command line asks only for text (help or version), which needs no window system.
+bool asksForTextOnly(int argc, char** argv) {
+    const std::set<std::string> text{"-h", "--help", "-?", "--help-all", "-v", "--version"};
+    for (int i = 1; i < argc; ++i) {
+        if (text.count(argv[i]))
+            return true;
+    }
+    return false;
+}
+
+/// Whether Qt has a window system to open: a display named in the environment, or a platform chosen
+/// explicitly (QT_QPA_PLATFORM, e.g. offscreen for tests, eglfs on a kiosk), which Qt then reports on itself.
+bool hasWindowSystem() {
+    for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"}) {
+        const char* value = std::getenv(name);
+        if (value && *value)
+            return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -116,10 +140,20 @@ int main(int argc, char** argv) {
     format.setDepthBufferSize(24);
     format.setSamples(4);
     QSurfaceFormat::setDefaultFormat(format);
-    QApplication app(argc, argv);
-    QApplication::setOrganizationName("SoftTouch");
-    QApplication::setApplicationName("SoftTouch");
-    QApplication::setApplicationVersion("0.1.0");
+    // --help and --version print text only, so they open no window system (they work over ssh). Anything else
+    // needs a display; without one Qt would abort with a message about its xcb plugin, so say what to do.
+    const bool textOnly = asksForTextOnly(argc, argv);
+    if (!textOnly && !hasWindowSystem()) {
+        std::fprintf(stderr, "softtouch: error: no display to open the editor on (DISPLAY and WAYLAND_DISPLAY are "
+                             "unset). Run it in a desktop session, under 'xvfb-run -a softtouch --screenshot FILE.png "
+                             "...' for a picture, or use softtouch-cli for headless work.\n");
+        return 2;
+    }
+    const std::unique_ptr<QCoreApplication> app =
+        textOnly ? std::make_unique<QCoreApplication>(argc, argv) : std::make_unique<QApplication>(argc, argv);
+    QCoreApplication::setOrganizationName("SoftTouch");
+    QCoreApplication::setApplicationName("SoftTouch");
+    QCoreApplication::setApplicationVersion("0.1.0");
 
     QCommandLineParser parser;
     parser.setApplicationDescription("SoftTouch — cartoon soft-body animation on a mass-spring Bezier lattice");
@@ -156,7 +190,7 @@ int main(int argc, char** argv) {
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
                        autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption,
                        clickOption});
-    parser.process(app);
+    parser.process(*app);  // exits after --help or --version
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;

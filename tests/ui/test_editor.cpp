@@ -196,6 +196,7 @@ private slots:
     void viewportDrawsTheFish_data();
     void viewportDrawsTheFish();
     void screenshotCommandWritesPng();
+    void editorWithoutADisplaySaysWhatToDo();
     void propertiesFieldsFitTheDock_data();
     void propertiesFieldsFitTheDock();
 
@@ -2552,6 +2553,34 @@ void TestEditor::screenshotCommandWritesPng() {
     QCOMPARE(editor.exitCode(), 1);
     QVERIFY(editor.readAll().contains("missing.softtouch"));
     QVERIFY(!QFile::exists(none));
+}
+
+void TestEditor::editorWithoutADisplaySaysWhatToDo() {
+    // Over ssh or on a farm node: --help and --version answer without a window system, and the editor
+    // itself stops with what to do instead of Qt's abort about its xcb plugin.
+    QProcess editor;
+    editor.setProcessChannelMode(QProcess::MergedChannels);
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"})
+        env.remove(name);
+    editor.setProcessEnvironment(env);
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--help"});
+    QVERIFY(editor.waitForFinished(30000));
+    const QByteArray help = editor.readAll();
+    QCOMPARE(editor.exitStatus(), QProcess::NormalExit);
+    QVERIFY2(editor.exitCode() == 0 && help.contains("--screenshot"), help.constData());
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--version"});
+    QVERIFY(editor.waitForFinished(30000));
+    QVERIFY(editor.exitCode() == 0 && editor.readAll().contains("0.1.0"));
+    const QString png = m_dir->filePath("headless.png");
+    editor.start(SOFTTOUCH_BIN_DIR "/softtouch", {"--screenshot", png, kDefaultScene});
+    QVERIFY(editor.waitForFinished(30000));
+    const QByteArray refusal = editor.readAll();
+    QCOMPARE(editor.exitStatus(), QProcess::NormalExit);
+    QCOMPARE(editor.exitCode(), 2);
+    QVERIFY2(refusal.contains("no display") && refusal.contains("xvfb-run") && refusal.contains("softtouch-cli"),
+             refusal.constData());
+    QVERIFY(!QFile::exists(png));
 }
 
 void TestEditor::propertiesFieldsFitTheDock_data() {
