@@ -67,7 +67,8 @@ Status checkExportMemory(const std::filesystem::path& target, double bytes, cons
 /// Returns the accessor index.
 int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
                      bool vertexAttribute, bool bounds);
-/// Appends triangle indices (UNSIGNED_INT) as an index accessor; returns its index.
+/// Appends triangle indices as an index accessor, 16-bit where every index lies below 65535 (else 32-bit), padded
+/// to 4 bytes; returns its index.
 int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
                      std::uint32_t baseVertex);
 /// Serialises the model as .gltf (buffer embedded as a data URI) or .glb; a .glb `compress`ed for shipping

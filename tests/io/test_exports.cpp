@@ -2,6 +2,7 @@
 // cache) against the PC2 of the same bake, and their behaviour on bad input.
 
 #include "io/bake.h"
+#include "io/clip_writer_internal.h"
 #include "io/clip_writer.h"
 #include "io/export_formats.h"
 #include "io/gltf_meshopt.h"
@@ -253,6 +254,7 @@ private slots:
     void gltfSkinnedExportReproducesTheClip();
     void compressedGlbDecodesToTheSameBytes();
     void compressedGlbRefusesCorruptInput();
+    void indicesTakeSixteenBitsWhereTheyFit();
     void compressedGlbStoresNormalsAsUnitVectors();
     void vatRoundTrip_data();
     void vatRoundTrip();
@@ -805,10 +807,15 @@ void TestExports::compressedGlbDecodesToTheSameBytes() {
         QCOMPARE(after.size(), before.size());
         if (a == indices) {
             // The triangle codec may start a triangle at another corner: the same triangles, order and winding.
-            for (std::size_t t = 0; t < before.size() / 12; ++t) {
-                std::array<std::uint32_t, 3> x, y;
-                std::memcpy(x.data(), before.data() + 12 * t, 12);
-                std::memcpy(y.data(), after.data() + 12 * t, 12);
+            // The fish's 3,656 vertices take 16-bit indices.
+            QCOMPARE(plain.accessors[std::size_t(a)].componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+            const auto corners = [](const std::string& bytes, std::size_t t) {
+                std::array<std::uint16_t, 3> c;
+                std::memcpy(c.data(), bytes.data() + 6 * t, 6);
+                return c;
+            };
+            for (std::size_t t = 0; t < before.size() / 6; ++t) {
+                const std::array<std::uint16_t, 3> x = corners(before, t), y = corners(after, t);
                 const bool same = y == x || y == std::array{x[1], x[2], x[0]} || y == std::array{x[2], x[0], x[1]};
                 QVERIFY2(same, qPrintable(QString("triangle %1 is another triangle").arg(t)));
             }
@@ -877,6 +884,31 @@ void TestExports::compressedGlbDecodesToTheSameBytes() {
     QVERIFY2(refused.message().find("packed.gltf") != std::string::npos && refused.message().find(".glb") != std::string::npos,
              refused.message().c_str());
     QVERIFY(!fs::exists(json.output));
+}
+
+void TestExports::indicesTakeSixteenBitsWhereTheyFit() {
+    // Every GLB export's triangles: 16-bit while each index (relative to its primitive's first vertex) is below
+    // 65535, the value glTF reserves; 32-bit from there. The view after them starts on 4 bytes either way.
+    for (const std::uint32_t largest : {65534u, 65535u}) {
+        tinygltf::Model model;
+        model.buffers.emplace_back();
+        model.buffers.front().data.assign(4, 0);
+        const std::uint32_t base = 10;
+        const std::vector<std::array<std::uint32_t, 3>> triangles{{10, 11, 12}, {12, 11, base + largest}, {13, 14, 15}};
+        const int a = detail::addIndexAccessor(model, triangles, base);
+        const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(a));
+        const bool narrow = largest < 65535;
+        QCOMPARE(accessor.componentType, narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+        QCOMPARE(accessor.count, std::size_t(9));
+        const std::string bytes = accessorBytes(model, a);
+        QCOMPARE(bytes.size(), std::size_t(narrow ? 18 : 36));
+        for (std::size_t i = 0; i < 9; ++i) {
+            std::uint32_t value = 0;
+            std::memcpy(&value, bytes.data() + i * (narrow ? 2 : 4), narrow ? 2 : 4);
+            QCOMPARE(value, triangles[i / 3][i % 3] - base);
+        }
+        QCOMPARE(model.buffers.front().data.size() % 4, std::size_t(0));
+    }
 }
 
 void TestExports::compressedGlbRefusesCorruptInput() {
