@@ -5,6 +5,9 @@
 
 #include "cli_run.h"
 
+#include <QDir>
+#include <QFile>
+#include <QProcess>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -28,6 +31,7 @@ private slots:
     void firstFramesOfALongClipAreTheClipsFirstFrames();
     void presetExportApplyBake();
     void badPresetWritesNothing();
+    void gltfReadsUseTinygltfsOwnLibrary();
 };
 
 void TestCliClips::bakeSwimClipOfEveryFish_data() {
@@ -159,3 +163,39 @@ void TestCliClips::badPresetWritesNothing() {
 
 QTEST_GUILESS_MAIN(TestCliClips)
 #include "test_cli_clips.moc"
+
+// libdraco (which assimp links) exports a tinygltf of its own, built with other options: its TinyGLTF has
+// another layout. softtouch-cli once bound its glTF reads to it (libdraco came first among the libraries it
+// loads), which worked by luck; a test program that did the same crashed. The dynamic linker's own report
+// (LD_DEBUG=bindings) of `preview` reading a GLB says where every tinygltf call of the program goes.
+void TestCliClips::gltfReadsUseTinygltfsOwnLibrary() {
+    QTemporaryDir dir;
+    const QString glb = dir.filePath("swim.glb");
+    QCOMPARE(runCli({"bake", kPresets + "scenes/guppy-swim.softtouch", "--clip", "swim", "--frames", "4", "--format", "skin",
+                     "--out", glb, "--quiet"}).exitCode, 0);
+    QProcess preview;
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    env.insert("LD_DEBUG", "bindings");
+    env.insert("LD_DEBUG_OUTPUT", dir.filePath("bindings"));
+    preview.setProcessEnvironment(env);
+    preview.start(test::kCli, {"preview", glb, "--out", dir.filePath("page")});
+    QVERIFY(preview.waitForFinished(120000));
+    QVERIFY2(preview.exitCode() == 0, preview.readAllStandardError().constData());
+    int toTinygltf = 0;
+    QStringList elsewhere;
+    for (const QString& name : QDir(dir.path()).entryList({"bindings.*"}, QDir::Files)) {
+        QFile log(dir.filePath(name));
+        QVERIFY(log.open(QIODevice::ReadOnly));
+        for (const QByteArray& line : log.readAll().split('\n')) {
+            // "binding file PROGRAM [0] to LIBRARY [0]: normal symbol `_ZN8tinygltf..."
+            if (!line.contains("softtouch-cli [0] to ") || !line.contains("`_ZN8tinygltf"))
+                continue;
+            if (line.contains("libtinygltf.so"))
+                ++toTinygltf;
+            else
+                elsewhere << QString::fromUtf8(line.trimmed());
+        }
+    }
+    QVERIFY2(elsewhere.isEmpty(), qPrintable(elsewhere.join('\n')));
+    QVERIFY2(toTinygltf > 0, "the dynamic linker reported no tinygltf binding of softtouch-cli");
+}
