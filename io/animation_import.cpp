@@ -224,8 +224,8 @@ std::string formatSeconds(double s) {
     return out.str();
 }
 
-Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request) {
-    Assimp::Importer importer;
+/// Reads `path` into `importer` as every animated import does; fails naming the file.
+Result<const aiScene*> readAnimatedScene(Assimp::Importer& importer, const std::filesystem::path& path, const std::string& name) {
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                            aiProcess_ValidateDataStructure;
@@ -233,15 +233,34 @@ Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::
     const aiScene* scene = readAssimpScene(importer, path, flags, problem);
     if (!scene || !scene->mRootNode)
         return Status::error("cannot read mesh " + name + ": " + (scene ? std::string("it has no scene") : problem));
-    AnimatedMesh result;
-    for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
-        const aiAnimation& take = *scene->mAnimations[a];
+    return scene;
+}
+
+/// The scene's takes; fails when it has none.
+Result<TakeList> sceneTakes(const aiScene& scene, const std::string& name) {
+    TakeList takes;
+    for (unsigned a = 0; a < scene.mNumAnimations; ++a) {
+        const aiAnimation& take = *scene.mAnimations[a];
         const double tps = take.mTicksPerSecond > 0.0 ? take.mTicksPerSecond : 25.0;
-        result.takes.emplace_back(take.mName.C_Str(), take.mDuration / tps);
+        takes.emplace_back(take.mName.C_Str(), take.mDuration / tps);
     }
-    if (result.takes.empty())
+    if (takes.empty())
         return Status::error("mesh file " + name + " has no animation (no keyed transforms, skeleton or blend-shape "
                              "weights): import it as a still mesh");
+    return takes;
+}
+
+Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request) {
+    Assimp::Importer importer;
+    const auto read = readAnimatedScene(importer, path, name);
+    if (!read)
+        return read.status();
+    const aiScene* scene = read.value();
+    AnimatedMesh result;
+    auto takes = sceneTakes(*scene, name);
+    if (!takes)
+        return takes.status();
+    result.takes = std::move(takes.value());
     int chosen = request.take.empty() ? 0 : -1;
     for (std::size_t a = 0; a < result.takes.size() && chosen < 0; ++a)
         if (result.takes[a].first == request.take)
@@ -304,6 +323,28 @@ Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::
     return result;
 }
 
+void putTakes(std::string& out, const TakeList& takes) {
+    put(out, std::uint64_t(takes.size()));
+    for (const auto& [takeName, seconds] : takes) {
+        putString(out, takeName);
+        put(out, seconds);
+    }
+}
+
+bool getTakes(Decoder& in, TakeList& takes) {
+    std::uint64_t count = 0;
+    if (!in.get(count))
+        return false;
+    for (std::uint64_t t = 0; t < count; ++t) {
+        std::string takeName;
+        double seconds = 0.0;
+        if (!in.getBytes(takeName) || !in.get(seconds))
+            return false;
+        takes.emplace_back(std::move(takeName), seconds);
+    }
+    return true;
+}
+
 void putAnimated(std::string& out, const AnimatedMesh& a) {
     putMesh(out, a.mesh);
     putString(out, a.animation.take);
@@ -313,16 +354,12 @@ void putAnimated(std::string& out, const AnimatedMesh& a) {
     put(out, std::uint64_t(a.animation.samples.size()));
     for (const auto& sample : a.animation.samples)
         putVector(out, sample);
-    put(out, std::uint64_t(a.takes.size()));
-    for (const auto& [takeName, seconds] : a.takes) {
-        putString(out, takeName);
-        put(out, seconds);
-    }
+    putTakes(out, a.takes);
     putString(out, a.unit);
 }
 
 bool getAnimated(Decoder& in, AnimatedMesh& a) {
-    std::uint64_t samples = 0, takes = 0;
+    std::uint64_t samples = 0;
     std::uint8_t loop = 0;
     if (!getMesh(in, a.mesh) || !in.getBytes(a.animation.take) || !in.get(a.animation.start) || !in.get(a.animation.rate) ||
         !in.get(loop) || !in.get(samples))
@@ -334,16 +371,7 @@ bool getAnimated(Decoder& in, AnimatedMesh& a) {
             return false;
         a.animation.samples.push_back(std::move(sample));
     }
-    if (!in.get(takes))
-        return false;
-    for (std::uint64_t t = 0; t < takes; ++t) {
-        std::string takeName;
-        double seconds = 0.0;
-        if (!in.getBytes(takeName) || !in.get(seconds))
-            return false;
-        a.takes.emplace_back(std::move(takeName), seconds);
-    }
-    return in.getBytes(a.unit);
+    return getTakes(in, a.takes) && in.getBytes(a.unit);
 }
 
 }  // namespace
@@ -351,6 +379,19 @@ bool getAnimated(Decoder& in, AnimatedMesh& a) {
 Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request) {
     return importIsolated<AnimatedMesh>(
         path, [&](const std::string& name) { return readAnimated(path, name, request); }, putAnimated, getAnimated);
+}
+
+Result<TakeList> animationTakes(const std::filesystem::path& path) {
+    return importIsolated<TakeList>(
+        path,
+        [&](const std::string& name) -> Result<TakeList> {
+            Assimp::Importer importer;
+            const auto scene = readAnimatedScene(importer, path, name);
+            if (!scene)
+                return scene.status();
+            return sceneTakes(*scene.value(), name);
+        },
+        putTakes, getTakes);
 }
 
 }  // namespace softtouch::io

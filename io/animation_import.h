@@ -26,16 +26,23 @@ struct AnimationRequest {
     bool loop = true;      ///< The take repeats: the range's end runs on into its start.
 };
 
+/// A file's takes in file order: each one's name and length, seconds.
+using TakeList = std::vector<std::pair<std::string, double>>;
+
 /// What the import found.
 struct AnimatedMesh {
     Mesh mesh;                       ///< The first sample, metres, with normals: the object's rest mesh.
     BaseAnimation animation;         ///< Every sample, metres.
-    std::vector<std::pair<std::string, double>> takes; ///< Every take of the file and its length, seconds.
+    TakeList takes;                  ///< Every take of the file and its length, seconds.
     std::string unit;                ///< The unit the file was read in and why ("centimetres (FBX UnitScaleFactor 1)").
 };
 
 /// Imports `path` and samples `request`. Errors name the file and what is wrong: no animation, an unknown
 /// take (listing the file's takes), a range outside the take, a sample count above the memory limit.
 Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request);
+
+/// The takes of `path` without sampling any (the editor's take chooser lists them before the import). Fails as
+/// importAnimatedMesh() does on a file it cannot read or one with no animation.
+Result<TakeList> animationTakes(const std::filesystem::path& path);
 
 }  // namespace softtouch::io

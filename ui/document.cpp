@@ -92,8 +92,8 @@ Status Document::importMesh(const QString& path) {
     return Status::success();
 }
 
-Status Document::importAnimatedMesh(const QString& path, QString* report) {
-    auto animated = io::importAnimatedMesh(path.toStdString(), io::AnimationRequest{});
+Status Document::importAnimatedMesh(const QString& path, const io::AnimationRequest& request, QString* report) {
+    auto animated = io::importAnimatedMesh(path.toStdString(), request);
     if (!animated)
         return Status::error(animated.message());
     // The object as a new scene would make it, moved into this scene beside the others.

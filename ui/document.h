@@ -4,6 +4,7 @@
 /// (edit_commands.h) that calls the set*() functions here; views never change the scene directly.
 
 #include "core/scene.h"
+#include "io/animation_import.h"
 #include "io/project_file.h"
 
 #include <QObject>
@@ -39,10 +40,11 @@ public:
     /// the body is too stiff for it at 240 steps/s), written explicitly when saved.
     Status importMesh(const QString& path);
     /// Adds an object (one undo step) made from a mesh file with its own animation (io/animation_import.h):
-    /// the file's first take, looping, sampled at 120 per second, on a fitted 4x4x4 Bezier lattice with the
-    /// default material and goal weight ½ on every node (core/base_motion.h). The scene's other objects stay.
-    /// `report` receives what the import found (take, length, vertices, unit).
-    Status importAnimatedMesh(const QString& path, QString* report = nullptr);
+    /// the take and range of `request` (by default the file's first take, whole, looping, sampled at 120 per
+    /// second), on a fitted 4x4x4 Bezier lattice with the default material and goal weight ½ on every node
+    /// (core/base_motion.h). The scene's other objects stay. `report` receives what the import found (take,
+    /// length, vertices, unit).
+    Status importAnimatedMesh(const QString& path, const io::AnimationRequest& request = {}, QString* report = nullptr);
 
     /// Makes `pose` (object i's lattice nodes) its rest shape as one undo step (core/rest_shape.h): the mesh
     /// takes the posed shape, the lattice returns to rest around it (its box grown where the mesh left it),

@@ -9,6 +9,7 @@
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
 #include "ui/study_panel.h"
+#include "ui/take_dialog.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
 
@@ -554,13 +555,23 @@ void MainWindow::importAnimatedMesh() {
     const QString path = QFileDialog::getOpenFileName(
         this, tr("Import Animated Mesh"), QString(),
         tr("Animated meshes (*.gltf *.glb *.fbx *.dae);;All files (*)"));
-    if (!path.isEmpty())
-        (void)importAnimatedMeshFile(path);
+    if (path.isEmpty())
+        return;
+    // Which take, which part of it, looping or not. A file that cannot be read, or has no animation, goes on
+    // to the import, whose error says so.
+    io::AnimationRequest request;
+    if (auto takes = io::animationTakes(path.toStdString())) {
+        TakeDialog choose(std::move(takes.value()), QFileInfo(path).fileName(), this);
+        if (choose.exec() != QDialog::Accepted)
+            return;
+        request = choose.request();
+    }
+    (void)importAnimatedMeshFile(path, request);
 }
 
-Status MainWindow::importAnimatedMeshFile(const QString& path) {
+Status MainWindow::importAnimatedMeshFile(const QString& path, const io::AnimationRequest& request) {
     QString report;
-    if (Status s = m_document->importAnimatedMesh(path, &report); !s) {
+    if (Status s = m_document->importAnimatedMesh(path, request, &report); !s) {
         showError(tr("Cannot import animated mesh"), QString::fromStdString(s.message()));
         return s;
     }

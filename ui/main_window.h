@@ -4,6 +4,7 @@
 /// views, tools and the simulation; a status bar with the live figures. Owns the document, its
 /// simulation and its autosave.
 
+#include "io/animation_import.h"
 #include "ui/autosave.h"
 #include "ui/viewport.h"
 
@@ -73,9 +74,10 @@ public slots:
     /// Adds a collider of `shape` below the current object (a mesh collider reads `meshPath`), selects it
     /// for the collider tool and switches to that tool; one undo step. Errors are shown and returned.
     Status addCollider(ColliderShape shape, const QString& meshPath = {});
-    /// Adds an object from a mesh file with its own animation (what File ▸ Import Animated Mesh does after
-    /// its file dialog); errors are shown and returned.
-    Status importAnimatedMeshFile(const QString& path);
+    /// Adds an object from a mesh file with its own animation, the take and range of `request` (what File ▸
+    /// Import Animated Mesh does after its file dialog and its take dialog, ui/take_dialog.h); errors are shown
+    /// and returned.
+    Status importAnimatedMeshFile(const QString& path, const io::AnimationRequest& request = {});
     /// File ▸ Add Mesh (after its file dialog): a new object from a mesh file beside the others, made the
     /// current object; errors are shown and returned.
     Status addMeshFile(const QString& path);

@@ -247,4 +247,30 @@ inline RiggedFile writeRiggedGlb(RigKind kind, const std::string& path) {
     return out;
 }
 
+/// Writes `to`: the GLB `from` (its first animation) with a second take named `name` that plays the first
+/// `speed` times as fast (its key times divided by `speed`), as a rig exported with a run beside its walk.
+inline bool writeWithSecondTake(const std::string& from, const std::string& to, const std::string& name, double speed) {
+    tinygltf::TinyGLTF io;
+    tinygltf::Model model;
+    std::string error, warning;
+    if (!io.LoadBinaryFromFile(&model, &error, &warning, from) || model.animations.empty())
+        return false;
+    tinygltf::Animation second = model.animations.front();
+    second.name = name;
+    for (tinygltf::AnimationSampler& sampler : second.samplers) {
+        const tinygltf::Accessor& input = model.accessors.at(std::size_t(sampler.input));
+        const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(input.bufferView));
+        const auto* times = reinterpret_cast<const float*>(model.buffers.at(std::size_t(view.buffer)).data.data() +
+                                                           view.byteOffset + input.byteOffset);
+        std::vector<float> faster(times, times + input.count);
+        for (float& t : faster)
+            t = float(t / speed);
+        sampler.input = rigged_detail::addAccessor(model, faster.data(), faster.size(), TINYGLTF_TYPE_SCALAR,
+                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, 4, 1, 0, {double(faster.front())},
+                                                   {double(faster.back())});
+    }
+    model.animations.push_back(second);
+    return io.WriteGltfSceneToFile(&model, to, false, true, false, true);
+}
+
 }  // namespace softtouch::test

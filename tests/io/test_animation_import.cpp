@@ -268,6 +268,41 @@ private slots:
 
     // What cannot be done says so: a still mesh has no animation, a take that is not there lists those that
     // are, a range outside the take, and the lattice cache, which cannot carry a rig's motion.
+    // A rig with two takes (its first, and a copy that plays twice as fast): both are listed without sampling
+    // either, and the second imports as its own motion, a sample at t where the first's key at 2t is.
+    void listsTakesAndImportsTheOneAskedFor() {
+        QTemporaryDir dir;
+        const std::string one = dir.filePath("rig.glb").toStdString(), two = dir.filePath("two-takes.glb").toStdString();
+        const RiggedFile rig = writeRiggedGlb(RigKind::Keyed, one);
+        QVERIFY(writeWithSecondTake(one, two, "dash", 2.0));
+        auto takes = animationTakes(two);
+        QVERIFY2(takes.ok(), takes.message().c_str());
+        QCOMPARE(takes->size(), std::size_t(2));
+        QCOMPARE(QString::fromStdString(takes->at(0).first), QString("take"));
+        QCOMPARE(QString::fromStdString(takes->at(1).first), QString("dash"));
+        QVERIFY(std::abs(takes->at(0).second - 1.0) < 1e-6 && std::abs(takes->at(1).second - 0.5) < 1e-6);
+        AnimationRequest request;
+        request.take = "dash";
+        request.rate = 48.0;
+        request.loop = false;
+        auto dash = importAnimatedMesh(two, request);
+        QVERIFY2(dash.ok(), dash.message().c_str());
+        QCOMPARE(QString::fromStdString(dash->animation.take), QString("dash"));
+        QCOMPARE(dash->animation.samples.size(), std::size_t(25));
+        const auto match = matchVertices(dash->mesh.positions, rig.rest);
+        double worst = 0.0;
+        for (int k = 0; k <= 24; ++k)
+            for (std::size_t v = 0; v < match.size(); ++v)
+                worst = std::max(worst, double((dash->animation.samples[std::size_t(k)][v] - rig.expected[std::size_t(k)][match[v]]).norm()));
+        QVERIFY2(worst <= 1e-6 * diagonalOf(rig.rest), qPrintable(QString::number(worst)));
+        auto still = animationTakes(kPresets / "meshes/guppy.obj");
+        QVERIFY(!still.ok());
+        QVERIFY2(still.message().find("guppy.obj' has no animation") != std::string::npos, still.message().c_str());
+        auto missing = animationTakes(dir.filePath("missing.glb").toStdString());
+        QVERIFY(!missing.ok());
+        QVERIFY2(missing.message().find("missing.glb") != std::string::npos, missing.message().c_str());
+    }
+
     void badRequestsFailClearly() {
         QTemporaryDir dir;
         const std::string glb = dir.filePath("rig.glb").toStdString();

@@ -18,6 +18,7 @@
 #include "ui/properties_panel.h"
 #include "ui/study_chart_view.h"
 #include "ui/study_panel.h"
+#include "ui/take_dialog.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
 
@@ -53,6 +54,7 @@
 #include <numbers>
 
 #include "../cli/cli_run.h"
+#include "../io/rigged_gltf.h"
 #include "core/modes.h"
 #include "core/solid_modes.h"
 #include "ui/material_tuning.h"
@@ -165,6 +167,7 @@ private slots:
     void strainLimitsFromTheProperties();
     void rockSceneListsItsCollider();
     void importAnimatedMeshAddsAFollowingObject();
+    void takeDialogChoosesTheTakeAndItsRange();
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void poseToolMovesRotatesScalesAndKeys();
@@ -431,6 +434,64 @@ void TestEditor::rockSceneListsItsCollider() {
 // File ▸ Import Animated Mesh adds an object beside the open one (one undo step) that plays its file's own
 // animation with secondary motion on top: as the simulation runs, the viewport's mesh follows the swim; the
 // goal weight is painted like the material.
+void TestEditor::takeDialogChoosesTheTakeAndItsRange() {
+    // A rig with two takes: the rigged guppy's swim and a dash (the swim twice as fast, 0.5 s). File ▸ Import
+    // Animated Mesh lists both; the user picks the dash, 0.1 to 0.4 s of it, played once.
+    const QString two = m_dir->filePath("two-takes.glb");
+    QVERIFY(softtouch::test::writeWithSecondTake(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy-rigged.glb", two.toStdString(),
+                                                 "dash", 2.0));
+    auto takes = io::animationTakes(two.toStdString());
+    QVERIFY2(takes, takes.message().c_str());
+    TakeDialog dialog(takes.value(), "two-takes.glb");
+    auto* take = dialog.findChild<QComboBox*>("animationTake");
+    auto* start = dialog.findChild<QDoubleSpinBox*>("animationStart");
+    auto* end = dialog.findChild<QDoubleSpinBox*>("animationEnd");
+    auto* loop = dialog.findChild<QCheckBox*>("animationLoop");
+    QVERIFY(take && start && end && loop);
+    QCOMPARE(take->count(), 2);
+    QCOMPARE(take->itemText(0), QString("swim (1 s)"));
+    QCOMPARE(take->itemText(1), QString("dash (0.5 s)"));
+    // As it opens: the first take, whole and looping, which is what an import without the dialog does.
+    io::AnimationRequest whole = dialog.request();
+    QCOMPARE(QString::fromStdString(whole.take), QString("swim"));
+    QVERIFY(whole.start == 0.0 && whole.end < 0.0 && whole.loop);
+    take->setCurrentIndex(1);
+    QCOMPARE(end->value(), 0.5);
+    QCOMPARE(end->maximum(), 0.5);
+    start->setValue(0.1);
+    end->setValue(0.4);
+    loop->setChecked(false);
+    end->setValue(0.05);  // the range stays a range: the end keeps clear of the start
+    QVERIFY(end->value() > start->value());
+    end->setValue(0.4);
+    const io::AnimationRequest part = dialog.request();
+    QCOMPARE(QString::fromStdString(part.take), QString("dash"));
+    QCOMPARE(part.start, 0.1);
+    QCOMPARE(part.end, 0.4);
+    QVERIFY(!part.loop);
+
+    MainWindow& w = *m_window;
+    QVERIFY(w.importAnimatedMeshFile(two, part).ok());
+    const SceneObject& dash = w.document()->scene().objects.back();
+    QVERIFY(dash.baseAnimation);
+    QCOMPARE(QString::fromStdString(dash.baseAnimation->take), QString("dash"));
+    QCOMPARE(dash.baseAnimation->start, 0.1);
+    QVERIFY(!dash.baseAnimation->loop);
+    QVERIFY2(std::abs(dash.baseAnimation->duration() - 0.3) < 1e-9, qPrintable(QString::number(dash.baseAnimation->duration())));
+    QVERIFY2(w.statusBar()->currentMessage().contains("take \"dash\", 0.3 s"), qPrintable(w.statusBar()->currentMessage()));
+    // The choice is the project's: saved and opened again, the object plays the same part of the same take.
+    const std::size_t samples = dash.baseAnimation->samples.size();  // `dash` goes with the document opened next
+    const QString saved = m_dir->filePath("dash.softtouch");
+    QVERIFY(w.document()->saveAs(saved).ok());
+    QVERIFY(w.openFile(saved));
+    const SceneObject& reopened = w.document()->scene().objects.back();
+    QVERIFY(reopened.baseAnimation);
+    QCOMPARE(QString::fromStdString(reopened.baseAnimation->take), QString("dash"));
+    QCOMPARE(reopened.baseAnimation->start, 0.1);
+    QVERIFY(!reopened.baseAnimation->loop);
+    QCOMPARE(reopened.baseAnimation->samples.size(), samples);
+}
+
 void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     MainWindow& w = *m_window;
     QVERIFY(w.openFile(kDefaultScene));
