@@ -4,9 +4,11 @@
 #include "app/cli_support.h"
 #include "core/ranges.h"
 
+#include "io/animation_import.h"
 #include "io/atomic_file.h"
 #include "io/bake.h"
 #include "io/export_formats.h"
+#include "io/mesh_import.h"
 #include "io/project_file.h"
 
 #include <cstdio>
@@ -185,13 +187,52 @@ int runBake(const std::vector<std::string>& args) {
     return 0;
 }
 
+namespace {
+
+/// Whether validate reads `file` as one of SoftTouch's JSON documents (a project, preset or trajectory); anything
+/// else is a mesh file for assimp.
+bool isSoftTouchDocument(const std::filesystem::path& file) {
+    const std::string extension = file.extension().string();
+    for (const char* document : {".softtouch", ".stpreset", ".sttraj", ".json"})
+        if (extension == document)
+            return true;
+    return false;
+}
+
+/// A mesh file as the editor and a project's "mesh" would import it: its size, and its takes (what a project's
+/// animation.take names). Empty on success; otherwise the problem, naming the file.
+std::string describeMeshFile(const std::string& file, std::string& summary) {
+    auto mesh = io::importMesh(file);
+    if (!mesh)
+        return mesh.message();
+    summary = file + ": ok, a mesh of " + std::to_string(mesh->positions.size()) + " vertices and " +
+              std::to_string(mesh->triangles.size()) + " triangles; ";
+    auto takes = io::animationTakes(file);
+    if (!takes) {
+        summary += "no animation";
+        return {};
+    }
+    summary += std::to_string(takes->size()) + (takes->size() == 1 ? " take:" : " takes:");
+    for (const auto& [name, seconds] : takes.value()) {
+        char length[32];
+        std::snprintf(length, sizeof length, "%g", seconds);
+        summary += " \"" + name + "\" (" + length + " s)";
+    }
+    return {};
+}
+
+}  // namespace
+
 int runValidate(const std::vector<std::string>& args) {
     std::vector<std::string> files;
     CommandLine line("validate", "Usage: softtouch-cli validate FILE...\n\n"
                                  "Check *.softtouch projects, *.stpreset presets and *.sttraj device trajectories (the\n"
                                  "referenced meshes and presets too) and print every problem found, one per line, each\n"
-                                 "naming the file, the JSON pointer and what was expected. Exit status 0 when every file\n"
-                                 "is valid, 1 otherwise, 2 on bad usage (put -- before a file whose name starts with '-').\n");
+                                 "naming the file, the JSON pointer and what was expected. Any other FILE is read as a\n"
+                                 "mesh (OBJ, FBX, glTF/GLB, PLY, STL, DAE, ...): its vertices and triangles and the takes\n"
+                                 "of its animation, the names a project's animation.take uses. Exit status 0 when every\n"
+                                 "file is valid, 1 otherwise, 2 on bad usage (put -- before a file whose name starts\n"
+                                 "with '-').\n");
     line.positionals("FILE", files);
     line.setUnknownOptionNote(" (validate takes files; write ./NAME or put -- before a file whose name starts with '-')");
     if (const auto exit = line.parse(args))
@@ -200,6 +241,16 @@ int runValidate(const std::vector<std::string>& args) {
         return line.usage("validate needs at least one FILE");
     int bad = 0;
     for (const std::string& file : files) {
+        if (!isSoftTouchDocument(file)) {
+            std::string summary;
+            if (const std::string problem = describeMeshFile(file, summary); !problem.empty()) {
+                std::fprintf(stderr, "%s\n", problem.c_str());
+                ++bad;
+            } else {
+                std::printf("%s\n", summary.c_str());
+            }
+            continue;
+        }
         const std::vector<std::string> problems = io::validateFile(file);
         for (const std::string& p : problems)
             std::fprintf(stderr, "%s\n", p.c_str());

@@ -61,6 +61,7 @@ Commands:
   upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
              every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
   validate   Check project (*.softtouch), preset (*.stpreset) and trajectory (*.sttraj) files; print every problem found.
+             A mesh file: its vertices, triangles and the takes of its animation.
   preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
              one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.

@@ -859,6 +859,18 @@ void TestCli::validateCommand() {
     QCOMPARE(r.exitCode, 1);
     QCOMPARE(r.err.trimmed().split('\n').size(), 2);
     QVERIFY(r.err.contains("/objects/0/material/mass") && r.err.contains("/objects/0/material/stiffness"));
+    // A mesh file: what an import makes of it, and the takes a project's animation.take can name.
+    const QString rigged = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy-rigged.glb");
+    const Run meshes = runCli({"validate", rigged, mesh});
+    QVERIFY2(meshes.exitCode == 0, qPrintable(meshes.err));
+    const QStringList lines = meshes.out.trimmed().split('\n');
+    QCOMPARE(lines.size(), 2);
+    QVERIFY2(lines[0].startsWith(rigged + ": ok, a mesh of ") && lines[0].endsWith("; 1 take: \"swim\" (1 s)"), qPrintable(lines[0]));
+    QVERIFY2(lines[1].startsWith(mesh + ": ok, a mesh of ") && lines[1].endsWith("triangles; no animation"), qPrintable(lines[1]));
+    const QString broken = writeText(dir, "broken.glb", "glTF and then nothing a GLB needs");
+    const Run refused = runCli({"validate", broken});
+    QCOMPARE(refused.exitCode, 1);
+    QVERIFY2(refused.err.contains("broken.glb") && refused.out.isEmpty(), qPrintable(refused.err));
 }
 
 void TestCli::hapticRecordingReplaysBitExactly() {
