@@ -5,8 +5,11 @@
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QStandardItemModel>
 
 #include <algorithm>
+#include <set>
+#include <string>
 
 namespace softtouch::ui {
 
@@ -23,9 +26,22 @@ TakeDialog::TakeDialog(io::TakeList takes, const QString& fileName, QWidget* par
     auto* form = new QFormLayout(this);
     m_take = new QComboBox;
     m_take->setObjectName("animationTake");
-    for (const auto& [name, seconds] : m_takes)
-        m_take->addItem(tr("%1 (%2 s)").arg(QString::fromStdString(name).isEmpty() ? tr("unnamed") : QString::fromStdString(name))
-                            .arg(seconds, 0, 'g', 4));
+    // A take is chosen by its name (a project stores the name): an unnamed take after the first, or a name
+    // already used by an earlier take, cannot be reached, so it is listed but cannot be picked.
+    auto* items = qobject_cast<QStandardItemModel*>(m_take->model());
+    std::set<std::string> seen;
+    for (std::size_t t = 0; t < m_takes.size(); ++t) {
+        const auto& [name, seconds] = m_takes[t];
+        m_take->addItem(tr("%1 (%2 s)").arg(name.empty() ? tr("unnamed") : QString::fromStdString(name)).arg(seconds, 0, 'g', 4));
+        const bool reachable = seen.insert(name).second && (!name.empty() || t == 0);
+        if (!reachable && items) {
+            QStandardItem* item = items->item(int(t));
+            item->setEnabled(false);
+            item->setToolTip(name.empty() ? tr("This take has no name, so neither this dialog nor a project can choose it "
+                                               "(an unnamed take is the file's first only)")
+                                          : tr("An earlier take has the same name, which a project would choose instead"));
+        }
+    }
     form->addRow(tr("Take"), m_take);
     m_start = new QDoubleSpinBox;
     m_start->setObjectName("animationStart");

@@ -40,6 +40,7 @@
 #include <QProcess>
 #include <QPushButton>
 #include <QSettings>
+#include <QStandardItemModel>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
 #include <QTabletEvent>
@@ -469,6 +470,14 @@ void TestEditor::takeDialogChoosesTheTakeAndItsRange() {
     QCOMPARE(part.start, 0.1);
     QCOMPARE(part.end, 0.4);
     QVERIFY(!part.loop);
+
+    // A take is chosen by name: an unnamed take after the first, or a second take of one name, cannot be.
+    TakeDialog clashing({{"", 1.0}, {"", 2.0}, {"swim", 1.0}, {"swim", 3.0}}, "clash.glb");
+    auto* listed = qobject_cast<QStandardItemModel*>(clashing.findChild<QComboBox*>("animationTake")->model());
+    QVERIFY(listed);
+    QCOMPARE(listed->rowCount(), 4);
+    for (int t = 0; t < 4; ++t)
+        QCOMPARE(listed->item(t)->isEnabled(), t == 0 || t == 2);
 
     MainWindow& w = *m_window;
     QVERIFY(w.importAnimatedMeshFile(two, part).ok());
