@@ -33,6 +33,7 @@
 #include <QStackedWidget>
 #include <QLineEdit>
 #include <QDir>
+#include <QFileDialog>
 #include <QFileInfo>
 #include <QElapsedTimer>
 #include <QFile>
@@ -186,6 +187,7 @@ private slots:
     void corruptProjectShowsErrorAndEditorStaysUsable();
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
+    void exportDialogsPackAGlbForShipping();
     void keyframesFromPosesMakeAClip();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void trimmedTakeClipExportsItsRange();
@@ -1846,6 +1848,50 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);
     w.document()->undoStack()->undo();
     QCOMPARE(w.timeline()->takeCount(), 0);
+}
+
+void TestEditor::exportDialogsPackAGlbForShipping() {
+    // The whole way a person goes: Export…, the file dialog (the skinned GLB type and a name), then Export
+    // Options' "Pack for shipping". Each modal dialog is answered as it opens, as a person would.
+    MainWindow& w = *m_window;
+    auto* clips = w.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(clips && clips->count() > 0);
+    clips->setCurrentRow(0);
+    QPushButton* exportButton = nullptr;
+    for (QPushButton* b : w.timeline()->findChildren<QPushButton*>())
+        if (b->text() == QString("Export…"))
+            exportButton = b;
+    QVERIFY(exportButton);
+    const QString glb = m_dir->filePath("shipped.glb");
+    QString skinFilter;
+    for (const QString& f : TimelinePanel::exportFilters())
+        if (f.contains("skin", Qt::CaseInsensitive))
+            skinFilter = f;
+    QVERIFY(!skinFilter.isEmpty());
+    bool answeredFile = false, answeredOptions = false;
+    QTimer answer;
+    connect(&answer, &QTimer::timeout, this, [&] {
+        QWidget* modal = QApplication::activeModalWidget();
+        if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
+            answeredFile = true;
+            files->selectNameFilter(skinFilter);
+            files->selectFile(glb);
+            static_cast<QDialog*>(files)->accept();  // QFileDialog::accept, through its public base
+        } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
+            if (auto* pack = options->findChild<QCheckBox*>("exportCompress")) {
+                answeredOptions = true;
+                pack->setChecked(true);
+                options->accept();
+            }
+        }
+    });
+    answer.start(50);
+    exportButton->click();
+    answer.stop();
+    QVERIFY(answeredFile);
+    QVERIFY(answeredOptions);
+    QVERIFY(QFile::exists(glb));
+    QVERIFY2(io::fileUsesMeshoptCompression(glb.toStdString()), "the file is not packed");
 }
 
 void TestEditor::keyframesFromPosesMakeAClip() {
