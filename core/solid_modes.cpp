@@ -107,8 +107,8 @@ AxisQuadrature axisQuadrature(const AxisBasis& basis, int perSpan) {
 
 /// Basis values (or, with `axis` 0..2, slopes along that axis in 1/m) at every point of a tensor quadrature,
 /// one row per point (u fastest), one column per node; sparse, since a B-spline point sees (degree + 1)^3 nodes.
-Eigen::SparseMatrix<double> basisAtPoints(const std::array<AxisQuadrature, 3>& q, const std::array<int, 3>& count, const Vec3& size,
-                              int axis) {
+Eigen::SparseMatrix<double> basisAtPoints(const std::array<AxisQuadrature, 3>& q, const std::array<int, 3>& count,
+                                          const Vec3& size, int axis) {
     const int points = int(q[0].sample.size() * q[1].sample.size() * q[2].sample.size());
     std::vector<Eigen::Triplet<double>> entries;
     int row = 0;
@@ -120,14 +120,11 @@ Eigen::SparseMatrix<double> basisAtPoints(const std::array<AxisQuadrature, 3>& q
                         for (int i = 0; i < su.order; ++i) {
                             const int node = (su.first + i) + count[0] * ((sv.first + j) + count[1] * (sw.first + k));
                             const std::size_t ui = std::size_t(i), vj = std::size_t(j), wk = std::size_t(k);
-                            double value = su.value[ui] * sv.value[vj] * sw.value[wk];
-                            if (axis == 0)
-                                value = su.slope[ui] * sv.value[vj] * sw.value[wk] / size.x();
-                            else if (axis == 1)
-                                value = su.value[ui] * sv.slope[vj] * sw.value[wk] / size.y();
-                            else if (axis == 2)
-                                value = su.value[ui] * sv.value[vj] * sw.slope[wk] / size.z();
-                            entries.emplace_back(row, node, value);
+                            // The factor along `axis` is its slope (per metre: d/dx = d/ds / size).
+                            const double nu = axis == 0 ? su.slope[ui] / size.x() : su.value[ui];
+                            const double nv = axis == 1 ? sv.slope[vj] / size.y() : sv.value[vj];
+                            const double nw = axis == 2 ? sw.slope[wk] / size.z() : sw.value[wk];
+                            entries.emplace_back(row, node, nu * nv * nw);
                         }
                     }
                 }
