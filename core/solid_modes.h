@@ -54,7 +54,7 @@ inline constexpr double kSolidConvergedSpread = 0.02;
 /// The result of solidModes().
 struct SolidModes {
     std::vector<double> frequencyHz;  ///< Lowest elastic modes first, Hz.
-    int degree = 0;                   ///< Bernstein degree per axis used.
+    int degree = 0;                   ///< Polynomial degree of the element (its highest along any axis).
     int unknowns = 0;                 ///< 3 × free reference nodes.
     int rigidModes = 0;               ///< Zero-frequency modes skipped (rigid motions, and any hourglass modes).
     /// materialSolidModes() only: the largest relative change of a mode from degree P-1 to P (-1 when P = 1).

@@ -67,8 +67,13 @@ Status checkExportMemory(const std::filesystem::path& target, double bytes, cons
 /// Returns the accessor index.
 int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
                      bool vertexAttribute, bool bounds);
-/// Appends triangle indices as an index accessor, 16-bit where every index lies below 65535 (else 32-bit), padded
-/// to 4 bytes; returns its index.
+/// Appends `byteCount` bytes, already laid out as glTF wants them (little-endian), as a new buffer view (with
+/// `target` when non-zero; the buffer padded to 4 bytes after it) and an accessor of `count` elements of
+/// `componentType` and `type` over it; returns the accessor's index. The other accessor writers go through it.
+int addRawAccessor(tinygltf::Model& model, const void* bytes, std::size_t byteCount, std::size_t count, int componentType,
+                   int type, int target);
+/// Appends triangle indices as an index accessor, 16-bit where every index lies below 65535 (else 32-bit);
+/// returns its index.
 int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
                      std::uint32_t baseVertex);
 /// Serialises the model as .gltf (buffer embedded as a data URI) or .glb; a .glb `compress`ed for shipping

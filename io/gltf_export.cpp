@@ -35,30 +35,41 @@ namespace softtouch::io {
 
 namespace detail {
 
-int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
-                     bool vertexAttribute, bool bounds) {
+int addRawAccessor(tinygltf::Model& model, const void* bytes, std::size_t byteCount, std::size_t count, int componentType,
+                   int type, int target) {
     std::vector<unsigned char>& data = model.buffers.front().data;
-    const std::size_t bytes = count * std::size_t(components) * sizeof(float);
     tinygltf::BufferView view;
     view.buffer = 0;
     view.byteOffset = data.size();
-    view.byteLength = bytes;
-    if (vertexAttribute)
-        view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
-    data.resize(data.size() + bytes);
-    if (bytes != 0)
-        std::memcpy(data.data() + view.byteOffset, values, bytes);
+    view.byteLength = byteCount;
+    if (target != 0)
+        view.target = target;
+    data.resize(data.size() + byteCount);
+    if (byteCount != 0)
+        std::memcpy(data.data() + view.byteOffset, bytes, byteCount);
+    // Every view starts on 4 bytes, so every accessor is aligned to its component size: pad after this one
+    // (16-bit indices of an odd number of triangles end on 2).
+    data.resize((data.size() + 3) / 4 * 4, 0);
     model.bufferViews.push_back(view);
-
     tinygltf::Accessor accessor;
     accessor.bufferView = int(model.bufferViews.size() - 1);
     accessor.byteOffset = 0;
-    accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    accessor.componentType = componentType;
     accessor.count = count;
-    accessor.type = components == 1   ? TINYGLTF_TYPE_SCALAR
-                    : components == 2 ? TINYGLTF_TYPE_VEC2
-                    : components == 3 ? TINYGLTF_TYPE_VEC3
-                                      : TINYGLTF_TYPE_VEC4;
+    accessor.type = type;
+    model.accessors.push_back(accessor);
+    return int(model.accessors.size() - 1);
+}
+
+int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
+                     bool vertexAttribute, bool bounds) {
+    const int type = components == 1   ? TINYGLTF_TYPE_SCALAR
+                     : components == 2 ? TINYGLTF_TYPE_VEC2
+                     : components == 3 ? TINYGLTF_TYPE_VEC3
+                                       : TINYGLTF_TYPE_VEC4;
+    const int index = addRawAccessor(model, values, count * std::size_t(components) * sizeof(float), count,
+                                     TINYGLTF_COMPONENT_TYPE_FLOAT, type, vertexAttribute ? TINYGLTF_TARGET_ARRAY_BUFFER : 0);
+    tinygltf::Accessor& accessor = model.accessors[std::size_t(index)];
     if (bounds && count > 0) {
         accessor.minValues.assign(std::size_t(components), std::numeric_limits<double>::infinity());
         accessor.maxValues.assign(std::size_t(components), -std::numeric_limits<double>::infinity());
@@ -70,8 +81,7 @@ int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t co
             }
         }
     }
-    model.accessors.push_back(accessor);
-    return int(model.accessors.size() - 1);
+    return index;
 }
 
 int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uint32_t, 3>> triangles,
@@ -84,14 +94,8 @@ int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uin
             largest = std::max(largest, index - baseVertex);
     const bool narrow = largest < 65535;
     const std::size_t size = narrow ? sizeof(std::uint16_t) : sizeof(std::uint32_t);
-    std::vector<unsigned char>& data = model.buffers.front().data;
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = triangles.size() * 3 * size;
-    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-    data.resize(data.size() + view.byteLength);
-    unsigned char* out = data.data() + view.byteOffset;
+    std::vector<unsigned char> bytes(triangles.size() * 3 * size);
+    unsigned char* out = bytes.data();
     for (const auto& t : triangles) {
         for (std::uint32_t index : t) {
             // glTF is little-endian, like every host we build on.
@@ -104,17 +108,9 @@ int addIndexAccessor(tinygltf::Model& model, std::span<const std::array<std::uin
             out += size;
         }
     }
-    // A view's length must stay a multiple of 4 for the next view's floats: pad the buffer.
-    data.resize((data.size() + 3) / 4 * 4, 0);
-    model.bufferViews.push_back(view);
-    tinygltf::Accessor accessor;
-    accessor.bufferView = int(model.bufferViews.size() - 1);
-    accessor.byteOffset = 0;
-    accessor.componentType = narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    accessor.count = triangles.size() * 3;
-    accessor.type = TINYGLTF_TYPE_SCALAR;
-    model.accessors.push_back(accessor);
-    return int(model.accessors.size() - 1);
+    return addRawAccessor(model, bytes.data(), bytes.size(), triangles.size() * 3,
+                          narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                          TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
 }
 
 Result<std::string> serializeGltf(const tinygltf::Model& model, bool binary, const std::filesystem::path& path,

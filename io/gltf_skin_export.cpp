@@ -33,29 +33,6 @@ namespace {
 /// Levels of the 8-bit normalized weights a compressed file stores.
 constexpr int kWeightSteps = 255;
 
-/// An accessor over raw little-endian bytes already laid out as glTF wants them.
-int addRawAccessor(tinygltf::Model& model, const void* bytes, std::size_t byteCount, std::size_t count, int componentType,
-                   int type, int target) {
-    std::vector<unsigned char>& data = model.buffers.front().data;
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = byteCount;
-    if (target != 0)
-        view.target = target;
-    data.resize(data.size() + byteCount);
-    if (byteCount != 0)
-        std::memcpy(data.data() + view.byteOffset, bytes, byteCount);
-    model.bufferViews.push_back(view);
-    tinygltf::Accessor accessor;
-    accessor.bufferView = int(model.bufferViews.size() - 1);
-    accessor.componentType = componentType;
-    accessor.count = count;
-    accessor.type = type;
-    model.accessors.push_back(accessor);
-    return int(model.accessors.size() - 1);
-}
-
 class SkinWriter final : public ClipWriter {
 public:
     SkinWriter(bool binary, const ClipExportOptions& options) : m_binary(binary), m_options(options) {}
@@ -167,15 +144,15 @@ public:
                 joint8[e] = std::uint8_t(joints[e]);
                 weight8[e] = std::uint8_t(std::lround(double(skin.weights[e / 4][e % 4]) * kWeightSteps));
             }
-            primitive.attributes["JOINTS_0"] = addRawAccessor(model, joint8.data(), joint8.size(), n,
+            primitive.attributes["JOINTS_0"] = detail::addRawAccessor(model, joint8.data(), joint8.size(), n,
                                                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
                                                               TINYGLTF_TARGET_ARRAY_BUFFER);
-            primitive.attributes["WEIGHTS_0"] = addRawAccessor(model, weight8.data(), weight8.size(), n,
+            primitive.attributes["WEIGHTS_0"] = detail::addRawAccessor(model, weight8.data(), weight8.size(), n,
                                                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
                                                                TINYGLTF_TARGET_ARRAY_BUFFER);
             model.accessors.back().normalized = true;
         } else {
-            primitive.attributes["JOINTS_0"] = addRawAccessor(model, joints.data(), joints.size() * 2, n,
+            primitive.attributes["JOINTS_0"] = detail::addRawAccessor(model, joints.data(), joints.size() * 2, n,
                                                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4,
                                                               TINYGLTF_TARGET_ARRAY_BUFFER);
             primitive.attributes["WEIGHTS_0"] = detail::addFloatAccessor(model, weights.data(), n, 4, true, false);
@@ -196,7 +173,7 @@ public:
         for (std::size_t j = 0; j < k; ++j)
             for (int d = 0; d < 4; ++d)
                 identities[16 * j + std::size_t(5 * d)] = 1.0f;
-        gltfSkin.inverseBindMatrices = addRawAccessor(model, identities.data(), identities.size() * 4, k,
+        gltfSkin.inverseBindMatrices = detail::addRawAccessor(model, identities.data(), identities.size() * 4, k,
                                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, 0);
 
         // Per bone: translations and rotations at every frame, quaternions kept in one hemisphere so
