@@ -55,8 +55,38 @@ double largestTridiagonalEigenvalue(const std::vector<double>& alpha, const std:
 /// Power iteration, used before, needed all of its 200 rounds on every body of a swimming fish (the
 /// stiffest modes of a lattice lie close together, and power iteration converges as their ratio) and
 /// still stopped short; Lanczos settles in a few dozen products with A.
+template <typename Apply>
+double lanczosLargest(Eigen::VectorXd q, Apply&& apply);
+
 double largestStiffnessOverMass(const BodyModel& m) {
     const std::size_t n = m.nodeCount();
+    if (m.element) {
+        // A = L⁻¹ K L⁻ᵀ over the free nodes, M = L Lᵀ the element's consistent mass (each component alike).
+        const ElementBody& e = *m.element;
+        const Eigen::MatrixXd k = elementRestStiffness(e, m.restPositions);
+        const Eigen::Index free = Eigen::Index(e.freeNodes.size());
+        const auto lower = e.massFactor.matrixL();
+        Eigen::MatrixXd block(free, 3);
+        const auto apply = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+            for (Eigen::Index s = 0; s < free; ++s)
+                block.row(s) = x.segment<3>(3 * s).transpose();
+            lower.transpose().solveInPlace(block);  // L⁻ᵀ x
+            Eigen::VectorXd z(3 * free);
+            for (Eigen::Index s = 0; s < free; ++s)
+                z.segment<3>(3 * s) = block.row(s).transpose();
+            z = k * z;
+            for (Eigen::Index s = 0; s < free; ++s)
+                block.row(s) = z.segment<3>(3 * s).transpose();
+            lower.solveInPlace(block);  // L⁻¹ K L⁻ᵀ x
+            y.resize(3 * free);
+            for (Eigen::Index s = 0; s < free; ++s)
+                y.segment<3>(3 * s) = block.row(s).transpose();
+        };
+        Eigen::VectorXd q(3 * free);
+        for (Eigen::Index s = 0; s < free; ++s)
+            q.segment<3>(3 * s) = Vec3(1.0 + 0.37 * double(s % 7), -0.5 + 0.11 * double(s % 5), 0.3 + 0.05 * double(s % 11));
+        return lanczosLargest(std::move(q), apply);
+    }
     // Each spring's direction and mass scales, once (the same values every product would compute).
     struct Term {
         std::uint32_t a, b;
@@ -82,6 +112,13 @@ double largestStiffnessOverMass(const BodyModel& m) {
         q.segment<3>(3 * i) = m.inverseMass[i] > 0.0
                                   ? Vec3(1.0 + 0.37 * double(i % 7), -0.5 + 0.11 * double(i % 5), 0.3 + 0.05 * double(i % 11))
                                   : Vec3::Zero();
+    return lanczosLargest(std::move(q), apply);
+}
+
+/// The largest eigenvalue of the symmetric operator `apply` (y = A x), by Lanczos from `q`.
+template <typename Apply>
+double lanczosLargest(Eigen::VectorXd q, Apply&& apply) {
+    const std::size_t n = std::size_t(q.size()) / 3;
     if (q.norm() == 0.0)
         return 0.0;
     // The three-term recurrence only: two vectors, whatever the lattice's size (a basis kept for
@@ -146,6 +183,18 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
 
     if (Status s = validateStrainLimits(d.strainLimits); !s)
         return s;
+    if (d.element) {
+        if (!d.springs.empty() || !d.nodeDamping.empty())
+            return Status::error("a body that runs the solid element has no springs or node damping of its own");
+        if (d.element->nodeCount() != n)
+            return Status::error("the solid element has " + std::to_string(d.element->nodeCount()) + " nodes for " +
+                                 std::to_string(n));
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool held = !d.anchor.empty() && d.anchor[i] != AnchorMode::Free;
+            if (held != (d.element->slot[i] < 0) || (!d.anchor.empty() && d.anchor[i] == AnchorMode::Heavy))
+                return Status::error("node " + std::to_string(i) + " is held differently by the body and its solid element");
+        }
+    }
 
     auto model = std::make_shared<BodyModel>();
     model->restPositions = d.restPositions;
@@ -204,6 +253,11 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
         model->anySpringDamping = model->anySpringDamping || s.damping > 0.0;
         if (s.stiffness > 0.0)
             model->maxDampingRatio = std::max(model->maxDampingRatio, s.damping / s.stiffness);
+    }
+    if (d.element) {
+        model->element = d.element;
+        model->maxNodeDampingRate = d.element->maxNodeDampingRate;
+        model->maxDampingRatio = d.element->maxDampingRatio;
     }
     model->voidFollowers = d.voidFollowers;
     model->springTable = SpringTable::build(model->springs, model->inverseMass);

@@ -6,6 +6,7 @@
 #include "core/result.h"
 #include "core/spring_forces.h"
 #include "core/colliders.h"
+#include "core/element_body.h"
 #include "core/strain_limits.h"
 #include "core/volume_preservation.h"
 #include "core/types.h"
@@ -63,6 +64,10 @@ struct BodyDescription {
     /// Where colliders are tested; null or empty: at the nodes. Shared, not copied: the points depend on
     /// the mesh and lattice only, so every body rebuilt on them (a material edit) keeps the same ones.
     std::shared_ptr<const ContactPoints> contactPoints;
+    /// The solid element the body runs instead of springs (core/element_body.h); null: springs. With one,
+    /// `springs` and `nodeDamping` must be empty (the element holds its damping), `mass` holds each node's
+    /// ∫ρ N_i (gravity's and momentum's share) and no node may be a heavy anchor.
+    std::shared_ptr<const ElementBody> element;
 };
 
 /// Immutable, validated body.
@@ -80,6 +85,9 @@ struct BodyModel {
     VolumeConstraint volume;             ///< Kept after every substep (core/volume_preservation.h); off by default.
     /// Mesh surface points colliders are tested at (core/colliders.h); null or empty: the nodes themselves.
     std::shared_ptr<const ContactPoints> contactPoints;
+    /// The solid element the body runs instead of springs; null for a spring body. Its integrators solve with its
+    /// consistent mass; `mass` is then each node's ∫ρ N_i, the share of gravity, momentum and contacts.
+    std::shared_ptr<const ElementBody> element;
     bool anyNodeDamping = false;         ///< Some d_i > 0 (otherwise the force pass skips the term).
     bool anySpringDamping = false;       ///< Some spring has c > 0 (otherwise the energy account skips it); filled by build.
     double maxNodeDampingRate = 0.0;     ///< Largest d_i / m_i over free nodes (1/s); filled by build.

@@ -1,6 +1,8 @@
 // Symplectic Euler and central-difference (Verlet) integration.
 #include "core/integrator.h"
 
+#include <Eigen/Core>
+
 namespace softtouch {
 namespace {
 
@@ -28,6 +30,11 @@ public:
         for (std::size_t d = 0; d < external.drags.size(); ++d)
             m_sharedVelocity[d] = sharedVelocity(model, external.drags[d], state);
         m_nodeForcePower = nodeForcePower(model, external, state);
+        if (model.element) {  // the element's damping forces, held over the substep like a drag's pull
+            m_elementDamping.assign(model.nodeCount(), Vec3::Zero());
+            addElementDampingForces(*model.element, state.position, state.velocity, m_elementDamping);
+            m_elementDampingPower = power(model, m_elementDamping, state);
+        }
     }
     void end(const BodyModel& model, const ExternalForces& external, const BodyState& state,
              const SpringScratch& scratch, double h) {
@@ -41,6 +48,8 @@ public:
         work.external += 0.5 * h * (m_nodeForcePower + nodeForcePower(model, external, state));
         if (model.anySpringDamping)
             work.dissipated += springDampingLoss(model.springTable, scratch, state.velocity, h);
+        if (model.element)
+            work.dissipated -= 0.5 * h * (m_elementDampingPower + power(model, m_elementDamping, state));
     }
 
 private:
@@ -58,10 +67,30 @@ private:
                 power += external.nodeForces[i].dot(state.velocity[i]);
         return power;
     }
+    static double power(const BodyModel& model, const std::vector<Vec3>& force, const BodyState& state) {
+        double p = 0.0;
+        for (std::size_t i = 0; i < model.nodeCount(); ++i)
+            if (model.inverseMass[i] > 0.0)
+                p += force[i].dot(state.velocity[i]);
+        return p;
+    }
     double m_nodeForcePower = 0.0;       ///< Σ F·v over the free nodes at the start of the substep, W.
+    std::vector<Vec3> m_elementDamping;  ///< A solid element's damping forces at the start of the substep, N.
+    double m_elementDampingPower = 0.0;  ///< Their Σ F·v then, W.
     std::vector<Vec3> m_pull;            ///< N per drag, held over the substep.
     std::vector<Vec3> m_sharedVelocity;  ///< m/s per drag, Σ share · v over the free support at the start.
 };
+
+/// Turns the forces on the free nodes into accelerations in place: f/m per node, or the solve with a solid
+/// element's consistent mass. `work` is the caller's, so a step allocates nothing once it has its size.
+void accelerations(const BodyModel& model, std::span<Vec3> force, Eigen::MatrixXd& work) {
+    if (model.element) {
+        solveElementMass(*model.element, force, force, work);
+        return;
+    }
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        force[i] *= model.inverseMass[i];
+}
 
 /// Semi-implicit (symplectic) Euler: velocities first, then positions with the new velocities.
 /// Conserves momentum exactly and energy on average; stable for h < 2/omega_max.
@@ -75,11 +104,12 @@ public:
         m_meter.begin(model, external, state);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;
         double nodeLoss = 0.0;
+        accelerations(model, m_force, m_solve);
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
             const Vec3 before = state.velocity[i];
-            state.velocity[i] += h * model.inverseMass[i] * m_force[i];
+            state.velocity[i] += h * m_force[i];
             state.position[i] += h * state.velocity[i];
             if (nodeDamping)  // −d v held over the substep: works −h d v·(v + v')/2
                 nodeLoss += 0.5 * h * model.nodeDamping[i] * before.dot(before + state.velocity[i]);
@@ -94,6 +124,7 @@ private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
     WorkMeter m_meter;
+    Eigen::MatrixXd m_solve;
 };
 
 /// Central differences, as in the paper: M (x+ − 2x + x−)/h² + D (x+ − x−)/2h + f_int(x) = F.
@@ -107,11 +138,13 @@ public:
     bool isExplicit() const override { return true; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
         m_force.resize(model.nodeCount());
-        // Node damping is handled implicitly below, so it stays out of the explicit forces.
+        // Node damping is handled implicitly below, so it stays out of the explicit forces; a solid element's
+        // couples the nodes as its mass does and is taken explicitly (with the backward velocity).
         ForceTerms terms;
-        terms.nodeDamping = false;
+        terms.nodeDamping = model.element != nullptr;
         accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms, m_meter.pulls(external));
         m_meter.begin(model, external, state);
+        accelerations(model, m_force, m_solve);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;
         double nodeLoss = 0.0;
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
@@ -121,7 +154,7 @@ public:
             const Vec3 before = state.velocity[i];
             const Vec3 previous = x - h * before;
             const double c = 0.5 * h * model.nodeDamping[i] * model.inverseMass[i];
-            const Vec3 next = (2.0 * x - previous + h * h * model.inverseMass[i] * m_force[i] + c * previous) / (1.0 + c);
+            const Vec3 next = (2.0 * x - previous + h * h * m_force[i] + c * previous) / (1.0 + c);
             state.velocity[i] = (next - x) / h;
             state.position[i] = next;
             // Central node damping is v' = v + h/m (f − d v̄), v̄ = (v + v')/2: it works −h d |v̄|².
@@ -138,6 +171,7 @@ private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
     WorkMeter m_meter;
+    Eigen::MatrixXd m_solve;
 };
 
 }  // namespace

@@ -76,6 +76,8 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
             f[i] += external.nodeForces[i];
     if (terms.springs)
         addSpringForces(model.springTable, x, v, f, scratch);
+    if (model.element)
+        addElementForces(*model.element, x, v, f, terms.springs, terms.nodeDamping);
     for (std::size_t d = 0; d < external.drags.size(); ++d) {
         const DragSpring& drag = external.drags[d];
         Vec3 p, pv;
@@ -138,6 +140,8 @@ void updateVoidNodes(const BodyModel& model, BodyState& state) {
 }
 
 double kineticEnergy(const BodyModel& model, const BodyState& state) {
+    if (model.element)
+        return elementKineticEnergy(*model.element, state.velocity);
     double e = 0.0;
     for (std::size_t i = 0; i < model.nodeCount(); ++i)
         e += 0.5 * model.mass[i] * state.velocity[i].squaredNorm();
@@ -145,7 +149,7 @@ double kineticEnergy(const BodyModel& model, const BodyState& state) {
 }
 
 double springEnergy(const BodyModel& model, const BodyState& state) {
-    double e = 0.0;
+    double e = model.element ? elementEnergy(*model.element, state.position) : 0.0;
     for (const Spring& s : model.springs) {
         const double stretch = (state.position[s.b] - state.position[s.a]).norm() - s.restLength;
         e += 0.5 * s.stiffness * stretch * stretch;
@@ -158,6 +162,21 @@ double gravityEnergy(const BodyModel& model, const BodyState& state, const Vec3&
     for (std::size_t i = 0; i < model.nodeCount(); ++i)
         e -= model.mass[i] * gravity.dot(state.position[i]);
     return e;
+}
+
+double massInnerProduct(const BodyModel& model, std::span<const Vec3> a, std::span<const Vec3> b) {
+    double sum = 0.0;
+    if (model.element) {
+        const ElementBody& e = *model.element;
+        for (const std::uint32_t i : e.freeNodes)
+            for (const std::uint32_t j : e.freeNodes)
+                sum += e.mass(i, j) * a[i].dot(b[j]);
+        return sum;
+    }
+    for (std::size_t i = 0; i < model.nodeCount(); ++i)
+        if (model.inverseMass[i] > 0.0)
+            sum += model.mass[i] * a[i].dot(b[i]);
+    return sum;
 }
 
 Vec3 linearMomentum(const BodyModel& model, const BodyState& state) {

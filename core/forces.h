@@ -58,7 +58,9 @@ struct ExternalForces {
 
 /// Which force terms accumulateForces() adds.
 struct ForceTerms {
-    bool springs = true;       ///< Spring forces: elastic k(|r|-L) r̂ and damping c ((v_b - v_a)·r̂) r̂.
+    /// Spring forces: elastic k(|r|-L) r̂ and damping c ((v_b - v_a)·r̂) r̂; on a solid element body, the element's
+    /// elastic and viscous forces (its elastic force always: it has no springs to leave out).
+    bool springs = true;
     bool nodeDamping = true;   ///< −d_i v_i on every node (the paper's D, absolute velocity).
 };
 
@@ -109,12 +111,15 @@ bool resolvePlaneContact(const CollisionPlane& plane, const Vec3& stepStart, dou
 /// Moves every void node by the mean displacement (and velocity) of its donors.
 void updateVoidNodes(const BodyModel& model, BodyState& state);
 
-/// Kinetic energy ½ Σ m v² of the simulated nodes, joules.
+/// Kinetic energy ½ Σ m v² of the simulated nodes (½ vᵀMv on a solid element body), joules.
 double kineticEnergy(const BodyModel& model, const BodyState& state);
-/// Elastic energy ½ Σ k (|r| − L)², joules.
+/// Elastic energy ½ Σ k (|r| − L)² (the element's ½ εᵀCε on a solid element body), joules.
 double springEnergy(const BodyModel& model, const BodyState& state);
 /// Gravitational energy −Σ m g·x of the simulated nodes, joules.
 double gravityEnergy(const BodyModel& model, const BodyState& state, const Vec3& gravity);
+/// aᵀ M b over the free nodes, M the body's mass (one per node, or a solid element's consistent one): the
+/// inner product that keeps modes apart, kg·m².
+double massInnerProduct(const BodyModel& model, std::span<const Vec3> a, std::span<const Vec3> b);
 /// Total linear momentum Σ m v of the simulated nodes, kg·m/s.
 Vec3 linearMomentum(const BodyModel& model, const BodyState& state);
 

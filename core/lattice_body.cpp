@@ -295,12 +295,60 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
 
 }  // namespace
 
+const char* bodyElementName(BodyElement element) { return element == BodyElement::Solid ? "solid" : "springs"; }
+
+namespace {
+
+/// The contact points of a body on `mesh`, computed once per mesh and lattice.
+std::shared_ptr<const ContactPoints> contactPointsOf(const Lattice& lattice, const Mesh* mesh, MeshLatticeCache& derived) {
+    if (!mesh || mesh->positions.empty())
+        return nullptr;
+    if (!derived.contactPoints)
+        derived.contactPoints = std::make_shared<const ContactPoints>(meshContactPoints(lattice, *mesh));
+    return derived.contactPoints;
+}
+
+/// buildLatticeBody() for BodyElement::Solid: the element instead of springs, anchors of either kind held.
+Result<std::shared_ptr<const BodyModel>> buildElementLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
+                                                                 const Mesh* mesh, MeshLatticeCache& derived) {
+    const char* refusal = material.model != MaterialModel::Continuum ? "needs a continuum material (upgrade the project)"
+                          : std::any_of(material.isVoid.begin(), material.isVoid.end(), [](std::uint8_t v) { return v != 0; })
+                              ? "fills the whole lattice box, so it takes no void nodes"
+                          : material.strainLimits.any()              ? "has no springs for strain limits to hold"
+                          : largestVolumePreservation(material) > 0.0 ? "does not keep volume yet (volume preservation is 0 on it)"
+                                                                       : nullptr;
+    if (refusal)
+        return Status::error(std::string("the solid element ") + refusal + "; use \"element\": \"springs\" for this material");
+    const std::size_t n = std::size_t(lattice.nodeCount());
+    std::vector<std::uint8_t> held(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+        held[i] = material.anchor[i] != AnchorMode::Free;
+    auto element = buildElementBody(lattice, material, held);
+    if (!element)
+        return element.status();
+    BodyDescription d;
+    d.restPositions = lattice.restNodes();
+    d.mass.resize(n);
+    d.anchor.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        d.mass[i] = element.value()->mass.row(Eigen::Index(i)).sum();  // ∫ρ N_i: the basis sums to 1
+        d.anchor[i] = held[i] ? AnchorMode::Pinned : AnchorMode::Free;
+    }
+    d.contactPoints = contactPointsOf(lattice, mesh, derived);
+    d.element = element.value();
+    return buildBodyModel(d);
+}
+
+}  // namespace
+
 Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice, const LatticeMaterial& material,
                                                           const Mesh* mesh, MeshLatticeCache* cache) {
     MeshLatticeCache local;
     MeshLatticeCache& derived = cache ? *cache : local;
     if (Status s = validateMaterial(lattice, material); !s)
         return s;
+    if (material.element == BodyElement::Solid)
+        return buildElementLatticeBody(lattice, material, mesh, derived);
     BodyDescription d;
     d.restPositions = lattice.restNodes();
     d.mass = nodeMasses(lattice, material);
@@ -350,11 +398,7 @@ Result<std::shared_ptr<const BodyModel>> buildLatticeBody(const Lattice& lattice
             progress = true;
         }
     }
-    if (mesh && !mesh->positions.empty()) {
-        if (!derived.contactPoints)
-            derived.contactPoints = std::make_shared<const ContactPoints>(meshContactPoints(lattice, *mesh));
-        d.contactPoints = derived.contactPoints;
-    }
+    d.contactPoints = contactPointsOf(lattice, mesh, derived);
     if (largestVolumePreservation(material) > 0.0) {
         // The springs' modulus E = mean k / L (a spring of stiffness k and length L across an L² face).
         double modulus = 0.0;

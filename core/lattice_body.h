@@ -33,12 +33,25 @@ enum class MaterialModel : std::uint8_t {
     Continuum,
 };
 
+/// What a body simulates its material with (docs/lattice.md, "The solid element").
+enum class BodyElement : std::uint8_t {
+    Springs, ///< The paper's damped springs between neighbouring nodes, one mass per node.
+    /// The Galerkin solid element on the lattice's own basis with its consistent mass (core/element_body.h):
+    /// the same modes on every lattice kind and resolution (within 5% from 4x4x4 up), at more cost a step.
+    /// Continuum materials only; no void nodes, strain limits or volume preservation; heavy anchors hold like
+    /// pinned ones; run by the explicit schemes (Verlet, symplectic Euler).
+    Solid,
+};
+/// Stable name used in files ("springs", "solid").
+const char* bodyElementName(BodyElement element);
+
 /// Per-node painted values and global material settings of a lattice body. The units of mass,
 /// stiffness, damping and nodeDamping depend on `model`; ranges are those of materialRanges(model).
 /// The two damping terms (docs/lattice.md, "Two damping terms"): `damping` acts on the relative
 /// velocity along each spring, `nodeDamping` on each node's absolute velocity (the paper's D).
 struct LatticeMaterial {
     MaterialModel model = MaterialModel::LatticeSprings; ///< What the values below mean.
+    BodyElement element = BodyElement::Springs;          ///< What simulates them.
     std::vector<double> mass;            ///< kg per node, or density kg/m³ (Continuum). > 0.
     std::vector<double> stiffness;       ///< N/m per node, or Young's modulus Pa (Continuum); a spring gets
                                          ///< the mean of its two nodes. >= 0.

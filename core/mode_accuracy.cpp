@@ -137,13 +137,11 @@ std::vector<double> bakeModeProjection(const std::shared_ptr<const BodyModel>& m
     }
     updateVoidNodes(*model, state);
     simulator.restoreState(state, 0);
+    std::vector<Vec3> displacement(model->nodeCount());
     auto project = [&](const BodyState& s) {
-        double q = 0.0;
-        for (std::size_t i = 0; i < model->nodeCount(); ++i) {
-            if (model->inverseMass[i] > 0.0)
-                q += model->mass[i] * mode.shape[i].dot(s.position[i] - model->restPositions[i]);
-        }
-        return q;
+        for (std::size_t i = 0; i < model->nodeCount(); ++i)
+            displacement[i] = s.position[i] - model->restPositions[i];
+        return massInnerProduct(*model, mode.shape, displacement);
     };
     std::vector<double> samples{project(simulator.state())};
     const long long steps = std::llround(seconds / settings.dt);

@@ -31,6 +31,71 @@ void addSpringBlock(Eigen::MatrixXd& matrix, int a, int b, const Mat3& block) {
     }
 }
 
+/// A mode of mass-normalised shape φ (φᵀMφ = 1) over the free nodes (`slot`), its shape per node with void
+/// nodes filled the way the simulator fills them, scaled to a largest node displacement of 1.
+VibrationMode makeMode(const BodyModel& model, const std::vector<int>& slot, const Eigen::VectorXd& phi, double omega,
+                       double nodeDampingRatio, double springDampingRatio) {
+    const std::size_t n = model.nodeCount();
+    VibrationMode mode;
+    mode.frequencyHz = omega / (2.0 * std::numbers::pi);
+    mode.nodeDampingRatio = nodeDampingRatio;
+    mode.springDampingRatio = springDampingRatio;
+    mode.dampingRatio = nodeDampingRatio + springDampingRatio;
+    BodyState state = restState(model);
+    double largest = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (slot[i] >= 0)
+            largest = std::max(largest, phi.segment<3>(3 * slot[i]).norm());
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (slot[i] >= 0)
+            state.position[i] += phi.segment<3>(3 * slot[i]) / largest;
+    }
+    updateVoidNodes(model, state);
+    mode.shape.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+        mode.shape[i] = state.position[i] - model.restPositions[i];
+    return mode;
+}
+
+/// analyseModes() of a solid element body: its stiffness and viscosity at rest and its consistent mass and node
+/// damping (every component alike), K φ = ω² M φ through M = L Lᵀ. The element's free nodes are the body's.
+Result<ModalAnalysis> analyseElementModes(const BodyModel& model, int count, const NodeSprings& springs,
+                                          const std::vector<int>& slot, ModalAnalysis result) {
+    const ElementBody& e = *model.element;
+    const int dof = result.unknowns;
+    Eigen::MatrixXd stiffness = elementRestStiffness(e, model.restPositions);
+    const Eigen::MatrixXd viscosity = elementRestViscosity(e, model.restPositions);
+    Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(dof, dof), damping = Eigen::MatrixXd::Zero(dof, dof);
+    for (std::size_t a = 0; a < e.freeNodes.size(); ++a) {
+        const std::uint32_t i = e.freeNodes[a];
+        for (std::size_t b = 0; b < e.freeNodes.size(); ++b)
+            for (int c = 0; c < 3; ++c) {
+                mass(Eigen::Index(3 * a) + c, Eigen::Index(3 * b) + c) = e.mass(i, e.freeNodes[b]);
+                damping(Eigen::Index(3 * a) + c, Eigen::Index(3 * b) + c) = e.nodeDamping(i, e.freeNodes[b]);
+            }
+        for (int c = 0; c < 3; ++c) {
+            if (i < springs.stiffness.size())
+                stiffness(Eigen::Index(3 * a) + c, Eigen::Index(3 * a) + c) += springs.stiffness[i];
+            if (i < springs.damping.size())
+                damping(Eigen::Index(3 * a) + c, Eigen::Index(3 * a) + c) += springs.damping[i];
+        }
+    }
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, mass);
+    if (solver.info() != Eigen::Success)
+        return Status::error("the eigenvalue solver did not converge on this body's solid element");
+    const Eigen::VectorXd& lambda = solver.eigenvalues();  // ascending; eigenvectors M-normalised
+    const int first = rigidModeCount(lambda);
+    result.rigidModes = first;
+    for (int m = first; m < dof && int(result.modes.size()) < count; ++m) {
+        const Eigen::VectorXd phi = solver.eigenvectors().col(m);
+        const double twoOmega = 2.0 * std::sqrt(lambda[m]);
+        result.modes.push_back(makeMode(model, slot, phi, std::sqrt(lambda[m]), phi.dot(damping * phi) / twoOmega,
+                                        phi.dot(viscosity * phi) / twoOmega));
+    }
+    return result;
+}
+
 }  // namespace
 
 Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const NodeSprings& springs) {
@@ -51,6 +116,8 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const Node
                              std::to_string(kMaxModalUnknowns) + " SoftTouch solves; analyse a coarser lattice");
 
     const int dof = result.unknowns;
+    if (model.element)
+        return analyseElementModes(model, count, springs, slot, std::move(result));
     Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dof, dof);
     Eigen::MatrixXd springDamping = Eigen::MatrixXd::Zero(dof, dof);
     for (const Spring& s : model.springs) {
@@ -85,28 +152,9 @@ Result<ModalAnalysis> analyseModes(const BodyModel& model, int count, const Node
     for (int m = first; m < dof && int(result.modes.size()) < count; ++m) {
         const Eigen::VectorXd phi = invSqrtMass.asDiagonal() * solver.eigenvectors().col(m);
         const double omega = std::sqrt(lambda[m]);
-        VibrationMode mode;
-        mode.frequencyHz = omega / (2.0 * std::numbers::pi);
         const double twoOmega = 2.0 * omega;
-        mode.nodeDampingRatio = phi.cwiseProduct(nodeDamping).dot(phi) / twoOmega;
-        mode.springDampingRatio = phi.dot(springDamping * phi) / twoOmega;
-        mode.dampingRatio = mode.nodeDampingRatio + mode.springDampingRatio;
-        // The shape per node, void nodes filled the way the simulator fills them, scaled to max 1.
-        BodyState state = restState(model);
-        double largest = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            if (slot[i] >= 0)
-                largest = std::max(largest, phi.segment<3>(3 * slot[i]).norm());
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            if (slot[i] >= 0)
-                state.position[i] += phi.segment<3>(3 * slot[i]) / largest;
-        }
-        updateVoidNodes(model, state);
-        mode.shape.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
-            mode.shape[i] = state.position[i] - model.restPositions[i];
-        result.modes.push_back(std::move(mode));
+        result.modes.push_back(makeMode(model, slot, phi, omega, phi.cwiseProduct(nodeDamping).dot(phi) / twoOmega,
+                                        phi.dot(springDamping * phi) / twoOmega));
     }
     return result;
 }

@@ -141,6 +141,12 @@ double Simulator::nodeEnergy(std::size_t i, const Vec3& gravity, double h) const
 void Simulator::resolveContactsAccounted(const ExternalForces& external, double h) {
     // The same response as resolvePlaneContacts, node by node; a contact changes only its node's
     // position and velocity, so H̃ changes by that node's share (applied in order: exact).
+    if (m_model->element) {  // its kinetic energy couples the nodes: the whole body's H̃ before and after
+        const double before = energyParts(external, h).modified;
+        resolvePlaneContacts(*m_model, external.planes, m_substepStart, h, external.gravity, m_state);
+        m_account.contacts += energyParts(external, h).modified - before;
+        return;
+    }
     const double restingSpeed = restingContactSpeed(external.gravity, h);
     for (const CollisionPlane& plane : external.planes) {
         for (std::size_t i = 0; i < m_model->nodeCount(); ++i) {

@@ -1,6 +1,7 @@
 #include "core/solid_modes.h"
 
 #include "core/axis_basis.h"
+#include "core/axis_quadrature.h"
 #include "core/modes.h"
 #include "core/network_elasticity.h"
 #include "core/scene.h"
@@ -16,37 +17,6 @@
 
 namespace softtouch {
 
-namespace {
-
-/// Gauss-Legendre points and weights of `n` points on [0,1] (exact for polynomials of degree 2n-1).
-/// Newton's iteration on P_n from the Chebyshev-like first guess converges in a few steps for n <= 16.
-void gaussLegendre(int n, std::vector<double>& points, std::vector<double>& weights) {
-    points.assign(std::size_t(n), 0.0);
-    weights.assign(std::size_t(n), 0.0);
-    for (int i = 0; i < n; ++i) {
-        double x = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5));
-        double slope = 1.0;
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            double p0 = 1.0, p1 = x;  // P_0, P_1; the recurrence climbs to P_n and P_{n-1}
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            slope = n * (x * p1 - p0) / (x * x - 1.0);
-            const double step = p1 / slope;
-            x -= step;
-            if (std::abs(step) < 1e-15)
-                break;
-        }
-        // On [-1,1]: w = 2 / ((1 - x²) P_n'(x)²); mapped to [0,1] both halve.
-        points[std::size_t(i)] = 0.5 * (1.0 - x);
-        weights[std::size_t(i)] = 1.0 / ((1.0 - x * x) * slope * slope);
-    }
-}
-
-/// T = Pᵀ C P: the 9x9 elasticity acting on displacement gradients, columns (α, k) = 3α + k meaning
-/// ∂u_α/∂x_k, P the map from gradients to Voigt strain (ε_uu, ε_vv, ε_ww, 2ε_vw, 2ε_uw, 2ε_uv).
 Eigen::Matrix<double, 9, 9> gradientElasticity(const Eigen::Matrix<double, 6, 6>& c) {
     Eigen::Matrix<double, 6, 9> p = Eigen::Matrix<double, 6, 9>::Zero();
     const auto g = [](int alpha, int k) { return 3 * alpha + k; };
@@ -58,8 +28,6 @@ Eigen::Matrix<double, 9, 9> gradientElasticity(const Eigen::Matrix<double, 6, 6>
     p(5, g(0, 1)) = p(5, g(1, 0)) = 1.0;
     return p.transpose() * c * p;
 }
-
-}  // namespace
 
 Result<SolidModes> solidModes(const SolidField& solid, int degree, int count) {
     if (degree < 1 || degree > kMaxSolidDegree)
@@ -81,29 +49,14 @@ SolidElement latticeElement(const Lattice& lattice) {
     return element;
 }
 
-namespace {
-
-/// Quadrature on [0,1] for one axis of an element: `perSpan` Gauss points on every knot span.
-struct AxisQuadrature {
-    std::vector<double> point;
-    std::vector<double> weight;
-    std::vector<BasisSample> sample;
-};
-
-AxisQuadrature axisQuadrature(const AxisBasis& basis, int perSpan) {
-    std::vector<double> x, w;
-    gaussLegendre(perSpan, x, w);
-    AxisQuadrature q;
-    const int spans = basis.spanCount();
-    for (int s = 0; s < spans; ++s) {
-        for (std::size_t p = 0; p < x.size(); ++p) {
-            q.point.push_back((s + x[p]) / spans);
-            q.weight.push_back(w[p] / spans);
-            q.sample.push_back(basis.sample(q.point.back()));
-        }
-    }
-    return q;
+SolidElement simulatedElement(const Lattice& lattice) {
+    SolidElement element = latticeElement(lattice);
+    element.reduced = true;
+    element.exactShare = kElementExactShare;
+    return element;
 }
+
+namespace {
 
 /// Basis values (or, with `axis` 0..2, slopes along that axis in 1/m) at every point of a tensor quadrature,
 /// one row per point (u fastest), one column per node; sparse, since a B-spline point sees (degree + 1)^3 nodes.
@@ -135,14 +88,6 @@ Eigen::SparseMatrix<double> basisAtPoints(const std::array<AxisQuadrature, 3>& q
     Eigen::SparseMatrix<double> out(points, count[0] * count[1] * count[2]);
     out.setFromTriplets(entries.begin(), entries.end());
     return out;
-}
-
-/// Aᵀ diag(w) B as a dense matrix: through dense products where the basis is dense (a Bezier element's points
-/// see every node), sparse ones where it is not.
-Eigen::MatrixXd weightedProduct(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& w, const Eigen::SparseMatrix<double>& b) {
-    if (4 * a.nonZeros() > a.rows() * a.cols())
-        return Eigen::MatrixXd(a).transpose() * w.asDiagonal() * Eigen::MatrixXd(b);
-    return Eigen::MatrixXd(Eigen::SparseMatrix<double>(a.transpose() * w.asDiagonal() * b));
 }
 
 /// The field `f` at every point of the tensor quadrature times its weight and the box volume; fails on a value
@@ -195,19 +140,15 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
     for (int a = 0; a < 3; ++a) {
         const AxisBasis& basis = element.axes[std::size_t(a)];
         massPoints[std::size_t(a)] = axisQuadrature(basis, basis.degree() + 3);
-        stiffnessPoints[std::size_t(a)] =
-            axisQuadrature(basis, element.stiffnessPoints > 0 ? element.stiffnessPoints : basis.degree() + 3);
+        const int perSpan = element.reduced ? basis.degree() : element.stiffnessPoints > 0 ? element.stiffnessPoints : basis.degree() + 3;
+        stiffnessPoints[std::size_t(a)] = axisQuadrature(basis, perSpan);
     }
     const auto massWeight = weightedField(massPoints, solid.size, solid.density, true);
     if (!massWeight)
         return massWeight.status();
-    const auto stiffnessWeight = weightedField(stiffnessPoints, solid.size, solid.modulus, false);
-    if (!stiffnessWeight)
-        return stiffnessWeight.status();
+    if (!(element.exactShare >= 0.0 && element.exactShare <= 1.0))
+        return Status::error("the element's exact share must be 0 to 1");
     const Eigen::SparseMatrix<double> value = basisAtPoints(massPoints, counts, solid.size, -1);
-    const std::array<Eigen::SparseMatrix<double>, 3> gradient{basisAtPoints(stiffnessPoints, counts, solid.size, 0),
-                                                  basisAtPoints(stiffnessPoints, counts, solid.size, 1),
-                                                  basisAtPoints(stiffnessPoints, counts, solid.size, 2)};
 
     // Scalar matrices: mass ∫ρ N_i N_j (lumped: its row sums ∫ρ N_i, since the basis sums to 1) and
     // G^(kl) = ∫ e ∂_k N_i ∂_l N_j.
@@ -215,12 +156,34 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
     if (element.mass == SolidMass::Lumped)
         mass = Eigen::MatrixXd(mass.rowwise().sum().asDiagonal());
     std::array<std::array<Eigen::MatrixXd, 3>, 3> g;
-    for (int k = 0; k < 3; ++k) {
-        for (int l = k; l < 3; ++l) {
-            g[std::size_t(k)][std::size_t(l)] = weightedProduct(gradient[std::size_t(k)], stiffnessWeight.value(), gradient[std::size_t(l)]);
-            if (l != k)
-                g[std::size_t(l)][std::size_t(k)] = g[std::size_t(k)][std::size_t(l)].transpose();
+    const auto addGradientProducts = [&](const std::array<AxisQuadrature, 3>& points, double share) -> Status {
+        const auto weight = weightedField(points, solid.size, solid.modulus, false);
+        if (!weight)
+            return weight.status();
+        const std::array<Eigen::SparseMatrix<double>, 3> gradient{basisAtPoints(points, counts, solid.size, 0),
+                                                                  basisAtPoints(points, counts, solid.size, 1),
+                                                                  basisAtPoints(points, counts, solid.size, 2)};
+        for (int k = 0; k < 3; ++k) {
+            for (int l = 0; l < 3; ++l) {
+                Eigen::MatrixXd product = share * weightedProduct(gradient[std::size_t(k)], weight.value(), gradient[std::size_t(l)]);
+                Eigen::MatrixXd& sum = g[std::size_t(k)][std::size_t(l)];
+                if (sum.size() == 0)
+                    sum = std::move(product);
+                else
+                    sum += product;
+            }
         }
+        return Status::success();
+    };
+    const bool blended = element.reduced && element.exactShare > 0.0;
+    if (Status s = addGradientProducts(stiffnessPoints, blended ? 1.0 - element.exactShare : 1.0); !s)
+        return s;
+    if (blended) {
+        std::array<AxisQuadrature, 3> exact;
+        for (int a = 0; a < 3; ++a)
+            exact[std::size_t(a)] = axisQuadrature(element.axes[std::size_t(a)], element.axes[std::size_t(a)].degree() + 1);
+        if (Status s = addGradientProducts(exact, element.exactShare); !s)
+            return s;
     }
     const Eigen::Matrix<double, 9, 9> t = gradientElasticity(solid.elasticity);
 
