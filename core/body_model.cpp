@@ -63,7 +63,7 @@ double largestStiffnessOverMass(const BodyModel& m) {
     if (m.element) {
         // A = L⁻¹ K L⁻ᵀ over the free nodes, M = L Lᵀ the element's consistent mass (each component alike).
         const ElementBody& e = *m.element;
-        const Eigen::MatrixXd k = elementRestStiffness(e, m.restPositions);
+        const Eigen::MatrixXd k = elementRestStiffness(e);
         const Eigen::Index free = Eigen::Index(e.freeNodes.size());
         const auto lower = e.massFactor.matrixL();
         Eigen::MatrixXd block(free, 3);

@@ -21,6 +21,13 @@ public:
         m_pull.resize(external.drags.size());  // grows once: no allocation per step
         return m_pull;
     }
+    /// Where accumulateForces() writes a solid element's damping forces (empty when not measuring or no element).
+    std::span<Vec3> elementDamping(const BodyModel& model) {
+        if (!on || !model.element)
+            return {};
+        m_elementDamping.resize(model.nodeCount());  // grows once
+        return m_elementDamping;
+    }
     /// After the force pass, before the update.
     void begin(const BodyModel& model, const ExternalForces& external, const BodyState& state) {
         work = {};
@@ -30,11 +37,8 @@ public:
         for (std::size_t d = 0; d < external.drags.size(); ++d)
             m_sharedVelocity[d] = sharedVelocity(model, external.drags[d], state);
         m_nodeForcePower = nodeForcePower(model, external, state);
-        if (model.element) {  // the element's damping forces, held over the substep like a drag's pull
-            m_elementDamping.assign(model.nodeCount(), Vec3::Zero());
-            addElementDampingForces(*model.element, state.position, state.velocity, m_elementDamping);
+        if (model.element)  // the element's damping forces (from the force pass), held over the substep
             m_elementDampingPower = power(model, m_elementDamping, state);
-        }
     }
     void end(const BodyModel& model, const ExternalForces& external, const BodyState& state,
              const SpringScratch& scratch, double h) {
@@ -100,7 +104,8 @@ public:
     bool isExplicit() const override { return true; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
         m_force.resize(model.nodeCount());
-        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, {}, m_meter.pulls(external));
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, {}, m_meter.pulls(external),
+                         m_meter.elementDamping(model));
         m_meter.begin(model, external, state);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;
         double nodeLoss = 0.0;
@@ -142,7 +147,8 @@ public:
         // couples the nodes as its mass does and is taken explicitly (with the backward velocity).
         ForceTerms terms;
         terms.nodeDamping = model.element != nullptr;
-        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms, m_meter.pulls(external));
+        accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms, m_meter.pulls(external),
+                         m_meter.elementDamping(model));
         m_meter.begin(model, external, state);
         accelerations(model, m_force, m_solve);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;

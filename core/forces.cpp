@@ -63,7 +63,7 @@ void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std:
 
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> x,
                       std::span<const Vec3> v, std::span<Vec3> f, SpringScratch& scratch, ForceTerms terms,
-                      std::span<Vec3> dragPulls) {
+                      std::span<Vec3> dragPulls, std::span<Vec3> elementDamping) {
     const std::size_t n = model.nodeCount();
     const bool gravity = !external.gravity.isZero();
     for (std::size_t i = 0; i < n; ++i) {
@@ -77,7 +77,7 @@ void accumulateForces(const BodyModel& model, const ExternalForces& external, st
     if (terms.springs)
         addSpringForces(model.springTable, x, v, f, scratch);
     if (model.element)
-        addElementForces(*model.element, x, v, f, terms.springs, terms.nodeDamping);
+        addElementForces(*model.element, x, v, f, terms.springs, terms.nodeDamping, elementDamping);
     for (std::size_t d = 0; d < external.drags.size(); ++d) {
         const DragSpring& drag = external.drags[d];
         Vec3 p, pv;

@@ -67,10 +67,12 @@ struct ForceTerms {
 /// Adds all forces on every node into `force` (which is zeroed first): springs, spring damping, node
 /// damping, gravity (m·g), node forces, drags. Only free nodes' forces are meaningful; pinned and void nodes get
 /// gravity and damping but no spring or drag force. `scratch` is the caller's, so nothing is allocated.
-/// When `dragPulls` is given (one entry per drag), it receives each drag's pull F = Ks·d + Kd·v, N.
+/// When `dragPulls` is given (one entry per drag), it receives each drag's pull F = Ks·d + Kd·v, N. When
+/// `elementDamping` is given (one entry per node) on a solid element body, it receives the element's damping
+/// forces alone (viscous and node damping; `force` holds them too), N: what the energy account needs.
 void accumulateForces(const BodyModel& model, const ExternalForces& external, std::span<const Vec3> position,
                       std::span<const Vec3> velocity, std::span<Vec3> force, SpringScratch& scratch,
-                      ForceTerms terms = {}, std::span<Vec3> dragPulls = {});
+                      ForceTerms terms = {}, std::span<Vec3> dragPulls = {}, std::span<Vec3> elementDamping = {});
 
 /// The current position and velocity of a drag's material point.
 void dragPointState(const DragSpring& drag, std::span<const Vec3> position, std::span<const Vec3> velocity,

@@ -64,8 +64,8 @@ Result<ModalAnalysis> analyseElementModes(const BodyModel& model, int count, con
                                           const std::vector<int>& slot, ModalAnalysis result) {
     const ElementBody& e = *model.element;
     const int dof = result.unknowns;
-    Eigen::MatrixXd stiffness = elementRestStiffness(e, model.restPositions);
-    const Eigen::MatrixXd viscosity = elementRestViscosity(e, model.restPositions);
+    Eigen::MatrixXd stiffness = elementRestStiffness(e);
+    const Eigen::MatrixXd viscosity = elementRestViscosity(e);
     Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(dof, dof), damping = Eigen::MatrixXd::Zero(dof, dof);
     for (std::size_t a = 0; a < e.freeNodes.size(); ++a) {
         const std::uint32_t i = e.freeNodes[a];

@@ -233,28 +233,18 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
     return result;
 }
 
-namespace {
-
-/// The elasticity a Continuum material's painted values mean: the springs' on a uniform cell of the lattice's
-/// mean spacing (box size / (nodes - 1) along each axis). Every cell of a Bezier lattice is that cell, so it is
-/// the lattice's own network; a clamped B-spline's end cells are a third and two thirds as wide and make
-/// another solid, which is the lattice's error, not the material's (docs/lattice.md). A lone cell gives it
-/// exactly, since each spring's coefficient sums its cells' shares. The legacy spring model (a stiffness per
-/// spring, whatever the cells) means nothing beyond its own network.
-NetworkElasticity paintedElasticity(const Lattice& lattice, const LatticeMaterial& unit) {
-    if (unit.model != MaterialModel::Continuum || lattice.shape().kind == LatticeKind::Bezier)
-        return networkElasticity(lattice, unit);
+NetworkElasticity materialElasticity(const Lattice& lattice, const LatticeMaterial& material) {
+    if (material.model != MaterialModel::Continuum || lattice.shape().kind == LatticeKind::Bezier)
+        return networkElasticity(lattice, material);
     OrientedBox cell = lattice.box();
     for (int a = 0; a < 3; ++a)
         cell.size[a] /= double(lattice.count(a) - 1);
     const Lattice one = Lattice::create({LatticeKind::Bezier, {2, 2, 2}}, cell).value();  // a sub-box of a valid box
-    LatticeMaterial cellMaterial = continuumMaterial(one, 1.0, 1.0, 0.0);
-    cellMaterial.kindScale = unit.kindScale;
-    cellMaterial.anisotropy = unit.anisotropy;
+    LatticeMaterial cellMaterial = continuumMaterial(one, 1.0, solidMean(material.stiffness, material), 0.0);
+    cellMaterial.kindScale = material.kindScale;
+    cellMaterial.anisotropy = material.anisotropy;
     return networkElasticity(one, cellMaterial);
 }
-
-}  // namespace
 
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree) {
     if (degree < 1 || degree > kMaxSolidDegree)
@@ -270,7 +260,7 @@ Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& 
     // The springs' elasticity per unit of the painted stiffness: every spring's k is linear in its two nodes'.
     LatticeMaterial unit = material;
     std::fill(unit.stiffness.begin(), unit.stiffness.end(), 1.0);
-    const NetworkElasticity network = paintedElasticity(lattice, unit);
+    const NetworkElasticity network = materialElasticity(lattice, unit);
     if (!network.resistsEveryStrain)
         return Status::error("the springs do not resist every uniform strain (a spring kind scaled to 0), so they "
                              "describe no solid");

@@ -20,6 +20,7 @@
 #include "core/axis_basis.h"
 #include "core/lattice.h"
 #include "core/lattice_body.h"
+#include "core/network_elasticity.h"
 #include "core/result.h"
 
 #include <Eigen/Core>
@@ -117,6 +118,15 @@ SolidElement simulatedElement(const Lattice& lattice);
 /// count_u (j + count_v k)). Fails as solidModes() above does. Deformations that cost no energy (a reduced
 /// integration's hourglass modes) are counted in `rigidModes` with the rigid motions.
 Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count = 3);
+
+/// The elasticity a material's painted values mean: its springs' on a uniform cell of the lattice's mean spacing
+/// (box size / (nodes - 1) along each axis), at the mean painted modulus. Every cell of a Bezier lattice is that
+/// cell, so there it is the lattice's own network (networkElasticity(), painted maps averaged); a clamped
+/// B-spline's end cells are a third and two thirds as wide and make another solid, which is the springs' error,
+/// not the material's (docs/lattice.md). A lone cell gives it exactly, since each spring's coefficient sums its
+/// cells' shares. The legacy spring model (a stiffness per spring, whatever the cells) means nothing beyond its
+/// own network. The solid element runs this solid.
+NetworkElasticity materialElasticity(const Lattice& lattice, const LatticeMaterial& material);
 
 /// The solid a lattice material describes (either model: the painted values interpolated by the lattice's
 /// basis, the springs' elasticity per unit of them from networkElasticity(); for a Continuum material on a
