@@ -112,9 +112,10 @@ int runModes(const std::vector<std::string>& args) {
         if (!modes)
             return fail(scenePath + ": object '" + object.name + "': " + modes.message());
         const double h = integrationStep(Simulator(body.value(), settings));
-        std::printf("%s: %d unknowns, %d rigid modes; %s, dt %.6g s (step %.6g s)\n", object.name.c_str(),
-                    modes->unknowns, modes->rigidModes, std::string(integratorName(settings.integrator)).c_str(),
-                    settings.dt, h);
+        const bool element = object.material.element == BodyElement::Solid;
+        std::printf("%s: %d unknowns, %d rigid modes; %s; %s, dt %.6g s (step %.6g s)\n", object.name.c_str(),
+                    modes->unknowns, modes->rigidModes, element ? "solid element" : "springs",
+                    std::string(integratorName(settings.integrator)).c_str(), settings.dt, h);
         std::printf("  mode  frequency_hz  damping_ratio  node_part  spring_part  kept_per_period  material_alone  frequency_error\n");
         std::string summary;  // what the scheme does to the lowest mode, in words
         for (std::size_t m = 0; m < modes->modes.size(); ++m) {
@@ -128,15 +129,18 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (!summary.empty())
             std::printf("  %s\n", summary.c_str());
-        const NetworkElasticity e = networkElasticity(object.lattice, object.material);
+        // The element runs the painted material's solid; springs make their own network's.
+        const NetworkElasticity e = element ? materialElasticity(object.lattice, object.material)
+                                            : networkElasticity(object.lattice, object.material);
+        const char* actor = element ? "solid element acts as" : "springs act as";
         if (e.resistsEveryStrain) {
-            std::printf("  springs act as: E_u %.4g  E_v %.4g  E_w %.4g Pa, G_vw %.4g  G_uw %.4g  G_uv %.4g Pa", e.youngsModulus.x(),
+            std::printf("  %s: E_u %.4g  E_v %.4g  E_w %.4g Pa, G_vw %.4g  G_uw %.4g  G_uv %.4g Pa", actor, e.youngsModulus.x(),
                         e.youngsModulus.y(), e.youngsModulus.z(), e.shearModulus.x(), e.shearModulus.y(), e.shearModulus.z());
             if (object.material.model == MaterialModel::Continuum)
                 std::printf(" (painted modulus, mean %.4g Pa)", solidMean(object.material.stiffness, object.material));
             std::printf("\n");
         } else {
-            std::printf("  springs act as: no resistance to some uniform strain (a spring kind scaled to 0)\n");
+            std::printf("  %s: no resistance to some uniform strain (a spring kind scaled to 0)\n", actor);
         }
         if (reference || referenceDegree) {
             const int degree = int(referenceDegree.value_or(kDefaultSolidDegree));

@@ -4,6 +4,7 @@
 #include "bench/reference_deform.h"
 #include "bench/table1_report.h"
 #include "analysis/timer.h"
+#include "core/material_conversion.h"
 #include "core/binding.h"
 #include "core/lattice_body.h"
 #include "core/mesh_surface.h"
@@ -29,6 +30,9 @@ constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, Inte
 struct CartoonControls {
     StrainLimits limits;
     double volumePreservation = 0.0;  ///< Of the whole box (the bench body has no mesh).
+    /// The solid element instead of springs, on the continuum material with the springs' lowest mode and mass
+    /// (continuumEquivalent()).
+    bool solidElement = false;
 };
 
 /// A lattice body with the fish material, pinned at its u = 0 face.
@@ -39,6 +43,10 @@ std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const Cartoon
     for (int k = 0; k < lattice.count(2); ++k)
         for (int j = 0; j < lattice.count(1); ++j)
             m.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
+    if (controls.solidElement) {
+        m = continuumEquivalent(lattice, m).value().material;
+        m.element = BodyElement::Solid;
+    }
     return buildLatticeBody(lattice, m).value();
 }
 
@@ -108,6 +116,19 @@ json latticeSteps(const LatticeShape& shape, const char* label, double minSecond
         result[std::string(integratorName(k))] = us;
         out << "  " << std::left << std::setw(18) << integratorName(k) << std::right << std::fixed << std::setprecision(2)
             << std::setw(9) << us << " us   " << std::setprecision(1) << us / baseline << "x symplectic-euler\n";
+    }
+    // The solid element on the same body (the continuum material of the springs' lowest mode and mass): its
+    // consistent mass raises the step bound's frequency, so the substeps are counted too.
+    CartoonControls solid;
+    solid.solidElement = true;
+    for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet}) {
+        const double us = stepMicroseconds(shape, k, {}, false, minSeconds, true, solid);
+        const DraggedBody body(shape, k, {}, false, true, solid);
+        const std::string name = std::string(integratorName(k)) + " (solid element)";
+        result[name] = us;
+        out << "  " << std::left << std::setw(33) << name << std::right << std::fixed << std::setprecision(2) << std::setw(9)
+            << us << " us   " << std::setprecision(1) << us / baseline << "x symplectic-euler, "
+            << body.sim.substepsFor(body.forces) << " substeps a step\n";
     }
     return result;
 }

@@ -190,9 +190,9 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     if (!v.expectObject())
         return;
     if (allowPreset)
-        v.checkKeys({"preset", "model", "mass", "totalMass", "massDistribution", "stiffness", "damping", "airDamping",
-                     "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio",
-                     "stretchLimit", "squashLimit", "volumePreservation", "goalWeight"});
+        v.checkKeys({"preset", "model", "element", "mass", "totalMass", "massDistribution", "stiffness", "damping",
+                     "airDamping", "density", "modulus", "viscosity", "dampingRate", "springKindScale", "anisotropy",
+                     "heavyAnchorRatio", "stretchLimit", "squashLimit", "volumePreservation", "goalWeight"});
     else
         v.checkKeys({"model", "mass", "totalMass", "stiffness", "damping", "airDamping", "density", "modulus",
                      "viscosity", "dampingRate", "springKindScale", "anisotropy", "heavyAnchorRatio", "stretchLimit",
@@ -210,6 +210,15 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
                                *model + "\"");
         else if (wanted != m.model)
             resetMaterialValues(m, wanted);
+    }
+    if (const auto element = v["element"].string()) {
+        if (*element == bodyElementName(BodyElement::Solid))
+            m.element = BodyElement::Solid;
+        else if (*element == bodyElementName(BodyElement::Springs))
+            m.element = BodyElement::Springs;
+        else
+            v["element"].problem(std::string("expected \"") + bodyElementName(BodyElement::Springs) + "\" or \"" +
+                                 bodyElementName(BodyElement::Solid) + "\", got \"" + *element + "\"");
     }
     const MaterialRanges& range = materialRanges(m.model);
     const MaterialRanges& other = m.model == MaterialModel::Continuum ? springs : continuum;
@@ -297,6 +306,8 @@ void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& objec
                           {"anisotropy", vec(m.anisotropy)},
                           {kHeavyAnchorRatio.name, m.heavyAnchorRatio},
                           {key.nodeDamping.name, perNode(m.nodeDamping)}};
+    if (m.element != BodyElement::Springs)  // springs, the default, unwritten: older files stay as they were
+        object["material"]["element"] = bodyElementName(m.element);
     if (m.strainLimits.stretch > 0.0)
         object["material"]["stretchLimit"] = m.strainLimits.stretch;
     if (m.strainLimits.squash > 0.0)

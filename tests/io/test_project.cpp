@@ -59,6 +59,7 @@ private slots:
     void saveRebasesMeshPaths();
     void paintedNodeDampingRoundTrips();
     void strainLimitsRoundTripAndBind();
+    void solidElementRoundTripsAndRuns();
     void collidersRoundTrip();
     void fieldRangesMeanTheSameInFileAndCore_data();
     void fieldRangesMeanTheSameInFileAndCore();
@@ -231,6 +232,32 @@ void TestProject::strainLimitsRoundTripAndBind() {
     const nlohmann::json plainDoc = nlohmann::json::parse(again);
     QVERIFY(!plainDoc["objects"][0]["material"].contains("stretchLimit"));
     QVERIFY(!plainDoc["objects"][0]["material"].contains("volumePreservation"));
+}
+
+// The material's "element": absent is springs (every older file, and saved so), "solid" reads back as written
+// and runs the same motion after a save and reload.
+void TestProject::solidElementRoundTripsAndRuns() {
+    QTemporaryDir dir;
+    auto project = loadProject(kPresets / "scenes/angelfish-swim.softtouch");
+    QVERIFY(project.ok());
+    QCOMPARE(project->scene.objects[0].material.element, BodyElement::Springs);
+    project->scene.objects[0].material.element = BodyElement::Solid;
+    project->scene.world.simulation.integrator = IntegratorKind::Verlet;
+    const auto saved = std::filesystem::path(dir.path().toStdString()) / "solid.softtouch";
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream in(saved);
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    QCOMPARE(doc["objects"][0]["material"]["element"].get<std::string>(), std::string("solid"));
+    auto reloaded = loadProject(saved);
+    QVERIFY2(reloaded.ok(), reloaded.message().c_str());
+    QCOMPARE(reloaded->scene.objects[0].material.element, BodyElement::Solid);
+    const std::vector<Vec3f> solid = simulate(reloaded->scene, 0.5);
+    QVERIFY(solid == simulate(project->scene, 0.5));
+    project->scene.objects[0].material.element = BodyElement::Springs;
+    QVERIFY(solid != simulate(project->scene, 0.5));
+    QVERIFY(saveProject(project.value(), saved).ok());
+    std::ifstream again(saved);
+    QVERIFY(!nlohmann::json::parse(again)["objects"][0]["material"].contains("element"));
 }
 
 // World colliders: each shape with its own keys, saved and read back as written; the body built from a
@@ -690,6 +717,9 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
         << QString::fromStdString(projectText("", R"(, "world": {"colliders": [{"shape": "box", "centre": [0, 0, 0],
             "halfExtents": [1, 1, 1], "axes": [[1, 0, 0], [1, 1, 0], [0, 0, 1]]}]})"))
         << "/world/colliders/0/axes|unit and at right angles";
+    QTest::newRow("unknown element")
+        << QString::fromStdString(projectText(R"(, "material": {"element": "fem"})"))
+        << "/objects/0/material/element|expected \"springs\" or \"solid\", got \"fem\"";
     QTest::newRow("squash limit of 1")
         << QString::fromStdString(projectText(R"(, "material": {"squashLimit": 1})"))
         << "/objects/0/material/squashLimit|got 1";
