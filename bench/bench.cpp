@@ -121,7 +121,7 @@ json latticeSteps(const LatticeShape& shape, const char* label, double minSecond
     // consistent mass raises the step bound's frequency, so the substeps are counted too.
     CartoonControls solid;
     solid.solidElement = true;
-    for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet}) {
+    for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler}) {
         const double us = stepMicroseconds(shape, k, {}, false, minSeconds, true, solid);
         const DraggedBody body(shape, k, {}, false, true, solid);
         const std::string name = std::string(integratorName(k)) + " (solid element)";

@@ -411,6 +411,40 @@ void addElementForces(const ElementBody& body, std::span<const Vec3> position, s
     }
 }
 
+void elementRotations(const ElementBody& body, std::span<const Vec3> position, std::vector<Mat3>& rotations) {
+    Contraction& t = scratch();
+    rotations.clear();
+    for (const ElementRule& rule : body.rules) {
+        gradients(body, rule, position, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
+        for (std::size_t p = 0; p < rule.pointCount(); ++p) {
+            const Mat3 f = columnsAt(t.gradient, p);
+            rotations.push_back(rotationOf(f, stretchOf(f)));
+        }
+    }
+}
+
+void addElementTangent(const ElementBody& body, const std::vector<Mat3>& rotations, double a, double b,
+                       std::span<const Vec3> p, std::span<Vec3> y) {
+    Contraction& t = scratch();
+    std::size_t first = 0;
+    for (const ElementRule& rule : body.rules) {
+        gradients(body, rule, p, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
+        const std::size_t points = rule.pointCount();
+        for (auto& s : t.stress)
+            fit(s, points);
+        for (std::size_t q = 0; q < points; ++q) {
+            const Mat3& r = rotations[first + q];
+            const Mat3 turned = r.transpose() * columnsAt(t.gradient, q);
+            const double factor = a * rule.stiffness[q] + b * rule.viscosity[q];
+            const Mat3 stress = r * stressTensor(factor * (body.elasticity * voigtStrain(0.5 * (turned + turned.transpose()))));
+            for (int c = 0; c < 3; ++c)
+                t.stress[std::size_t(c)][q] = -stress.col(c);  // scatter() subtracts
+        }
+        scatter(body, rule, {&t.stress[0], &t.stress[1], &t.stress[2]}, y);
+        first += points;
+    }
+}
+
 double elementEnergy(const ElementBody& body, std::span<const Vec3> position) {
     Contraction& t = scratch();
     double energy = 0.0;

@@ -79,6 +79,16 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
 /// first call only.
 void addElementForces(const ElementBody& body, std::span<const Vec3> position, std::span<const Vec3> velocity,
                       std::span<Vec3> force, bool viscous, bool nodeDamping, std::span<Vec3> dampingOut = {});
+/// The rotation of each quadrature point's deformation at `position` (rule by rule, points in order): what
+/// addElementTangent() turns the material's stiffness by.
+void elementRotations(const ElementBody& body, std::span<const Vec3> position, std::vector<Mat3>& rotations);
+/// y += Σ_q (a E_q + b η_q) Bᵀ R_q C R_qᵀ B p on the free nodes: the corotated stiffness (a) and viscosity (b)
+/// at the state `rotations` were taken from, applied to the node field p (held nodes' p ignored). Implicit
+/// Euler's system product, with a = h² and b = h. The stress's own change under rotation (geometric stiffness)
+/// is left out: the matrix stays positive definite, and at rest it is exactly the linearisation.
+void addElementTangent(const ElementBody& body, const std::vector<Mat3>& rotations, double a, double b,
+                       std::span<const Vec3> p, std::span<Vec3> y);
+
 /// The elastic energy Σ_q w_q ½ εᵀ C ε, J.
 double elementEnergy(const ElementBody& body, std::span<const Vec3> position);
 /// The kinetic energy ½ vᵀ M v, J (held nodes do not move).

@@ -1,5 +1,6 @@
 // Linearised backward Euler: matrix-free conjugate gradients preconditioned by the factorised
 // rest-state matrix.
+#include "core/element_implicit_euler.h"
 #include "core/integrator.h"
 
 #include <Eigen/Dense>
@@ -26,9 +27,16 @@ class ImplicitEuler final : public Integrator {
 public:
     IntegratorKind kind() const override { return IntegratorKind::ImplicitEuler; }
     bool isExplicit() const override { return false; }
-    LinearSolveStats lastSolve() const override { return m_stats; }
+    LinearSolveStats lastSolve() const override { return m_element ? m_element->lastSolve() : m_stats; }
 
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
+        if (model.element) {  // the consistent mass couples every node: its own system
+            if (!m_element)
+                m_element = std::make_unique<ElementImplicitEuler>();
+            m_element->step(model, external, state, h);
+            return;
+        }
+        m_element.reset();
         if (&model != m_model || m_springCount != model.springs.size())
             analyse(model);
         if (h != m_restStep)
@@ -376,6 +384,7 @@ private:
         m_springCount = model.springs.size();
     }
 
+    std::unique_ptr<ElementImplicitEuler> m_element;  ///< For a solid element body.
     const BodyModel* m_model = nullptr;
     std::size_t m_springCount = 0;
     LinearSolveStats m_stats;

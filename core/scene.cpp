@@ -106,11 +106,10 @@ Status checkSolverLimits(const SceneObject& object, const WorldSettings& world) 
         return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
                              std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
                              std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
-    if (object.material.element == BodyElement::Solid && world.simulation.integrator != IntegratorKind::Verlet &&
-        world.simulation.integrator != IntegratorKind::SymplecticEuler)
-        return Status::error("object '" + object.name + "': the solid element runs with verlet or symplectic-euler, not " +
-                             std::string(integratorName(world.simulation.integrator)) +
-                             " (it solves with a consistent mass); set simulation.integrator or use \"element\": \"springs\"");
+    if (object.material.element == BodyElement::Solid && world.simulation.integrator == IntegratorKind::Xpbd)
+        return Status::error("object '" + object.name + "': the solid element runs with verlet, symplectic-euler or "
+                             "implicit-euler, not xpbd (whose constraints act on springs and node masses); set "
+                             "simulation.integrator or use \"element\": \"springs\"");
     return Status::success();
 }
 
