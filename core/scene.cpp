@@ -97,9 +97,6 @@ Result<ModalAnalysis> objectModes(const Lattice& lattice, const LatticeMaterial&
     return analyseModes(*body.value(), count, goalSprings(*body.value(), material.goalWeight, *follow));
 }
 
-namespace {
-
-/// The solver's limit on an object in this world (the implicit solve's factor grows with the lattice).
 Status checkSolverLimits(const SceneObject& object, const WorldSettings& world) {
     if (world.simulation.integrator == IntegratorKind::ImplicitEuler &&
         std::size_t(object.lattice.nodeCount()) > ranges::kMaxImplicitNodes)
@@ -112,8 +109,6 @@ Status checkSolverLimits(const SceneObject& object, const WorldSettings& world) 
                              "simulation.integrator or use \"element\": \"springs\"");
     return Status::success();
 }
-
-}  // namespace
 
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world) {
     const Bounds bounds = object.mesh->bounds();

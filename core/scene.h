@@ -81,6 +81,9 @@ Result<Scene> newScene(std::string name, Mesh mesh);
 /// (ranges::kMaxImplicitNodes). SceneSimulation::create checks it and so does the project reader (before
 /// it builds the body), so a file that validates also runs. Errors name the object.
 Status checkObjectLimits(const SceneObject& object, const WorldSettings& world);
+/// The solver's part of checkObjectLimits(), what a material or world edit can change: implicit Euler's node
+/// limit (its factor grows with the lattice) and the schemes that run the solid element (not XPBD).
+Status checkSolverLimits(const SceneObject& object, const WorldSettings& world);
 
 /// Runtime of a scene: bodies, bindings and simulators built once, stepped together.
 class SceneSimulation {

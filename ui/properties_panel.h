@@ -67,6 +67,7 @@ private:
     bool m_refreshing = false;
 
     QComboBox* m_integrator = nullptr;
+    QComboBox* m_element = nullptr;
     QDoubleSpinBox* m_stepsPerSecond = nullptr;
     QCheckBox* m_gravity = nullptr;
     QCheckBox* m_drivers = nullptr;
