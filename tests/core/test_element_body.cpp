@@ -206,6 +206,11 @@ private slots:
             LatticeMaterial coarseMaterial = fish ? pinnedFish(coarse) : continuumMaterial(coarse, 1.0, 1000.0, 0.0);
             coarseMaterial.element = BodyElement::Solid;
             const std::vector<double> first = frequencies(*build(coarse, coarseMaterial));
+            LatticeMaterial coarseSprings = coarseMaterial;
+            coarseSprings.element = BodyElement::Springs;
+            const std::vector<double> coarseSpringHz = frequencies(*build(coarse, coarseSprings));
+            qInfo("%s Bezier 4: %.3f / %.3f / %.3f Hz (springs %.3f / %.3f / %.3f Hz)", fish ? "fish" : "free cube", first[0],
+                  first[1], first[2], coarseSpringHz[0], coarseSpringHz[1], coarseSpringHz[2]);
             for (const auto& [kind, nodes] : std::vector<std::pair<LatticeKind, int>>{
                      {LatticeKind::Bezier, 6}, {LatticeKind::Bezier, 8}, {LatticeKind::BSpline, 6}, {LatticeKind::BSpline, 8}}) {
                 const Lattice lattice = latticeOver(box, kind, nodes);
