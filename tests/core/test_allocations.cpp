@@ -41,9 +41,12 @@ private slots:
 
 void TestAllocations::stepAllocatesNothing_data() {
     QTest::addColumn<int>("integrator");
+    QTest::addColumn<bool>("solidElement");
     for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                              IntegratorKind::Xpbd})
-        QTest::newRow(std::string(integratorName(k)).c_str()) << int(k);
+        QTest::newRow(std::string(integratorName(k)).c_str()) << int(k) << false;
+    for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler})
+        QTest::newRow((std::string(integratorName(k)) + " (solid element)").c_str()) << int(k) << true;
 }
 
 void TestAllocations::stepAllocatesNothing() {
@@ -51,8 +54,14 @@ void TestAllocations::stepAllocatesNothing() {
     QSKIP("AddressSanitizer owns malloc: allocations cannot be counted in this build");
 #else
     QFETCH(int, integrator);
+    QFETCH(bool, solidElement);
     const Lattice lattice = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, OrientedBox{}).value();
     LatticeMaterial material = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    if (solidElement) {  // a continuum material (the element's own scratch is the thread's, warmed up below)
+        material = continuumMaterial(lattice, 1000.0, 5000.0, 20.0);
+        material.nodeDamping.assign(material.mass.size(), 0.5);
+        material.element = BodyElement::Solid;
+    }
     for (int k = 0; k < 4; ++k)
         for (int j = 0; j < 4; ++j)
             material.anchor[std::size_t(lattice.index(0, j, k))] = AnchorMode::Pinned;
