@@ -18,8 +18,8 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME] [--reference [--reference-degree P]]
-                            [--pictures PREFIX [--size WxH] [--amplitude F]]
+constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME] [--element springs|solid]
+                            [--reference [--reference-degree P]] [--pictures PREFIX [--size WxH] [--amplitude F]]
 
 Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
 damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
@@ -32,6 +32,9 @@ modulus (they differ on flat or long cells: docs/lattice.md, "What solid the spr
 Options:
   --count N       Modes per object, 1..20 (default 3).
   --object NAME   Only this object.
+  --element springs|solid
+                  Analyse every object as if its material said this element (docs/lattice.md, "The solid
+                  element"), the file unchanged: the same scene on springs and on the solid element.
   --reference     Also solve the solid the material describes without the lattice's approximations
                   (Galerkin over a Bernstein basis of degree P with the consistent mass, anchors held
                   fixed: core/solid_modes.h) and print how far each of the lattice's modes is from it:
@@ -82,6 +85,8 @@ int runModes(const std::vector<std::string>& args) {
     line.positional("SCENE", scenePath);
     line.number("--count", count, {1, 20, true});
     line.text("--object", objectName);
+    std::string elementName;
+    line.text("--element", elementName);
     line.flag("--reference", reference);
     line.number("--reference-degree", referenceDegree, {2, double(kMaxSolidDegree), true});
     line.text("--pictures", picturePrefix);
@@ -94,9 +99,22 @@ int runModes(const std::vector<std::string>& args) {
     pictureOptions.width = size.first;
     pictureOptions.height = size.second;
     pictureOptions.amplitudeFraction = amplitude.value_or(pictureOptions.amplitudeFraction);
+    std::optional<BodyElement> asked;
+    for (BodyElement e : {BodyElement::Springs, BodyElement::Solid})
+        if (elementName == bodyElementName(e))
+            asked = e;
+    if (!elementName.empty() && !asked)
+        return line.usage("--element is springs or solid, not '" + elementName + "'");
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());
+    if (asked) {
+        for (SceneObject& object : project->scene.objects) {
+            object.material.element = *asked;
+            if (Status s = checkSolverLimits(object, project->scene.world); !s)
+                return fail(scenePath + ": " + s.message());
+        }
+    }
     const Scene& scene = project->scene;
     const SimulationSettings& settings = scene.world.simulation;
     bool found = false;

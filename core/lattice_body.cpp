@@ -315,7 +315,7 @@ Result<std::shared_ptr<const BodyModel>> buildElementLatticeBody(const Lattice& 
                           : std::any_of(material.isVoid.begin(), material.isVoid.end(), [](std::uint8_t v) { return v != 0; })
                               ? "fills the whole lattice box, so it takes no void nodes"
                           : material.strainLimits.any()              ? "has no springs for strain limits to hold"
-                          : largestVolumePreservation(material) > 0.0 ? "does not keep volume yet (volume preservation is 0 on it)"
+                          : largestVolumePreservation(material) > 0.0 ? "does not keep volume yet (set volume preservation to 0)"
                                                                        : nullptr;
     if (refusal)
         return Status::error(std::string("the solid element ") + refusal + "; use \"element\": \"springs\" for this material");

@@ -528,6 +528,21 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
     const Run bad = runCli({"modes", path, "--reference-degree", "9"});
     QCOMPARE(bad.exitCode, 2);
     QVERIFY2(bad.err.contains("--reference-degree"), qPrintable(bad.err));
+
+    // --element solid: the same scene on the solid element, whose three modes are within 5% of the same solid.
+    const Run element = runCli({"modes", path, "--reference", "--element", "solid"});
+    QVERIFY2(element.exitCode == 0, qPrintable(element.err));
+    const QRegularExpressionMatch elementErrors =
+        QRegularExpression(R"(this lattice's error: (\S+)% / (\S+)% / (\S+)%)").match(element.out);
+    QVERIFY2(element.out.contains("; solid element;") && elementErrors.hasMatch(), qPrintable(element.out));
+    for (int m = 0; m < 3; ++m)
+        QVERIFY2(std::abs(elementErrors.captured(1 + m).toDouble()) < 5.0, qPrintable(elementErrors.captured(0)));
+    const Run rock = runCli({"modes", kScenes + "angelfish-rock.softtouch", "--element", "solid"});
+    QCOMPARE(rock.exitCode, 1);
+    QVERIFY2(rock.err.contains("volume"), qPrintable(rock.err));
+    const Run unknown = runCli({"modes", path, "--element", "fem"});
+    QCOMPARE(unknown.exitCode, 2);
+    QVERIFY2(unknown.err.contains("springs or solid"), qPrintable(unknown.err));
 }
 
 // The study command end to end on a small grid (a few seconds, so it also runs under the sanitizers):
