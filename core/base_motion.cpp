@@ -112,11 +112,27 @@ void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, Ex
     const Vec3 gravity = forces.gravity;
     forces.gravity = Vec3::Zero();
     forces.nodeForces.assign(n, Vec3::Zero());
-    for (std::size_t i = 0; i < n && i < at.size(); ++i) {
-        if (model.inverseMass[i] == 0.0)
-            continue;
-        const Vec3 acceleration = (after[i] - 2.0 * at[i] + before[i]) / (dt * dt);
-        forces.nodeForces[i] = model.mass[i] * (toLocal * (gravity - acceleration));
+    if (model.element) {
+        // The consistent mass carries the frame's acceleration: F = M Rᵀ(g − G̈) over every node, held ones
+        // included (their mass is coupled to the free ones'), so a body with no deviation accelerates exactly with
+        // its goal. One mass per node, m_i G̈_i, would shake the element's light wiggles with the goal's.
+        std::vector<Vec3> local(n, Vec3::Zero());
+        for (std::size_t i = 0; i < n && i < at.size(); ++i)
+            local[i] = toLocal * (gravity - (after[i] - 2.0 * at[i] + before[i]) / (dt * dt));
+        const ElementBody& e = *model.element;
+        for (const std::uint32_t i : e.freeNodes) {
+            Vec3 sum = Vec3::Zero();
+            for (std::size_t j = 0; j < n; ++j)
+                sum += e.mass(Eigen::Index(i), Eigen::Index(j)) * local[j];
+            forces.nodeForces[i] = sum;
+        }
+    } else {
+        for (std::size_t i = 0; i < n && i < at.size(); ++i) {
+            if (model.inverseMass[i] == 0.0)
+                continue;
+            const Vec3 acceleration = (after[i] - 2.0 * at[i] + before[i]) / (dt * dt);
+            forces.nodeForces[i] = model.mass[i] * (toLocal * (gravity - acceleration));
+        }
     }
     forces.drags.insert(forces.drags.end(), m_goalSprings.begin(), m_goalSprings.end());
 }

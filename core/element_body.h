@@ -59,6 +59,9 @@ struct ElementBody {
     std::vector<int> slot;                    ///< Each node's row among the free nodes; -1 when held.
     std::vector<std::uint32_t> freeNodes;     ///< Free nodes in slot order.
     Eigen::LLT<Eigen::MatrixXd> massFactor;   ///< Of the free nodes' block of `mass`.
+    /// √(M⁻¹)_ii per node (0 when held), 1/√kg: how hard a pull on one node alone moves it. A consistent mass's
+    /// inverse is many times the node's ∫ρ N_i inverse, which the step bound of a point pull needs.
+    std::vector<double> rootInverseMass;
     bool viscous = false;                     ///< Some point has viscosity.
     bool nodeDamped = false;                  ///< Some node has node damping.
     double maxNodeDampingRate = 0.0;          ///< Largest painted node damping rate γ, 1/s (the step bound's).

@@ -264,12 +264,23 @@ double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
     double lambda = std::max(m.maxStiffnessOverMass(), m_currentStiffness);
     double dampingRate = m.maxNodeDampingRate;  // largest d/m-like rate from node damping and drags
-    // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks Σ ŵ²/m (Weyl's bound).
+    // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks ŵᵀ M⁻¹ ŵ = Ks Σ ŵ²/m (Weyl's bound). A solid
+    // element's consistent mass has light wiggles that a point pull excites: there ŵᵀ M⁻¹ ŵ ≤ (Σ |ŵ_i| √(M⁻¹)_ii)²
+    // (Cauchy-Schwarz), often many times Σ ŵ²/m_i, and a goal spring on one node takes exactly (M⁻¹)_ii.
     for (const DragSpring& drag : external.drags) {
         double sum = 0.0;
-        forEachDragShare(m, drag, [&](std::uint32_t node, double share) { sum += share * share * m.inverseMass[node]; });
+        if (m.element) {
+            forEachDragShare(m, drag, [&](std::uint32_t node, double share) {
+                sum += std::abs(share) * m.element->rootInverseMass[node];
+            });
+            sum *= sum;
+        } else {
+            forEachDragShare(m, drag, [&](std::uint32_t node, double share) { sum += share * share * m.inverseMass[node]; });
+        }
         lambda += drag.stiffness * sum;
-        dampingRate = std::max(dampingRate, drag.damping * sum);
+        // Each drag's damping alone moves the nodes it holds; on a consistent mass they share its light wiggles,
+        // so the rates add up (Weyl) rather than the largest one counting.
+        dampingRate = m.element ? dampingRate + drag.damping * sum : std::max(dampingRate, drag.damping * sum);
     }
     if (lambda <= 0.0 && dampingRate <= 0.0)
         return m_settings.dt;
