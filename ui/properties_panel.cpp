@@ -535,7 +535,7 @@ void PropertiesPanel::refresh() {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.lattice, o.material);
         m_element->setCurrentIndex(m_element->findData(int(o.material.element)));
-        showMaterialUnits(o.material.model);
+        showMaterialUnits(o.material.model, o.material.element);
         refreshModes(o, w.simulation);
         setQuietly(m_totalMass, s.totalMass);
         setQuietly(m_stiffness, s.meanStiffness);
@@ -566,7 +566,7 @@ MaterialModel PropertiesPanel::currentModel() const {
     return m_document->scene().objects[std::size_t(object())].material.model;
 }
 
-void PropertiesPanel::showMaterialUnits(MaterialModel model) {
+void PropertiesPanel::showMaterialUnits(MaterialModel model, BodyElement element) {
     // The same fields, named and measured for what the values mean (lattice_body.h, MaterialModel).
     const bool continuum = model == MaterialModel::Continuum;
     const MaterialRanges& range = materialRanges(model);
@@ -578,7 +578,9 @@ void PropertiesPanel::showMaterialUnits(MaterialModel model) {
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_stiffness)))
             label->setText(continuum ? tr("Young's modulus (mean)") : tr("Stiffness (mean)"));
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_damping)))
-            label->setText(continuum ? tr("Spring viscosity (mean)") : tr("Spring damping (mean)"));
+            label->setText(element == BodyElement::Solid ? tr("Viscosity (mean)")  // the solid's, not springs'
+                           : continuum                   ? tr("Spring viscosity (mean)")
+                                                         : tr("Spring damping (mean)"));
         if (auto* label = qobject_cast<QLabel*>(form->labelForField(m_nodeDamping)))
             label->setText(continuum ? tr("Node damping rate (mean)") : tr("Node damping (mean)"));
     }

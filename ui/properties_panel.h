@@ -50,7 +50,7 @@ private:
     /// What the current object's material values mean.
     MaterialModel currentModel() const;
     /// Names and units of the material fields for a model.
-    void showMaterialUnits(MaterialModel model);
+    void showMaterialUnits(MaterialModel model, BodyElement element);
     void editMaterial(const QString& text, int mergeKey, const std::function<void(LatticeMaterial&)>& change);
     void editWorld(const QString& text, int mergeKey, const std::function<void(WorldSettings&)>& change);
     void applyLatticeShape();

@@ -2484,6 +2484,15 @@ void TestEditor::elementChoiceRunsTheSolidAndSaysWhatItCannot() {
     const auto shown = analyseModes(*body.value(), 3);
     QVERIFY(shown.ok());
     QVERIFY2(modes->text().contains(QString::number(shown->modes[0].frequencyHz, 'f', 3)), qPrintable(modes->text()));
+    QVERIFY2(modes->text().contains("The solid element acts as"), qPrintable(modes->text()));
+    // The rows and fields name the element's damping for what it is: the solid's viscosity, not springs'.
+    const auto labelled = [&w](const QString& text) {
+        for (QLabel* label : w.findChildren<QLabel*>())
+            if (label->isVisibleTo(&w) && label->text().contains(text))
+                return true;
+        return false;
+    };
+    QVERIFY(labelled("Viscosity (mean)") && !labelled("Spring viscosity") && labelled("viscous 0.0"));
     compare->click();
     auto expected = compareWithSolid(fish.lattice, fish.material);
     QVERIFY2(expected && expected->error.size() == 3, expected ? "no error" : expected.message().c_str());
