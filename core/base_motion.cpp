@@ -119,13 +119,7 @@ void BaseMotion::addForces(double seconds, double dt, const BodyModel& model, Ex
         std::vector<Vec3> local(n, Vec3::Zero());
         for (std::size_t i = 0; i < n && i < at.size(); ++i)
             local[i] = toLocal * (gravity - (after[i] - 2.0 * at[i] + before[i]) / (dt * dt));
-        const ElementBody& e = *model.element;
-        for (const std::uint32_t i : e.freeNodes) {
-            Vec3 sum = Vec3::Zero();
-            for (std::size_t j = 0; j < n; ++j)
-                sum += e.mass(Eigen::Index(i), Eigen::Index(j)) * local[j];
-            forces.nodeForces[i] = sum;
-        }
+        addElementMatrixTimes(*model.element, model.element->mass, 1.0, local, forces.nodeForces);
     } else {
         for (std::size_t i = 0; i < n && i < at.size(); ++i) {
             if (model.inverseMass[i] == 0.0)

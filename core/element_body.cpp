@@ -18,7 +18,6 @@ namespace softtouch {
 namespace {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 /// Voigt strain (uu, vv, ww, 2vw, 2uw, 2uv) of a symmetric tensor.
 Vec6 voigtStrain(const Mat3& e) {
@@ -226,16 +225,6 @@ Mat3 viscousStress(const ElementBody& body, double viscosity, const Mat3& rotati
     return rotation * stressTensor(sigma);
 }
 
-void addNodeDamping(const ElementBody& body, std::span<const Vec3> velocity, std::span<Vec3> force) {
-    const std::size_t n = body.nodeCount();
-    for (const std::uint32_t i : body.freeNodes) {
-        Vec3 sum = Vec3::Zero();
-        for (std::size_t j = 0; j < n; ++j)
-            sum += body.nodeDamping(Eigen::Index(i), Eigen::Index(j)) * velocity[j];
-        force[i] -= sum;
-    }
-}
-
 /// A per-node field interpolated by the lattice's basis at parameters s.
 double interpolate(const Lattice& lattice, const std::vector<double>& values, const Vec3& s) {
     double sum = 0.0;
@@ -244,8 +233,8 @@ double interpolate(const Lattice& lattice, const std::vector<double>& values, co
     return sum;
 }
 
-/// The rule of `perSpan(axis)` Gauss points a span on every axis, each point weighted by `share` × its weight ×
-/// the box volume × the painted modulus (and viscosity) there.
+/// The rule of degree + `extraPoints` Gauss points a span on every axis, each point weighted by `share` × its
+/// weight × the box volume × the painted modulus (and viscosity) there.
 ElementRule makeRule(const Lattice& lattice, const LatticeMaterial& material, double share, int extraPoints) {
     ElementRule rule;
     std::array<AxisQuadrature, 3> q;
@@ -274,6 +263,16 @@ ElementRule makeRule(const Lattice& lattice, const LatticeMaterial& material, do
                 rule.viscosity.push_back(w * interpolate(lattice, material.damping, s));
             }
     return rule;
+}
+
+/// A node matrix's block over the free nodes, one entry per pair.
+Eigen::MatrixXd freeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) {
+    const Eigen::Index free = Eigen::Index(body.freeNodes.size());
+    Eigen::MatrixXd out(free, free);
+    for (Eigen::Index a = 0; a < free; ++a)
+        for (Eigen::Index b = 0; b < free; ++b)
+            out(a, b) = nodeMatrix(body.freeNodes[std::size_t(a)], body.freeNodes[std::size_t(b)]);
+    return out;
 }
 
 }  // namespace
@@ -359,11 +358,7 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
     body->nodeDamped = body->nodeDamping.cwiseAbs().maxCoeff() > 0.0;
 
     const Eigen::Index free = Eigen::Index(body->freeNodes.size());
-    Eigen::MatrixXd freeMass(free, free);
-    for (Eigen::Index a = 0; a < free; ++a)
-        for (Eigen::Index b = 0; b < free; ++b)
-            freeMass(a, b) = body->mass(body->freeNodes[std::size_t(a)], body->freeNodes[std::size_t(b)]);
-    body->massFactor.compute(freeMass);
+    body->massFactor.compute(freeBlock(*body, body->mass));
     if (body->massFactor.info() != Eigen::Success)
         return Status::error("the solid element's mass matrix is not positive definite (is the density positive everywhere?)");
     // (M⁻¹)_ii = |L⁻¹ e_i|², from L⁻¹ once.
@@ -410,9 +405,9 @@ void addElementForces(const ElementBody& body, std::span<const Vec3> position, s
             scatter(body, rule, {&t.rate[0], &t.rate[1], &t.rate[2]}, dampingOut);
     }
     if (nodeDamping && body.nodeDamped) {
-        addNodeDamping(body, velocity, force);
+        addElementMatrixTimes(body, body.nodeDamping, -1.0, velocity, force);
         if (measure)
-            addNodeDamping(body, velocity, dampingOut);
+            addElementMatrixTimes(body, body.nodeDamping, -1.0, velocity, dampingOut);
     }
 }
 
@@ -463,12 +458,32 @@ double elementEnergy(const ElementBody& body, std::span<const Vec3> position) {
     return energy;
 }
 
-double elementKineticEnergy(const ElementBody& body, std::span<const Vec3> velocity) {
-    double energy = 0.0;
+double elementMassProduct(const ElementBody& body, std::span<const Vec3> a, std::span<const Vec3> b) {
+    double sum = 0.0;
     for (const std::uint32_t i : body.freeNodes)
         for (const std::uint32_t j : body.freeNodes)
-            energy += body.mass(i, j) * velocity[i].dot(velocity[j]);
-    return 0.5 * energy;
+            sum += body.mass(i, j) * a[i].dot(b[j]);
+    return sum;
+}
+
+void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix, double scale,
+                           std::span<const Vec3> in, std::span<Vec3> out) {
+    const std::size_t n = body.nodeCount();
+    for (const std::uint32_t i : body.freeNodes) {
+        Vec3 sum = Vec3::Zero();
+        for (std::size_t j = 0; j < n; ++j)
+            sum += nodeMatrix(Eigen::Index(i), Eigen::Index(j)) * in[j];
+        out[i] += scale * sum;
+    }
+}
+
+Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) {
+    const Eigen::MatrixXd block = freeBlock(body, nodeMatrix);
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(3 * block.rows(), 3 * block.cols());
+    for (Eigen::Index a = 0; a < block.rows(); ++a)
+        for (Eigen::Index b = 0; b < block.cols(); ++b)
+            out.block<3, 3>(3 * a, 3 * b).diagonal().setConstant(block(a, b));
+    return out;
 }
 
 void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std::span<Vec3> acceleration,

@@ -94,8 +94,15 @@ void addElementTangent(const ElementBody& body, const std::vector<Mat3>& rotatio
 
 /// The elastic energy Σ_q w_q ½ εᵀ C ε, J.
 double elementEnergy(const ElementBody& body, std::span<const Vec3> position);
-/// The kinetic energy ½ vᵀ M v, J (held nodes do not move).
-double elementKineticEnergy(const ElementBody& body, std::span<const Vec3> velocity);
+/// aᵀ M b over the free nodes, kg·m² for displacements: ½ vᵀMv is the kinetic energy.
+double elementMassProduct(const ElementBody& body, std::span<const Vec3> a, std::span<const Vec3> b);
+/// out_i += scale Σ_j m_ij in_j on the free rows i, over every column j, for one of the element's node matrices
+/// (`mass` or `nodeDamping`): a consistent mass or damping times a node field.
+void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix, double scale,
+                           std::span<const Vec3> in, std::span<Vec3> out);
+/// A node matrix's block over the free nodes, acting on each component alike: 3 × free square, laid out as
+/// elementRestStiffness().
+Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix);
 /// a = M⁻¹ f over the free nodes (written to `acceleration` at the free nodes only). `work` is the
 /// caller's scratch (3 × free nodes), so a step allocates nothing once it has its size.
 void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std::span<Vec3> acceleration,

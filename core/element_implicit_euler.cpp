@@ -13,14 +13,8 @@ constexpr int kMaxIterations = 100;
 
 void ElementImplicitEuler::factorRest(const BodyModel& model, double h) {
     const ElementBody& e = *model.element;
-    Eigen::MatrixXd a = h * h * elementRestStiffness(e) + h * elementRestViscosity(e);
-    for (std::size_t i = 0; i < e.freeNodes.size(); ++i)
-        for (std::size_t j = 0; j < e.freeNodes.size(); ++j) {
-            const double m = e.mass(e.freeNodes[i], e.freeNodes[j]) + h * e.nodeDamping(e.freeNodes[i], e.freeNodes[j]);
-            for (int c = 0; c < 3; ++c)
-                a(Eigen::Index(3 * i) + c, Eigen::Index(3 * j) + c) += m;
-        }
-    m_rest.compute(a);
+    m_rest.compute(h * h * elementRestStiffness(e) + h * elementRestViscosity(e) +
+                   elementFreeMatrix(e, e.mass + h * e.nodeDamping));
     m_model = &model;
     m_restStep = h;
 }
@@ -41,15 +35,11 @@ void ElementImplicitEuler::apply(const BodyModel& model, const ExternalForces& e
         const double k = h * h * drag.stiffness + h * drag.damping;
         forEachDragShare(model, drag, [&](std::uint32_t node, double share) { m_product[node] += k * share * shared; });
     }
+    addElementMatrixTimes(e, e.mass, 1.0, m_nodes, m_product);
+    addElementMatrixTimes(e, e.nodeDamping, h, m_nodes, m_product);
     y.resize(Eigen::Index(3 * free));
-    for (std::size_t s = 0; s < free; ++s) {
-        Vec3 sum = m_product[e.freeNodes[s]];
-        for (std::size_t t = 0; t < free; ++t) {
-            const Eigen::Index i = e.freeNodes[s], j = e.freeNodes[t];
-            sum += (e.mass(i, j) + h * e.nodeDamping(i, j)) * p.segment<3>(Eigen::Index(3 * t));
-        }
-        y.segment<3>(Eigen::Index(3 * s)) = sum;
-    }
+    for (std::size_t s = 0; s < free; ++s)
+        y.segment<3>(Eigen::Index(3 * s)) = m_product[e.freeNodes[s]];
 }
 
 void ElementImplicitEuler::step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) {

@@ -141,7 +141,7 @@ void updateVoidNodes(const BodyModel& model, BodyState& state) {
 
 double kineticEnergy(const BodyModel& model, const BodyState& state) {
     if (model.element)
-        return elementKineticEnergy(*model.element, state.velocity);
+        return 0.5 * elementMassProduct(*model.element, state.velocity, state.velocity);
     double e = 0.0;
     for (std::size_t i = 0; i < model.nodeCount(); ++i)
         e += 0.5 * model.mass[i] * state.velocity[i].squaredNorm();
@@ -166,13 +166,8 @@ double gravityEnergy(const BodyModel& model, const BodyState& state, const Vec3&
 
 double massInnerProduct(const BodyModel& model, std::span<const Vec3> a, std::span<const Vec3> b) {
     double sum = 0.0;
-    if (model.element) {
-        const ElementBody& e = *model.element;
-        for (const std::uint32_t i : e.freeNodes)
-            for (const std::uint32_t j : e.freeNodes)
-                sum += e.mass(i, j) * a[i].dot(b[j]);
-        return sum;
-    }
+    if (model.element)
+        return elementMassProduct(*model.element, a, b);
     for (std::size_t i = 0; i < model.nodeCount(); ++i)
         if (model.inverseMass[i] > 0.0)
             sum += model.mass[i] * a[i].dot(b[i]);

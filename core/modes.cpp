@@ -66,14 +66,10 @@ Result<ModalAnalysis> analyseElementModes(const BodyModel& model, int count, con
     const int dof = result.unknowns;
     Eigen::MatrixXd stiffness = elementRestStiffness(e);
     const Eigen::MatrixXd viscosity = elementRestViscosity(e);
-    Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(dof, dof), damping = Eigen::MatrixXd::Zero(dof, dof);
+    const Eigen::MatrixXd mass = elementFreeMatrix(e, e.mass);
+    Eigen::MatrixXd damping = elementFreeMatrix(e, e.nodeDamping);
     for (std::size_t a = 0; a < e.freeNodes.size(); ++a) {
         const std::uint32_t i = e.freeNodes[a];
-        for (std::size_t b = 0; b < e.freeNodes.size(); ++b)
-            for (int c = 0; c < 3; ++c) {
-                mass(Eigen::Index(3 * a) + c, Eigen::Index(3 * b) + c) = e.mass(i, e.freeNodes[b]);
-                damping(Eigen::Index(3 * a) + c, Eigen::Index(3 * b) + c) = e.nodeDamping(i, e.freeNodes[b]);
-            }
         for (int c = 0; c < 3; ++c) {
             if (i < springs.stiffness.size())
                 stiffness(Eigen::Index(3 * a) + c, Eigen::Index(3 * a) + c) += springs.stiffness[i];
