@@ -361,11 +361,7 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
     body->massFactor.compute(freeBlock(*body, body->mass));
     if (body->massFactor.info() != Eigen::Success)
         return Status::error("the solid element's mass matrix is not positive definite (is the density positive everywhere?)");
-    // (M⁻¹)_ii = |L⁻¹ e_i|², from L⁻¹ once.
-    const Eigen::MatrixXd lowerInverse = body->massFactor.matrixL().solve(Eigen::MatrixXd::Identity(free, free));
-    body->rootInverseMass.assign(n, 0.0);
-    for (Eigen::Index s = 0; s < free; ++s)
-        body->rootInverseMass[body->freeNodes[std::size_t(s)]] = lowerInverse.col(s).norm();
+    body->inverseFactor = body->massFactor.matrixL().solve(Eigen::MatrixXd::Identity(free, free));
     return std::shared_ptr<const ElementBody>(std::move(body));
 }
 

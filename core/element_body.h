@@ -59,9 +59,10 @@ struct ElementBody {
     std::vector<int> slot;                    ///< Each node's row among the free nodes; -1 when held.
     std::vector<std::uint32_t> freeNodes;     ///< Free nodes in slot order.
     Eigen::LLT<Eigen::MatrixXd> massFactor;   ///< Of the free nodes' block of `mass`.
-    /// √(M⁻¹)_ii per node (0 when held), 1/√kg: how hard a pull on one node alone moves it. A consistent mass's
-    /// inverse is many times the node's ∫ρ N_i inverse, which the step bound of a point pull needs.
-    std::vector<double> rootInverseMass;
+    /// L⁻¹ of massFactor (M = L Lᵀ over the free nodes): a pull w on the nodes moves them as wᵀ M⁻¹ w = |L⁻¹ w|²,
+    /// which the step bound of a drag needs. A consistent mass's inverse reaches light wiggles of the control net,
+    /// many times what the nodes' ∫ρ N_i say.
+    Eigen::MatrixXd inverseFactor;
     bool viscous = false;                     ///< Some point has viscosity.
     bool nodeDamped = false;                  ///< Some node has node damping.
     double maxNodeDampingRate = 0.0;          ///< Largest painted node damping rate γ, 1/s (the step bound's).
@@ -100,6 +101,14 @@ double elementMassProduct(const ElementBody& body, std::span<const Vec3> a, std:
 /// (`mass` or `nodeDamping`): a consistent mass or damping times a node field.
 void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix, double scale,
                            std::span<const Vec3> in, std::span<Vec3> out);
+/// wᵀ M⁻¹ w for a pull spread over the free nodes by `share(visit)`, which calls visit(node, weight) for each:
+/// 1/kg. `work` is the caller's (the free node count), so a step allocates nothing once it has its size.
+template <typename Shares>
+double elementPullInverseMass(const ElementBody& body, Shares&& shares, Eigen::VectorXd& work) {
+    work.setZero(body.inverseFactor.rows());
+    shares([&](std::uint32_t node, double weight) { work += weight * body.inverseFactor.col(body.slot[node]); });
+    return work.squaredNorm();
+}
 /// A node matrix's block over the free nodes, acting on each component alike: 3 × free square, laid out as
 /// elementRestStiffness().
 Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix);

@@ -264,19 +264,15 @@ double Simulator::stableStep(const ExternalForces& external) const {
     const BodyModel& m = *m_model;
     double lambda = std::max(m.maxStiffnessOverMass(), m_currentStiffness);
     double dampingRate = m.maxNodeDampingRate;  // largest d/m-like rate from node damping and drags
-    // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks ŵᵀ M⁻¹ ŵ = Ks Σ ŵ²/m (Weyl's bound). A solid
-    // element's consistent mass has light wiggles that a point pull excites: there ŵᵀ M⁻¹ ŵ ≤ (Σ |ŵ_i| √(M⁻¹)_ii)²
-    // (Cauchy-Schwarz), often many times Σ ŵ²/m_i, and a goal spring on one node takes exactly (M⁻¹)_ii.
+    // A drag adds the rank-one term Ks M^-1/2 ŵŵᵀ M^-1/2, eigenvalue Ks ŵᵀ M⁻¹ ŵ (Weyl's bound): Σ ŵ²/m with one
+    // mass per node. A solid element's consistent mass has light wiggles that a point pull excites, so there it is
+    // |L⁻¹ ŵ|², many times Σ ŵ²/m_i for a goal spring on one node.
     for (const DragSpring& drag : external.drags) {
         double sum = 0.0;
-        if (m.element) {
-            forEachDragShare(m, drag, [&](std::uint32_t node, double share) {
-                sum += std::abs(share) * m.element->rootInverseMass[node];
-            });
-            sum *= sum;
-        } else {
+        if (m.element)
+            sum = elementPullInverseMass(*m.element, [&](auto&& visit) { forEachDragShare(m, drag, visit); }, m_pullWork);
+        else
             forEachDragShare(m, drag, [&](std::uint32_t node, double share) { sum += share * share * m.inverseMass[node]; });
-        }
         lambda += drag.stiffness * sum;
         // Each drag's damping alone moves the nodes it holds; on a consistent mass they share its light wiggles,
         // so the rates add up (Weyl) rather than the largest one counting.

@@ -173,6 +173,7 @@ private:
     StiffnessTracker m_tracker;
     double m_currentStiffness = 0.0; ///< See currentStiffnessOverMass().
     std::vector<Vec3> m_zeroVelocity;      ///< Scratch of the energy account (no allocation once warm).
+    mutable Eigen::VectorXd m_pullWork;    ///< Scratch of stableStep()'s drag term on a solid element body.
     std::vector<Vec3> m_conservativeForce;
     SpringScratch m_scratch;
     std::vector<Vec3> m_substepStart;  ///< Positions before the current substep (contact history).
