@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <new>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -60,8 +61,8 @@ Commands:
              'softtouch-cli modes --help'.
   upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
              every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
-  validate   Check project (*.softtouch), preset (*.stpreset) and trajectory (*.sttraj) files; print every problem found.
-             A mesh file: its vertices, triangles and the takes of its animation.
+  validate   Check project (*.softtouch), preset (*.stpreset), trajectory (*.sttraj) and batch manifest (*.stbatch)
+             files; print every problem found. A mesh file: its vertices, triangles and the takes of its animation.
   preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
              one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
   bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
@@ -107,8 +108,15 @@ int main(int argc, char** argv) {
         return 0;
     }
     for (const auto& [name, run] : kRuns)
-        if (command == name)
-            return run(args);
+        if (command == name) {
+            // Limits are checked before anything large is allocated; should one still be missed, the
+            // command fails with a reason instead of aborting (and temporaries go with their writers).
+            try {
+                return run(args);
+            } catch (const std::bad_alloc&) {
+                return softtouch::cli::fail("out of memory: the input asks for more than this machine can hold");
+            }
+        }
     if (const auto* entry = softtouch::cli::findCommand(command); entry && entry->program == softtouch::cli::Program::Bench)
         return runInBenchProgram(argv);
     return softtouch::cli::usageError("unknown command '" + command + "'");

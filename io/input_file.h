@@ -18,6 +18,12 @@ inline constexpr std::uintmax_t kMaxJsonFileBytes = 256 * kMiB;
 /// Arrays and objects nested deeper than this are refused before parsing: SoftTouch's own files nest
 /// at most 6 deep, and printing a 100,000-deep value overflowed the stack.
 inline constexpr int kMaxJsonDepth = 64;
+/// Keys (object members) and values (array elements and members) in one JSON file, counted before it
+/// is parsed. SoftTouch's own files hold a few hundred keys; the painted maps of a 64x64x64 lattice are
+/// ~1.1 million values, an hour of 1 kHz device recording ~18 million. Parsed, a key costs ~100 bytes
+/// and a value 16 or more: these keep a file's tree under about 1 GB.
+inline constexpr std::size_t kMaxJsonKeys = 1'000'000;
+inline constexpr std::size_t kMaxJsonValues = 32'000'000;
 /// Mesh files handed to assimp (a 10-million-triangle binary PLY is about 250 MB).
 inline constexpr std::uintmax_t kMaxMeshFileBytes = 1024 * kMiB;
 

@@ -37,9 +37,17 @@ std::pair<std::size_t, std::size_t> lineAndColumn(std::string_view text, std::si
     return {line, column};
 }
 
-/// The offset of the first bracket that opens level kMaxJsonDepth + 1, brackets inside strings aside.
-/// A scan, not a parse: it only has to be right for text the parser would accept.
-std::optional<std::size_t> firstTooDeep(std::string_view text) {
+/// What a scan of the text finds before anything is parsed: the first bracket that opens level
+/// kMaxJsonDepth + 1, and how many keys and values the document holds (brackets, colons and commas
+/// inside strings aside). A scan, not a parse: it only has to be right for text the parser would accept.
+struct JsonShape {
+    std::optional<std::size_t> tooDeepAt;
+    std::size_t keys = 0;    ///< Object members (colons).
+    std::size_t values = 0;  ///< Array elements and members, about (commas and openings).
+};
+
+JsonShape scanShape(std::string_view text) {
+    JsonShape shape;
     int depth = 0;
     bool inString = false;
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -52,13 +60,18 @@ std::optional<std::size_t> firstTooDeep(std::string_view text) {
         } else if (c == '"') {
             inString = true;
         } else if (c == '[' || c == '{') {
-            if (++depth > kMaxJsonDepth)
-                return i;
+            ++shape.values;
+            if (++depth > kMaxJsonDepth && !shape.tooDeepAt)
+                shape.tooDeepAt = i;
         } else if (c == ']' || c == '}') {
             --depth;
+        } else if (c == ':') {
+            ++shape.keys;
+        } else if (c == ',') {
+            ++shape.values;
         }
     }
-    return std::nullopt;
+    return shape;
 }
 
 /// A parser callback that keeps every value and records keys that appear twice in one object (JSON
@@ -80,10 +93,23 @@ nlohmann::json::parser_callback_t duplicateKeyFinder(std::vector<std::string>& d
 }  // namespace
 
 void JsonIssues::add(const std::string& pointer, const std::string& problem) {
-    m_messages.push_back(m_file + ": " + (pointer.empty() ? "/" : pointer) + ": " + problem);
+    addGeneral((pointer.empty() ? "/" : pointer) + ": " + problem);
 }
 
-void JsonIssues::addGeneral(const std::string& problem) { m_messages.push_back(m_file + ": " + problem); }
+void JsonIssues::addGeneral(const std::string& problem) {
+    // A file of a million unknown keys must not become a million messages: the first kMaxListed are
+    // listed, then one line says how many more there were.
+    if (m_messages.size() < kMaxListed) {
+        m_messages.push_back(m_file + ": " + problem);
+        return;
+    }
+    ++m_unlisted;
+    const std::string more = m_file + ": (" + std::to_string(m_unlisted) + " more problems not listed)";
+    if (m_messages.size() == kMaxListed)
+        m_messages.push_back(more);
+    else
+        m_messages.back() = more;
+}
 
 std::string JsonIssues::summary() const {
     if (m_messages.empty())
@@ -105,10 +131,21 @@ std::optional<nlohmann::json> parseJsonFile(const std::string& path, JsonIssues&
 }
 
 std::optional<nlohmann::json> parseJsonText(std::string_view text, JsonIssues& issues) {
-    if (const auto deep = firstTooDeep(text)) {
-        const auto [line, column] = lineAndColumn(text, *deep);
+    const JsonShape shape = scanShape(text);
+    if (shape.tooDeepAt) {
+        const auto [line, column] = lineAndColumn(text, *shape.tooDeepAt);
         issues.addGeneral("at line " + std::to_string(line) + ", column " + std::to_string(column) +
                           ": arrays and objects nest deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        return std::nullopt;
+    }
+    // Refused before parsing: a parsed key costs ~100 bytes and a value 16 or more, so a file under the
+    // size limit could still ask for gigabytes (5 million keys in 66 MB took 2.7 GB).
+    if (shape.keys > kMaxJsonKeys || shape.values > kMaxJsonValues) {
+        const bool keys = shape.keys > kMaxJsonKeys;
+        issues.addGeneral("holds " + std::to_string(keys ? shape.keys : shape.values) + (keys ? " keys" : " values") +
+                          ", more than the " + std::to_string(keys ? kMaxJsonKeys : kMaxJsonValues) +
+                          " SoftTouch reads in one file (its largest files, painted maps of a 64x64x64 lattice or an "
+                          "hour of device recording, hold far fewer keys and a fraction of the values)");
         return std::nullopt;
     }
     std::vector<std::string> duplicates;

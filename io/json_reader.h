@@ -30,8 +30,10 @@ public:
     const std::string& file() const { return m_file; }
 
 private:
+    static constexpr std::size_t kMaxListed = 1000;  ///< Problems listed one by one; the rest are counted.
     std::string m_file;
     std::vector<std::string> m_messages;
+    std::size_t m_unlisted = 0;
 };
 
 /// Parses a file into JSON; on failure records the line and column of the syntax error.
