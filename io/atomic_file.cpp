@@ -8,11 +8,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <system_error>
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace softtouch::io {
@@ -46,10 +48,52 @@ void remember(const std::filesystem::path& temporary) {
     std::free(copy);
 }
 
+/// Child processes to stop with this one (pids; 0: a free slot).
+constexpr std::size_t kChildSlots = 256;
+std::atomic<int> g_children[kChildSlots];
+
+/// The signals a stop arrives by, and the crashes a process can die of.
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
+constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+/// What handled each crash signal before (a sanitizer's report, a crash reporter), called after ours.
+struct sigaction g_previousCrashAction[std::size(kCrashSignals)];
+
 extern "C" void removeLiveTemporaries(int signal) {
+    // kill() and waitpid() are async-signal-safe: each child ends (removing its own temporaries) before
+    // this process does, so nothing it publishes arrives after the command has returned.
+    for (auto& slot : g_children)
+        if (const int pid = slot.load(); pid > 0)
+            ::kill(pid_t(pid), signal);
+    for (auto& slot : g_children)
+        if (const int pid = slot.load(); pid > 0)
+            while (::waitpid(pid_t(pid), nullptr, 0) < 0 && errno == EINTR) {
+            }
     for (auto& slot : g_live)
         if (const char* path = slot.load())
             ::unlink(path);
+    ::signal(signal, SIG_DFL);
+    ::raise(signal);
+}
+
+/// A crash removes the temporaries too (unlink() is async-signal-safe), then goes on as it would have:
+/// to the handler installed before (ASan's report), or the default action (a core dump).
+extern "C" void removeTemporariesOnCrash(int signal, siginfo_t* info, void* context) {
+    for (auto& slot : g_live)
+        if (const char* path = slot.load())
+            ::unlink(path);
+    for (std::size_t i = 0; i < std::size(kCrashSignals); ++i) {
+        if (kCrashSignals[i] != signal)
+            continue;
+        const struct sigaction& previous = g_previousCrashAction[i];
+        if ((previous.sa_flags & SA_SIGINFO) && previous.sa_sigaction) {
+            previous.sa_sigaction(signal, info, context);
+            return;
+        }
+        if (previous.sa_handler != SIG_DFL && previous.sa_handler != SIG_IGN && previous.sa_handler != nullptr) {
+            previous.sa_handler(signal);
+            return;
+        }
+    }
     ::signal(signal, SIG_DFL);
     ::raise(signal);
 }
@@ -80,9 +124,32 @@ void forgetTemporary(const std::filesystem::path& temporary) {
 
 }  // namespace detail
 
+void stopChildProcessOnSignal(int pid) {
+    for (auto& slot : g_children) {
+        int expected = 0;
+        if (slot.compare_exchange_strong(expected, pid))
+            return;
+    }
+}
+
+void forgetChildProcess(int pid) {
+    for (auto& slot : g_children) {
+        int expected = pid;
+        if (slot.compare_exchange_strong(expected, 0))
+            return;
+    }
+}
+
 void removeTemporariesOnSignal() {
-    for (int signal : {SIGINT, SIGTERM, SIGHUP})
+    for (int signal : kStopSignals)
         ::signal(signal, removeLiveTemporaries);
+    for (std::size_t i = 0; i < std::size(kCrashSignals); ++i) {
+        struct sigaction action = {};
+        action.sa_sigaction = removeTemporariesOnCrash;
+        action.sa_flags = SA_SIGINFO | SA_NODEFER;
+        sigemptyset(&action.sa_mask);
+        ::sigaction(kCrashSignals[i], &action, &g_previousCrashAction[i]);
+    }
 }
 
 namespace {
@@ -108,16 +175,22 @@ bool processIsGone(long pid) {
 }  // namespace
 
 void removeStaleTemporaries(const std::filesystem::path& target) {
+    const std::string name = target.filename().string();
+    removeStaleTemporaries(target.parent_path(), [&](const std::string& targetName) { return targetName == name; });
+}
+
+void removeStaleTemporaries(const std::filesystem::path& where, const std::function<bool(const std::string&)>& isTarget) {
     namespace fs = std::filesystem;
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    const std::string prefix = target.filename().string() + ".tmp-";
+    const fs::path folder = where.empty() ? fs::path(".") : where;
     std::error_code ec;
     for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
-        if (name.rfind(prefix, 0) != 0)
+        // "<target>.tmp-<pid>-<n>" (a staged OBJ frame being written: "<target>.tmp-<pid>-<n>.tmp-<pid>-<m>"):
+        // remove it when that process is gone (kill(pid, 0) fails with ESRCH).
+        const auto tmp = name.find(".tmp-");
+        if (tmp == std::string::npos || tmp == 0 || !isTarget(name.substr(0, tmp)))
             continue;
-        // "<prefix><pid>-<n>…": remove it when that process is gone (kill(pid, 0) fails with ESRCH).
-        const std::string rest = name.substr(prefix.size());
+        const std::string rest = name.substr(tmp + 5);
         const auto dash = rest.find('-');
         if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash)
             continue;

@@ -7,6 +7,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <string>
 #include <string_view>
 
 namespace softtouch::io {
@@ -41,11 +43,23 @@ Status writeFileAtomically(const std::filesystem::path& path, std::string_view b
 
 /// Temporaries ("<target>.tmp-<pid>-<n>") live from creation to commit or discard; a process stopped in
 /// between would leave them. On SIGINT, SIGTERM or SIGHUP every live temporary is removed, then the
-/// process ends as the signal would have ended it. The CLI installs this at start.
+/// process ends as the signal would have ended it. A crash (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT)
+/// removes them too, then goes to the handler that was there before. The CLI installs this at start.
 void removeTemporariesOnSignal();
+
+/// A child process that must not outlive this one (a batch job): on SIGINT, SIGTERM or SIGHUP it gets
+/// the same signal and is waited for before this process ends, so it publishes nothing after the
+/// command has returned. forgetChildProcess() once it has been reaped.
+void stopChildProcessOnSignal(int pid);
+void forgetChildProcess(int pid);
 
 /// Removes the temporaries of `target` left by processes that no longer run (a kill -9, a power cut);
 /// a bake calls it for every file it is about to write.
 void removeStaleTemporaries(const std::filesystem::path& target);
+
+/// The same for every target in `folder` whose file name `isTarget` accepts, in one pass over the
+/// folder: a bake of many files (an OBJ sequence) sweeps them all, including frames a killed run wrote
+/// beyond the ones this run writes.
+void removeStaleTemporaries(const std::filesystem::path& folder, const std::function<bool(const std::string&)>& isTarget);
 
 }  // namespace softtouch::io
