@@ -21,11 +21,15 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <thread>
 
+#include <csignal>
+
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -56,9 +60,12 @@ hash is up to date and skipped.
 Options:
   --library DIR Where the library goes (default: the manifest's outputRoot, else library/ beside it).
   --force       Run jobs even when up to date (run), list every job (slurm).
-  --quiet       No progress line (run).
+  --quiet       No progress line (plan, run).
 )";
 
+
+/// Set in a job's environment by the local batch that started it: that batch's pid.
+constexpr const char* kBatchParentVariable = "SOFTTOUCH_BATCH_PARENT";
 
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
 Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io::BatchJob& job) {
@@ -146,8 +153,16 @@ ChildResult runChild(const io::BatchJob& job, const io::BatchManifest& manifest,
     for (std::string& a : args)
         argv.push_back(a.data());
     argv.push_back(nullptr);
+    // The environment, plus who started the job (it stops when this process ends).
+    std::string parent = std::string(kBatchParentVariable) + "=" + std::to_string(::getpid());
+    std::vector<char*> envp;
+    for (char** e = environ; *e != nullptr; ++e)
+        if (std::strncmp(*e, kBatchParentVariable, std::strlen(kBatchParentVariable)) != 0)
+            envp.push_back(*e);
+    envp.push_back(parent.data());
+    envp.push_back(nullptr);
     pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+    const int spawned = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     ::close(pipeFds[1]);
     if (spawned != 0) {
@@ -155,6 +170,7 @@ ChildResult runChild(const io::BatchJob& job, const io::BatchManifest& manifest,
         result.output = std::string("cannot start a job process: ") + std::strerror(spawned);
         return result;
     }
+    io::stopChildProcessOnSignal(pid);  // a Ctrl+C, SIGTERM or SIGHUP of the batch stops the job too
     char buffer[4096];
     for (ssize_t n; (n = ::read(pipeFds[0], buffer, sizeof buffer)) != 0;) {
         if (n < 0 && errno == EINTR)
@@ -167,6 +183,7 @@ ChildResult runChild(const io::BatchJob& job, const io::BatchManifest& manifest,
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
+    io::forgetChildProcess(pid);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     if (WIFSIGNALED(status))
         result.output += "\nthe job's process ended by signal " + std::to_string(WTERMSIG(status));
@@ -237,6 +254,14 @@ int runLocal(const io::BatchManifest& manifest, const std::vector<io::BatchJob>&
     return failed == 0 ? 0 : 1;
 }
 
+/// A path for a message, its control characters shown as '?'.
+std::string shownPath(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            c = '?';
+    return text;
+}
+
 /// Single-quoted for a POSIX shell.
 std::string shellQuoted(const std::string& text) {
     std::string quoted = "'";
@@ -258,6 +283,17 @@ int writeSlurm(const io::BatchManifest& manifest, const std::vector<io::BatchJob
     if (ec)
         return fail("cannot find this program's path: " + ec.message());
     const fs::path absDir = fs::absolute(dir).lexically_normal();
+    // Every path below goes into a script a shell runs and sbatch parses line by line: values are
+    // single-quoted for the shell, and a control character (a newline would start a command of its
+    // own) is refused outright, since no quoting survives sbatch's #SBATCH lines.
+    for (const auto& [what, path] : {std::pair<const char*, fs::path>{"the manifest's path", manifest.path},
+                                     {"--out", absDir},
+                                     {"the library's path", manifest.outputRoot},
+                                     {"this program's path", self}})
+        if (const std::string text = path.string();
+            std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+            return fail(std::string("batch slurm: ") + what + " '" + shownPath(text) +
+                        "' holds a control character (a newline, a tab, ...), which would break the script: rename it");
     std::string list;
     for (const io::BatchJob* job : todo)
         list += job->id + "\n";
@@ -269,7 +305,7 @@ int writeSlurm(const io::BatchManifest& manifest, const std::vector<io::BatchJob
     std::string script = "#!/bin/bash\n"
                          "# Written by softtouch-cli batch slurm: one array task per job of jobs.txt.\n"
                          "# Submit: sbatch " + (absDir / "softtouch-batch.sbatch").string() + "\n"
-                         "#SBATCH --job-name=softtouch-" + manifest.path.stem().string() + "\n";
+                         "#SBATCH --job-name=softtouch-" + io::libraryName(manifest.path.stem().string()) + "\n";
     if (!todo.empty())
         script += "#SBATCH --array=0-" + std::to_string(todo.size() - 1) + "\n";
     script += "#SBATCH --cpus-per-task=" + std::to_string(r.cpusPerTask) + "\n"
@@ -374,7 +410,19 @@ int runBatch(const std::vector<std::string>& args) {
     io::BatchManifest manifest = loaded.value();
     if (!library.empty())
         manifest.outputRoot = fs::absolute(library).lexically_normal();
-    auto planned = io::planBatch(manifest);
+    // A large product takes a while to plan (every scene is loaded, every input hashed): say how far it is.
+    const auto planStart = std::chrono::steady_clock::now();
+    bool planShown = false;
+    auto planProgress = [&](std::size_t planned, std::size_t total) {
+        if (quiet || (!planShown && std::chrono::steady_clock::now() - planStart < std::chrono::seconds(1)))
+            return;
+        planShown = true;
+        std::fprintf(stderr, "\rplanning: %zu of %zu jobs", planned, total);
+        std::fflush(stderr);
+    };
+    auto planned = io::planBatch(manifest, planProgress);
+    if (planShown)
+        std::fputc('\n', stderr);
     if (!planned)
         return fail(planned.message());
     const std::vector<io::BatchJob>& jobs = planned.value();
@@ -399,6 +447,14 @@ int runBatch(const std::vector<std::string>& args) {
         const auto it = std::find_if(jobs.begin(), jobs.end(), [&](const io::BatchJob& j) { return j.id == jobId; });
         if (it == jobs.end())
             return fail("no job '" + jobId + "' in " + manifest.path.string() + " ('softtouch-cli batch plan' lists them)");
+        // A job a local batch started ends with that batch, whatever ended it (kill -9 included):
+        // nothing is published after the batch has returned. (A job started any other way, by a
+        // farm or by hand under nohup, runs on its own.)
+        if (const char* parent = std::getenv(kBatchParentVariable)) {
+            ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+            if (std::to_string(::getppid()) != parent)  // the batch was already gone before the line above
+                return fail("job " + it->id + ": the batch that started it has ended");
+        }
         if (!force && io::batchJobUpToDate(manifest, *it)) {
             std::printf("%s: up to date\n", it->id.c_str());
             return 0;

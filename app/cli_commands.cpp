@@ -7,6 +7,7 @@
 #include "io/animation_import.h"
 #include "io/atomic_file.h"
 #include "io/bake.h"
+#include "io/batch_plan.h"
 #include "io/export_formats.h"
 #include "io/mesh_import.h"
 #include "io/project_file.h"
@@ -226,9 +227,10 @@ std::string describeMeshFile(const std::string& file, std::string& summary) {
 int runValidate(const std::vector<std::string>& args) {
     std::vector<std::string> files;
     CommandLine line("validate", "Usage: softtouch-cli validate FILE...\n\n"
-                                 "Check *.softtouch projects, *.stpreset presets and *.sttraj device trajectories (the\n"
-                                 "referenced meshes and presets too) and print every problem found, one per line, each\n"
-                                 "naming the file, the JSON pointer and what was expected. Any other FILE is read as a\n"
+                                 "Check *.softtouch projects, *.stpreset presets, *.sttraj device trajectories (the\n"
+                                 "referenced meshes and presets too) and *.stbatch batch manifests (planned as batch\n"
+                                 "would) and print every problem found, one per line, each naming the file, the JSON\n"
+                                 "pointer and what was expected. Any other FILE is read as a\n"
                                  "mesh (OBJ, FBX, glTF/GLB, PLY, STL, DAE, ...): its vertices and triangles and the takes\n"
                                  "of its animation, the names a project's animation.take uses. Exit status 0 when every\n"
                                  "file is valid, 1 otherwise, 2 on bad usage (put -- before a file whose name starts\n"
@@ -241,6 +243,17 @@ int runValidate(const std::vector<std::string>& args) {
         return line.usage("validate needs at least one FILE");
     int bad = 0;
     for (const std::string& file : files) {
+        if (std::filesystem::path(file).extension() == ".stbatch") {  // a batch manifest, planned as batch would
+            std::size_t jobs = 0;
+            const std::vector<std::string> problems = io::validateBatchManifest(file, &jobs);
+            for (const std::string& p : problems)
+                std::fprintf(stderr, "%s\n", p.c_str());
+            if (problems.empty())
+                std::printf("%s: ok, %zu jobs\n", file.c_str(), jobs);
+            else
+                ++bad;
+            continue;
+        }
         if (!isSoftTouchDocument(file)) {
             std::string summary;
             if (const std::string problem = describeMeshFile(file, summary); !problem.empty()) {

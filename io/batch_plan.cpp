@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -69,6 +70,23 @@ std::string slug(const std::string& text) {
     return s.empty() ? "_" : s;
 }
 
+bool hasControlCharacter(std::string_view text) {
+    return std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+}
+
+/// `text` for a message: control characters shown as '?', so that a hostile name cannot cut the line.
+std::string printable(std::string_view text) {
+    std::string shown(text);
+    for (char& c : shown)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            c = '?';
+    return shown;
+}
+
+/// Most jobs one manifest may expand to: each is a stamp file and a line of jobs.txt; a product of a
+/// million outputs is a typo, not a library.
+constexpr double kMaxBatchJobs = 1e6;
+
 std::vector<fs::path> pathList(const JsonValue& v, const fs::path& base, bool required) {
     std::vector<fs::path> paths;
     if (!v.exists()) {
@@ -80,13 +98,39 @@ std::vector<fs::path> pathList(const JsonValue& v, const fs::path& base, bool re
         v.problem(required ? "expected a non-empty array of file paths" : "expected an array of file paths");
         return paths;
     }
-    for (std::size_t i = 0; i < v.size(); ++i)
-        if (auto s = v.at(i).string(true); s && !s->empty())
-            paths.push_back(fs::path(*s).is_absolute() ? fs::path(*s) : (base / *s).lexically_normal());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto s = v.at(i).string(true);
+        if (!s)
+            continue;
+        if (s->empty() || hasControlCharacter(*s)) {
+            v.at(i).problem(s->empty() ? "expected a file path, got an empty string"
+                                       : "a file path must not hold control characters (a newline, a NUL, ...)");
+            continue;
+        }
+        const fs::path path = fs::path(*s).is_absolute() ? fs::path(*s) : (base / *s).lexically_normal();
+        // The file's stem names its part of every output ({scene}, {preset}): it must give a name.
+        if (const std::string name = libraryName(path.stem().string()); name.find_first_not_of('.') == std::string::npos) {
+            v.at(i).problem("the file name \"" + path.filename().string() + "\" gives no name for the library's outputs "
+                            "(its stem is \"" + path.stem().string() + "\"): rename the file");
+            continue;
+        }
+        paths.push_back(path);
+    }
     return paths;
 }
 
+
 }  // namespace
+
+std::string libraryName(const std::string& text) {
+    std::string name;
+    for (char c : text)
+        name += (std::isalnum(static_cast<unsigned char>(c)) && static_cast<unsigned char>(c) < 0x80) || c == '.' || c == '-' ||
+                        c == '_'
+                    ? c
+                    : '_';
+    return name;
+}
 
 std::string hashText(std::uint64_t hash) {
     char text[17];
@@ -96,23 +140,25 @@ std::string hashText(std::uint64_t hash) {
 
 bool isVideoFormat(std::string_view format) { return format == "mp4" || format == "gif"; }
 
-Result<BatchManifest> loadBatchManifest(const fs::path& path) {
-    JsonIssues issues(path.string());
+namespace {
+
+/// The manifest, or nothing with every problem in `issues`.
+std::optional<BatchManifest> readBatchManifest(const fs::path& path, JsonIssues& issues) {
     const auto doc = parseJsonFile(path.string(), issues);
     if (!doc)
-        return Status::error(issues.summary());
+        return std::nullopt;
     const JsonValue root(&*doc, "", &issues);
     if (!root.expectObject(true))
-        return Status::error(issues.summary());
-    root.checkKeys({"format", "version", "scenes", "presets", "clips", "formats", "frames", "compress", "video",
-                    "outputRoot", "output", "resources"});
+        return std::nullopt;
     if (const auto format = root["format"].string(true); format && *format != kFormat)
         root["format"].problem(std::string("expected \"") + kFormat + "\", got \"" + *format + "\"");
     if (const auto version = root["version"].integer(1, 1000000, true); version && *version > kBatchManifestVersion)
         root["version"].problem("version " + std::to_string(*version) + " was written by a newer SoftTouch; this build reads up to " +
                                 std::to_string(kBatchManifestVersion));
-    if (!issues.empty())
-        return Status::error(issues.summary());
+    if (!issues.empty())  // not a manifest this build reads: its other keys mean nothing here
+        return std::nullopt;
+    root.checkKeys({"format", "version", "scenes", "presets", "clips", "formats", "frames", "compress", "video",
+                    "outputRoot", "output", "resources"});
 
     BatchManifest m;
     m.path = fs::absolute(path);
@@ -126,6 +172,10 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
             if (auto s = clips.at(i).string(true)) {
                 if (s->empty())
                     clips.at(i).problem("expected a clip name, got an empty string");
+                else if (s->find_first_of("/\\") != std::string::npos || s->find_first_not_of('.') == std::string::npos ||
+                         hasControlCharacter(*s))
+                    clips.at(i).problem("expected a clip name, not a path (\"" + printable(*s) +
+                                        "\" has '/', '\\', only dots or control characters)");
                 else
                     m.clips.push_back(*s);
             }
@@ -173,11 +223,20 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
             }
         }
     }
+    // The manifest may place its library inside its own folder only: a shared manifest must not write
+    // into the reader's home. A library elsewhere is named on the command line (--library DIR).
     m.outputRoot = base / "library";
-    if (auto s = root["outputRoot"].string(); s && !s->empty())
-        m.outputRoot = fs::path(*s).is_absolute() ? fs::path(*s) : (base / *s).lexically_normal();
+    if (auto s = root["outputRoot"].string(); s && !s->empty()) {
+        const fs::path named(*s);
+        const bool escapes = std::any_of(named.begin(), named.end(), [](const fs::path& part) { return part == ".."; });
+        if (named.is_absolute() || escapes || hasControlCharacter(*s))
+            root["outputRoot"].problem("expected a folder inside the manifest's folder, got \"" + printable(*s) +
+                                       "\"; put a library anywhere else with 'batch --library DIR'");
+        else
+            m.outputRoot = (base / named).lexically_normal();
+    }
     if (auto s = root["output"].string()) {
-        if (s->empty() || fs::path(*s).is_absolute() || s->find("..") != std::string::npos)
+        if (s->empty() || fs::path(*s).is_absolute() || s->find("..") != std::string::npos || hasControlCharacter(*s))
             root["output"].problem("expected a relative path pattern inside outputRoot, such as \"{scene}/{preset}/{clip}-{format}\"");
         else
             m.output = *s;
@@ -188,26 +247,69 @@ Result<BatchManifest> loadBatchManifest(const fs::path& path) {
         if (auto x = r["memoryMB"].integer(64, 1048576)) m.resources.memoryMB = *x;
         if (auto x = r["minutes"].integer(1, 10080)) m.resources.minutes = *x;
         if (auto x = r["partition"].string()) {
-            if (x->find_first_of(" \t\n'\"$`\\;") != std::string::npos)
+            if (x->find_first_of(" \t\n'\"$`\\;") != std::string::npos || hasControlCharacter(*x))
                 r["partition"].problem("expected a partition name (no spaces or shell characters)");
             else
                 m.resources.partition = *x;
         }
     }
     if (!issues.empty())
-        return Status::error(issues.summary());
+        return std::nullopt;
     return m;
 }
 
-Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
+}  // namespace
+
+Result<BatchManifest> loadBatchManifest(const fs::path& path) {
+    JsonIssues issues(path.string());
+    auto manifest = readBatchManifest(path, issues);
+    if (!manifest)
+        return Status::error(issues.summary());
+    return std::move(*manifest);
+}
+
+std::vector<std::string> validateBatchManifest(const fs::path& path, std::size_t* jobs) {
+    JsonIssues issues(path.string());
+    const auto manifest = readBatchManifest(path, issues);
+    if (!manifest)
+        return issues.messages();
+    auto planned = planBatch(*manifest);
+    if (!planned)
+        return {planned.message()};
+    if (jobs)
+        *jobs = planned->size();
+    return {};
+}
+
+Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const BatchPlanProgress& progress) {
     std::vector<BatchJob> jobs;
     std::map<fs::path, std::string> writers;  // output -> job id, to refuse collisions
     std::set<std::string> ids;
     const std::vector<fs::path> presets = manifest.presets.empty() ? std::vector<fs::path>{fs::path()} : manifest.presets;
+    // The product's size before anything is expanded (a scene's default clip counts one).
+    const double product = double(manifest.scenes.size()) * double(presets.size()) *
+                           double(std::max<std::size_t>(manifest.clips.size(), 1)) * double(manifest.formats.size());
+    if (product > kMaxBatchJobs)
+        return Status::error(manifest.path.string() + ": the manifest expands to " + std::to_string(std::llround(product)) +
+                             " jobs (scenes x presets x clips x formats), more than the " +
+                             std::to_string(std::llround(kMaxBatchJobs)) + " a library may hold: split it into several manifests");
+    const auto total = std::size_t(product);
+    // Every input is read once: a large product names the same few files in every job.
+    std::map<fs::path, std::uint64_t> contentHashes;
+    auto contentHash = [&](const fs::path& input) -> Result<std::uint64_t> {
+        if (auto it = contentHashes.find(input); it != contentHashes.end())
+            return it->second;
+        Fnv1a hash;
+        if (Status s = hashFile(input, hash); !s)
+            return s;
+        contentHashes.emplace(input, hash.value);
+        return hash.value;
+    };
     for (const fs::path& preset : presets)
         if (!preset.empty())
             if (auto p = loadMaterialPreset(preset); !p)
                 return Status::error(manifest.path.string() + ": /presets: " + p.message());
+    const fs::path root = manifest.outputRoot.lexically_normal();
     for (const fs::path& scene : manifest.scenes) {
         auto project = loadProject(scene);
         if (!project)
@@ -218,10 +320,15 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
         std::vector<std::string> clips = manifest.clips;
         if (clips.empty())
             clips.push_back(project->clips.defaultClip);  // empty: the drivers from frame 0
-        for (const std::string& clip : clips)
+        for (const std::string& clip : clips) {
             if (!clip.empty() && !project->clips.findClip(clip))
                 return Status::error(manifest.path.string() + ": /clips: scene '" + scene.string() + "' has no clip \"" +
                                      clip + "\"");
+            // A scene's own default clip is named by the scene, not the manifest: it must give a name too.
+            if (!clip.empty() && libraryName(clip).find_first_not_of('.') == std::string::npos)
+                return Status::error(manifest.path.string() + ": scene '" + scene.string() + "': its clip \"" +
+                                     printable(clip) + "\" gives no name for the library's outputs: rename the clip");
+        }
         for (const fs::path& preset : presets)
             for (const std::string& clip : clips)
                 for (const std::string& format : manifest.formats) {
@@ -237,18 +344,24 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
                         job.videoWidth = manifest.videoWidth;
                         job.videoHeight = manifest.videoHeight;
                     }
-                    const std::string sceneName = scene.stem().string();
-                    const std::string presetName = preset.empty() ? "as-authored" : preset.stem().string();
-                    const std::string clipName = clip.empty() ? "drivers" : clip;
+                    const std::string sceneName = libraryName(scene.stem().string());
+                    const std::string presetName = preset.empty() ? "as-authored" : libraryName(preset.stem().string());
+                    const std::string clipName = clip.empty() ? "drivers" : libraryName(clip);
                     job.id = slug(sceneName) + "." + slug(presetName) + "." + slug(clipName) + "." + format;
                     std::string rel = manifest.output;
                     for (const auto& [key, value] : {std::pair<std::string, std::string>{"{scene}", sceneName},
                                                      {"{preset}", presetName},
                                                      {"{clip}", clipName},
                                                      {"{format}", format}})
-                        for (std::size_t at; (at = rel.find(key)) != std::string::npos;)
+                        for (std::size_t at = 0; (at = rel.find(key, at)) != std::string::npos; at += value.size())
                             rel.replace(at, key.size(), value);
-                    job.output = (manifest.outputRoot / (rel + extensionOf(format))).lexically_normal();
+                    job.output = (root / (rel + extensionOf(format))).lexically_normal();
+                    // What the names above cannot do, checked once more where it matters: the output lies
+                    // inside the library.
+                    const fs::path inside = job.output.lexically_relative(root);
+                    if (inside.empty() || *inside.begin() == ".." || inside.is_absolute())
+                        return Status::error(manifest.path.string() + ": /output: job " + job.id + " would write '" +
+                                             job.output.string() + "', outside the library " + root.string());
                     if (!ids.insert(job.id).second)
                         return Status::error(manifest.path.string() + ": two jobs have the id " + job.id +
                                              " (scenes or presets of the same file name in different folders)");
@@ -260,19 +373,26 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest) {
                     if (!preset.empty())
                         job.inputs.push_back(preset);
                     Fnv1a hash;
-                    hash.add(std::string("softtouch-batch-job 1 " SOFTTOUCH_VERSION));
+                    hash.add(std::string("softtouch-batch-job 2 " SOFTTOUCH_VERSION));
                     for (const std::string& field : {job.format, job.clip, std::to_string(job.frames),
                                                      std::to_string(job.videoWidth), std::to_string(job.videoHeight)})
                         hash.add(field);
-                    if (job.compress)  // only then: a library planned before the option keeps its hashes
+                    if (job.compress)
                         hash.add(std::string("compress"));
-                    for (const fs::path& input : job.inputs)
-                        if (Status s = hashFile(input, hash); !s)
-                            return Status::error(manifest.path.string() + ": job " + job.id + ": " + s.message());
+                    for (const fs::path& input : job.inputs) {
+                        auto content = contentHash(input);
+                        if (!content)
+                            return Status::error(manifest.path.string() + ": job " + job.id + ": " + content.message());
+                        hash.add(&content.value(), sizeof(std::uint64_t));
+                    }
                     job.hash = hash.value;
                     jobs.push_back(std::move(job));
+                    if (progress && jobs.size() % 1024 == 0)
+                        progress(jobs.size(), std::max(total, jobs.size()));
                 }
     }
+    if (progress)
+        progress(jobs.size(), jobs.size());
     return jobs;
 }
 
@@ -295,7 +415,12 @@ std::optional<std::vector<fs::path>> batchStampFiles(const BatchManifest& manife
         if (!f.is_object() || !f.contains("path") || !f["path"].is_string() || !f.contains("bytes") ||
             !f["bytes"].is_number_unsigned())
             return std::nullopt;
-        const fs::path file = manifest.outputRoot / f["path"].get<std::string>();
+        // A stamp names files inside the library only; one edited to point elsewhere is not a stamp.
+        const fs::path relative(f["path"].get<std::string>());
+        if (relative.empty() || relative.is_absolute() ||
+            std::any_of(relative.begin(), relative.end(), [](const fs::path& part) { return part == ".."; }))
+            return std::nullopt;
+        const fs::path file = manifest.outputRoot / relative;
         if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) != f["bytes"].get<std::uintmax_t>())
             return std::nullopt;
         files.push_back(file);

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -40,7 +41,9 @@ struct BatchManifest {
     bool compress = false;                        ///< Pack the GLB outputs (glb, pca, skin) for shipping, as
                                                   ///< bake --compress.
     int videoWidth = 640, videoHeight = 360;      ///< Size of mp4/gif previews, pixels. [16, 8192], even.
-    std::filesystem::path outputRoot;             ///< Folder of the library (default: "library" beside the manifest).
+    std::filesystem::path outputRoot;             ///< Folder of the library (default: "library" beside the manifest;
+                                                  ///< the manifest may only name one inside its own folder,
+                                                  ///< `batch --library DIR` any).
     std::string output = "{scene}/{preset}/{clip}-{format}"; ///< Path of each output under outputRoot, without
                                                   ///< extension: {scene}, {preset}, {clip}, {format}.
     BatchResources resources;                     ///< Per job, for farm scripts.
@@ -64,10 +67,20 @@ struct BatchJob {
 /// Reads and checks a manifest (every problem names the file and the JSON pointer).
 Result<BatchManifest> loadBatchManifest(const std::filesystem::path& path);
 
+/// Called as a plan goes: jobs planned so far and the product's size (an upper bound when a scene's
+/// default clip is used).
+using BatchPlanProgress = std::function<void(std::size_t planned, std::size_t total)>;
+
+/// Every problem of a manifest (each naming the file and the JSON pointer), then its plan's (a scene that
+/// does not load, a clip a scene lacks, outputs that collide); empty when it plans, with the job count
+/// in `jobs`. What `softtouch-cli validate` prints for a .stbatch.
+std::vector<std::string> validateBatchManifest(const std::filesystem::path& path, std::size_t* jobs = nullptr);
+
 /// Expands a manifest into its jobs, in a stable order (scene, preset, clip, format as listed). Loads
-/// each scene to learn its meshes and clips: a named clip a scene lacks, or two jobs that would write
-/// the same file, fail the plan.
-Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest);
+/// each scene to learn its meshes and clips: a named clip a scene lacks, two jobs that would write
+/// the same file, an output outside outputRoot or a product of more than a million jobs fail the plan.
+/// Each input file is read and hashed once, however many jobs read it.
+Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const BatchPlanProgress& progress = {});
 
 /// Where a job's stamp lives: outputRoot/.softtouch-batch/ID.json.
 std::filesystem::path batchStampPath(const BatchManifest& manifest, const BatchJob& job);
@@ -82,6 +95,12 @@ Status writeBatchStamp(const BatchManifest& manifest, const BatchJob& job,
 
 /// The files a job's stamp lists, or nothing when it has no valid stamp.
 std::optional<std::vector<std::filesystem::path>> batchStampFiles(const BatchManifest& manifest, const BatchJob& job);
+
+/// A scene's, preset's or clip's name as it goes into a library path ({scene}, {preset}, {clip}): ASCII
+/// letters, digits, '.', '-' and '_' are kept, every other byte becomes '_' (a '/' or '\\' cannot make
+/// folders, a control character cannot reach a script). A name of dots only ("..") is refused by the
+/// reader and the plan, never written.
+std::string libraryName(const std::string& text);
 
 /// The hash as 16 hex digits.
 std::string hashText(std::uint64_t hash);
