@@ -3,6 +3,11 @@
 #include "render/egl_context.h"
 #include "render/mesh_renderer.h"
 
+#include "io/memory_budget.h"
+
+#include <algorithm>
+#include <string>
+
 namespace softtouch::render {
 
 CameraPlacement videoCameraPlacement(const Bounds& restBounds, float aspect) {
@@ -13,6 +18,22 @@ CameraPlacement videoCameraPlacement(const Bounds& restBounds, float aspect) {
     return framePlacement(bounds, Eigen::Vector3f(-0.6f, -0.45f, -1.0f), aspect);
 }
 
+namespace {
+
+/// Bytes a render holds at its peak, from `/usr/bin/time` on the guppy at 1024², 2048² and 4096²
+/// (docs/reliability.md, "Limits"): the program and Mesa ~200 MB; per pixel ~44 bytes for the 4x
+/// multisampled colour and depth, the resolve and the read-back; for MP4, x264 (preset medium) ~20
+/// more, and ~3.6 for each frame it holds for its look-ahead and B-frames (up to ~50).
+std::uint64_t renderMemoryBytes(const io::VideoSettings& settings, int frames) {
+    const double pixels = double(settings.width) * double(settings.height);
+    double perPixel = 44.0;
+    if (settings.format == io::VideoFormat::Mp4)
+        perPixel += 20.0 + 3.6 * double(std::min(frames, 50));
+    return std::uint64_t(200e6 + pixels * perPixel);
+}
+
+}  // namespace
+
 Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptions& options) {
     VideoRenderResult result;
     auto created = io::FrameSource::create(scene, options.frames, &result.warnings);
@@ -22,6 +43,14 @@ Result<VideoRenderResult> renderVideo(const Scene& scene, const VideoRenderOptio
 
     io::VideoSettings settings = options.video;
     settings.fps = source.fps();
+    // Checked before anything of that size exists: at 8192x8192 a driver or the encoder that runs out
+    // of memory half-way aborts or crashes (a batch job died of SIGSEGV) instead of failing.
+    const std::string size = std::to_string(settings.width) + "x" + std::to_string(settings.height);
+    if (Status s = io::checkMemoryFor(renderMemoryBytes(settings, source.frameCount()),
+                                      "rendering " + size + " (" + std::to_string(source.frameCount()) + " frames)",
+                                      "render at a smaller size (half the width and height needs about a quarter)");
+        !s)
+        return s;
     auto encoder = io::VideoEncoder::open(settings);
     if (!encoder)
         return Status::error(encoder.message());
