@@ -57,6 +57,9 @@ int runRender(const std::vector<std::string>& args) {
     const auto format = io::videoFormatFromPath(outPath);
     if (!format)
         return line.usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");
+    if (*format == io::VideoFormat::Mp4 && (size.first % 2 != 0 || size.second % 2 != 0))
+        return line.usage("--size " + std::to_string(size.first) + "x" + std::to_string(size.second) +
+                          ": MP4 (H.264 in yuv420p) needs an even width and height");
 
     auto project = io::loadProject(scenePath);
     if (!project)

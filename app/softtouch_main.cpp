@@ -157,8 +157,8 @@ int main(int argc, char** argv) {
 
     QCommandLineParser parser;
     parser.setApplicationDescription("SoftTouch — cartoon soft-body animation on a mass-spring Bezier lattice");
-    parser.addHelpOption();
-    parser.addVersionOption();
+    const QCommandLineOption helpOption = parser.addHelpOption();
+    const QCommandLineOption versionOption = parser.addVersionOption();
     parser.addPositionalArgument("project", "Project to open (*.softtouch); the default scene when omitted.", "[PROJECT]");
     const QCommandLineOption screenshot("screenshot", "Render one frame of the window to FILE.png and exit.", "FILE.png");
     const QCommandLineOption mode("mode", "Viewport shading: shaded, wireframe or xray.", "MODE", "shaded");
@@ -190,7 +190,25 @@ int main(int argc, char** argv) {
     parser.addOptions({screenshot, mode, seconds, drag, dock, cameraOption, showModeOption, measureStudy, autosaveFolder,
                        autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption,
                        clickOption});
-    parser.process(*app);  // exits after --help or --version
+    // parse(), not process(): process() exits with status 1 on an unknown option or a missing value, where
+    // every SoftTouch program exits 2 on bad usage (docs/reliability.md).
+    if (!parser.parse(QCoreApplication::arguments())) {
+        std::fprintf(stderr, "softtouch: error: %s\nTry 'softtouch --help'.\n", qPrintable(parser.errorText()));
+        return 2;
+    }
+    if (parser.isSet(helpOption))
+        parser.showHelp(0);  // exits
+    if (parser.isSet(versionOption))
+        parser.showVersion();  // exits
+    // Simulated before a screenshot, in the editor's own loop: beyond ten minutes it is a typo.
+    constexpr double kMaxScreenshotSeconds = 600.0;
+    bool secondsRead = false;
+    const double simulatedSeconds = parser.value(seconds).toDouble(&secondsRead);
+    if (!secondsRead || !(simulatedSeconds >= 0.0 && simulatedSeconds <= kMaxScreenshotSeconds)) {
+        std::fprintf(stderr, "softtouch: error: --seconds must be a number of seconds in [0, %g], got '%s'\n",
+                     kMaxScreenshotSeconds, qPrintable(parser.value(seconds)));
+        return 2;
+    }
 
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;
@@ -265,14 +283,20 @@ int main(int argc, char** argv) {
         }
         if (parser.isSet(drag)) {
             const QStringList d = parser.value(drag).split(',');
-            if (d.size() != 2) {
-                std::fprintf(stderr, "softtouch: error: --drag expects DX,DY in pixels, got '%s'\n", qPrintable(parser.value(drag)));
+            bool xRead = false, yRead = false;
+            if (d.size() == 2) {
+                const double dx = d[0].toDouble(&xRead), dy = d[1].toDouble(&yRead);
+                xRead = xRead && std::abs(dx) <= 1e5;
+                yRead = yRead && std::abs(dy) <= 1e5;
+            }
+            if (!xRead || !yRead) {
+                std::fprintf(stderr, "softtouch: error: --drag expects DX,DY in pixels (each within 1e5), got '%s'\n", qPrintable(parser.value(drag)));
                 return 2;
             }
             QApplication::processEvents();
-            dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), parser.value(seconds).toDouble());
+            dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), simulatedSeconds);
         } else {
-            window.simulation()->advance(parser.value(seconds).toDouble());
+            window.simulation()->advance(simulatedSeconds);
         }
         QApplication::processEvents();
         if (parser.isSet(showModeOption) && !showMode(window, parser.value(showModeOption).toInt(), true)) {
@@ -356,7 +380,7 @@ int main(int argc, char** argv) {
             const QStringList d = parser.value(drag).split(',');
             if (d.size() == 2) {
                 window.simulation()->pause();
-                dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), parser.value(seconds).toDouble());
+                dragTail(window, QPointF(d[0].toDouble(), d[1].toDouble()), simulatedSeconds);
                 window.simulation()->play();
             }
         }

@@ -101,7 +101,7 @@ void TestCliRender::badInputFailsWithoutPartialFiles_data() {
     QTest::addColumn<int>("exitCode");    // 2 bad usage (with the usage line), 1 failure (one line)
     QTest::newRow("size without height") << "old.mp4" << "100x" << "--size: expects WIDTHxHEIGHT" << 2;
     QTest::newRow("size too small") << "old.mp4" << "8x8" << "--size: expects WIDTHxHEIGHT" << 2;
-    QTest::newRow("odd size for yuv420p") << "old.mp4" << "161x96" << "even width and height" << 1;
+    QTest::newRow("odd size for yuv420p") << "old.mp4" << "161x96" << "even width and height" << 2;  // a usage error, as 0x0 is
     QTest::newRow("missing directory") << "missing/out.mp4" << "160x96" << "missing" << 1;
     QTest::newRow("parent is a file") << "old.mp4/out.gif" << "160x96" << "old.mp4" << 1;
 }
