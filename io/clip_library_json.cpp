@@ -7,11 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace softtouch::io::document {
 using nlohmann::json;
 
 namespace {
+
+/// "%g": a step or a distance as a person writes it (0.00416667, 10000).
+std::string shortNumber(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", x);
+    return text;
+}
 
 std::optional<DragSpring> readDrag(const JsonValue& v, std::size_t nodes) {
     if (!v.expectObject(true))
@@ -112,6 +120,14 @@ std::optional<NamedSession> readSession(const JsonValue& v, const Scene& scene) 
     const auto dt = v["dt"].number(ranges::kMinDt, ranges::kMaxDt, "s", true);
     if (!dt)
         return std::nullopt;
+    // A take replays step for step: only at the step it was recorded with (Session::validateFor, which a
+    // bake runs; checked here so that validate says it first).
+    if (*dt != scene.world.simulation.dt) {
+        v["dt"].problem("the take was recorded with a step of " + shortNumber(*dt) + " s and the scene steps " +
+                        shortNumber(scene.world.simulation.dt) + " s; a take replays only at its own step (set the scene's "
+                        "simulation.dt back, or record the take again)");
+        return std::nullopt;
+    }
     s.dt = *dt;
     const JsonValue start = v["start"];
     if (!start.expectObject(true))
@@ -227,6 +243,11 @@ std::optional<NamedKeyframes> readKeyframes(const JsonValue& v, const Scene& sce
                 const auto d = ds.at(n).vec3(true);
                 if (!node || !d)
                     return std::nullopt;
+                if (d->cwiseAbs().maxCoeff() > ranges::kMaxDragOffset) {
+                    ds.at(n).problem("a key moves a node at most " + shortNumber(ranges::kMaxDragOffset) +
+                                     " m from rest in any direction");
+                    return std::nullopt;
+                }
                 lk.nodes.push_back(std::uint32_t(*node));
                 lk.displacement.push_back(*d);
             }

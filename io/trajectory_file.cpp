@@ -13,6 +13,9 @@ namespace {
 constexpr const char* kFormat = "softtouch-trajectory";
 constexpr int kTrajectoryVersion = 1;
 
+/// Metres: a device's workspace box lies within this of its origin.
+constexpr double kMaxWorkspace = 1000.0;
+
 void readDevice(const JsonValue& v, DeviceInfo& info) {
     if (!v.expectObject()) return;
     v.checkKeys({"name", "degreesOfFreedom", "workspace", "maxForce", "stableStiffness", "buttons", "forceFeedback"});
@@ -23,7 +26,11 @@ void readDevice(const JsonValue& v, DeviceInfo& info) {
         const auto lo = ws["min"].vec3(true);
         const auto hi = ws["max"].vec3(true);
         if (lo && hi) {
-            if (((*hi - *lo).array() < 0.0).any())
+            // A real device reaches metres at most; the coupling divides by the workspace's size, which
+            // ±1e300 overflows (a bake of such a recording failed where validate passed it).
+            if (lo->cwiseAbs().maxCoeff() > kMaxWorkspace || hi->cwiseAbs().maxCoeff() > kMaxWorkspace)
+                ws.problem("expected a workspace within " + std::to_string(int(kMaxWorkspace)) + " m of the origin");
+            else if (((*hi - *lo).array() < 0.0).any())
                 ws["max"].problem("expected every component of max to be at least that of min");
             info.workspaceMin = *lo;
             info.workspaceMax = *hi;
