@@ -27,6 +27,7 @@ packages=(
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
   clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
   slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
+  strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
   chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
 )
 
