@@ -28,7 +28,11 @@ where 'softtouch-cli render' puts it (drag to orbit; Reset view goes back), with
 slider and the keys Space, Left, Right and Home.
 
 CLIP is what 'bake' wrote: a .glb/.gltf of --format skin, pca, glb or gltf; a VAT's .vat.json (or its
-base path); a lattice cache's .lattice.bin (or its base path).
+base path); a lattice cache's .lattice.bin (or its base path). The page carries every file the clip
+names, so those files (a glTF's buffers and images, a VAT's textures, a lattice cache's mesh) must be
+regular files in the clip's folder or a folder below it (a link must lead there too); and a glTF
+three.js cannot play (data outside its buffers, nodes in a cycle, a required extension the page
+cannot decode) is refused with the reason.
 
 Options:
   --out DIR         Folder for index.html (required; created if missing).

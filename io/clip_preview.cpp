@@ -1,11 +1,10 @@
 #include "io/clip_preview.h"
 
-#include "io/gltf_meshopt.h"
 #include "io/input_file.h"
 #include "io/lattice_cache.h"
+#include "io/preview_gltf.h"
 
 #include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cctype>
@@ -19,9 +18,6 @@ namespace softtouch::io {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// The page embeds every file; a page of this size is already slow to open in a browser.
-constexpr std::uintmax_t kMaxPreviewFileBytes = 512 * kMiB;
 
 std::string base64(std::string_view bytes) {
     static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -61,32 +57,6 @@ bool endsWith(const std::string& s, std::string_view suffix) {
 
 // ---- glTF ----
 
-Result<tinygltf::Model> loadGltf(const fs::path& path) {
-    auto bytes = readFile(path, kMaxPreviewFileBytes);
-    if (!bytes)
-        return Status::error(bytes.message());
-    // A compressed GLB (bake --compress) is read here decoded; the page plays it as it is (three.js decodes it).
-    if (usesMeshoptCompression(bytes.value())) {
-        auto expanded = expandGlb(bytes.value(), path.string());
-        if (!expanded)
-            return Status::error(expanded.message());
-        bytes = std::move(expanded.value());
-    }
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
-    std::string error, warning;
-    const std::string base = path.parent_path().string();
-    const bool ok = endsWith(path.string(), ".gltf")
-                        ? loader.LoadASCIIFromString(&model, &error, &warning, bytes.value().data(),
-                                                     unsigned(bytes.value().size()), base)
-                        : loader.LoadBinaryFromMemory(&model, &error, &warning,
-                                                      reinterpret_cast<const unsigned char*>(bytes.value().data()),
-                                                      unsigned(bytes.value().size()), base);
-    if (!ok)
-        return Status::error(path.string() + " is not a glTF file three.js can read: " + (error.empty() ? warning : error));
-    return model;
-}
-
 /// Bounds of every primitive's POSITION (glTF requires their min and max).
 Result<Bounds> positionBounds(const tinygltf::Model& model, const fs::path& path) {
     Bounds b{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
@@ -112,7 +82,7 @@ Result<Bounds> positionBounds(const tinygltf::Model& model, const fs::path& path
 
 /// The rest bounds of the glTF mesh at `path` (a VAT's or a lattice cache's mesh).
 Result<Bounds> meshFileBounds(const fs::path& path) {
-    auto model = loadGltf(path);
+    auto model = readPreviewGltf(path);
     if (!model)
         return Status::error(model.message());
     return positionBounds(model.value(), path);
@@ -134,22 +104,38 @@ Status readAnimationTiming(const tinygltf::Model& model, const fs::path& path, P
     return Status::success();
 }
 
-/// The glTF's own external files (buffers that are not data: URIs), beside it.
-void addExternalBuffers(const tinygltf::Model& model, const fs::path& path, PreviewClip& clip) {
-    for (const auto& buffer : model.buffers)
-        if (!buffer.uri.empty() && buffer.uri.rfind("data:", 0) != 0)
-            clip.files.push_back(path.parent_path() / buffer.uri);
+/// The glTF's own external files (buffers that are not data: URIs), resolved as tinygltf read them
+/// (readPreviewGltf): the page embeds them. The page finds a file by its name, so two of one name are refused.
+Status addExternalBuffers(const tinygltf::Model& model, const fs::path& path, PreviewClip& clip) {
+    auto folder = clipFolder(path);
+    if (!folder)
+        return folder.status();
+    for (std::size_t i = 0; i < model.buffers.size(); ++i) {
+        const std::string& uri = model.buffers[i].uri;
+        if (uri.empty() || tinygltf::IsDataURI(uri))
+            continue;
+        auto file = resolveClipFile(folder.value(), decodeGltfUri(uri));
+        if (!file)
+            return Status::error(path.string() + ": /buffers/" + std::to_string(i) + "/uri: \"" + uri + "\" " + file.message());
+        for (const fs::path& other : clip.files)
+            if (std::error_code ec; other.filename() == file.value().filename() && !fs::equivalent(other, file.value(), ec))
+                return Status::error(path.string() + ": /buffers/" + std::to_string(i) + "/uri: \"" + uri + "\" has the name of " +
+                                     other.string() + ", another file the page holds (the page finds files by name)");
+        clip.files.push_back(file.value());
+    }
+    return Status::success();
 }
 
 Result<PreviewClip> inspectGltf(const fs::path& path) {
-    auto model = loadGltf(path);
+    auto model = readPreviewGltf(path);
     if (!model)
         return Status::error(model.message());
     const tinygltf::Model& m = model.value();
     PreviewClip clip;
     clip.name = clip.main = path.filename().string();
     clip.files.push_back(path);
-    addExternalBuffers(m, path, clip);
+    if (Status s = addExternalBuffers(m, path, clip); !s)
+        return s;
     auto bounds = positionBounds(m, path);
     if (!bounds)
         return Status::error(bounds.message());
@@ -197,13 +183,20 @@ Result<PreviewClip> inspectVat(const fs::path& json) {
     clip.frames = frames->get<int>();
     clip.fps = fps->get<double>();
     nlohmann::json data = {{"frameRowStep", step->get<double>()}};
+    auto folder = clipFolder(json);
+    if (!folder)
+        return folder.status();
     for (const char* key : {"mesh", "positionTexture", "normalTexture"}) {
         const auto* name = field(key);
         if (!name || !name->is_string() || name->get<std::string>().empty() ||
             fs::path(name->get<std::string>()).filename() != fs::path(name->get<std::string>()))
             return Status::error(json.string() + ": /" + key + " must name a file beside it");
+        // Beside it, and no link out of its folder (the page would carry what it points to).
+        auto file = resolveClipFile(folder.value(), name->get<std::string>());
+        if (!file)
+            return Status::error(json.string() + ": /" + key + ": \"" + name->get<std::string>() + "\" " + file.message());
         data[key] = name->get<std::string>();
-        clip.files.push_back(json.parent_path() / name->get<std::string>());
+        clip.files.push_back(file.value());
     }
     clip.main = data["mesh"].get<std::string>();
     clip.files.insert(clip.files.begin(), json);
@@ -229,7 +222,13 @@ Result<PreviewClip> inspectLattice(const fs::path& bin) {
     clip.main = c.mesh;
     clip.frames = int(c.frameCount);
     clip.fps = c.fps;
-    clip.files = {bin, bin.parent_path() / c.mesh};
+    auto folder = clipFolder(bin);
+    if (!folder)
+        return folder.status();
+    auto mesh = resolveClipFile(folder.value(), c.mesh);
+    if (!mesh)
+        return Status::error(bin.string() + ": /mesh: \"" + c.mesh + "\" " + mesh.message());
+    clip.files = {bin, mesh.value()};
     auto bounds = meshFileBounds(clip.files[1]);
     if (!bounds)
         return Status::error(bounds.message());

@@ -16,8 +16,14 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <array>
+#include <filesystem>
 #include <vector>
+
+#include <sys/stat.h>
 
 using softtouch::test::runCli;
 
@@ -73,6 +79,74 @@ double intersectionOverUnion(const Mask& a, const Mask& b) {
     return either ? double(both) / double(either) : 0.0;
 }
 
+/// A one-triangle morph clip: one target, a weights animation of two keys at 24 fps; its data (88 bytes,
+/// morphClipData) in buffer 0, a file beside it named "data.bin".
+nlohmann::json morphClipGltf() {
+    return nlohmann::json::parse(R"({
+      "asset": {"version": "2.0"},
+      "buffers": [{"uri": "data.bin", "byteLength": 88}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                      {"buffer": 0, "byteOffset": 72, "byteLength": 8}, {"buffer": 0, "byteOffset": 80, "byteLength": 8}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+        {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0.1], "max": [0, 0, 0.1]},
+        {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [0.041666666666666664]},
+        {"bufferView": 3, "componentType": 5126, "count": 2, "type": "SCALAR"}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "targets": [{"POSITION": 1}]}], "weights": [0]}],
+      "nodes": [{"mesh": 0}],
+      "scenes": [{"nodes": [0]}],
+      "scene": 0,
+      "animations": [{"samplers": [{"input": 2, "output": 3, "interpolation": "LINEAR"}],
+                      "channels": [{"sampler": 0, "target": {"node": 0, "path": "weights"}}]}]})");
+}
+
+/// Positions, deltas (0.1 m along z), key times (0, 1/24 s) and weights (0, 1) of morphClipGltf.
+QByteArray morphClipData() {
+    const std::array<float, 22> v{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.1f, 0, 0, 0.1f, 0, 0, 0.1f, 0, 1 / 24.0f, 0, 1};
+    return QByteArray(reinterpret_cast<const char*>(v.data()), int(sizeof v));
+}
+
+/// The GLB of `gltf` with `bin` as its binary chunk (buffer 0 without a URI).
+QByteArray glbOf(nlohmann::json gltf, QByteArray bin) {
+    gltf["buffers"][0].erase("uri");
+    QByteArray text = QByteArray::fromStdString(gltf.dump());
+    while (text.size() % 4)
+        text += ' ';
+    while (bin.size() % 4)
+        bin += '\0';
+    const auto u32 = [](QByteArray& out, int v) {
+        for (int b = 0; b < 4; ++b)
+            out += char((v >> (8 * b)) & 0xFF);
+    };
+    QByteArray out("glTF");
+    u32(out, 2);
+    u32(out, 12 + 8 + int(text.size()) + 8 + int(bin.size()));
+    u32(out, int(text.size()));
+    out += "JSON" + text;
+    u32(out, int(bin.size()));
+    out += QByteArray("BIN\0", 4) + bin;
+    return out;
+}
+
+bool writeBytes(const QString& path, const QByteArray& bytes) {
+    QFile file(path);
+    return file.open(QIODevice::WriteOnly | QIODevice::Truncate) && file.write(bytes) == bytes.size();
+}
+
+/// softtouch-cli within `seconds`: a preview that blocks (a FIFO opened for reading waits for a writer)
+/// fails the test instead of hanging the suite.
+softtouch::test::Run runCliWithin(const QStringList& args, int seconds) {
+    QProcess p;
+    p.start(softtouch::test::kCli, args);
+    if (!p.waitForFinished(seconds * 1000)) {
+        p.kill();
+        p.waitForFinished();
+        return {-2, {}, QString("softtouch-cli %1 did not finish within %2 s").arg(args.join(' ')).arg(seconds)};
+    }
+    return {p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1, QString::fromUtf8(p.readAllStandardOutput()),
+            QString::fromUtf8(p.readAllStandardError())};
+}
+
 }  // namespace
 
 class TestPreview : public QObject {
@@ -108,6 +182,41 @@ private:
             QCOMPARE(image.size(), QSize(kWidth, kHeight));
             m_rendered.push_back(renderMask(image));
         }
+    }
+
+    /// m_dir/hostile/: clip/ holds data.bin, sub/data.bin, a FIFO pipe.bin and link.bin, a link to
+    /// ../secret.bin, a file outside clip/ that no page made from clip/ may hold.
+    QString hostileFolder() {
+        const QString root = m_dir.filePath("hostile");
+        if (QDir(root).exists())
+            return root;
+        [&] {
+            QVERIFY(QDir().mkpath(root + "/clip/sub"));
+            QVERIFY(writeBytes(root + "/secret.bin", morphClipData()));
+            QVERIFY(writeBytes(root + "/clip/data.bin", morphClipData()));
+            QVERIFY(writeBytes(root + "/clip/sub/data.bin", morphClipData()));
+            QCOMPARE(::mkfifo(QFile::encodeName(root + "/clip/pipe.bin").constData(), 0600), 0);
+            std::error_code ec;
+            std::filesystem::create_symlink("../secret.bin", (root + "/clip/link.bin").toStdString(), ec);
+            QVERIFY2(!ec, ec.message().c_str());
+        }();
+        return root;
+    }
+
+    /// Writes morphClipGltf with the value at `pointer` replaced by `value` (JSON) as clip/NAME in
+    /// hostileFolder() (a GLB with morphClipData as its binary chunk when `binary`), previews it and checks
+    /// that the preview fails at once, naming the file and `expected`, with no page written.
+    void checkRefused(bool binary, const QString& pointer, const QString& value, const QString& expected) {
+        const QString folder = hostileFolder() + "/clip";
+        nlohmann::json gltf = morphClipGltf();
+        gltf[nlohmann::json::json_pointer(pointer.toStdString())] = nlohmann::json::parse(value.toStdString());
+        const QString name = binary ? "evil.glb" : "evil.gltf";
+        QVERIFY(writeBytes(folder + "/" + name, binary ? glbOf(gltf, morphClipData()) : QByteArray::fromStdString(gltf.dump())));
+        const QString page = folder + "/page-" + QTest::currentDataTag();
+        const auto run = runCliWithin({"preview", folder + "/" + name, "--out", page}, 60);
+        QVERIFY2(run.exitCode == 1, qPrintable(QString("exit %1: %2").arg(run.exitCode).arg(run.err)));
+        QVERIFY2(run.err.contains(folder + "/" + name) && run.err.contains(expected), qPrintable(run.err));
+        QVERIFY(!QFile::exists(page + "/index.html"));
     }
 
 private slots:
@@ -271,6 +380,151 @@ private slots:
         run = runCli({"preview", folder + "/v.vat.json"});
         QCOMPARE(run.exitCode, 2);
         QVERIFY2(run.err.contains("Usage: softtouch-cli preview CLIP --out DIR"), qPrintable(run.err));
+    }
+
+    // Every file a glTF names (a buffer's or an image's URI) is read only when it is a regular file in the
+    // glTF's folder or below: a page made of a shared clip used to carry ../../etc/hostname's bytes, and a
+    // buffer that was a FIFO blocked the preview forever. Percent-encoding ("%2e%2e/") is decoded as tinygltf
+    // decodes it before the check, and a link is followed before it.
+    void gltfSideFilesStayInItsFolder_data() {
+        QTest::addColumn<QString>("pointer");
+        QTest::addColumn<QString>("value");
+        QTest::addColumn<QString>("expected");
+        const QString secret = hostileFolder() + "/secret.bin";
+        QTest::newRow("parent folder") << "/buffers/0/uri" << R"("../secret.bin")"
+                                       << R"(/buffers/0/uri: "../secret.bin" leads outside the clip's folder)";
+        QTest::newRow("absolute") << "/buffers/0/uri" << "\"" + secret + "\""
+                                  << "/buffers/0/uri: \"" + secret + "\" is an absolute path";
+        QTest::newRow("percent-encoded") << "/buffers/0/uri" << R"("%2e%2e/secret.bin")"
+                                         << R"(/buffers/0/uri: "%2e%2e/secret.bin" (decoded "../secret.bin") leads outside)";
+        QTest::newRow("link out of the folder") << "/buffers/0/uri" << R"("link.bin")"
+                                                << R"(/buffers/0/uri: "link.bin" leads outside the clip's folder)";
+        QTest::newRow("device") << "/buffers/0/uri" << R"("../../../../../../../../../../dev/zero")"
+                                << R"(/buffers/0/uri: "../../../../../../../../../../dev/zero" leads outside)";
+        QTest::newRow("FIFO") << "/buffers/0/uri" << R"("pipe.bin")"
+                              << R"(/buffers/0/uri: "pipe.bin" is not a regular file (a FIFO))";
+        QTest::newRow("image outside") << "/images" << R"([{"uri": "../secret.bin"}])"
+                                       << R"(/images/0/uri: "../secret.bin" leads outside the clip's folder)";
+        QTest::newRow("image FIFO") << "/images" << R"([{"uri": "pipe.bin"}])" << R"(/images/0/uri: "pipe.bin" is not a regular file (a FIFO))";
+    }
+
+    void gltfSideFilesStayInItsFolder() {
+        QFETCH(QString, pointer);
+        QFETCH(QString, value);
+        QFETCH(QString, expected);
+        checkRefused(false, pointer, value, expected);
+    }
+
+    // A glTF three.js cannot play (it would leave an empty page, or make the browser allocate what the file
+    // claims) is refused before a page is written, with the place in it and why.
+    void gltfThreeJsCannotPlayIsRefused_data() {
+        QTest::addColumn<bool>("binary");
+        QTest::addColumn<QString>("pointer");
+        QTest::addColumn<QString>("value");
+        QTest::addColumn<QString>("expected");
+        QTest::newRow("accessor past its view")
+            << false << "/accessors/0/count" << "1000000" << "/accessors/0: 1000000 VEC3 elements of 12 bytes";
+        QTest::newRow("accessor offset past its view")
+            << false << "/accessors/1/byteOffset" << "40" << "/accessors/1: 3 VEC3 elements of 12 bytes from byte 40";
+        QTest::newRow("GLB, accessor past its view")
+            << true << "/accessors/2/count" << "3000000000" << "/accessors/2: 3000000000 SCALAR elements of 4 bytes";
+        QTest::newRow("accessor of no view") << false << "/accessors/0/bufferView" << "9" << "/accessors/0/bufferView: there is no bufferView 9";
+        QTest::newRow("huge accessor without a view")
+            << false << "/accessors/3" << R"({"componentType": 5126, "count": 4000000000, "type": "MAT4"})"
+            << "/accessors/3: 4000000000 MAT4 elements of 64 bytes";
+        QTest::newRow("view past its buffer") << false << "/bufferViews/3/byteLength" << "4000"
+                                              << "/bufferViews/3: its 4000 bytes from byte 80 lie outside buffer 0 (88 bytes)";
+        QTest::newRow("view of no buffer") << false << "/bufferViews/0/buffer" << "3" << "/bufferViews/0/buffer: there is no buffer 3";
+        QTest::newRow("node cycle") << false << "/nodes" << R"([{"mesh": 0, "children": [1]}, {"children": [0]}])"
+                                    << "/nodes/0: node 0 is its own ancestor";
+        QTest::newRow("node its own child") << false << "/nodes/0/children" << "[0]" << "/nodes/0: node 0 is its own ancestor";
+        QTest::newRow("node with two parents") << false << "/nodes" << R"([{"mesh": 0, "children": [1, 2]}, {"children": [2]}, {}])"
+                                               << "/nodes/1/children/0: node 2 is already a child of node 0";
+        QTest::newRow("child that is no node") << false << "/nodes/0/children" << "[9]" << "/nodes/0/children/0: there is no node 9";
+        QTest::newRow("scene root that is no node") << false << "/scenes/0/nodes" << "[5]" << "/scenes/0/nodes/0: there is no node 5";
+        QTest::newRow("morph target of no accessor")
+            << false << "/meshes/0/primitives/0/targets/0/POSITION" << "7" << "/meshes/0/primitives/0/targets/0/POSITION: there is no accessor 7";
+        QTest::newRow("animation of no node")
+            << false << "/animations/0/channels/0/target/node" << "4" << "/animations/0/channels/0/target/node: there is no node 4";
+        QTest::newRow("bogus required extension") << false << "/extensionsRequired" << R"(["KHR_bogus"])"
+                                                  << R"(/extensionsRequired/0: "KHR_bogus" is not an extension three.js's GLTFLoader plays)";
+        QTest::newRow("Draco required") << false << "/extensionsRequired" << R"(["KHR_draco_mesh_compression"])"
+                                        << R"(/extensionsRequired/0: "KHR_draco_mesh_compression" is not an extension)";
+        QTest::newRow("GLB, bogus required extension") << true << "/extensionsRequired" << R"(["EXT_bogus"])"
+                                                       << R"(/extensionsRequired/0: "EXT_bogus" is not an extension)";
+    }
+
+    void gltfThreeJsCannotPlayIsRefused() {
+        QFETCH(bool, binary);
+        QFETCH(QString, pointer);
+        QFETCH(QString, value);
+        QFETCH(QString, expected);
+        checkRefused(binary, pointer, value, expected);
+    }
+
+    // A VAT's textures and mesh and a lattice cache's mesh are held to the same folder: a link beside the
+    // clip that leads out of its folder used to put the file it points to in the page.
+    void vatAndLatticeFilesStayInTheirFolder() {
+        const QString folder = m_dir.filePath("linked");
+        QVERIFY(QDir().mkpath(folder + "/clip"));
+        QVERIFY(writeBytes(folder + "/secret.exr", "not for the page"));
+        for (const QString format : {"vat", "lattice"}) {
+            const auto bake = runCli({"bake", kScene, "--clip", "swim", "--frames", "2", "--format", format, "--out",
+                                      folder + "/clip/" + format, "--quiet"});
+            QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
+        }
+        QVERIFY(QFile::remove(folder + "/clip/vat.vat-normal.exr"));
+        QVERIFY(QFile::link("../secret.exr", folder + "/clip/vat.vat-normal.exr"));
+        auto run = runCliWithin({"preview", folder + "/clip/vat.vat.json", "--out", folder + "/vat-page"}, 60);
+        QCOMPARE(run.exitCode, 1);
+        QVERIFY2(run.err.contains(R"(vat.vat.json: /normalTexture: "vat.vat-normal.exr" leads outside the clip's folder)"),
+                 qPrintable(run.err));
+        QVERIFY(!QFile::exists(folder + "/vat-page/index.html"));
+
+        QVERIFY(QFile::rename(folder + "/clip/lattice.lattice.glb", folder + "/lattice.lattice.glb"));
+        QVERIFY(QFile::link("../lattice.lattice.glb", folder + "/clip/lattice.lattice.glb"));
+        run = runCliWithin({"preview", folder + "/clip/lattice.lattice.bin", "--out", folder + "/lattice-page"}, 60);
+        QCOMPARE(run.exitCode, 1);
+        QVERIFY2(run.err.contains(R"(lattice.lattice.bin: /mesh: "lattice.lattice.glb" leads outside the clip's folder)"),
+                 qPrintable(run.err));
+        QVERIFY(!QFile::exists(folder + "/lattice-page/index.html"));
+    }
+
+    // What the checks above leave alone still plays: data beside the glTF, in a folder below it, in a data:
+    // URI or a GLB's own chunk, and the extensions SoftTouch's packed exports require.
+    void gltfInItsOwnFolderPlays_data() {
+        QTest::addColumn<bool>("binary");
+        QTest::addColumn<QString>("pointer");
+        QTest::addColumn<QString>("value");
+        QTest::newRow("beside it") << false << "/buffers/0/uri" << R"("data.bin")";
+        QTest::newRow("in a folder below") << false << "/buffers/0/uri" << R"("sub/data.bin")";
+        QTest::newRow("through its folder") << false << "/buffers/0/uri" << R"("sub/../data.bin")";
+        QTest::newRow("data URI") << false << "/buffers/0/uri"
+                                  << "\"data:application/octet-stream;base64," + QString::fromLatin1(morphClipData().toBase64()) + "\"";
+        QTest::newRow("GLB") << true << "/buffers/0/byteLength" << "88";
+        QTest::newRow("packed extensions required") << false << "/extensionsRequired"
+                                                    << R"(["KHR_mesh_quantization", "EXT_meshopt_compression"])";
+    }
+
+    void gltfInItsOwnFolderPlays() {
+        QFETCH(bool, binary);
+        QFETCH(QString, pointer);
+        QFETCH(QString, value);
+        const QString folder = hostileFolder() + "/clip";
+        nlohmann::json gltf = morphClipGltf();
+        gltf[nlohmann::json::json_pointer(pointer.toStdString())] = nlohmann::json::parse(value.toStdString());
+        const QString name = binary ? "good.glb" : "good.gltf";
+        QVERIFY(writeBytes(folder + "/" + name, binary ? glbOf(gltf, morphClipData()) : QByteArray::fromStdString(gltf.dump())));
+        const QString page = folder + "/good-" + QTest::currentDataTag();
+        const auto run = runCliWithin({"preview", folder + "/" + name, "--out", page}, 60);
+        QVERIFY2(run.exitCode == 0, qPrintable(run.err));
+        QVERIFY2(run.out.contains("morph clip " + name + ": 2 frames at 24 fps, 1 morph targets"), qPrintable(run.out));
+        QFile html(page + "/index.html");
+        QVERIFY(html.open(QIODevice::ReadOnly));
+        // The data is in the page (its file's, embedded; or inside the glTF itself).
+        const QByteArray text = html.readAll();
+        QVERIFY(binary || pointer != "/buffers/0/uri" || value.startsWith("\"data:") ||
+                text.contains("\"data.bin\":\"" + morphClipData().toBase64() + "\""));
     }
 };
 
