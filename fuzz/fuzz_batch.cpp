@@ -1,0 +1,47 @@
+// Fuzz target: a batch manifest (*.stbatch) read and planned, beside a scene it can name
+// ("star.softtouch", the bundled star-drag). What a plan must never do, whatever the manifest says,
+// aborts: an output or a stamp outside the library, a job id outside [A-Za-z0-9._-].
+#include "fuzz/fuzz_input.h"
+#include "io/batch_plan.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+
+namespace {
+
+bool inside(const std::filesystem::path& path, const std::filesystem::path& root) {
+    const std::filesystem::path relative = path.lexically_normal().lexically_relative(root.lexically_normal());
+    return !relative.empty() && *relative.begin() != ".." && !relative.is_absolute();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace softtouch;
+    namespace fs = std::filesystem;
+    static const bool sceneCopied = [] {
+        std::error_code ec;
+        fs::copy_file(fs::path(SOFTTOUCH_SOURCE_DIR) / "presets/scenes/star-drag.softtouch",
+                      fuzz::scratch() / "scenes/star.softtouch", fs::copy_options::overwrite_existing, ec);
+        return !ec;
+    }();
+    (void)sceneCopied;
+    const auto path = fuzz::writeInput(data, size, ".stbatch");
+    (void)io::validateBatchManifest(path);
+    auto manifest = io::loadBatchManifest(path);
+    if (!manifest)
+        return 0;
+    auto jobs = io::planBatch(manifest.value());
+    if (!jobs)
+        return 0;
+    for (const io::BatchJob& job : jobs.value()) {
+        if (!inside(job.output, manifest->outputRoot) || !inside(io::batchStampPath(manifest.value(), job), manifest->outputRoot))
+            std::abort();
+        if (!std::all_of(job.id.begin(), job.id.end(),
+                         [](unsigned char c) { return std::isalnum(c) || c == '.' || c == '-' || c == '_'; }))
+            std::abort();
+    }
+    return 0;
+}
