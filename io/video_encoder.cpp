@@ -1,5 +1,6 @@
 #include "io/video_encoder.h"
 
+#include "io/atomic_file.h"
 #include "io/vertex_cache_internal.h"
 
 extern "C" {
@@ -266,6 +267,10 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::open(const VideoSettings& se
                 return impl->error("cannot create the directory: " + fsError.message());
             impl->createdDirectory = true;
         }
+        // Frames a killed render staged here (frame_NNNN.png.tmp-PID-N), whatever their number.
+        removeStaleTemporaries(impl->target, [](const std::string& name) {
+            return name.rfind("frame_", 0) == 0 && name.size() > 10 && name.compare(name.size() - 4, 4, ".png") == 0;
+        });
         const AVCodec* png = avcodec_find_encoder(AV_CODEC_ID_PNG);
         if (png == nullptr)
             return fail(impl->error("libavcodec has no PNG encoder"));
@@ -277,6 +282,7 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::open(const VideoSettings& se
     const std::filesystem::path parent = impl->target.has_parent_path() ? impl->target.parent_path() : ".";
     if (!std::filesystem::is_directory(parent, fsError))
         return impl->error("the directory " + detail::quoted(parent) + " does not exist");
+    removeStaleTemporaries(impl->target);  // what a killed render of the same file left
     impl->temporary = detail::temporaryPathFor(impl->target);
     if (settings.format == VideoFormat::Mp4) {
         if (settings.width % 2 != 0 || settings.height % 2 != 0)

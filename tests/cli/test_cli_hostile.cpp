@@ -169,6 +169,7 @@ private slots:
     void batchNamesCannotLeaveTheLibrary();
     void slurmScriptCannotBeMadeToRunACommand();
     void killedObjSequenceIsSweptByAShorterRerun();
+    void killedRenderIsSweptByTheRerun();
     void stoppedBatchLeavesNoJobRunning_data();
     void stoppedBatchLeavesNoJobRunning();
     void hugeVideoIsRefusedForTheMemoryAtHand();
@@ -290,6 +291,37 @@ void TestCliHostile::killedObjSequenceIsSweptByAShorterRerun() {
     QVERIFY2(rerun.exitCode == 0, qPrintable(rerun.err));
     QCOMPARE(temporaries(), 0);
     QCOMPARE(QDir(box.path("seq")).entryList({"guppy_*.obj"}, QDir::Files).size(), 10);
+}
+
+void TestCliHostile::killedRenderIsSweptByTheRerun() {
+    // A render killed with kill -9 leaves its temporary (video.mp4.tmp-PID-N); the next render of the
+    // same file removes it.
+    Sandbox box;
+    const QString out = box.path("video.mp4");
+    QProcess render;
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    env.remove("DISPLAY");
+    env.insert("MESA_SHADER_CACHE_DISABLE", "true");
+    render.setProcessEnvironment(env);
+    render.start(kCli, {"render", box.scene(), "--size", "640x360", "--frames", "2000", "--out", out, "--quiet"});
+    QVERIFY(render.waitForStarted());
+    QElapsedTimer waited;
+    waited.start();
+    auto temporaries = [&] { return QDir(box.path("")).entryList({"video.mp4.tmp-*"}, QDir::Files).size(); };
+    while (temporaries() == 0 && waited.elapsed() < 60000 && render.state() == QProcess::Running)
+        QThread::msleep(20);
+    QThread::msleep(200);
+    QVERIFY2(render.state() == QProcess::Running, "the render finished before it could be killed");
+    ::kill(pid_t(render.processId()), SIGKILL);
+    QVERIFY(render.waitForFinished(10000));
+    QCOMPARE(temporaries(), 1);
+    QProcess again;
+    again.setProcessEnvironment(env);
+    again.start(kCli, {"render", box.scene(), "--size", "64x36", "--frames", "2", "--out", out, "--quiet"});
+    QVERIFY(again.waitForFinished(120000));
+    QVERIFY2(again.exitCode() == 0, again.readAllStandardError().constData());
+    QCOMPARE(temporaries(), 0);
+    QVERIFY(QFileInfo(out).size() > 0);
 }
 
 void TestCliHostile::stoppedBatchLeavesNoJobRunning_data() {
