@@ -31,7 +31,8 @@ struct Collider {
     double halfLength = 0.5;                     ///< Capsule: half its segment's length (end centres at ±), >= 0.
     Vec3 halfExtents = Vec3::Constant(0.5);      ///< Box: half its edge lengths along `axes`, > 0.
     Mat3 axes = Mat3::Identity();                ///< Box and mesh: orientation (columns unit, orthonormal).
-    std::shared_ptr<const MeshSurface> surface;  ///< Mesh: its closed surface in its own frame, metres.
+    std::shared_ptr<const MeshSurface> surface;  ///< Mesh: its surface in its own frame, metres: closed, or a
+                                                 ///< one-sided sheet (MeshSurface::sides()).
     double scale = 1.0;                          ///< Mesh: uniform scale of that frame, (0, 1e6]; world point =
                                                  ///< centre + axes × scale × mesh point.
     double restitution = 0.0;                    ///< [0, 1]: 1 elastic, 0 sticks.

@@ -1,5 +1,7 @@
 #include "core/mesh_surface.h"
 
+#include "core/ranges.h"
+
 #include <fcl/fcl.h>
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <numeric>
 
 namespace softtouch {
 
@@ -47,6 +50,41 @@ std::array<double, 3> nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3
     return {1.0 - v - w, v, w};
 }
 
+/// Each vertex's first vertex at the same position (equal floats: -0 and +0 are one place). Edges and
+/// pseudonormals are keyed by it, so triangles that meet at split corners (an OBJ's flat-shaded corners, a UV
+/// seam: assimp joins only vertices whose every attribute matches) still share their edges.
+std::vector<std::uint32_t> weldedVertices(const std::vector<Vec3f>& positions) {
+    std::vector<std::uint32_t> order(positions.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const Vec3f &p = positions[a], &q = positions[b];
+        if (p.x() != q.x())
+            return p.x() < q.x();
+        if (p.y() != q.y())
+            return p.y() < q.y();
+        if (p.z() != q.z())
+            return p.z() < q.z();
+        return a < b;
+    });
+    std::vector<std::uint32_t> welded(positions.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+        welded[order[i]] = i > 0 && positions[order[i]] == positions[order[i - 1]] ? welded[order[i - 1]] : order[i];
+    return welded;
+}
+
+/// A triangle's edge between two welded vertices (an edge whose ends are one place is left out).
+struct HalfEdge {
+    std::uint64_t key = 0;     ///< Smaller welded end << 32 | larger.
+    std::uint32_t slot = 0;    ///< 3t + e: triangle t's edge from corner e to corner e + 1.
+    bool forward = false;      ///< It runs from the smaller end to the larger.
+    bool counted = false;      ///< Its triangle has three distinct corners (it counts for the topology).
+};
+
+/// "1 open edge", "4 open edges".
+std::string countOf(std::size_t n, const char* singular, const char* plural) {
+    return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 }  // namespace
 
 struct MeshSurface::Hierarchy {
@@ -57,30 +95,127 @@ struct MeshSurface::Hierarchy {
 
 MeshSurface::~MeshSurface() = default;
 
-Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::string source) {
+Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::string source, SurfaceSides sides) {
     using Made = Result<std::shared_ptr<const MeshSurface>>;
+    const bool collider = sides != SurfaceSides::AsGiven;
+    const std::string what = "the collider mesh" + (source.empty() ? std::string() : " " + source);
     if (mesh.positions.empty() || mesh.triangles.empty())
-        return Status::error("the collider mesh has no triangles");
+        return Status::error(what + " has no triangles");
+    const std::size_t n = mesh.triangles.size();
+    // Before anything is built: FCL's hierarchy and the pseudonormals grow with the triangles (docs/reliability.md).
+    if (collider && n > ranges::kMaxColliderTriangles)
+        return Status::error(what + " has " + std::to_string(n) + " triangles, more than the " +
+                             std::to_string(ranges::kMaxColliderTriangles) +
+                             " a collider may have: decimate it in your modelling tool to at most " +
+                             std::to_string(ranges::kMaxColliderTriangles) + " triangles");
     for (const Vec3f& p : mesh.positions)
         if (!p.allFinite())
-            return Status::error("the collider mesh has a non-finite vertex position");
+            return Status::error(what + " has a non-finite vertex position");
     for (const auto& t : mesh.triangles)
         for (std::uint32_t v : t)
             if (v >= mesh.positions.size())
-                return Status::error("the collider mesh has a triangle index past its " +
-                                   std::to_string(mesh.positions.size()) + " vertices");
+                return Status::error(what + " has a triangle index past its " + std::to_string(mesh.positions.size()) +
+                                     " vertices");
+
+    // Topology, on welded vertices: every triangle's edges, sorted so each edge's triangles lie together.
+    const Bounds bounds = mesh.bounds();
+    const Vec3 centre = 0.5 * (bounds.min + bounds.max);
+    const double diagonal = bounds.diagonal();
+    const std::vector<std::uint32_t> welded = weldedVertices(mesh.positions);
+    MeshTopology topology;
+    std::vector<HalfEdge> halfEdges;
+    halfEdges.reserve(3 * n);
+    for (std::size_t t = 0; t < n; ++t) {
+        const auto& tri = mesh.triangles[t];
+        std::array<Vec3, 3> x;
+        for (int c = 0; c < 3; ++c)
+            x[c] = mesh.positions[tri[c]].cast<double>() - centre;
+        const double area = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
+        topology.volume += x[0].dot(x[1].cross(x[2])) / 6.0;  // the tetrahedron (centre, triangle), signed
+        const std::array<std::uint32_t, 3> w{welded[tri[0]], welded[tri[1]], welded[tri[2]]};
+        const bool collapsed = w[0] == w[1] || w[1] == w[2] || w[2] == w[0];
+        topology.degenerateTriangles += collapsed || area <= 1e-12 * diagonal * diagonal;
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = w[e], b = w[(e + 1) % 3];
+            if (a != b)
+                halfEdges.push_back({std::uint64_t(std::min(a, b)) << 32 | std::max(a, b), std::uint32_t(3 * t + e), a < b,
+                                     !collapsed});
+        }
+    }
+    std::sort(halfEdges.begin(), halfEdges.end(),
+              [](const HalfEdge& a, const HalfEdge& b) { return a.key != b.key ? a.key < b.key : a.slot < b.slot; });
+    std::vector<std::pair<std::size_t, std::size_t>> edges;  // [first, last) of each edge's half-edges
+    for (std::size_t first = 0, last = 0; first < halfEdges.size(); first = last) {
+        for (last = first; last < halfEdges.size() && halfEdges[last].key == halfEdges[first].key;)
+            ++last;
+        edges.emplace_back(first, last);
+        std::size_t uses = 0, forward = 0;
+        for (std::size_t h = first; h < last; ++h)
+            if (halfEdges[h].counted) {
+                ++uses;
+                forward += halfEdges[h].forward;
+            }
+        topology.openEdges += uses == 1;
+        topology.nonManifoldEdges += uses > 2;
+        topology.flippedEdges += uses == 2 && forward != 1;
+    }
+
+    // A collider's sign is exact only on a closed, consistently wound mesh facing outwards; a one-sided sheet
+    // may be open, but its faces must still agree on which side is in front.
+    if (collider) {
+        if (topology.degenerateTriangles == n)
+            return Status::error(what + " has no area: " +
+                                 (n == 1 ? std::string("its only triangle has") : "all its " + std::to_string(n) + " triangles have") +
+                                 " zero area");
+        const bool open = sides == SurfaceSides::Closed && topology.openEdges > 0;
+        std::vector<std::string> faults;
+        if (open)
+            faults.push_back(countOf(topology.openEdges, "open edge", "open edges"));
+        if (topology.nonManifoldEdges > 0)
+            faults.push_back(countOf(topology.nonManifoldEdges, "edge", "edges") + " shared by more than two triangles");
+        if (topology.flippedEdges > 0)
+            faults.push_back(countOf(topology.flippedEdges, "edge", "edges") + " where the winding flips");
+        if (!faults.empty()) {
+            std::string message = what + " has ";
+            for (std::size_t i = 0; i < faults.size(); ++i)
+                message += (i == 0 ? "" : i + 1 == faults.size() ? " and " : ", ") + faults[i];
+            if (topology.degenerateTriangles > 0)
+                message += " (and " + countOf(topology.degenerateTriangles, "triangle", "triangles") + " of zero area)";
+            if (open && faults.size() == 1)
+                message += ": a collider mesh must be closed, or set \"oneSided\": true to use it as a surface that "
+                           "pushes along its normals";
+            else if (sides == SurfaceSides::Closed)
+                message += ": a collider mesh must be closed, each edge joining exactly two triangles wound the same way "
+                           "round; mend it in your modelling tool";
+            else
+                message += ": each edge of a one-sided collider mesh must join at most two triangles, wound the same way "
+                           "round; mend it in your modelling tool";
+            return Status::error(std::move(message));
+        }
+        // Volume is exact up to rounding (a sheet doubled back on itself sums to zero); the scale is the bounds'.
+        const double noVolume = 1e-9 * diagonal * diagonal * diagonal;
+        if (sides == SurfaceSides::Closed && std::abs(topology.volume) <= noVolume)
+            return Status::error(what + " encloses no volume: a collider mesh must be a solid, or set \"oneSided\": true "
+                                        "to use it as a surface that pushes along its normals");
+        if (sides == SurfaceSides::Closed && topology.volume < 0.0)
+            return Status::error(what + " faces inwards (its signed volume is negative): flip its normals in your "
+                                        "modelling tool");
+    }
+
     std::shared_ptr<MeshSurface> s(new MeshSurface());
-    s->m_bounds = mesh.bounds();
-    const Vec3 centre = 0.5 * (s->m_bounds.min + s->m_bounds.max);
+    s->m_sides = sides;
+    s->m_topology = topology;
+    s->m_bounds = bounds;
     for (const Vec3f& p : mesh.positions)
         s->m_radius = std::max(s->m_radius, (p.cast<double>() - centre).norm());
+    // Behind a one-sided sheet, inside reaches as deep as the sheet is wide: a body that went through it within
+    // a step is pushed back out in front, however fast it came (docs/lattice.md, "Mesh colliders").
+    s->m_backDepth = sides == SurfaceSides::OneSided ? diagonal : 0.0;
 
-    // Pseudonormals: the face normal, the sum over an edge's faces, the angle-weighted sum at a vertex.
-    const std::size_t n = mesh.triangles.size();
+    // Pseudonormals on the welded vertices: the face normal, the sum over an edge's faces, the angle-weighted
+    // sum at a vertex.
     s->m_faceNormals.resize(n);
-    s->m_vertexNormals.assign(mesh.positions.size(), Vec3::Zero());
-    std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> edgeSum;
-    auto edgeKey = [](std::uint32_t a, std::uint32_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+    std::vector<Vec3> weldedNormals(mesh.positions.size(), Vec3::Zero());
     for (std::size_t t = 0; t < n; ++t) {
         const auto& tri = mesh.triangles[t];
         std::array<Vec3, 3> x;
@@ -93,15 +228,43 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
             const Vec3 e1 = (x[(c + 1) % 3] - x[c]).normalized(), e2 = (x[(c + 2) % 3] - x[c]).normalized();
             const double angle = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
             if (std::isfinite(angle))
-                s->m_vertexNormals[tri[c]] += angle * normal;
-            // try_emplace with a zero: an Eigen vector default-constructs uninitialised.
-            edgeSum.try_emplace(edgeKey(tri[c], tri[(c + 1) % 3]), Vec3::Zero()).first->second += normal;
+                weldedNormals[welded[tri[c]]] += angle * normal;
         }
     }
-    s->m_edgeNormals.resize(n);
+    s->m_vertexNormals.resize(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+        s->m_vertexNormals[v] = weldedNormals[welded[v]];
+    // An edge whose ends are one place is a point: its corner's pseudonormal.
+    s->m_edgeNormals.resize(3 * n);
     for (std::size_t t = 0; t < n; ++t)
-        for (int c = 0; c < 3; ++c)
-            s->m_edgeNormals[t][c] = edgeSum[edgeKey(mesh.triangles[t][c], mesh.triangles[t][(c + 1) % 3])];
+        for (int e = 0; e < 3; ++e)
+            s->m_edgeNormals[3 * t + e] = s->m_vertexNormals[mesh.triangles[t][e]];
+    std::vector<std::uint8_t> rimVertex(sides == SurfaceSides::OneSided ? mesh.positions.size() : 0, 0);
+    if (sides == SurfaceSides::OneSided)
+        s->m_rim.assign(n, 0);
+    for (const auto& [first, last] : edges) {
+        Vec3 sum = Vec3::Zero();
+        std::size_t uses = 0;
+        for (std::size_t h = first; h < last; ++h) {
+            sum += s->m_faceNormals[halfEdges[h].slot / 3];
+            uses += halfEdges[h].counted;
+        }
+        const bool rim = sides == SurfaceSides::OneSided && uses == 1;
+        for (std::size_t h = first; h < last; ++h) {
+            s->m_edgeNormals[halfEdges[h].slot] = sum;
+            if (rim)
+                s->m_rim[halfEdges[h].slot / 3] |= std::uint8_t(1u << (halfEdges[h].slot % 3));
+        }
+        if (rim) {
+            rimVertex[halfEdges[first].key >> 32] = 1;
+            rimVertex[halfEdges[first].key & 0xffffffffu] = 1;
+        }
+    }
+    if (sides == SurfaceSides::OneSided)
+        for (std::size_t t = 0; t < n; ++t)
+            for (int c = 0; c < 3; ++c)
+                if (rimVertex[welded[mesh.triangles[t][c]]])
+                    s->m_rim[t] |= std::uint8_t(1u << (3 + c));
 
     auto h = std::make_unique<Hierarchy>();
     h->model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
@@ -121,6 +284,8 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
     s->m_hierarchy = std::move(h);
     s->m_mesh = std::move(mesh);
     s->m_source = std::move(source);
+    if (sides == SurfaceSides::OneSided)  // behind it, inside reaches the whole depth: no node could rule a point out
+        return Made(std::shared_ptr<const MeshSurface>(std::move(s)));
 
     // The distance grid: the bounds padded by a cell, about 8,000 nodes (under 0.1 s of queries).
     const Vec3 extent = (s->m_bounds.max - s->m_bounds.min).cwiseMax(1e-6 * std::max(1e-9, s->m_radius));
@@ -174,20 +339,23 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::shared(const Mesh& mesh)
     Mesh geometry;  // only what the surface needs: not normals, parts or UVs
     geometry.positions = mesh.positions;
     geometry.triangles = mesh.triangles;
-    auto made = create(std::move(geometry));
+    auto made = create(std::move(geometry), {}, SurfaceSides::AsGiven);
     if (made)
         cache.emplace(hash, made.value());
     return made;
 }
 
 double MeshSurface::signedDistance(const Vec3& p, Vec3& normal, double reach) const {
-    // Far from the bounds: their distance is a lower bound, and no query is needed.
+    // Far from the bounds: their distance is a lower bound, and no query is needed (a one-sided surface's
+    // inside reaches backDepth() beyond them).
     const Vec3 outside = (m_bounds.min - p).cwiseMax(p - m_bounds.max).cwiseMax(0.0);
-    if (outside.norm() > reach) {
+    if (outside.norm() > std::max(reach, m_backDepth)) {
         const Vec3 nearestOfBox = p.cwiseMax(m_bounds.min).cwiseMin(m_bounds.max);
         normal = (p - nearestOfBox).normalized();
         return outside.norm();
     }
+    if (m_gridDistance.empty())
+        return exactDistance(p, normal);
     // Within them, the nearest grid node's distance less the way to it (the distance is 1-Lipschitz; the
     // float it is kept in loses at most a few ulps, covered by the 1e-6 margin).
     const Vec3 cell = (p - m_gridOrigin).cwiseQuotient(m_gridStep);
@@ -204,7 +372,8 @@ double MeshSurface::signedDistance(const Vec3& p, Vec3& normal, double reach) co
     return exactDistance(p, normal);
 }
 
-double MeshSurface::exactDistance(const Vec3& p, Vec3& normal) const {    fcl::CollisionObjectd probe(m_hierarchy->probe);
+double MeshSurface::exactDistance(const Vec3& p, Vec3& normal) const {
+    fcl::CollisionObjectd probe(m_hierarchy->probe);
     probe.setTranslation(p);
     probe.computeAABB();
     fcl::DistanceRequestd request(true);
@@ -224,6 +393,7 @@ double MeshSurface::exactDistance(const Vec3& p, Vec3& normal) const {    fcl::C
     const std::array<double, 3> w = nearestOnTriangle(p, a, b, c);
     const Vec3 nearest = w[0] * a + w[1] * b + w[2] * c;
     Vec3 pseudonormal = m_faceNormals[std::size_t(t)];
+    int rimBit = -1;  // which bit of m_rim says the nearest feature lies on an open edge
     int zeros = 0, zeroCorner = -1, oneCorner = -1;
     for (int k = 0; k < 3; ++k) {
         if (w[std::size_t(k)] == 0.0) {
@@ -233,13 +403,21 @@ double MeshSurface::exactDistance(const Vec3& p, Vec3& normal) const {    fcl::C
         if (w[std::size_t(k)] == 1.0)
             oneCorner = k;
     }
-    if (oneCorner >= 0)
+    if (oneCorner >= 0) {
         pseudonormal = m_vertexNormals[tri[std::size_t(oneCorner)]];
-    else if (zeros == 1)  // on the edge opposite the zero corner: edge (zero + 1, zero + 2)
-        pseudonormal = m_edgeNormals[std::size_t(t)][std::size_t((zeroCorner + 1) % 3)];
+        rimBit = 3 + oneCorner;
+    } else if (zeros == 1) {  // on the edge opposite the zero corner: edge (zero + 1, zero + 2)
+        pseudonormal = m_edgeNormals[3 * std::size_t(t) + std::size_t((zeroCorner + 1) % 3)];
+        rimBit = (zeroCorner + 1) % 3;
+    }
     const Vec3 offset = p - nearest;
     const double distance = offset.norm();
-    const double sign = offset.dot(pseudonormal) < 0.0 ? -1.0 : 1.0;
+    double sign = offset.dot(pseudonormal) < 0.0 ? -1.0 : 1.0;
+    // One-sided: behind the sheet is inside only within its rim (a point whose nearest point is on an open edge
+    // or corner is beside the sheet, not behind it) and backDepth() deep.
+    if (m_sides == SurfaceSides::OneSided && sign < 0.0 &&
+        ((rimBit >= 0 && ((m_rim[std::size_t(t)] >> rimBit) & 1u)) || distance > m_backDepth))
+        sign = 1.0;
     if (distance > 1e-12 * std::max(1.0, m_radius))
         normal = sign * offset / distance;
     else

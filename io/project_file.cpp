@@ -298,10 +298,14 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
                       : *shape == "box"     ? ColliderShape::Box
                                             : ColliderShape::Mesh;
             if (c.shape == ColliderShape::Mesh) {
-                v.checkKeys({"shape", "mesh", "centre", "axes", "scale", "restitution", "friction"});
+                v.checkKeys({"shape", "mesh", "oneSided", "centre", "axes", "scale", "restitution", "friction"});
+                // Closed unless the file says the mesh is a one-sided sheet (core/mesh_surface.h, SurfaceSides): an
+                // open mesh read as a solid let bodies fall through it.
+                const bool oneSided = v["oneSided"].boolean().value_or(false);
                 if (const auto ref = v["mesh"].string(true)) {
                     auto mesh = importMesh(baseDir / *ref);
-                    auto surface = mesh ? MeshSurface::create(std::move(mesh.value()), *ref)
+                    auto surface = mesh ? MeshSurface::create(std::move(mesh.value()), *ref,
+                                                              oneSided ? SurfaceSides::OneSided : SurfaceSides::Closed)
                                         : Result<std::shared_ptr<const MeshSurface>>(Status::error(mesh.message()));
                     if (surface)
                         c.surface = surface.value();
@@ -497,6 +501,8 @@ Status saveProject(const Project& project, const fs::path& path) {
             entry["halfExtents"] = vec(c.halfExtents);
         if (c.shape == ColliderShape::Mesh) {
             entry["mesh"] = rebased(c.surface->source());
+            if (c.surface->sides() == SurfaceSides::OneSided)  // absent means closed: older files read as before
+                entry["oneSided"] = true;
             entry[ranges::kMeshColliderScale.name] = c.scale;
         }
         if (c.shape == ColliderShape::Box || c.shape == ColliderShape::Mesh)
