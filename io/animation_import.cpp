@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -17,9 +18,6 @@
 namespace softtouch::io {
 
 namespace {
-
-/// Most vertex positions the samples may hold (12 bytes each: 384 MiB).
-constexpr double kMaxSampledPositions = 32e6;
 
 /// The key pair around `ticks` and how far between them: (index, fraction); past either end, that end.
 template <typename Key>
@@ -76,6 +74,7 @@ struct Instance {
     unsigned mesh = 0;
     int node = 0;
     std::uint32_t firstVertex = 0;
+    const aiMeshMorphAnim* morph = nullptr;  ///< The take's blend-shape weights for it, if it keys them.
 };
 
 /// The file's node hierarchy flattened depth first, its triangle meshes as placed, and one take.
@@ -83,26 +82,37 @@ class Rig {
 public:
     Rig(const aiScene& scene, const aiAnimation* take, double metresPerUnit)
         : m_scene(scene), m_take(take), m_scale(ai_real(metresPerUnit)) {
-        add(scene.mRootNode, -1);
+        flatten(scene.mRootNode);
+        m_channel.assign(m_nodes.size(), nullptr);
         if (take)
             for (unsigned c = 0; c < take->mNumChannels; ++c)
                 if (auto it = m_byName.find(take->mChannels[c]->mNodeName.C_Str()); it != m_byName.end())
                     m_channel[std::size_t(it->second)] = take->mChannels[c];
-        std::uint32_t vertices = 0;
-        for (std::size_t n = 0; n < m_nodes.size(); ++n)
-            for (unsigned i = 0; i < m_nodes[n]->mNumMeshes; ++i) {
+        // Placements stop once a single sample would hold more than kMaxSampledPositions: the count refuses
+        // it then, and a node that lists one mesh a million times is not walked to its end.
+        std::uint64_t vertices = 0;
+        for (std::size_t n = 0; n < m_nodes.size() && vertices <= kMaxSampledPositions; ++n) {
+            const aiMeshMorphAnim* morph = m_nodes[n]->mNumMeshes ? morphChannel(*m_nodes[n]) : nullptr;
+            for (unsigned i = 0; i < m_nodes[n]->mNumMeshes && vertices <= kMaxSampledPositions; ++i) {
                 const aiMesh* mesh = scene.mMeshes[m_nodes[n]->mMeshes[i]];
                 if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || mesh->mNumFaces == 0)
                     continue;
-                m_instances.push_back({m_nodes[n]->mMeshes[i], int(n), vertices});
+                m_instances.push_back({m_nodes[n]->mMeshes[i], int(n), std::uint32_t(vertices), morph});
                 vertices += mesh->mNumVertices;
+                m_operations += sampleOperations(*mesh, morph);
+                m_mostBones = std::max<std::size_t>(m_mostBones, mesh->mNumBones);
             }
-        m_vertexCount = vertices;
+        }
+        m_vertexCount = std::size_t(vertices);
+        m_operations += double(m_nodes.size());
     }
 
     std::size_t vertexCount() const { return m_vertexCount; }
+    /// What positionsAt() costs (kMaxSampledOperations): one per node, plus sampleOperations() per placed mesh.
+    double operationsPerSample() const { return m_operations; }
+    /// The most joints (bones) one mesh is skinned to.
+    std::size_t mostBones() const { return m_mostBones; }
     const std::vector<Instance>& instances() const { return m_instances; }
-    const aiNode& node(int n) const { return *m_nodes[std::size_t(n)]; }
 
     /// Every vertex at `seconds` of the take, metres.
     void positionsAt(double seconds, std::vector<Vec3f>& out) const {
@@ -110,7 +120,7 @@ public:
         const double ticks = seconds * ticksPerSecond;
         std::vector<aiMatrix4x4> global(m_nodes.size());
         for (std::size_t n = 0; n < m_nodes.size(); ++n) {
-            const aiMatrix4x4 local = localTransform(*m_nodes[n], m_channel.count(n) ? m_channel.at(n) : nullptr, ticks);
+            const aiMatrix4x4 local = localTransform(*m_nodes[n], m_channel[n], ticks);
             global[n] = m_parent[n] < 0 ? local : global[std::size_t(m_parent[n])] * local;
         }
         out.resize(m_vertexCount);
@@ -118,7 +128,7 @@ public:
         for (const Instance& instance : m_instances) {
             const aiMesh& mesh = *m_scene.mMeshes[instance.mesh];
             morphed.assign(mesh.mVertices, mesh.mVertices + mesh.mNumVertices);
-            applyMorphs(mesh, node(instance.node), ticks, morphed);
+            applyMorphs(mesh, instance.morph, ticks, morphed);
             Vec3f* target = out.data() + instance.firstVertex;
             if (!mesh.HasBones()) {
                 const aiMatrix4x4& m = global[std::size_t(instance.node)];
@@ -155,24 +165,59 @@ public:
     }
 
 private:
-    void add(const aiNode* node, int parent) {
-        const int index = int(m_nodes.size());
-        m_nodes.push_back(node);
-        m_parent.push_back(parent);
-        m_byName.emplace(node->mName.C_Str(), index);
-        for (unsigned c = 0; c < node->mNumChildren; ++c)
-            add(node->mChildren[c], index);
+    /// What positionsAt() does for one placed `mesh` a sample: a pass over its vertices, one more for each
+    /// blend-shape target some sample weighs (applyMorphs skips a weight of 0) and its weights' bookkeeping,
+    /// one per skin weight and bone.
+    static double sampleOperations(const aiMesh& mesh, const aiMeshMorphAnim* channel) {
+        double operations = double(mesh.mNumVertices) + mesh.mNumAnimMeshes;
+        std::vector<bool> weighed(mesh.mNumAnimMeshes, false);
+        if (channel) {  // the keyed weights replace the defaults
+            unsigned mostValues = 0;
+            for (unsigned k = 0; k < channel->mNumKeys; ++k) {
+                const aiMeshMorphKey& key = channel->mKeys[k];
+                mostValues = std::max(mostValues, key.mNumValuesAndWeights);
+                for (unsigned i = 0; i < key.mNumValuesAndWeights; ++i)
+                    if (key.mValues[i] < weighed.size() && key.mWeights[i] != 0.0)
+                        weighed[key.mValues[i]] = true;
+            }
+            operations += 2.0 * mostValues;  // a sample blends two keys
+        } else {
+            for (unsigned t = 0; t < mesh.mNumAnimMeshes; ++t)
+                weighed[t] = mesh.mAnimMeshes[t]->mWeight != 0.0f;
+        }
+        for (unsigned t = 0; t < mesh.mNumAnimMeshes; ++t)
+            if (weighed[t])
+                operations += mesh.mNumVertices;
+        for (unsigned b = 0; b < mesh.mNumBones; ++b)
+            operations += 1.0 + mesh.mBones[b]->mNumWeights;
+        return operations;
+    }
+
+    /// Flattens the hierarchy under `root` depth first, parents before children, without recursion: a chain of
+    /// kMaxRigNodes joints is no deeper on the stack than one.
+    void flatten(const aiNode* root) {
+        std::vector<std::pair<const aiNode*, int>> pending{{root, -1}};  // (node, its parent's index)
+        while (!pending.empty()) {
+            const auto [node, parent] = pending.back();
+            pending.pop_back();
+            const int index = int(m_nodes.size());
+            m_nodes.push_back(node);
+            m_parent.push_back(parent);
+            m_byName.emplace(node->mName.C_Str(), index);
+            for (unsigned c = node->mNumChildren; c-- > 0;)  // the first child is taken first
+                pending.emplace_back(node->mChildren[c], index);
+        }
     }
 
     /// Blend shapes: p + Σ_k w_k (target_k − p), the weights keyed by the take (channel named after the mesh's
     /// node) or each target's own default.
-    void applyMorphs(const aiMesh& mesh, const aiNode& placed, double ticks, std::vector<aiVector3D>& p) const {
+    void applyMorphs(const aiMesh& mesh, const aiMeshMorphAnim* channel, double ticks, std::vector<aiVector3D>& p) const {
         if (mesh.mNumAnimMeshes == 0)
             return;
         std::vector<double> weights(mesh.mNumAnimMeshes, 0.0);
         for (unsigned k = 0; k < mesh.mNumAnimMeshes; ++k)
             weights[k] = mesh.mAnimMeshes[k]->mWeight;
-        if (const aiMeshMorphAnim* channel = morphChannel(placed)) {
+        if (channel) {
             std::fill(weights.begin(), weights.end(), 0.0);
             const auto [k, f] = bracket(channel->mKeys, channel->mNumKeys, ticks);
             auto addKey = [&](const aiMeshMorphKey& key, double share) {
@@ -213,9 +258,11 @@ private:
     std::vector<const aiNode*> m_nodes;
     std::vector<int> m_parent;
     std::map<std::string, int> m_byName;
-    std::map<std::size_t, const aiNodeAnim*> m_channel;
+    std::vector<const aiNodeAnim*> m_channel;  ///< Per node: the take's keys for it, or null.
     std::vector<Instance> m_instances;
     std::size_t m_vertexCount = 0;
+    double m_operations = 0.0;
+    std::size_t m_mostBones = 0;
 };
 
 std::string formatSeconds(double s) {
@@ -250,7 +297,35 @@ Result<TakeList> sceneTakes(const aiScene& scene, const std::string& name) {
     return takes;
 }
 
+/// Nodes in the hierarchy under `root`, counted without recursion and only up to `most` + 1: a file may
+/// hold far more, or nest them deeper than a recursive walk's stack.
+std::size_t countNodes(const aiNode* root, std::size_t most) {
+    std::vector<const aiNode*> pending{root};
+    std::size_t count = 0;
+    while (!pending.empty() && count <= most) {
+        const aiNode* node = pending.back();
+        pending.pop_back();
+        ++count;
+        for (unsigned c = 0; c < node->mNumChildren; ++c)
+            pending.push_back(node->mChildren[c]);
+    }
+    return count;
+}
+
+std::string formatCount(double n) {
+    std::ostringstream out;
+    out << std::setprecision(n < 1e9 ? 10 : 3) << n;
+    return out.str();
+}
+
 Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request) {
+    // The request first: nothing of it may reach a count or a time before it is known to be finite.
+    if (!std::isfinite(request.start) || !std::isfinite(request.end))
+        return Status::error("mesh file " + name + ": the animation's range must be finite numbers of seconds, got " +
+                             formatSeconds(request.start) + " to " + formatSeconds(request.end));
+    if (!(request.rate >= 1.0 && request.rate <= 1000.0))
+        return Status::error("mesh file " + name + ": the animation's sample rate must be in [1, 1000] per second, "
+                             "got " + formatSeconds(request.rate));
     Assimp::Importer importer;
     const auto read = readAnimatedScene(importer, path, name);
     if (!read)
@@ -271,33 +346,61 @@ Result<AnimatedMesh> readAnimated(const std::filesystem::path& path, const std::
             names += (names.empty() ? "\"" : ", \"") + takeName + "\" (" + formatSeconds(seconds) + " s)";
         return Status::error("mesh file " + name + " has no take \"" + request.take + "\"; it has " + names);
     }
+    const std::string& takeName = result.takes[std::size_t(chosen)].first;
     const double length = result.takes[std::size_t(chosen)].second;
+    // A take of 1e30 s or of infinite length used to become 2 samples (its sample count overflowed), or to abort
+    // the import allocating them; no count is computed here before the range is known to be at most an hour.
+    if (!std::isfinite(length))
+        return Status::error("mesh file " + name + ": take \"" + takeName + "\" is " + formatSeconds(length) +
+                             " s long; its key times are not finite numbers");
     const double end = request.end < 0.0 ? length : request.end;
     if (!(request.start >= 0.0 && end > request.start && end <= length * (1.0 + 1e-9) + 1e-9))
         return Status::error("mesh file " + name + ": the range " + formatSeconds(request.start) + " to " +
-                             formatSeconds(end) + " s is not inside take \"" + result.takes[std::size_t(chosen)].first +
-                             "\" (0 to " + formatSeconds(length) + " s)");
-    if (!(request.rate >= 1.0 && request.rate <= 1000.0))
-        return Status::error("animation sample rate must be in [1, 1000] per second, got " + formatSeconds(request.rate));
+                             formatSeconds(end) + " s is not inside take \"" + takeName + "\" (0 to " +
+                             formatSeconds(length) + " s)");
+    if (end > kMaxAnimationSeconds)
+        return Status::error("mesh file " + name + ": the range " + formatSeconds(request.start) + " to " +
+                             formatSeconds(end) + " s of take \"" + takeName + "\" (" + formatSeconds(length) + " s) ends past " +
+                             formatSeconds(kMaxAnimationSeconds) + " s, the furthest into a take SoftTouch samples: " +
+                             "give it an end of at most " + formatSeconds(kMaxAnimationSeconds) + " s");
+    const std::size_t nodes = countNodes(scene->mRootNode, kMaxRigNodes);
+    if (nodes > kMaxRigNodes)
+        return Status::error("mesh file " + name + ": its rig has more than " + formatCount(double(kMaxRigNodes)) +
+                             " nodes (joints and others), the most SoftTouch samples");
     const SceneUnit unit = sceneUnit(*scene, path.string());
     result.unit = unit.description;
     const Rig rig(*scene, scene->mAnimations[chosen], unit.metresPerUnit);
     if (rig.vertexCount() == 0)
         return Status::error("mesh file " + name + " has no triangles");
+    if (rig.mostBones() > kMaxRigNodes)
+        return Status::error("mesh file " + name + ": a mesh is skinned to " + formatCount(double(rig.mostBones())) +
+                             " joints, more than the " + formatCount(double(kMaxRigNodes)) + " SoftTouch samples");
+    // At most an hour at 1000 samples/s: the count fits any integer type from here on.
     const double span = (end - request.start) * request.rate;
     const auto count = request.loop ? std::max<long long>(2, std::llround(span)) : (long long)(std::floor(span + 1e-9)) + 1;
-    if (double(count) * double(rig.vertexCount()) > kMaxSampledPositions)
+    const double positions = double(count) * double(rig.vertexCount());
+    if (positions > kMaxSampledPositions)
         return Status::error("mesh file " + name + ": " + std::to_string(count) + " samples of " +
-                             std::to_string(rig.vertexCount()) + " vertices is more than SoftTouch keeps (32 million " +
-                             "positions): sample a shorter range or at a lower rate");
+                             std::to_string(rig.vertexCount()) + " vertices is " + formatCount(positions) +
+                             " positions, more than SoftTouch keeps (" + formatCount(kMaxSampledPositions) +
+                             "): sample a shorter range or at a lower rate");
+    const double operations = double(count) * rig.operationsPerSample();
+    if (operations > kMaxSampledOperations)
+        return Status::error("mesh file " + name + ": " + std::to_string(count) + " samples of this rig is " +
+                             formatCount(operations) + " rig operations (" + formatCount(rig.operationsPerSample()) +
+                             " a sample: its vertices, weighed blend-shape targets, skin weights and nodes), " +
+                             "more than SoftTouch evaluates in one import (" + formatCount(kMaxSampledOperations) +
+                             "): sample a shorter range or at a lower rate");
     BaseAnimation& animation = result.animation;
     animation.take = result.takes[std::size_t(chosen)].first;
     animation.start = request.start;
     animation.rate = request.rate;
     animation.loop = request.loop;
     animation.samples.resize(std::size_t(count));
-    for (long long k = 0; k < count; ++k)
+    for (long long k = 0; k < count; ++k) {
         rig.positionsAt(std::min(end, request.start + double(k) / request.rate), animation.samples[std::size_t(k)]);
+        reportImportProgress();  // a long take is work, not a hang (io/isolated_import.h)
+    }
     // The rest mesh: the first sample, with the file's triangles.
     Mesh& mesh = result.mesh;
     mesh.positions = animation.samples.front();
@@ -346,6 +449,12 @@ bool getTakes(Decoder& in, TakeList& takes) {
 }
 
 void putAnimated(std::string& out, const AnimatedMesh& a) {
+    // Up to kMaxSampledPositions (384 MiB): reserved once, not grown by doubling and copying.
+    std::size_t sampleBytes = 0;
+    for (const auto& sample : a.animation.samples)
+        sampleBytes += sizeof(std::uint64_t) + sample.size() * sizeof(Vec3f);
+    out.reserve(out.size() + sampleBytes + 2 * a.mesh.positions.size() * sizeof(Vec3f) +
+                a.mesh.triangles.size() * sizeof(a.mesh.triangles[0]) + (1 << 16));
     putMesh(out, a.mesh);
     putString(out, a.animation.take);
     put(out, a.animation.start);

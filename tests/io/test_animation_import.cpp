@@ -9,13 +9,22 @@
 #include "io/animation_import.h"
 #include "io/bake.h"
 #include "io/frame_source.h"
+#include "io/isolated_import.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
 
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include <chrono>
 #include <fstream>
+#include <limits>
+#include <new>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include <unistd.h>
 
 using namespace softtouch;
 using namespace softtouch::io;
@@ -63,6 +72,73 @@ std::string projectFor(const std::string& glb, const std::string& extra = "") {
       "simulation": {"integrator": "verlet"},
       "clip": {"frames": 24, "fps": 24}})";
 }
+
+/// Writes `to`: the GLB `from` with every key time of its takes multiplied by `factor` (a float in the file, as
+/// glTF stores times: 3e38 s and beyond become infinite there). The accessors' min and max follow, as doubles.
+bool writeStretched(const std::string& from, const std::string& to, double factor) {
+    tinygltf::TinyGLTF io;
+    tinygltf::Model model;
+    std::string error, warning;
+    if (!io.LoadBinaryFromFile(&model, &error, &warning, from) || model.animations.empty())
+        return false;
+    std::set<int> done;
+    for (const tinygltf::Animation& animation : model.animations)
+        for (const tinygltf::AnimationSampler& sampler : animation.samplers) {
+            if (!done.insert(sampler.input).second)
+                continue;
+            tinygltf::Accessor& input = model.accessors.at(std::size_t(sampler.input));
+            const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(input.bufferView));
+            auto* times = reinterpret_cast<float*>(model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset +
+                                                   input.byteOffset);
+            for (std::size_t k = 0; k < input.count; ++k)
+                times[k] = float(double(times[k]) * factor);
+            for (double& x : input.minValues)
+                x *= factor;
+            for (double& x : input.maxValues)
+                x *= factor;
+        }
+    return io.WriteGltfSceneToFile(&model, to, false, true, false, true);
+}
+
+/// Writes `to`: the GLB `from` with `extra` empty nodes under its first node (a rig of that many more nodes).
+bool writeWithExtraNodes(const std::string& from, const std::string& to, std::size_t extra) {
+    tinygltf::TinyGLTF io;
+    tinygltf::Model model;
+    std::string error, warning;
+    if (!io.LoadBinaryFromFile(&model, &error, &warning, from))
+        return false;
+    for (std::size_t i = 0; i < extra; ++i) {
+        model.nodes.front().children.push_back(int(model.nodes.size()));
+        model.nodes.emplace_back().name = "joint" + std::to_string(i);
+    }
+    return io.WriteGltfSceneToFile(&model, to, false, true, false, true);
+}
+
+/// Writes `to`: the GLB `from` with `targets` blend shapes on its first mesh, each weighed 0.5 by default, all
+/// of them one small bulge (the same accessor, so the file stays small while every sample applies each).
+bool writeWithBlendShapes(const std::string& from, const std::string& to, std::size_t targets) {
+    tinygltf::TinyGLTF io;
+    tinygltf::Model model;
+    std::string error, warning;
+    if (!io.LoadBinaryFromFile(&model, &error, &warning, from))
+        return false;
+    tinygltf::Mesh& mesh = model.meshes.front();
+    const auto vertices = model.accessors.at(std::size_t(mesh.primitives.front().attributes.at("POSITION"))).count;
+    const std::vector<Vec3f> delta(vertices, Vec3f(0.0f, 0.001f, 0.0f));
+    const int bulge = rigged_detail::addVec3(model, delta, true);
+    for (std::size_t t = 0; t < targets; ++t)
+        mesh.primitives.front().targets.push_back({{"POSITION", bulge}});
+    mesh.weights.assign(targets, 0.5);
+    return io.WriteGltfSceneToFile(&model, to, false, true, false, true);
+}
+
+/// The keyed COLLADA box of colladaKeyedTranslationImports, its last key at `lastKey` (text, seconds).
+void writeColladaBoxEndingAt(const std::string& path, const std::string& lastKey) {
+    writeKeyedColladaBox(path, "-10 -5 -2 10 -5 -2 -10 5 -2 10 5 -2 -10 -5 2 10 -5 2 -10 5 2 10 5 2",
+                         "0 0.25 0.5 0.75 " + lastKey, "0 0 0 10 0 0 20 0 0 10 0 0 0 0 0");
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace
 
@@ -341,6 +417,230 @@ private slots:
         auto bad = loadProject(projectPath);
         QVERIFY(!bad.ok());
         QVERIFY2(bad.message().find("/objects/0/material/goalWeight") != std::string::npos, bad.message().c_str());
+    }
+
+    void nonsenseTakeLengthsAreRefused_data() {
+        QTest::addColumn<QString>("format");
+        QTest::addColumn<QString>("length");  // glTF: a factor on the rig's 1 s take; COLLADA: the last key, seconds
+        QTest::addColumn<bool>("loop");
+        QTest::addColumn<QString>("expected");
+        const QString tooLong = "the range 0 to %1 s of take \"%2\" (%1 s) ends past 3600 s, the furthest into a "
+                                "take SoftTouch samples: give it an end of at most 3600 s";
+        const QString infinite = "take \"take\" is inf s long; its key times are not finite numbers";
+        // Before: 2 samples and exit 0 when looping (the sample count overflowed); std::length_error in the
+        // child ("the importer (assimp) crashed on it") when not.
+        QTest::newRow("glTF, 1e30 s, looping") << "glb" << "1e30" << true << tooLong.arg("1e+30", "take");
+        QTest::newRow("glTF, 1e30 s, once") << "glb" << "1e30" << false << tooLong.arg("1e+30", "take");
+        // glTF holds times as floats: 1e39 s is infinite there.
+        QTest::newRow("glTF, infinite, looping") << "glb" << "1e39" << true << infinite;
+        QTest::newRow("glTF, infinite, once") << "glb" << "1e39" << false << infinite;
+        // assimp's COLLADA reader drops a last key above ~1e19 s; 1e17 s at 120 samples/s overflowed the count too.
+        QTest::newRow("COLLADA, 1e17 s, looping") << "dae" << "1e17" << true << tooLong.arg("1e+17", "animation");
+        QTest::newRow("COLLADA, 1e17 s, once") << "dae" << "1e17" << false << tooLong.arg("1e+17", "animation");
+    }
+
+    // A take of 1e30 s or an infinite one is refused, naming the limit, before anything is sampled, whether it is
+    // asked for directly or through a project; the first hour of a 1e30 s take is an ordinary request.
+    void nonsenseTakeLengthsAreRefused() {
+        QFETCH(QString, format);
+        QFETCH(QString, length);
+        QFETCH(bool, loop);
+        QFETCH(QString, expected);
+        QTemporaryDir dir;
+        const std::string path = dir.filePath("long." + format).toStdString();
+        if (format == "glb") {
+            const std::string rig = dir.filePath("rig.glb").toStdString();
+            (void)writeRiggedGlb(RigKind::Keyed, rig);
+            QVERIFY(writeStretched(rig, path, length.toDouble()));
+        } else {
+            writeColladaBoxEndingAt(path, length.toStdString());
+        }
+        AnimationRequest request;
+        request.loop = loop;
+        const auto started = std::chrono::steady_clock::now();
+        auto imported = importAnimatedMesh(path, request);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        if (imported.ok())
+            QFAIL(qPrintable(QString("imported %1 samples").arg(imported->animation.samples.size())));
+        qInfo("%s (%.2f s)", imported.message().c_str(), seconds);
+        QCOMPARE(QString::fromStdString(imported.message()),
+                 QString("mesh file '%1': %2").arg(QString::fromStdString(path), expected));
+        // The same through a project: the error is on the object's mesh.
+        const std::filesystem::path projectPath = dir.filePath("long.softtouch").toStdString();
+        std::ofstream(projectPath) << "{\"format\": \"softtouch-project\", \"version\": 4, \"objects\": [{\"name\": \"rig\", "
+                                      "\"mesh\": \"" + path + "\", \"animation\": {\"loop\": " + (loop ? "true" : "false") +
+                                      "}, \"lattice\": {\"nodes\": [3, 3, 3]}, \"material\": {\"goalWeight\": 1}}]}";
+        auto project = loadProject(projectPath);
+        QVERIFY(!project.ok());
+        QVERIFY2(contains(project.message(), "/objects/0/mesh: " + imported.message()), project.message().c_str());
+        if (length.startsWith("1e") && length != "1e39") {
+            // The first second of it is an ordinary request.
+            request.end = 1.0;
+            request.rate = 24.0;
+            auto first = importAnimatedMesh(path, request);
+            QVERIFY2(first.ok(), first.message().c_str());
+            QCOMPARE(first->animation.samples.size(), std::size_t(loop ? 24 : 25));
+        }
+    }
+
+    // A range that is not finite is refused as such (an end of -inf used to mean the take's end, a NaN start was
+    // "not inside the take").
+    void rangesMustBeFinite() {
+        QTemporaryDir dir;
+        const std::string glb = dir.filePath("rig.glb").toStdString();
+        (void)writeRiggedGlb(RigKind::Keyed, glb);
+        const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+        struct Range {
+            double start, end;
+            const char* said;
+        };
+        for (const Range& range : {Range{nan, 1.0, "nan to 1"}, Range{0.0, inf, "0 to inf"}, Range{0.0, -inf, "0 to -inf"},
+                                   Range{-inf, 1.0, "-inf to 1"}}) {
+            AnimationRequest request;
+            request.start = range.start;
+            request.end = range.end;
+            auto imported = importAnimatedMesh(glb, request);
+            QVERIFY(!imported.ok());
+            QCOMPARE(QString::fromStdString(imported.message()),
+                     QString::fromStdString("mesh file '" + glb +
+                                            "': the animation's range must be finite numbers of seconds, got " + range.said));
+        }
+    }
+
+    // The rigged guppy's swim stretched to an hour, sampled once a second: 3,601 samples of 3,198 vertices, 11.5
+    // million positions, within every limit. Under the sanitizers the import used to be stopped by the importer's
+    // 10 s deadline; sampling now reports progress, and the deadline only stops an importer that shows none.
+    // Sample k is the swim at k/3600 of its second.
+    void aTakeOfAnHourIsSampledWhole() {
+        QTemporaryDir dir;
+        const std::string hour = dir.filePath("guppy-hour.glb").toStdString();
+        const std::string guppy = (kPresets / "meshes/guppy-rigged.glb").string();
+        QVERIFY(writeStretched(guppy, hour, 3600.0));
+        AnimationRequest request;
+        request.rate = 1.0;
+        request.loop = false;
+        const auto started = std::chrono::steady_clock::now();
+        auto imported = importAnimatedMesh(hour, request);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        QVERIFY2(imported.ok(), imported.message().c_str());
+        QCOMPARE(imported->takes.front().second, 3600.0);
+        QCOMPARE(imported->animation.samples.size(), std::size_t(3601));
+        QCOMPARE(imported->mesh.positions.size(), std::size_t(3198));
+        qInfo("3601 samples of %zu vertices in %.2f s", imported->mesh.positions.size(), seconds);
+        request.rate = 4.0;
+        auto swim = importAnimatedMesh(guppy, request);
+        QVERIFY2(swim.ok(), swim.message().c_str());
+        const double diagonal = swim->mesh.bounds().diagonal();
+        double worst = 0.0;
+        for (std::size_t k = 0; k <= 4; ++k)
+            for (std::size_t v = 0; v < 3198; ++v)
+                worst = std::max(worst,
+                                 double((imported->animation.samples[900 * k][v] - swim->animation.samples[k][v]).norm()));
+        QVERIFY2(worst < 1e-5 * diagonal, qPrintable(QString::number(worst / diagonal)));
+    }
+
+    // Each bound is refused with its limit named before anything is sampled: the positions the samples hold, the
+    // rig's nodes, and the operations its samples take (a rig with many weighed blend shapes).
+    void samplingIsBoundedBeforeItStarts() {
+        QTemporaryDir dir;
+        const std::string hour = dir.filePath("guppy-hour.glb").toStdString();
+        QVERIFY(writeStretched((kPresets / "meshes/guppy-rigged.glb").string(), hour, 3600.0));
+        AnimationRequest request;
+        request.rate = 3.0;
+        request.loop = false;
+        auto positions = importAnimatedMesh(hour, request);
+        QVERIFY(!positions.ok());
+        QCOMPARE(QString::fromStdString(positions.message()),
+                 QString::fromStdString("mesh file '" + hour + "': 10801 samples of 3198 vertices is 34541598 positions, "
+                                        "more than SoftTouch keeps (32000000): sample a shorter range or at a lower rate"));
+
+        const std::string rig = dir.filePath("rig.glb").toStdString(), crowded = dir.filePath("crowded.glb").toStdString();
+        (void)writeRiggedGlb(RigKind::Keyed, rig);
+        QVERIFY(writeWithExtraNodes(rig, crowded, kMaxRigNodes));
+        auto nodes = importAnimatedMesh(crowded, {});
+        QVERIFY(!nodes.ok());
+        QCOMPARE(QString::fromStdString(nodes.message()),
+                 QString::fromStdString("mesh file '" + crowded + "': its rig has more than 10000 nodes (joints and others), "
+                                        "the most SoftTouch samples"));
+        const std::string fewer = dir.filePath("fewer.glb").toStdString();
+        QVERIFY(writeWithExtraNodes(rig, fewer, kMaxRigNodes - 10));
+        request = {};
+        request.rate = 2.0;
+        auto enough = importAnimatedMesh(fewer, request);
+        QVERIFY2(enough.ok(), enough.message().c_str());
+
+        // 1,001 samples of the box's 98 vertices (once assimp joins the faces' shared corners), each sample
+        // applying every blend shape to every vertex.
+        const std::string shapes = dir.filePath("shapes.glb").toStdString();
+        const auto targets = std::size_t(kMaxSampledOperations / (1001.0 * 98.0)) + 1;
+        QVERIFY(writeWithBlendShapes(rig, shapes, targets));
+        request = {};
+        request.rate = 1000.0;
+        request.loop = false;
+        auto operations = importAnimatedMesh(shapes, request);
+        QVERIFY(!operations.ok());
+        qInfo("%zu blend shapes: %s", targets, operations.message().c_str());
+        QVERIFY2(contains(operations.message(), "1001 samples of this rig is ") &&
+                     contains(operations.message(), " rig operations (") &&
+                     contains(operations.message(), "more than SoftTouch evaluates in one import (256000000): sample a "
+                                                    "shorter range or at a lower rate"),
+                 operations.message().c_str());
+    }
+
+    // An exception in the importer's child comes back as its cause, not as a crash (std::length_error from a
+    // sample count that overflowed was "the importer (assimp) crashed on it (signal 6: terminate called …)").
+    void importerExceptionsAreReportedWithTheirCause() {
+        const std::filesystem::path file = kPresets / "meshes/guppy-rigged.glb";
+        auto lengthError = runIsolated(file, "'x.glb'", []() -> std::string {
+            throw std::length_error("cannot create std::vector larger than max_size()");
+        });
+        QVERIFY(!lengthError.ok());
+        QCOMPARE(QString::fromStdString(lengthError.message()),
+                 QString("cannot read mesh 'x.glb': the importer failed: cannot create std::vector larger than max_size()"));
+        auto badAlloc = runIsolated(file, "'x.glb'", []() -> std::string {
+            std::fputs("something the importer printed first\n", stderr);
+            throw std::bad_alloc();
+        });
+        QCOMPARE(QString::fromStdString(badAlloc.message()),
+                 QString("cannot read mesh 'x.glb': the importer failed: std::bad_alloc"));
+        auto other = runIsolated(file, "'x.glb'", []() -> std::string { throw 42; });
+        QCOMPARE(QString::fromStdString(other.message()),
+                 QString("cannot read mesh 'x.glb': the importer failed: an exception that is not a std::exception"));
+    }
+
+    // The importer's deadline stops a child that shows no sign of life for kImportIdleSeconds, not one that is
+    // busy: a child that reports progress runs past it and delivers; one that goes quiet is stopped that long after
+    // its last sign (before, every child was stopped 10 s after it started, busy or not).
+    void importDeadlineStopsOnlyAQuietChild() {
+        const std::filesystem::path file = kPresets / "meshes/guppy-rigged.glb";  // under 1 MiB: no extra time
+        using Clock = std::chrono::steady_clock;
+        const auto idle = std::chrono::duration<double>(kImportIdleSeconds);
+        auto started = Clock::now();
+        auto busy = runIsolated(file, "'busy.glb'", [&] {
+            while (Clock::now() - started < idle + std::chrono::seconds(1)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                reportImportProgress();
+            }
+            return std::string("delivered");
+        });
+        QVERIFY2(busy.ok(), busy.message().c_str());
+        QCOMPARE(QString::fromStdString(busy.value()), QString("delivered"));
+        started = Clock::now();
+        auto quiet = runIsolated(file, "'quiet.glb'", [&] {
+            while (Clock::now() - started < std::chrono::seconds(1)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                reportImportProgress();
+            }
+            for (;;)
+                ::pause();  // a hang: no more progress
+            return std::string();
+        });
+        const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
+        QVERIFY(!quiet.ok());
+        QCOMPARE(QString::fromStdString(quiet.message()),
+                 QString("cannot read mesh 'quiet.glb': the importer (assimp) showed no progress for 10 s and was stopped"));
+        qInfo("the quiet child was stopped after %.2f s", seconds);
+        QVERIFY(seconds >= kImportIdleSeconds + 0.5 && seconds < kImportIdleSeconds + 3.0);
     }
 };
 
