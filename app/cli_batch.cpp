@@ -335,8 +335,15 @@ int writeSlurm(const io::BatchManifest& manifest, const std::vector<io::BatchJob
     return 0;
 }
 
-/// Reads an output back the way a pipeline would; empty when it reads.
+/// Reads an output back the way a pipeline would; empty when it reads. Meshes (an OBJ sequence's hundreds of
+/// frames) go to assimp together, in as few importer children as it takes.
 std::string readBack(const io::BatchJob& job, const std::vector<fs::path>& files) {
+    std::vector<fs::path> meshes;
+    for (const fs::path& file : files)
+        if (const std::string ext = file.extension().string(); ext == ".obj" || ext == ".glb" || ext == ".gltf")
+            meshes.push_back(file);
+    if (Status s = io::checkMeshesImport(meshes); !s)
+        return "job " + job.id + ": " + s.message();
     for (const fs::path& file : files) {
         const std::string ext = file.extension().string();
         std::string message;
@@ -346,8 +353,6 @@ std::string readBack(const io::BatchJob& job, const std::vector<fs::path>& files
             message = io::readMdd(file).message();
         else if (file.filename().string().ends_with(".lattice.bin"))
             message = io::readLatticeCache(file).message();
-        else if (ext == ".obj" || ext == ".glb" || ext == ".gltf")
-            message = io::importMesh(file).message();
         else if (ext == ".mp4" || ext == ".gif")
             message = io::probeVideo(file).message();
         if (!message.empty())

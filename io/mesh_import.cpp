@@ -303,4 +303,33 @@ Result<Mesh> importMesh(const std::filesystem::path& path) {
         path, [&](const std::string& name) { return readWithAssimp(path, name); }, putMesh, getMesh);
 }
 
+Status checkMeshesImport(const std::vector<std::filesystem::path>& paths) {
+    constexpr std::size_t kFilesPerChild = 256;  // each file restarts the idle watchdog; the cap stays far off
+    for (const std::filesystem::path& path : paths)
+        if (Status s = checkMeshFile(path, "'" + path.string() + "'"); !s)
+            return s;
+    for (std::size_t first = 0; first < paths.size(); first += kFilesPerChild) {
+        const std::size_t last = std::min(paths.size(), first + kFilesPerChild);
+        const std::string name = "'" + paths[first].string() + "'" + (last - first > 1 ? " and the next files" : "");
+        auto bytes = runIsolated(paths[first], name, [&] {
+            for (std::size_t i = first; i < last; ++i) {
+                auto mesh = readWithAssimp(paths[i], "'" + paths[i].string() + "'");
+                if (!mesh)
+                    return encodeResult(Result<std::uint8_t>(mesh.status()), [](std::string&, std::uint8_t) {});
+                reportImportProgress();
+            }
+            return encodeResult(Result<std::uint8_t>(std::uint8_t(1)), [](std::string& out, std::uint8_t v) { put(out, v); });
+        });
+        if (!bytes)
+            return bytes.status();
+        const auto decoded =
+            decodeResult<std::uint8_t>(bytes.value(), [](Decoder& in, std::uint8_t& v) { return in.get(v); });
+        if (!decoded)
+            return Status::error("cannot read mesh " + name + ": the importer (assimp) failed (its answer was cut short)");
+        if (!decoded->ok())
+            return decoded->status();
+    }
+    return Status::success();
+}
+
 }  // namespace softtouch::io

@@ -7,11 +7,18 @@
 #include "core/mesh.h"
 
 #include <filesystem>
+#include <vector>
 
 namespace softtouch::io {
 
 /// Imports a mesh file. Errors name the file: missing, unreadable, unsupported, no triangles,
 /// non-finite coordinates.
 Result<Mesh> importMesh(const std::filesystem::path& path);
+
+/// Whether every file of `paths` imports as importMesh() would import it, read by assimp in as few child
+/// processes as it takes (up to 256 files each, a progress beat after each file): a library check reads
+/// back every frame of an OBJ sequence, and a child per file spent most of its ~30 ms starting. Ok, or
+/// the first file's problem.
+Status checkMeshesImport(const std::vector<std::filesystem::path>& paths);
 
 }  // namespace softtouch::io
