@@ -1,7 +1,11 @@
 #include "io/input_file.h"
 
-#include <fstream>
+#include <cerrno>
 #include <system_error>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace softtouch::io {
 namespace {
@@ -42,18 +46,35 @@ Status checkInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes
 Result<std::string> readInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes) {
     if (Status s = checkInputFile(path, maxBytes); !s)
         return s;
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
+    // The check above looked at a name; what is opened is checked again on its descriptor, so a file
+    // swapped for a FIFO in between cannot block the read (O_NONBLOCK: opening a FIFO returns at once).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return Status::error("cannot be opened");
+    struct stat opened {};
+    if (::fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+        ::close(fd);
+        return Status::error("is not a regular file");
+    }
     std::string text;
     char chunk[1 << 16];
-    while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
-        text.append(chunk, std::size_t(in.gcount()));
-        if (text.size() > maxBytes)
+    for (;;) {
+        const ssize_t n = ::read(fd, chunk, sizeof chunk);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            ::close(fd);
+            return Status::error("could not be read to its end");
+        }
+        if (n == 0)
+            break;
+        text.append(chunk, std::size_t(n));
+        if (text.size() > maxBytes) {
+            ::close(fd);
             return Status::error("grew past " + bytes(maxBytes) + " while it was read");
+        }
     }
-    if (in.bad())
-        return Status::error("could not be read to its end");
+    ::close(fd);
     return text;
 }
 
