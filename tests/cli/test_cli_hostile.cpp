@@ -83,6 +83,14 @@ struct Sandbox {
     }
 };
 
+/// For a render: no window system (EGL alone), and no shader cache written into the user's home.
+QProcessEnvironment headlessRenderEnvironment() {
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    env.remove("DISPLAY");
+    env.insert("MESA_SHADER_CACHE_DISABLE", "true");
+    return env;
+}
+
 /// The guppy scene with `before` replaced by `after` in its text.
 bool editScene(const Sandbox& box, const QByteArray& before, const QByteArray& after) {
     QByteArray text = readFile(box.scene());
@@ -299,9 +307,7 @@ void TestCliHostile::killedRenderIsSweptByTheRerun() {
     Sandbox box;
     const QString out = box.path("video.mp4");
     QProcess render;
-    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
-    env.remove("DISPLAY");
-    env.insert("MESA_SHADER_CACHE_DISABLE", "true");
+    const QProcessEnvironment env = headlessRenderEnvironment();
     render.setProcessEnvironment(env);
     render.start(kCli, {"render", box.scene(), "--size", "640x360", "--frames", "2000", "--out", out, "--quiet"});
     QVERIFY(render.waitForStarted());
@@ -371,9 +377,7 @@ void TestCliHostile::hugeVideoIsRefusedForTheMemoryAtHand() {
     Sandbox box;
     const QString out = box.path("big.mp4");
     QProcess p;
-    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
-    env.remove("DISPLAY");
-    env.insert("MESA_SHADER_CACHE_DISABLE", "true");
+    const QProcessEnvironment env = headlessRenderEnvironment();
     p.setProcessEnvironment(env);
     p.start("prlimit", {"--as=3000000000", "--", kCli, "render", box.scene(), "--size", "8192x8192", "--frames", "2",
                         "--out", out});
