@@ -10,8 +10,8 @@ cd "$(dirname "$0")/.."
 seconds="${1:-45}"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
-# One target per core at a time: each still gets a whole core for SECONDS (five targets on two cores: three
-# rounds of SECONDS instead of five).
+# One target per core at a time: each still gets a whole core for SECONDS (nine targets on two cores: five
+# rounds of SECONDS instead of nine).
 fuzz_one() {
   local target=$1 corpora=$2
   local work=build-fuzz/corpus/$target        # new inputs go to the first folder; the seeds stay untouched
