@@ -70,8 +70,11 @@ std::optional<AnimationRequest> readAnimationRequest(const JsonValue& a, FollowS
     if (auto x = a["start"].number(0.0, ranges::kMaxClipStart, "s"))
         request.start = *x;
     if (auto x = a["end"].number(0.0, ranges::kMaxClipStart, "s")) {
-        if (*x <= request.start)
+        if (*x <= request.start) {
+            // Said here, at its field; the import would only say it again about the mesh.
             a["end"].problem("expected an end after \"start\" (" + detail::formatNumber(request.start) + " s)");
+            return std::nullopt;
+        }
         request.end = *x;
     }
     request.loop = a["loop"].boolean().value_or(true);

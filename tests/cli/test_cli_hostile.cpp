@@ -522,7 +522,8 @@ void TestCliHostile::editorUsageErrorsExitTwo() {
 void TestCliHostile::hostileInputsTouchNothingOutsideTheirFolder_data() {
     QTest::addColumn<QString>("kind");
     for (const char* kind : {"relative clip", "absolute clip", "library outside", "forged stamp", "gltf buffer outside",
-                             "gltf buffer absolute", "gltf buffer percent-encoded", "slurm names"})
+                             "gltf buffer absolute", "gltf buffer percent-encoded", "slurm names", "mesh buffer outside",
+                             "obj material outside"})
         QTest::newRow(kind) << QString(kind);
 }
 
@@ -577,6 +578,18 @@ void TestCliHostile::hostileInputsTouchNothingOutsideTheirFolder() {
         writeFile(box.path("clips/fish/fish.gltf"),
                   QString(R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "%1", "byteLength": 64}]})").arg(uri).toUtf8());
         command = {kCli, "preview", box.path("clips/fish/fish.gltf"), "--out", box.path("page")};
+    } else if (kind == "mesh buffer outside") {
+        // A mesh a project could name, whose one triangle's positions are a file outside its folder: the
+        // importer (assimp) reads side files from the mesh's folder only.
+        writeFile(box.path("meshes/evil.gltf"), R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "buffers": [{"uri": "../../outside/secret.bin", "byteLength": 64}]})");
+        command = {kCli, "validate", box.path("meshes/evil.gltf")};
+    } else if (kind == "obj material outside") {
+        writeFile(box.path("meshes/evil.obj"), "mtllib ../../outside/secret.obj\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        command = {kCli, "validate", box.path("meshes/evil.obj")};
     } else {
         const QString manifest = box.manifest("fish $(cat ..\\outside\\secret.bin).stbatch");
         command = {kCli, "batch", "slurm", manifest, "--out", box.path("farm")};
@@ -600,8 +613,10 @@ void TestCliHostile::hostileInputsTouchNothingOutsideTheirFolder() {
     for (const QString& path : t.read)
         QVERIFY2(underSandbox(path) || isSystem(path), qPrintable(kind + " read " + path));
     QCOMPARE(QDir(outside).entryList(QDir::Files | QDir::Dirs | QDir::NoDotAndDotDot).size(), 2);  // secret.bin, .obj
-    // Each of them is a refusal (the slurm names: a script written), never a success that read the secret.
-    QVERIFY2(kind == "slurm names" ? t.exitCode == 0 : t.exitCode == 1, qPrintable(QString::number(t.exitCode) + t.err));
+    // Each of them is a refusal, never a success that read the secret; the slurm names write a script, and
+    // the OBJ imports without the material library it may not read.
+    const bool succeeds = kind == "slurm names" || kind == "obj material outside";
+    QVERIFY2(succeeds ? t.exitCode == 0 : t.exitCode == 1, qPrintable(QString::number(t.exitCode) + t.err));
     if (kind == "slurm names")
         QVERIFY(!readFile(box.path("farm/softtouch-batch.sbatch")).contains("ssssssss"));
 }
