@@ -314,7 +314,13 @@ int writeSlurm(const io::BatchManifest& manifest, const std::vector<io::BatchJob
               "#SBATCH --output=" + (absDir / "logs" / "%A_%a.out").string() + "\n";
     if (!r.partition.empty())
         script += "#SBATCH --partition=" + r.partition + "\n";
+    // With nothing to run the script has no array and Slurm sets no task id: it says so and succeeds, so
+    // a nightly `batch slurm ... && sbatch ...` does not fail on the nights nothing changed.
     script += "set -euo pipefail\n"
+              "if [ ! -s " + shellQuoted((absDir / "jobs.txt").string()) + " ]; then\n"
+              "  echo 'softtouch batch: every job is up to date; nothing to run'\n"
+              "  exit 0\n"
+              "fi\n"
               "id=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" " + shellQuoted((absDir / "jobs.txt").string()) + ")\n"
               "exec " + cli + " batch run " + manifestPath + " --library " + library + " --job \"$id\"\n";
     const std::string collect = "#!/bin/bash\n"

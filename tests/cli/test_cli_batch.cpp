@@ -246,6 +246,16 @@ void TestCliBatch::slurmScriptRunsEveryJobOfTheArray() {
     // Once done, a new script has nothing to run.
     const Run again = runCli({"batch", "slurm", manifest, "--out", farm, "--library", dir.filePath("farmed")});
     QVERIFY2(again.out.contains("every one of the 8 jobs is up to date"), qPrintable(again.out));
+    // Submitted anyway (a nightly `batch slurm && sbatch`), it runs as sbatch would run it, with no array
+    // task id, and succeeds having run nothing.
+    QProcess nothing;
+    QProcessEnvironment noArray = QProcessEnvironment::systemEnvironment();
+    noArray.remove("SLURM_ARRAY_TASK_ID");
+    nothing.setProcessEnvironment(noArray);
+    nothing.start("bash", {farm + "/softtouch-batch.sbatch"});
+    QVERIFY(nothing.waitForFinished(60000));
+    QVERIFY2(nothing.exitCode() == 0, nothing.readAllStandardError().constData());
+    QVERIFY(nothing.readAllStandardOutput().contains("nothing to run"));
 }
 
 void TestCliBatch::videoPreviewsAreRenderedHeadless() {
