@@ -15,6 +15,7 @@
 #include <QJsonObject>
 #include <QProcess>
 #include <QRegularExpression>
+#include <QHash>
 #include <QSet>
 #include <QTemporaryDir>
 #include <QThread>
@@ -123,6 +124,7 @@ struct Touched {
     int exitCode = -1;
     QString err;
     QSet<QString> read, written, looked;
+    QHash<QString, int> opens;  ///< How often each path was opened.
 };
 
 Touched traced(const QStringList& command, const QString& workingDirectory) {
@@ -162,8 +164,11 @@ Touched traced(const QStringList& command, const QString& workingDirectory) {
                             ((name == "open" || name == "openat") && (args.contains("O_WRONLY") || args.contains("O_RDWR") ||
                                                                      args.contains("O_CREAT")));
         const bool opens = name == "open" || name == "openat" || name == "openat2" || name.startsWith("exec");
-        for (const QString& path : paths)
+        for (const QString& path : paths) {
             (writes ? t.written : opens ? t.read : t.looked).insert(path);
+            if (name == "open" || name == "openat")
+                ++t.opens[path];
+        }
     }
     return t;
 }
@@ -185,6 +190,7 @@ private slots:
     void validateRefusesWhatBakeWouldRefuse_data();
     void validateRefusesWhatBakeWouldRefuse();
     void validateReadsBatchManifests();
+    void planReadsEachInputOnce();
     void oddMp4SizeIsAUsageError();
     void editorUsageErrorsExitTwo_data();
     void editorUsageErrorsExitTwo();
@@ -475,6 +481,30 @@ void TestCliHostile::validateReadsBatchManifests() {
     QVERIFY(writeFile(box.path("wide.sttraj"), trajectory));
     const Run t = runCli({"validate", box.path("wide.sttraj")});
     QVERIFY2(t.exitCode == 1 && t.err.contains("/device/workspace: expected a workspace within 1000 m"), qPrintable(t.out + t.err));
+}
+
+void TestCliHostile::planReadsEachInputOnce() {
+    // A product of 1 scene x 40 presets x 3 formats is 120 jobs that all read the scene and its mesh: the
+    // plan hashed every input of every job (a 90,000-job product took over 30 s); it now reads each once
+    // for its hash, besides loading it.
+    Sandbox box;
+    QString presets;
+    for (int i = 0; i < 40; ++i) {
+        QFile::copy(kPresets + "materials/jelly.stpreset", box.path(QString("materials/p%1.stpreset").arg(i)));
+        presets += QString(i ? ", \"materials/p%1.stpreset\"" : "\"materials/p%1.stpreset\"").arg(i);
+    }
+    const QString manifest = box.manifest("wide.stbatch", ", \"presets\": [" + presets + "]");
+    writeFile(manifest, readFile(manifest).replace(R"(["pc2"])", R"(["pc2", "mdd", "glb"])"));
+    const Touched t = traced({kCli, "batch", "plan", manifest}, box.path(""));
+    QVERIFY2(t.exitCode == 0, qPrintable(t.err));
+    const int sceneOpens = t.opens.value(QDir::cleanPath(box.scene()));
+    const int meshOpens = t.opens.value(QDir::cleanPath(box.path("meshes/guppy.obj")));
+    const int presetOpens = t.opens.value(QDir::cleanPath(box.path("materials/p7.stpreset")));
+    QVERIFY2(sceneOpens >= 1 && sceneOpens <= 3, qPrintable(QString::number(sceneOpens)));
+    // The import opens it several times (the header check, assimp's format probe and read), the hash once;
+    // a hash per job would be 120 more.
+    QVERIFY2(meshOpens >= 1 && meshOpens <= 10, qPrintable(QString::number(meshOpens)));
+    QVERIFY2(presetOpens >= 1 && presetOpens <= 3, qPrintable(QString::number(presetOpens)));
 }
 
 void TestCliHostile::oddMp4SizeIsAUsageError() {
