@@ -640,10 +640,24 @@ Status MainWindow::addCollider(ColliderShape shape, const QString& meshPath) {
         const QString folder = QFileInfo(m_document->filePath()).path();
         const QString reference =
             m_document->filePath().isEmpty() ? QFileInfo(meshPath).absoluteFilePath() : QDir(folder).relativeFilePath(meshPath);
-        auto surface = MeshSurface::create(std::move(mesh.value()), reference.toStdString());
+        auto surface = MeshSurface::create(mesh.value(), reference.toStdString(), SurfaceSides::Closed);
         if (!surface) {
-            showError(tr("Cannot add the mesh collider"), QString::fromStdString(surface.message()));
-            return Status::error(surface.message());
+            // An open sheet (a ground, a wall) can still be a one-sided surface: offer that, saying why the
+            // solid was refused, rather than sending the user to edit the project file.
+            auto sheet = MeshSurface::create(std::move(mesh.value()), reference.toStdString(), SurfaceSides::OneSided);
+            const QString why = QString::fromStdString(surface.message());
+            const bool asSheet =
+                sheet && QMessageBox::question(this, tr("Use the mesh as a one-sided surface?"),
+                                               tr("%1\n\nIt can be a one-sided surface instead, like a ground or a wall: it "
+                                                  "pushes bodies out along its face normals (\"oneSided\" in the "
+                                                  "project). Use it that way?")
+                                                   .arg(why)) == QMessageBox::Yes;
+            if (!asSheet) {
+                if (!sheet)
+                    showError(tr("Cannot add the mesh collider"), why);
+                return Status::error(surface.message());
+            }
+            surface = std::move(sheet);
         }
         c.surface = surface.value();
         // Scaled to half the object's size, its top just below the object.

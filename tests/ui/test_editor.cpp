@@ -177,6 +177,7 @@ private slots:
     void poseGizmoScalesAndTurns();
     void objectsAddDuplicatePickAndDelete();
     void colliderToolAddsMovesScalesAndDeletes();
+    void openMeshColliderIsOfferedAsOneSided();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();
     void restingFishIsNotRedrawn();
@@ -1385,6 +1386,43 @@ void TestEditor::colliderToolAddsMovesScalesAndDeletes() {
     QCOMPARE(colliders().size(), before + 1);  // the sphere's own add is still done
     w.document()->undoStack()->undo();          // and the scene is as the next test expects it
     QCOMPARE(colliders().size(), before);
+}
+
+// An open mesh (a ground of two triangles) is not a solid: Add mesh collider says why and offers it as a
+// one-sided surface. Declined, nothing is added; accepted, the collider pushes along the plane's normal and the
+// project saves it as "oneSided": true.
+void TestEditor::openMeshColliderIsOfferedAsOneSided() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(kDefaultScene));
+    const QString plane = m_dir->filePath("ground.obj");
+    QFile file(plane);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write("v -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3\nf 1 3 4\n");
+    file.close();
+    const std::size_t before = w.document()->scene().world.colliders.size();
+    {
+        DialogAnswerer no(QMessageBox::No);
+        QVERIFY(!w.addCollider(ColliderShape::Mesh, plane).ok());
+        QVERIFY(no.seen);
+        QVERIFY2(no.text.contains("4 open edges") && no.text.contains("one-sided"), qPrintable(no.text));
+    }
+    QCOMPARE(w.document()->scene().world.colliders.size(), before);
+    DialogAnswerer yes(QMessageBox::Yes);
+    QVERIFY(w.addCollider(ColliderShape::Mesh, plane).ok());
+    QVERIFY(yes.seen);
+    const Collider& ground = w.document()->scene().world.colliders.back();
+    QCOMPARE(ground.surface->sides(), SurfaceSides::OneSided);
+    Vec3 n;  // just behind the sheet, inside its rim: inside, pushed out along +y (the plane's normal, scaled)
+    const Vec3 under = ground.centre + ground.axes * (ground.scale * Vec3(0.2, -0.01, 0.3));
+    QVERIFY(colliderDistance(ground, under, n) < 0.0);
+    QVERIFY((n - ground.axes * Vec3::UnitY()).norm() < 1e-6);
+    const QString saved = m_dir->filePath("ground.softtouch");
+    QVERIFY(w.document()->saveAs(saved).ok());
+    QFile project(saved);
+    QVERIFY(project.open(QIODevice::ReadOnly));
+    QVERIFY(project.readAll().contains("\"oneSided\": true"));
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.document()->scene().world.colliders.size(), before);
 }
 
 // The pair sample opens with its objects colliding (Properties and Outliner say so); the checkbox turns it
