@@ -371,7 +371,7 @@ void TestCliHostile::stoppedBatchLeavesNoJobRunning() {
     while (!processesWithEnvironment(entry).isEmpty() && waited.elapsed() < 5000)
         QThread::msleep(20);
     if (signal != SIGKILL)
-        QVERIFY(waited.elapsed() < 100);  // already gone when the batch returned
+        QVERIFY(waited.elapsed() < 1000);  // already gone when the batch returned (a scan of /proc or two)
     QVERIFY2(processesWithEnvironment(entry).isEmpty(), "the job outlived its batch");
     const QStringList after = box.files();
     QThread::msleep(1500);
