@@ -8,6 +8,7 @@
 #include "io/bake.h"
 #include "io/batch_plan.h"
 #include "io/export_formats.h"
+#include "io/input_file.h"
 #include "io/lattice_cache.h"
 #include "io/mesh_import.h"
 #include "io/preset_file.h"
@@ -23,10 +24,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <csignal>
 #include <mutex>
 #include <thread>
-
-#include <csignal>
 
 #include <fcntl.h>
 #include <sys/prctl.h>
@@ -254,14 +254,6 @@ int runLocal(const io::BatchManifest& manifest, const std::vector<io::BatchJob>&
     return failed == 0 ? 0 : 1;
 }
 
-/// A path for a message, its control characters shown as '?'.
-std::string shownPath(std::string text) {
-    for (char& c : text)
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-            c = '?';
-    return text;
-}
-
 /// Single-quoted for a POSIX shell.
 std::string shellQuoted(const std::string& text) {
     std::string quoted = "'";
@@ -290,9 +282,8 @@ int writeSlurm(const io::BatchManifest& manifest, const std::vector<io::BatchJob
                                      {"--out", absDir},
                                      {"the library's path", manifest.outputRoot},
                                      {"this program's path", self}})
-        if (const std::string text = path.string();
-            std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
-            return fail(std::string("batch slurm: ") + what + " '" + shownPath(text) +
+        if (io::hasControlCharacter(path.string()))
+            return fail(std::string("batch slurm: ") + what + " '" + io::shownName(path.string()) +
                         "' holds a control character (a newline, a tab, ...), which would break the script: rename it");
     std::string list;
     for (const io::BatchJob* job : todo)

@@ -44,8 +44,7 @@ private:
         const fs::path resolved = fs::weakly_canonical(fs::absolute(fs::path(file), ec), ec);
         if (ec)
             return false;
-        const fs::path inside = resolved.lexically_relative(m_folder);
-        if (inside.empty() || *inside.begin() == ".." || inside.is_absolute())
+        if (!liesInside(resolved, m_folder))
             return false;
         const auto status = fs::status(resolved, ec);  // a missing file is assimp's to report
         return ec || !fs::exists(status) || fs::is_regular_file(status);

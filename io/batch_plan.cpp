@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.h"
 #include "io/export_formats.h"
+#include "io/input_file.h"
 #include "io/json_reader.h"
 #include "io/preset_file.h"
 #include "io/project_file.h"
@@ -70,17 +71,10 @@ std::string slug(const std::string& text) {
     return s.empty() ? "_" : s;
 }
 
-bool hasControlCharacter(std::string_view text) {
-    return std::any_of(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
-}
-
-/// `text` for a message: control characters shown as '?', so that a hostile name cannot cut the line.
-std::string printable(std::string_view text) {
-    std::string shown(text);
-    for (char& c : shown)
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-            c = '?';
-    return shown;
+/// A path named relative to a folder stays in it: not absolute, and no ".." part climbs out.
+bool staysBelow(const fs::path& relative) {
+    return !relative.is_absolute() &&
+           std::none_of(relative.begin(), relative.end(), [](const fs::path& part) { return part == ".."; });
 }
 
 /// Most jobs one manifest may expand to: each is a stamp file and a line of jobs.txt; a product of a
@@ -174,7 +168,7 @@ std::optional<BatchManifest> readBatchManifest(const fs::path& path, JsonIssues&
                     clips.at(i).problem("expected a clip name, got an empty string");
                 else if (s->find_first_of("/\\") != std::string::npos || s->find_first_not_of('.') == std::string::npos ||
                          hasControlCharacter(*s))
-                    clips.at(i).problem("expected a clip name, not a path (\"" + printable(*s) +
+                    clips.at(i).problem("expected a clip name, not a path (\"" + shownName(*s) +
                                         "\" has '/', '\\', only dots or control characters)");
                 else
                     m.clips.push_back(*s);
@@ -228,9 +222,8 @@ std::optional<BatchManifest> readBatchManifest(const fs::path& path, JsonIssues&
     m.outputRoot = base / "library";
     if (auto s = root["outputRoot"].string(); s && !s->empty()) {
         const fs::path named(*s);
-        const bool escapes = std::any_of(named.begin(), named.end(), [](const fs::path& part) { return part == ".."; });
-        if (named.is_absolute() || escapes || hasControlCharacter(*s))
-            root["outputRoot"].problem("expected a folder inside the manifest's folder, got \"" + printable(*s) +
+        if (!staysBelow(named) || hasControlCharacter(*s))
+            root["outputRoot"].problem("expected a folder inside the manifest's folder, got \"" + shownName(*s) +
                                        "\"; put a library anywhere else with 'batch --library DIR'");
         else
             m.outputRoot = (base / named).lexically_normal();
@@ -327,7 +320,7 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const Bat
             // A scene's own default clip is named by the scene, not the manifest: it must give a name too.
             if (!clip.empty() && libraryName(clip).find_first_not_of('.') == std::string::npos)
                 return Status::error(manifest.path.string() + ": scene '" + scene.string() + "': its clip \"" +
-                                     printable(clip) + "\" gives no name for the library's outputs: rename the clip");
+                                     shownName(clip) + "\" gives no name for the library's outputs: rename the clip");
         }
         for (const fs::path& preset : presets)
             for (const std::string& clip : clips)
@@ -358,8 +351,7 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const Bat
                     job.output = (root / (rel + extensionOf(format))).lexically_normal();
                     // What the names above cannot do, checked once more where it matters: the output lies
                     // inside the library.
-                    const fs::path inside = job.output.lexically_relative(root);
-                    if (inside.empty() || *inside.begin() == ".." || inside.is_absolute())
+                    if (!liesInside(job.output, root))
                         return Status::error(manifest.path.string() + ": /output: job " + job.id + " would write '" +
                                              job.output.string() + "', outside the library " + root.string());
                     if (!ids.insert(job.id).second)
@@ -417,8 +409,7 @@ std::optional<std::vector<fs::path>> batchStampFiles(const BatchManifest& manife
             return std::nullopt;
         // A stamp names files inside the library only; one edited to point elsewhere is not a stamp.
         const fs::path relative(f["path"].get<std::string>());
-        if (relative.empty() || relative.is_absolute() ||
-            std::any_of(relative.begin(), relative.end(), [](const fs::path& part) { return part == ".."; }))
+        if (relative.empty() || !staysBelow(relative))
             return std::nullopt;
         const fs::path file = manifest.outputRoot / relative;
         if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) != f["bytes"].get<std::uintmax_t>())

@@ -1,5 +1,6 @@
 #include "io/input_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <system_error>
 
@@ -21,11 +22,25 @@ const char* kindOf(std::filesystem::file_type type) {
     }
 }
 
+bool isControl(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
+
 std::string bytes(std::uintmax_t n) {
     return n >= kMiB ? std::to_string(n / kMiB) + " MiB" : std::to_string(n) + " bytes";
 }
 
 }  // namespace
+
+bool hasControlCharacter(std::string_view text) { return std::any_of(text.begin(), text.end(), isControl); }
+
+std::string shownName(std::string text) {
+    std::replace_if(text.begin(), text.end(), isControl, '?');
+    return text;
+}
+
+bool liesInside(const std::filesystem::path& path, const std::filesystem::path& folder) {
+    const std::filesystem::path relative = path.lexically_relative(folder);
+    return !relative.empty() && relative != "." && *relative.begin() != ".." && !relative.is_absolute();
+}
 
 Status checkInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes) {
     std::error_code ec;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace softtouch::io {
 
@@ -26,6 +27,17 @@ inline constexpr std::size_t kMaxJsonKeys = 1'000'000;
 inline constexpr std::size_t kMaxJsonValues = 32'000'000;
 /// Mesh files handed to assimp (a 10-million-triangle binary PLY is about 250 MB).
 inline constexpr std::uintmax_t kMaxMeshFileBytes = 1024 * kMiB;
+
+/// Whether `text` (a name or path from a file) holds a control character: a NUL would cut it short for
+/// the system, a newline start a command of its own in a script, and no file SoftTouch writes has one.
+bool hasControlCharacter(std::string_view text);
+
+/// `text` for a message, its control characters shown as '?', so that a hostile name cannot cut the line.
+std::string shownName(std::string text);
+
+/// Whether `path` lies below `folder` (not `folder` itself), both absolute and normalised (lexically or
+/// canonically): where a file a shared input names must stay (docs/reliability.md, "Confinement").
+bool liesInside(const std::filesystem::path& path, const std::filesystem::path& folder);
 
 /// Ok when `path` names a regular file of at most `maxBytes` bytes; otherwise what is wrong, worded to
 /// follow the file's name ("is not a regular file (a FIFO)", "does not exist").

@@ -207,18 +207,17 @@ Result<fs::path> resolveClipFile(const fs::path& folder, const std::string& rela
     if (relative.empty())
         return Status::error("names no file");
     // A NUL would end the name early for the system, and no file SoftTouch writes has a control character.
-    if (std::any_of(relative.begin(), relative.end(), [](char c) { return std::uint8_t(c) < 0x20 || c == 0x7F; }))
+    if (hasControlCharacter(relative))
         return Status::error("holds a control character");
     const fs::path name(relative);
     if (name.is_absolute())
         return Status::error(std::string("is an absolute path") + kRule);
-    // Links and ".." resolved, then compared: the folder's parts must be a proper prefix of the file's.
+    // Links and ".." resolved, then compared.
     std::error_code ec;
     const fs::path file = fs::weakly_canonical(folder / name, ec);
     if (ec)
         return Status::error("cannot be resolved (" + ec.message() + ")");
-    const auto [inFolder, inFile] = std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
-    if (inFolder != folder.end() || inFile == file.end())
+    if (!liesInside(file, folder))
         return Status::error("leads outside the clip's folder " + folder.string() + " (to " + file.string() + ")" + kRule);
     if (Status s = checkInputFile(file, kMaxPreviewFileBytes); !s)
         return s;
