@@ -58,6 +58,13 @@ constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 /// What handled each crash signal before (a sanitizer's report, a crash reporter), called after ours.
 struct sigaction g_previousCrashAction[std::size(kCrashSignals)];
 
+/// unlink() each live temporary: async-signal-safe, for both handlers below.
+void unlinkLiveTemporaries() {
+    for (auto& slot : g_live)
+        if (const char* path = slot.load())
+            ::unlink(path);
+}
+
 extern "C" void removeLiveTemporaries(int signal) {
     // kill() and waitpid() are async-signal-safe: each child ends (removing its own temporaries) before
     // this process does, so nothing it publishes arrives after the command has returned.
@@ -68,19 +75,15 @@ extern "C" void removeLiveTemporaries(int signal) {
         if (const int pid = slot.load(); pid > 0)
             while (::waitpid(pid_t(pid), nullptr, 0) < 0 && errno == EINTR) {
             }
-    for (auto& slot : g_live)
-        if (const char* path = slot.load())
-            ::unlink(path);
+    unlinkLiveTemporaries();
     ::signal(signal, SIG_DFL);
     ::raise(signal);
 }
 
-/// A crash removes the temporaries too (unlink() is async-signal-safe), then goes on as it would have:
+/// A crash removes the temporaries too, then goes on as it would have:
 /// to the handler installed before (ASan's report), or the default action (a core dump).
 extern "C" void removeTemporariesOnCrash(int signal, siginfo_t* info, void* context) {
-    for (auto& slot : g_live)
-        if (const char* path = slot.load())
-            ::unlink(path);
+    unlinkLiveTemporaries();
     for (std::size_t i = 0; i < std::size(kCrashSignals); ++i) {
         if (kCrashSignals[i] != signal)
             continue;
