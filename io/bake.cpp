@@ -4,6 +4,7 @@
 
 #include "io/atomic_file.h"
 #include "io/frame_source.h"
+#include "io/vertex_cache.h"
 
 #include <algorithm>
 #include <cctype>
@@ -26,21 +27,6 @@ Status checkOutputTarget(const std::filesystem::path& target) {
                        : std::filesystem::is_symlink(status) ? "a symbolic link"
                                                               : "not a regular file (a device, FIFO or socket)";
     return Status::error("cannot write '" + target.string() + "': it exists and is " + kind + "; nothing was written");
-}
-
-/// Whether `name` is a frame file of a one-file-per-frame export to `output`, any frame number
-/// ("fish_0007.obj", "fish_12345.obj" for "fish.obj"): frame 0's name with its zeros as digits.
-bool isFrameFileOf(const ExportFormat& format, const std::filesystem::path& output, const std::string& name) {
-    const std::string first = exportFiles(format, output, 1).front().filename().string();
-    const auto zeros = first.rfind("0000");
-    if (zeros == std::string::npos)
-        return false;
-    const std::string before = first.substr(0, zeros), after = first.substr(zeros + 4);
-    if (name.size() < before.size() + 4 + after.size() || name.compare(0, before.size(), before) != 0 ||
-        name.compare(name.size() - after.size(), after.size(), after) != 0)
-        return false;
-    const std::string number = name.substr(before.size(), name.size() - before.size() - after.size());
-    return number.find_first_not_of("0123456789") == std::string::npos;
 }
 
 }  // namespace
@@ -119,10 +105,10 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     std::map<std::filesystem::path, std::set<std::string>> targetNames;
     for (const std::filesystem::path& target : targets)
         targetNames[target.parent_path()].insert(target.filename().string());
-    const bool filePerFrame = exportFiles(format, options.output, 2).size() == 2;
+    const bool sequence = exportFiles(format, options.output, 2).size() == 2;  // a file per frame: the OBJ sequence
     for (const auto& [folder, names] : targetNames)
         removeStaleTemporaries(folder, [&, &names = names](const std::string& name) {
-            return names.count(name) != 0 || (filePerFrame && isFrameFileOf(format, options.output, name));
+            return names.count(name) != 0 || (sequence && isObjSequenceFrameName(options.output, name));
         });
 
     auto writer = format.makeWriter(options.output, options.exportOptions);

@@ -60,17 +60,31 @@ std::unique_ptr<VertexCacheWriter> makeCacheWriter(CacheFormat format, const Mes
     return nullptr;  // unreachable: every enumerator is handled above
 }
 
+namespace {
+
+/// What comes before and after the frame number in an OBJ sequence's file names.
+std::pair<std::string, std::string> objSequenceNameParts(const std::filesystem::path& path) {
+    return {path.stem().string() + "_", path.has_extension() ? path.extension().string() : std::string(".obj")};
+}
+
+}  // namespace
+
 std::filesystem::path objSequenceFramePath(const std::filesystem::path& path, std::size_t frame) {
     // Four digits at least so that names sort in frame order in a file browser and match the
     // "name_####" pattern importers look for; more digits rather than wrapping past 9999.
     std::string number = std::to_string(frame);
     if (number.size() < 4)
         number.insert(0, 4 - number.size(), '0');
-    const std::filesystem::path extension = path.has_extension() ? path.extension() : ".obj";
-    std::filesystem::path name = path.stem();
-    name += "_" + number;
-    name += extension;
-    return path.parent_path() / name;
+    const auto [before, after] = objSequenceNameParts(path);
+    return path.parent_path() / (before + number + after);
+}
+
+bool isObjSequenceFrameName(const std::filesystem::path& path, const std::string& fileName) {
+    const auto [before, after] = objSequenceNameParts(path);
+    if (fileName.size() < before.size() + 4 + after.size() || !fileName.starts_with(before) || !fileName.ends_with(after))
+        return false;
+    const std::string number = fileName.substr(before.size(), fileName.size() - before.size() - after.size());
+    return number.find_first_not_of("0123456789") == std::string::npos;
 }
 
 namespace detail {

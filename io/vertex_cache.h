@@ -69,6 +69,9 @@ Result<VertexCache> readMdd(const std::filesystem::path& path);
 
 /// Paths of an OBJ sequence written for `path` (dir/name.obj -> dir/name_0000.obj, …).
 std::filesystem::path objSequenceFramePath(const std::filesystem::path& path, std::size_t frame);
+/// Whether `fileName` names a frame, any frame, of the OBJ sequence written for `path` ("name_0007.obj",
+/// "name_12345.obj"): what a re-run sweeps of a killed longer run.
+bool isObjSequenceFrameName(const std::filesystem::path& path, const std::string& fileName);
 
 /// Writes a mesh as Wavefront OBJ (v, vn, f), atomically. `positions`/`normals` override the mesh's own when
 /// non-empty. No groups unless `groups`: then a "g NAME" line before the faces of each of the mesh's parts (a
