@@ -23,31 +23,24 @@ double rmsMotion(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.empty() ? 0.0 : std::sqrt(sum / double(a.size()));
 }
 
-/// All objects' node positions of a simulation, flat.
-std::vector<Vec3> simNodes(const SceneSimulation& sim) {
+/// All objects' node positions at scene time `seconds`, flat: the simulation has just stepped past it
+/// (SceneSimulation::advanceToSample), so a frame between two steps is sampled at its own time.
+std::vector<Vec3> sampleNodes(const SceneSimulation& sim, double seconds) {
     std::vector<Vec3> out;
     for (std::size_t i = 0; i < sim.objectCount(); ++i) {
-        const auto& p = sim.simulator(i).state().position;
+        const std::vector<Vec3> p = sim.nodesAt(i, seconds);
         out.insert(out.end(), p.begin(), p.end());
     }
     return out;
 }
 
-/// Steps one step at a time until `seconds`, refreshing every keyed object's goal springs at the start
-/// of each step (as GoalPlayer does for one object).
-void advanceWithGoals(SceneSimulation& sim, const NamedKeyframes& keys, const GoalSettings& goals,
-                      const std::vector<std::vector<Vec3>>& rest, double seconds, std::vector<std::string>* problems) {
-    const double dt = sim.simulator(0).settings().dt;
-    for (;;) {
-        const long long step = sim.stepCount();
-        if (!(double(step + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12))
-            return;
-        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
-            if (!keys.objects[i].keys().empty())
-                sim.setInteractiveDrags(i, goalDrags(keys.objects[i], rest[i], double(step) * dt, goals));
-        }
-        sim.advanceTo(double(step + 1) * dt, problems);
-    }
+/// Every keyed object's goal springs, refreshed at the start of each step (as GoalPlayer does for one object).
+SceneSimulation::StepInputs goalInputs(const NamedKeyframes& keys, const GoalSettings& goals,
+                                       const std::vector<std::vector<Vec3>>& rest) {
+    return [&keys, &goals, &rest](SceneSimulation& sim, std::size_t i, long long step) {
+        if (!keys.objects[i].keys().empty())
+            sim.setInteractiveDrags(i, goalDrags(keys.objects[i], rest[i], double(step) * sim.simulator(i).settings().dt, goals));
+    };
 }
 
 }  // namespace
@@ -270,8 +263,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
     switch (clip.source) {
     case ClipSource::Drivers:
         for (int j = -pre; j <= last; ++j) {
-            sim.advanceTo(timeOf(j), problems);
-            samples.push_back(simNodes(sim));
+            sim.advanceToSample(timeOf(j), problems);
+            samples.push_back(sampleNodes(sim, timeOf(j)));
         }
         break;
     case ClipSource::Session: {
@@ -287,8 +280,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
         if (Status s = player.start(sim, session); !s)
             return Status::error(where + "session '" + named->name + "': " + s.message());
         for (int j = -pre; j <= last; ++j) {
-            player.advanceTo(sim, session.startSeconds() + timeOf(j), problems);
-            samples.push_back(simNodes(sim));
+            sim.advanceToSample(session.startSeconds() + timeOf(j), problems, player.inputs());
+            samples.push_back(sampleNodes(sim, session.startSeconds() + timeOf(j)));
         }
         break;
     }
@@ -306,8 +299,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
         }
         for (int j = -pre; j <= last; ++j) {
             if (clip.goals) {
-                advanceWithGoals(sim, *keys, *clip.goals, rest, timeOf(j), problems);
-                samples.push_back(simNodes(sim));
+                sim.advanceToSample(timeOf(j), problems, goalInputs(*keys, *clip.goals, rest));
+                samples.push_back(sampleNodes(sim, timeOf(j)));
                 continue;
             }
             std::vector<Vec3> flat;

@@ -237,17 +237,15 @@ Result<GoalPlayer> GoalPlayer::create(const SceneSimulation& sim, std::size_t ob
 }
 
 void GoalPlayer::advanceTo(SceneSimulation& sim, double seconds, std::vector<std::string>* problems) {
-    const double dt = sim.simulator(m_object).settings().dt;
-    for (;;) {
-        const long long step = sim.stepCount();
-        if (!(double(step + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12))
+    sim.advanceTo(seconds, problems, [this](SceneSimulation& s, std::size_t object, long long step) {
+        if (object != m_object)
             return;
         // Goals sampled at the start of the step, like the drivers.
-        std::vector<DragSpring> drags = goalDrags(*m_animation, m_rest, double(step) * dt, m_settings);
+        std::vector<DragSpring> drags =
+            goalDrags(*m_animation, m_rest, double(step) * s.simulator(object).settings().dt, m_settings);
         drags.insert(drags.end(), m_extra.begin(), m_extra.end());
-        sim.setInteractiveDrags(m_object, std::move(drags));
-        sim.advanceTo(double(step + 1) * dt, problems);
-    }
+        s.setInteractiveDrags(object, std::move(drags));
+    });
 }
 
 }  // namespace softtouch

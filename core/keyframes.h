@@ -97,7 +97,7 @@ public:
                                      GoalSettings settings);
     /// Other interactive drags applied with the goals.
     void setExtraDrags(std::vector<DragSpring> extra) { m_extra = std::move(extra); }
-    /// Steps one step at a time until the simulated time reaches `seconds` (SceneSimulation's rule).
+    /// Steps until the simulated time reaches `seconds` (SceneSimulation's rule), goals refreshed each step.
     void advanceTo(SceneSimulation& sim, double seconds, std::vector<std::string>* problems = nullptr);
 
 private:

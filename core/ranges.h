@@ -92,6 +92,8 @@ inline constexpr std::size_t kMaxColliderTriangles = 200000;
 /// core/simulator.h, core/colliders.h, core/body_contacts.h).
 inline constexpr FieldRange kDt{"dt", "time step dt", kMinDt, kMaxDt, "s"};
 inline constexpr FieldRange kXpbdSubsteps{"xpbdSubsteps", "XPBD substeps", 1, 10000, "", true, true};
+/// Steps between the energy guard's regular checks (explicit schemes); 0 turns the guard off.
+inline constexpr FieldRange kEnergyCheckSteps{"energyCheckSteps", "energy check interval", 0, 1e6, "steps", true, true};
 inline constexpr FieldRange kFrames{"frames", "frames", 1, kMaxFrames, "", true, true};
 inline constexpr FieldRange kFps{"fps", "fps", kMinFps, kMaxFps, "frames per second"};
 inline constexpr FieldRange kClipStart{"start", "start", 0.0, kMaxClipStart, "s"};

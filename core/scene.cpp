@@ -8,6 +8,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace softtouch {
 
@@ -219,7 +220,7 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
             motion = created.value();
         }
         sim.m_objects.push_back(Runtime{&object, std::move(geometry), Simulator(model.value(), scene->world.simulation), {},
-                                        std::move(motion)});
+                                        std::move(motion), {}, {}, -1});
     }
     return sim;
 }
@@ -264,35 +265,120 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
     return f;
 }
 
-void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* problems) {
+void SceneSimulation::record(std::size_t i, const StepReport& report, std::vector<std::string>* problems) {
+    if (report.problem.empty())
+        return;
+    const Simulator& sim = m_objects[i].simulator;
+    std::ostringstream at;
+    at << "object '" << m_objects[i].source->name << "' at t=" << sim.time() + double(report.rewoundSteps) * sim.settings().dt
+       << " s: " << report.problem;
+    if (report.refused && m_refusal.empty())
+        m_refusal = at.str();
+    if (problems)
+        problems->push_back(at.str());
+}
+
+StepReport SceneSimulation::stepObject(std::size_t i, std::vector<std::string>* problems, const StepInputs& inputs) {
+    Runtime& r = m_objects[i];
+    if (inputs)
+        inputs(*this, i, r.simulator.stepCount());
+    r.lastForces = forcesAt(i, r.simulator.time());  // forces sampled at the step's start
+    r.previous = r.simulator.state().position;
+    r.previousStep = r.simulator.stepCount();
+    const StepReport report = r.simulator.step(r.lastForces);
+    record(i, report, problems);
+    return report;
+}
+
+bool SceneSimulation::settleObject(std::size_t i, std::vector<std::string>* problems) {
+    StepReport report;
+    const bool accepted = m_objects[i].simulator.settle(m_objects[i].lastForces, report);
+    record(i, report, problems);
+    return accepted;
+}
+
+void SceneSimulation::advanceTo(double seconds, std::vector<std::string>* problems, const StepInputs& inputs) {
     const double dt = m_scene->world.simulation.dt;
     // A step is due while it ends at or before `seconds` (a relative tolerance absorbs rounding of
     // seconds = frame / fps).
     const auto due = [&](const Simulator& sim) { return double(sim.stepCount() + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12; };
-    const auto stepObject = [&](std::size_t i) {
-        Simulator& sim = m_objects[i].simulator;
-        const StepReport report = sim.step(forcesAt(i, sim.time()));  // forces sampled at the step's start
-        if (report.problem.empty())
-            return;
-        const std::string problem =
-            "object '" + m_objects[i].source->name + "' at t=" + std::to_string(sim.time()) + " s: " + report.problem;
-        if (report.refused && m_refusal.empty())
-            m_refusal = problem;
-        if (problems)
-            problems->push_back(problem);
-    };
+    // A rollback puts the clock back (Simulator::step), so each loop runs until the span is stepped again and
+    // the guard accepts the end; each rollback doubles the substeps or stops the body, so it ends.
     if (!m_scene->world.bodyCollisions.enabled || m_objects.size() < 2) {
-        for (std::size_t i = 0; i < m_objects.size(); ++i)  // independent: each runs to the end alone
-            while (due(m_objects[i].simulator))
-                stepObject(i);
+        for (std::size_t i = 0; i < m_objects.size(); ++i) {  // independent: each runs to the end alone
+            do {
+                while (due(m_objects[i].simulator))
+                    (void)stepObject(i, problems, inputs);
+            } while (!settleObject(i, problems));
+        }
         return;
     }
-    while (due(m_objects.front().simulator)) {  // every object takes the same steps
-        const double start = m_objects.front().simulator.time();
+    // Every object takes the same steps, so when one rolls back all go back to the last step every guard
+    // accepted (`accepted`), keeping what each guard learnt, and step from there together.
+    Snapshot accepted = saveSnapshot();
+    const auto rewindAll = [&] {
+        for (std::size_t i = 0; i < m_objects.size(); ++i) {
+            m_objects[i].simulator.rewind(accepted.bodies[i], accepted.step);
+            m_objects[i].previousStep = -1;
+        }
+    };
+    const auto settleAll = [&] {
+        bool all = true;
         for (std::size_t i = 0; i < m_objects.size(); ++i)
-            stepObject(i);
-        resolveBodyContacts(start);
+            all = settleObject(i, problems) && all;
+        return all;
+    };
+    for (;;) {
+        while (due(m_objects.front().simulator)) {
+            const double start = m_objects.front().simulator.time();
+            bool rolledBack = false;
+            for (std::size_t i = 0; i < m_objects.size(); ++i)
+                rolledBack = stepObject(i, problems, inputs).rewoundSteps > 0 || rolledBack;
+            if (rolledBack) {
+                rewindAll();
+                continue;
+            }
+            resolveBodyContacts(start);
+            // One guard's check moves its accepted state on: the others check at the same step, so the scene
+            // has one accepted step to go back to.
+            bool checked = false;
+            for (const Runtime& r : m_objects)
+                checked = checked || r.simulator.lastAcceptedStep() == r.simulator.stepCount();
+            if (!checked)
+                continue;
+            if (!settleAll()) {
+                rewindAll();
+                continue;
+            }
+            accepted = saveSnapshot();
+        }
+        if (settleAll())
+            return;
+        rewindAll();
     }
+}
+
+void SceneSimulation::advanceToSample(double seconds, std::vector<std::string>* problems, const StepInputs& inputs) {
+    const double dt = m_scene->world.simulation.dt;
+    // The first step whose end is at or past `seconds`, with advanceTo's tolerance for a time on a step.
+    const double steps = std::ceil(seconds / dt * (1.0 - 1e-12) - 1e-9);
+    advanceTo(std::max(0.0, steps) * dt, problems, inputs);
+}
+
+std::vector<Vec3> SceneSimulation::nodesAt(std::size_t i, double seconds) const {
+    const Runtime& r = m_objects[i];
+    const Simulator& sim = r.simulator;
+    const std::vector<Vec3>& now = sim.state().position;
+    const double dt = sim.settings().dt;
+    // Behind the end by this fraction of the step (0 at the state itself).
+    const double back = (sim.time() - seconds) / dt;
+    if (back <= 1e-9 || r.previousStep != sim.stepCount() - 1)
+        return now;
+    const double w = std::min(back, 1.0);
+    std::vector<Vec3> out(now.size());
+    for (std::size_t k = 0; k < now.size(); ++k)
+        out[k] = now[k] + w * (r.previous[k] - now[k]);
+    return out;
 }
 
 void SceneSimulation::resolveBodyContacts(double stepStart) {
@@ -355,6 +441,7 @@ void SceneSimulation::restoreSnapshot(const Snapshot& snapshot) {
     for (std::size_t i = 0; i < m_objects.size(); ++i) {
         assert(snapshot.bodies[i].position.size() == m_objects[i].simulator.state().position.size());
         m_objects[i].simulator.restoreState(snapshot.bodies[i], snapshot.step);
+        m_objects[i].previousStep = -1;
     }
 }
 
@@ -362,6 +449,7 @@ void SceneSimulation::reset() {
     for (Runtime& r : m_objects) {
         r.simulator.restoreState(restState(r.simulator.model()), 0);
         r.interactive.clear();
+        r.previousStep = -1;
     }
     m_refusal.clear();
 }

@@ -10,6 +10,7 @@
 #include "core/lattice_body.h"
 #include "core/simulator.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -102,10 +103,26 @@ public:
         std::vector<BodyState> bodies;   ///< Per object.
     };
 
+    /// What a caller sets before each step (a take's recorded drags, keyframe goals): called with the object
+    /// and the step about to be taken (its start time is step × dt). A rollback steps a span again, so it
+    /// may be called for a step more than once, always before that step.
+    using StepInputs = std::function<void(SceneSimulation&, std::size_t object, long long step)>;
+
     /// Steps every object until the simulated time reaches `seconds` (fixed dt; a step is taken when
     /// its end time is <= seconds). Problems reported by any step are appended to `problems`. With body
     /// collisions on, the objects step together and touching ones are pushed apart after each step.
-    void advanceTo(double seconds, std::vector<std::string>* problems = nullptr);
+    /// Before it returns, the energy guard has accepted every step taken (Simulator::settle): a span it
+    /// rolled back was stepped again at finer substeps, so the time it reaches is on one continuous
+    /// trajectory, whatever is shown or written there.
+    void advanceTo(double seconds, std::vector<std::string>* problems = nullptr, const StepInputs& inputs = {});
+    /// Steps until `seconds` lies within the last step taken, so nodesAt() can give the state at exactly
+    /// that time (a frame of a clip whose rate does not divide the step rate).
+    void advanceToSample(double seconds, std::vector<std::string>* problems = nullptr, const StepInputs& inputs = {});
+    /// Object i's lattice nodes at scene time `seconds`, within the last step taken (advanceToSample):
+    /// linear between the states at the step's two ends, the state itself at its end. The trajectory
+    /// between steps is what the integrator leaves undefined; linear is exact for uniform motion and off
+    /// by at most dt²/8 × the acceleration, where snapping to a step is off by up to dt × the speed.
+    std::vector<Vec3> nodesAt(std::size_t i, double seconds) const;
     /// The first step refused since creation or reset() (it needed more than maxSubsteps substeps, so
     /// the body stood still), as "object 'x' at t=… s: …"; empty when none. A bake fails on it: a frozen
     /// cache is no answer.
@@ -167,7 +184,17 @@ private:
         Simulator simulator;
         std::vector<DragSpring> interactive;
         std::shared_ptr<BaseMotion> motion;  ///< On a base animation: its goals and the output's base.
+        ExternalForces lastForces;             ///< Of the step just taken (what the guard settles with).
+        std::vector<Vec3> previous;            ///< Node positions before the step just taken.
+        long long previousStep = -1;           ///< Step count `previous` was taken at; -1: none.
     };
+
+    /// Takes one step of object i (inputs first), appending problems; returns its report.
+    StepReport stepObject(std::size_t i, std::vector<std::string>* problems, const StepInputs& inputs);
+    /// Runs object i's pending energy check; false when it rolled back.
+    bool settleObject(std::size_t i, std::vector<std::string>* problems);
+    /// Appends a step's problem, naming the object and time, and keeps the first refusal.
+    void record(std::size_t i, const StepReport& report, std::vector<std::string>* problems);
 
     /// Pushes touching objects apart after a step that started at `stepStart` seconds.
     void resolveBodyContacts(double stepStart);

@@ -1,5 +1,6 @@
 #include "core/session.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -134,31 +135,37 @@ Status SessionPlayer::start(SceneSimulation& sim, const Session& session) {
     if (Status s = session.validateFor(sim); !s)
         return s;
     m_session = &session;
-    m_next = 0;
+    m_eventsOf.assign(sim.objectCount(), {});
+    for (std::size_t e = 0; e < session.events.size(); ++e)
+        m_eventsOf[session.events[e].object].push_back(e);
     sim.restoreSnapshot(session.start);
     for (std::size_t i = 0; i < sim.objectCount(); ++i)
-        sim.setInteractiveDrags(i, session.startDrags.empty() ? std::vector<DragSpring>{} : session.startDrags[i]);
+        sim.setInteractiveDrags(i, dragsAt(i, session.start.step));
     return Status::success();
+}
+
+const std::vector<DragSpring>& SessionPlayer::dragsAt(std::size_t object, long long step) const {
+    static const std::vector<DragSpring> kNone;
+    const std::vector<std::size_t>& mine = m_eventsOf[object];
+    const auto& events = m_session->events;
+    // The first event after `step`; the one before it is in force.
+    const auto after = std::upper_bound(mine.begin(), mine.end(), step,
+                                        [&](long long s, std::size_t e) { return s < events[e].step; });
+    if (after != mine.begin())
+        return events[*(after - 1)].drags;
+    return m_session->startDrags.empty() ? kNone : m_session->startDrags[object];
+}
+
+SceneSimulation::StepInputs SessionPlayer::inputs() const {
+    assert(m_session);
+    return [this](SceneSimulation& sim, std::size_t object, long long step) {
+        sim.setInteractiveDrags(object, dragsAt(object, step));
+    };
 }
 
 void SessionPlayer::advanceTo(SceneSimulation& sim, double seconds, std::vector<std::string>* problems) {
     assert(m_session);
-    const double dt = m_session->dt;
-    for (;;) {
-        const long long step = sim.stepCount();
-        if (step >= m_session->endStep)
-            return;
-        // The same stepping rule as SceneSimulation::advanceTo.
-        if (!(double(step + 1) * dt <= seconds * (1.0 + 1e-12) + 1e-12))
-            return;
-        const auto& events = m_session->events;
-        while (m_next < events.size() && events[m_next].step <= step) {
-            sim.setInteractiveDrags(events[m_next].object, events[m_next].drags);
-            ++m_next;
-        }
-        // advanceTo((step+1)·dt) takes exactly this one step: same expression as its loop test.
-        sim.advanceTo(double(step + 1) * dt, problems);
-    }
+    sim.advanceTo(std::min(seconds, m_session->endSeconds()), problems, inputs());
 }
 
 Status replaySession(SceneSimulation& sim, const Session& session, const std::function<bool(long long)>& onStep,

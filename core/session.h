@@ -78,13 +78,19 @@ class SessionPlayer {
 public:
     /// Validates the session against `sim`, restores its start snapshot and drags.
     Status start(SceneSimulation& sim, const Session& session);
-    /// Steps `sim` one step at a time, applying the recorded drags, until its time reaches `seconds`
-    /// (same rule as SceneSimulation::advanceTo); never past the session's end.
+    /// Steps `sim`, applying the recorded drags, until its time reaches `seconds` (same rule as
+    /// SceneSimulation::advanceTo); never past the session's end.
     void advanceTo(SceneSimulation& sim, double seconds, std::vector<std::string>* problems = nullptr);
+    /// The recorded drags as per-step inputs (SceneSimulation::StepInputs): what advanceTo steps with,
+    /// for a caller that samples between steps (advanceToSample). Past the end the last drags hold.
+    SceneSimulation::StepInputs inputs() const;
 
 private:
+    /// Object o's drags in force at `step`: its last event at or before it, or its start drags.
+    const std::vector<DragSpring>& dragsAt(std::size_t object, long long step) const;
+
     const Session* m_session = nullptr;
-    std::size_t m_next = 0;
+    std::vector<std::vector<std::size_t>> m_eventsOf;  ///< Per object, its events' indices in step order.
 };
 
 /// Replays the whole session: restores its start and calls `onStep(step)` after every step (the

@@ -7,20 +7,20 @@
 #include <cassert>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace softtouch {
 
 Status SimulationSettings::validate() const {
-    for (const auto& [range, value] : {std::pair{ranges::kDt, dt}, std::pair{ranges::kXpbdSubsteps, double(xpbdSubsteps)}})
+    for (const auto& [range, value] : {std::pair{ranges::kDt, dt}, std::pair{ranges::kXpbdSubsteps, double(xpbdSubsteps)},
+                                       std::pair{ranges::kEnergyCheckSteps, double(energyCheckSteps)}})
         if (std::string problem = range.problem(value); !problem.empty())
             return Status::error(std::move(problem));
     if (!(std::isfinite(stabilitySafety) && stabilitySafety > 0.0 && stabilitySafety <= 2.0))
         return Status::error("stability safety must be in (0, 2], got " + std::to_string(stabilitySafety));
     if (maxSubsteps < 1)
         return Status::error("max substeps must be at least 1");
-    if (energyCheckSteps < 0 || energyCheckSteps > 1000000)
-        return Status::error("energy check interval must be in [0, 1e6] steps, got " + std::to_string(energyCheckSteps));
     if (!(std::isfinite(energyTolerance) && energyTolerance > 0.0 && energyTolerance <= 1.0))
         return Status::error("energy tolerance must be in (0, 1], got " + std::to_string(energyTolerance));
     if (!(std::isfinite(sleepSpeed) && sleepSpeed >= 0.0))
@@ -46,6 +46,18 @@ Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSet
         (void)m_model->maxStiffnessOverMass();  // the substep bound, here rather than in a step (allocates)
     m_integrator->setMeasuresWork(accountsEnergy());
     if (accountsEnergy()) {
+        // The energy of the stiffest motion at a millionth of the body's size: growth of a few percent of
+        // that is round-off, invisible in any frame (1e-7 m on a 0.3 m fish), and is not energy from nowhere.
+        Vec3 low = Vec3::Constant(std::numeric_limits<double>::max()), high = -low;
+        double mass = 0.0;
+        for (std::size_t i = 0; i < m_model->nodeCount(); ++i) {
+            low = low.cwiseMin(m_model->restPositions[i]);
+            high = high.cwiseMax(m_model->restPositions[i]);
+            mass += m_model->mass[i];
+        }
+        const double size = m_model->nodeCount() > 0 ? (high - low).norm() : 0.0;
+        const double motion = 1e-6 * size;
+        m_noiseEnergy = std::max(0.5 * mass * m_model->maxStiffnessOverMass() * motion * motion, 1e-12);
         m_tracker.reset(*m_model);
         trackStiffness(kFreshIterations);
     }
@@ -57,6 +69,7 @@ void Simulator::restoreState(const BodyState& state) {
     m_sleeping = false;
     m_quietSteps = 0;
     m_guardFactor = 1;
+    m_stopped.clear();
     m_peakScale = 0.0;
     trackStiffness(kFreshIterations);
     resetEnergyAccount({});
@@ -180,6 +193,7 @@ void Simulator::resetEnergyAccount(const ExternalForces& external) {
     m_accountStep = m_settings.dt / std::max(1, substepsFor(external));
     const EnergyParts parts = energyParts(external, m_accountStep);
     m_account = EnergyAccount{};
+    m_dissipatedAtCheck = 0.0;
     m_account.start = parts.modified;
     m_accountScale = parts.elastic;
     m_peakScale = std::max(m_peakScale, m_accountScale);
@@ -193,16 +207,16 @@ void Simulator::rebaseAccount(const ExternalForces& external, double h) {
     m_accountStep = h;
 }
 
-bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) {
+bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, bool regular) {
     if (external.gravity != m_accountGravity) {  // gravity changed: its potential is measured anew
         resetEnergyAccount(external);
         return true;
     }
     const EnergyParts parts = energyParts(external, m_accountStep);
     // Near rest the energy is round-off: growth is measured against a millionth of the largest energy
-    // the body has held (and a picojoule), not against nothing.
+    // the body has held, or the body's noise energy, not against nothing.
     m_peakScale = std::max(m_peakScale, parts.elastic);
-    const double floor = std::max(1e-6 * m_peakScale, 1e-12);
+    const double floor = std::max(1e-6 * m_peakScale, m_noiseEnergy);
     // Against the energy the account started with (or what the drags or contacts moved, if more): not
     // the current kinetic + spring energy, which swings with the step in the stiffest modes.
     const double scale = std::max({m_accountScale, std::abs(m_account.work), std::abs(m_account.contacts),
@@ -214,8 +228,22 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
     const double edgeShare = parts.elastic > floor ? std::abs(0.5 * m_accountStep * parts.springPower) / parts.elastic : 0.0;
     const double edgeLimit = 0.5 * (1.0 + std::min(m_settings.stabilitySafety, 0.9));
     const bool grew = growth > m_settings.energyTolerance || !std::isfinite(growth);
-    const bool unstable = edgeShare > edgeLimit;
+    // Damping only takes energy out of a motion the step resolves; over a check's span its booked work is
+    // negative only where a mode past its bound flips sign every substep, and the damping force, a substep
+    // late, pumps it. The account would take that pumping for energy that left and see no growth.
+    const double pumped = m_dissipatedAtCheck - m_account.dissipated;
+    const bool unstable = edgeShare > edgeLimit || pumped > m_settings.energyTolerance * scale;
     if (!grew && !unstable) {
+        if (regular)
+            m_dissipatedAtCheck = m_account.dissipated;
+        if (!regular) {
+            // A settle: the state is accepted (a rollback never goes before it) but the regular checks'
+            // cadence, the stiffness tracking and the account go on as if it had not run, so where a caller
+            // settles never changes the motion (a take replays bit for bit whatever its frame times).
+            m_lastGood = m_state;
+            m_lastGoodStep = m_stepCount;
+            return true;
+        }
         checkpoint();
         // The bound follows the state: a stiffer state takes more substeps from the next step on.
         trackStiffness(kCheckIterations);
@@ -224,6 +252,7 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
             // Damping (or work out) has taken half the energy: restart the account from here, so the
             // tolerance follows the energy down and later growth is measured against what is left.
             m_account = EnergyAccount{};
+            m_dissipatedAtCheck = 0.0;
             m_account.start = parts.modified + 0.5 * (h - m_accountStep) * parts.conservativePower;
             m_accountScale = parts.elastic;
             m_accountStep = h;
@@ -234,28 +263,60 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report) 
         return true;
     }
     const long long lost = m_stepCount - m_lastGoodStep;
-    m_state = m_lastGood;  // passed its own check: never a state that was already bad
-    report.rolledBack = true;
     report.energyGrowth = growth;
     std::ostringstream msg;
     msg.precision(3);
     if (grew)
-        msg << "energy grew " << 100.0 * growth << "% in " << lost << " steps with nothing doing that work (";
+        msg << "energy grew " << 100.0 * growth << "% in " << lost << (lost == 1 ? " step" : " steps")
+            << " with nothing doing that work (";
     else
-        msg << "unstable motion in " << lost << " steps (the fastest motion outran the step: "
-            << 100.0 * edgeShare << "% of its energy in the step's (h/2)v·f term; ";
-    msg << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step): rolled back "
-        << lost << " steps";
+        msg << "unstable motion in " << lost << (lost == 1 ? " step" : " steps") << " (the fastest motion outran the step: "
+            << (pumped > m_settings.energyTolerance * scale ? "damping a substep late fed it " + std::to_string(int(std::lround(100.0 * pumped / scale))) + "% of the body's energy; "
+                                                             : std::to_string(int(std::lround(100.0 * edgeShare))) + "% of its energy in the step's (h/2)v·f term; ");
+    msg << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step)";
+    rollBack(external, msg.str(), report);
+    return false;
+}
+
+void Simulator::rollBack(const ExternalForces& external, const std::string& why, StepReport& report) {
+    const long long lost = m_stepCount - m_lastGoodStep;
+    const double from = double(m_lastGoodStep) * m_settings.dt;
+    m_state = m_lastGood;  // passed its own check: never a state that was already bad
+    m_stepCount = m_lastGoodStep;  // and its time: the span is stepped again, so no frame jumps back
+    report.rolledBack = true;
+    report.rewoundSteps = int(std::min<long long>(lost, 1 << 30));
+    std::ostringstream msg;
+    msg.precision(4);
+    msg << why << ": rolled back to t=" << from << " s";
     if (m_guardFactor < kMaxGuardFactor) {
-        m_guardFactor *= 2;  // the account below measures H̃ anew at the new substep
-        msg << " and now takes " << substepsFor(external) << " substeps a step";
+        m_guardFactor *= 2;
+        msg << " and steps the " << lost << (lost == 1 ? " step" : " steps") << " since again at "
+            << substepsFor(external) << " substeps a step";
     } else {
-        msg << "; substeps are already " << kMaxGuardFactor << "x: lower dt, add damping or use implicit-euler";
+        msg << "; substeps are already " << kMaxGuardFactor << "x, so the body stops there: lower dt, add damping "
+            << "or use implicit-euler";
+        m_stopped = msg.str();
+        report.refused = true;
     }
     report.problem = msg.str();
     trackStiffness(kFreshIterations);
     resetEnergyAccount(external);
-    return false;
+}
+
+bool Simulator::settle(const ExternalForces& external, StepReport& report) {
+    if (!accountsEnergy() || m_sleeping || !m_stopped.empty() || m_lastGoodStep == m_stepCount)
+        return true;
+    return checkEnergy(external, report, false);
+}
+
+void Simulator::rewind(const BodyState& state, long long stepCount) {
+    assert(state.position.size() == m_state.position.size() && stepCount >= 0);
+    m_state = state;
+    m_stepCount = stepCount;
+    m_sleeping = false;
+    m_quietSteps = 0;
+    trackStiffness(kFreshIterations);
+    resetEnergyAccount({});
 }
 
 bool Simulator::isExplicit() const { return m_integrator->isExplicit(); }
@@ -340,11 +401,18 @@ StepReport Simulator::step(const ExternalForces& external) {
     if (m_sleeping) {
         if (!forcesChanged(external)) {
             ++m_stepCount;
+            m_lastGoodStep = m_stepCount;  // the state the body fell asleep in, which passed its check
             report.sleeping = true;
             return report;
         }
         m_sleeping = false;
         m_quietSteps = 0;
+    }
+    if (!m_stopped.empty()) {
+        report.problem = m_stopped;
+        report.refused = true;
+        ++m_stepCount;
+        return report;
     }
     const int substeps = substepsFor(external);
     if (substeps > m_settings.maxSubsteps) {
@@ -422,12 +490,17 @@ StepReport Simulator::step(const ExternalForces& external) {
     ++m_stepCount;
 
     if (!m_state.isFinite()) {
-        m_state = m_lastGood;
         const std::string input = external.firstNonFinite();
-        // The inputs were sane, so the explicit step itself blew up: replaying it at the same substep
-        // would blow up again, so the substeps double as after energy growth.
-        if (input.empty() && accountEnergy && m_guardFactor < kMaxGuardFactor)
-            m_guardFactor *= 2;
+        if (input.empty() && accountEnergy) {
+            // The inputs were sane, so the explicit step itself blew up: the span is taken again at finer
+            // substeps, as after energy growth.
+            rollBack(external, std::string("the state became non-finite with ") +
+                                   std::string(integratorName(m_settings.integrator)), report);
+            return report;
+        }
+        // Stepping again would give the same result: the body holds its last good state (from the last
+        // check, which is never before the last frame shown or written) and the clock goes on.
+        m_state = m_lastGood;
         resetEnergyAccount(external);
         report.rolledBack = true;
         report.problem = !input.empty()
@@ -442,7 +515,7 @@ StepReport Simulator::step(const ExternalForces& external) {
         // about two substeps; thousands of substeps between checks would let an instability explode).
         m_substepsSinceCheckpoint += substeps;
         if ((++m_stepsSinceCheckpoint >= m_settings.energyCheckSteps || m_substepsSinceCheckpoint >= kCheckSubsteps) &&
-            !checkEnergy(external, report))
+            !checkEnergy(external, report, true))
             return report;
     } else {
         checkpoint();

@@ -12,9 +12,12 @@
 /// springs). Growth beyond that by more than energyTolerance of the body's kinetic + elastic energy is
 /// energy from nowhere. H̃ cannot see a linear instability (a mode past its bound grows with H̃ = 0),
 /// so the check also rolls back when the springs' (h/2) vᵀf holds nearly all the elastic and kinetic
-/// energy, which only a step at or past the bound allows. Checks run every energyCheckSteps steps, so a
-/// rollback loses at most that many steps, and the state rolled back to is always one that passed the
-/// check (never one that was already bad).
+/// energy, which only a step at or past the bound allows. Checks run every energyCheckSteps steps and
+/// wherever the caller settles (SceneSimulation does before it returns a time that may be shown or written).
+/// A failed check restores the last state that passed one (never one that was already bad) together with
+/// its time, and doubles the substeps, so the caller steps the span again, finer: the motion stays one
+/// continuous trajectory. A guard already at kMaxGuardFactor cannot do better; it stops the body there
+/// (every later step is refused, as a step needing more than maxSubsteps is), which a bake reports as a failure.
 
 #include "core/body_model.h"
 #include "core/current_stiffness.h"
@@ -55,7 +58,9 @@ struct StepReport {
     int substeps = 0;          ///< Integrator calls made (0 when asleep or refused).
     bool sleeping = false;     ///< The body was asleep: nothing was computed.
     bool rolledBack = false;   ///< The step produced a non-finite state or energy from nowhere and was undone.
-    bool refused = false;      ///< The step needed more than maxSubsteps substeps and was not taken (the body froze).
+    bool refused = false;      ///< The step was not taken (the body froze): it needed more than maxSubsteps
+                               ///< substeps, or the guard had already multiplied them by kMaxGuardFactor.
+    int rewoundSteps = 0;      ///< Steps the clock went back with a rollback: the caller steps them again.
     double energyGrowth = 0.0; ///< At a failed energy check: growth beyond the account, fraction of the body's energy.
     int strainCorrections = 0; ///< Springs the stretch and squash limits put back this step (0: none was out).
     double worstStrainExcess = 0.0; ///< Largest excess they found, fraction of a rest length.
@@ -88,8 +93,19 @@ public:
     /// Replaces the state and the step count (simulated time = stepCount × dt): scrubbing and replays.
     void restoreState(const BodyState& state, long long stepCount);
 
-    /// Advances one step of dt under the given forces.
+    /// Advances one step of dt under the given forces. After a rollback (report.rewoundSteps > 0) the
+    /// time is that of the state restored; step on to take the span again at the finer substep.
     StepReport step(const ExternalForces& external);
+    /// Runs the energy check now if steps were taken since the last one (explicit schemes with the guard
+    /// on), so the current state is one the guard has accepted before it is shown or written. `external`:
+    /// the forces of the step just taken. Returns false when it rolled back (the report says how far).
+    bool settle(const ExternalForces& external, StepReport& report);
+    /// Step count of the last state the guard accepted.
+    long long lastAcceptedStep() const { return m_lastGoodStep; }
+    /// Puts the body back to an accepted state of the same run and its step count, keeping what the guard
+    /// learnt (its substep factor): a scene whose objects step together rolls them all back this way
+    /// when one of them fails a check.
+    void rewind(const BodyState& state, long long stepCount);
 
     /// Takes a state that a pass outside the step corrected (the scene's body contacts: same node count),
     /// keeping the time. The energy account books what the correction changed as contact work, so the
@@ -142,8 +158,13 @@ private:
     /// resolvePlaneContacts, adding each moved node's energy change to the account.
     void resolveContactsAccounted(const ExternalForces& external, double h);
     /// Compares H̃ with the account and the springs' share; on growth or instability rolls back,
-    /// raises the substep factor and fills the report. Returns false when it rolled back.
-    bool checkEnergy(const ExternalForces& external, StepReport& report);
+    /// raises the substep factor and fills the report. Returns false when it rolled back. `regular`: the
+    /// check every energyCheckSteps steps (it also tracks the stiffness and restarts a drained account);
+    /// otherwise a settle, which only moves the accepted state on.
+    bool checkEnergy(const ExternalForces& external, StepReport& report, bool regular);
+    /// Restores the last accepted state and its time after a failed check (`why`); raises the substep
+    /// factor, or stops the body when it is already at kMaxGuardFactor, and fills the report.
+    void rollBack(const ExternalForces& external, const std::string& why, StepReport& report);
     /// Moves the account to a new substep h (H̃ depends on it) without restarting it.
     void rebaseAccount(const ExternalForces& external, double h);
     /// Takes the current state as the known-good checkpoint.
@@ -167,9 +188,12 @@ private:
     Vec3 m_accountGravity = Vec3::Zero(); ///< Gravity the account's potential was measured with.
     double m_accountScale = 0.0;    ///< Kinetic + spring energy when the account started, J.
     double m_peakScale = 0.0;       ///< Largest kinetic + spring energy since the last restore, J.
+    double m_dissipatedAtCheck = 0.0; ///< The account's damping work at the last regular check, J.
+    double m_noiseEnergy = 1e-12;   ///< Energy below which growth is round-off, J (see the constructor).
     int m_stepsSinceCheckpoint = 0;
     long long m_substepsSinceCheckpoint = 0;
     int m_guardFactor = 1;
+    std::string m_stopped;         ///< Why the guard stopped the body (at kMaxGuardFactor); empty: running.
     StiffnessTracker m_tracker;
     double m_currentStiffness = 0.0; ///< See currentStiffnessOverMass().
     std::vector<Vec3> m_zeroVelocity;      ///< Scratch of the energy account (no allocation once warm).

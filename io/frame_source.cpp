@@ -62,7 +62,12 @@ Result<FrameSource> FrameSource::create(const Scene& scene, const FrameRequest& 
 
 void FrameSource::seek(int frame, std::vector<std::string>* warnings) {
     if (!m_isClip) {
-        m_sim.advanceTo(double(frame) / m_fps, warnings);
+        // Frame f at exactly f/fps, between the two steps around it (SceneSimulation::nodesAt).
+        m_current = frame;
+        m_sim.advanceToSample(seconds(), warnings);
+        m_frameNodes.resize(m_sim.objectCount());
+        for (std::size_t i = 0; i < m_sim.objectCount(); ++i)
+            m_frameNodes[i] = m_sim.nodesAt(i, seconds());
         return;
     }
     // Past a clip's end: a loop cycles, anything else holds its last frame.
@@ -73,18 +78,18 @@ void FrameSource::seek(int frame, std::vector<std::string>* warnings) {
 std::span<const Vec3> FrameSource::nodes(std::size_t object) const {
     if (m_isClip)
         return m_clipFrames.nodes[std::size_t(m_current)][object];
-    return m_sim.simulator(object).state().position;
+    if (m_frameNodes.empty())  // before the first seek: the rest state
+        return m_sim.simulator(object).state().position;
+    return m_frameNodes[object];
 }
 
 double FrameSource::seconds() const {
-    return m_isClip ? m_clipStart + double(m_current) / m_fps : m_sim.time();
+    return (m_isClip ? m_clipStart : 0.0) + double(m_current) / m_fps;
 }
 
 void FrameSource::evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {
-    if (m_isClip)  // frame i of a clip is at its start + i/fps (what a base animation is played at)
-        m_sim.evaluateNodes(object, nodes(object), seconds(), positions, normals, threads);
-    else
-        m_sim.evaluate(object, positions, normals, threads);
+    // Frame i is at its start + i/fps (what a base animation is played at).
+    m_sim.evaluateNodes(object, nodes(object), seconds(), positions, normals, threads);
 }
 
 }  // namespace softtouch::io

@@ -59,7 +59,8 @@ private:
     double m_clipStart = 0.0;         ///< Scene time of the clip's first frame, seconds.
     bool m_isClip = false;
     bool m_loop = false;
-    int m_current = 0;                ///< Clip frame shown.
+    int m_current = 0;                ///< Frame shown.
+    std::vector<std::vector<Vec3>> m_frameNodes; ///< The drivers' nodes at the current frame, per object.
     int m_frames = 0;
     double m_fps = 0.0;
     std::string m_clipName;

@@ -363,7 +363,7 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
         }
     }
     if (const JsonValue sim = root["simulation"]; sim.expectObject()) {
-        sim.checkKeys({"integrator", ranges::kDt.name, ranges::kXpbdSubsteps.name, "sleep"});
+        sim.checkKeys({"integrator", ranges::kDt.name, ranges::kXpbdSubsteps.name, ranges::kEnergyCheckSteps.name, "sleep"});
         if (auto name = sim["integrator"].string()) {
             if (auto kind = parseIntegratorKind(*name))
                 w.simulation.integrator = *kind;
@@ -373,6 +373,7 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
         }
         if (auto x = sim.field(ranges::kDt)) w.simulation.dt = *x;
         if (auto x = sim.field(ranges::kXpbdSubsteps)) w.simulation.xpbdSubsteps = int(*x);
+        if (auto x = sim.field(ranges::kEnergyCheckSteps)) w.simulation.energyCheckSteps = int(*x);
         if (auto x = sim["sleep"].boolean()) w.simulation.sleep = *x;
     }
     if (const JsonValue clip = root["clip"]; clip.expectObject()) {
@@ -531,6 +532,8 @@ Status saveProject(const Project& project, const fs::path& path) {
                         {ranges::kXpbdSubsteps.name, w.simulation.xpbdSubsteps},
                         {"sleep", w.simulation.sleep}}},
                       {"clip", {{ranges::kFrames.name, w.frames}, {ranges::kFps.name, w.fps}}}};
+    if (w.simulation.energyCheckSteps != SimulationSettings{}.energyCheckSteps)  // rarely changed: named only then
+        doc["simulation"][ranges::kEnergyCheckSteps.name] = w.simulation.energyCheckSteps;
     writeClipLibrary(project.clips, doc);
     return writeFileAtomically(path, doc.dump(2) + "\n");
 }

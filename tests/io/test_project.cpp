@@ -270,7 +270,8 @@ void TestProject::solidElementRoundTripsAndRuns() {
 namespace {
 
 /// Every range fieldRangesMeanTheSameInFileAndCore puts at its edges.
-const FieldRange* const kFileRanges[] = {&ranges::kDt,          &ranges::kXpbdSubsteps, &ranges::kFrames,  &ranges::kFps,
+const FieldRange* const kFileRanges[] = {&ranges::kDt,          &ranges::kXpbdSubsteps, &ranges::kEnergyCheckSteps,
+                                         &ranges::kFrames,      &ranges::kFps,
                                          &ranges::kRestitution, &ranges::kFriction,     &ranges::kColliderRadius,
                                          &ranges::kCapsuleHalfLength, &kSwimFrequency,  &kSwimAmplitude,   &kSwimPhase,
                                          &kSwimRamp,            &kDriverStiffness,      &kDriverDamping,   &kDragRelease,
@@ -287,6 +288,7 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
     };
     add(ranges::kDt, R"(, "simulation": {"dt": %1})");
     add(ranges::kXpbdSubsteps, R"(, "simulation": {"integrator": "xpbd", "xpbdSubsteps": %1})");
+    add(ranges::kEnergyCheckSteps, R"(, "simulation": {"integrator": "verlet", "energyCheckSteps": %1})");
     add(ranges::kFrames, R"(, "clip": {"frames": %1})");
     add(ranges::kFps, R"(, "clip": {"fps": %1})");
     add(ranges::kRestitution, R"(, "world": {"planes": [{"point": [0, -2, 0], "normal": [0, 1, 0], "restitution": %1}]})");
