@@ -23,8 +23,9 @@ constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count
 
 Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
 damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
-and what the scene's integrator at its time step does to each mode: amplitude kept per period against
-what the material alone keeps, and the frequency error. Anchors and voids are as in the scene; the
+and what the scene's integrator at its time step does to each mode: the damping ratio the clip shows (the
+material's and the integrator's together: implicit Euler adds its own), the amplitude kept per period
+against what the material alone keeps, and the frequency error. Anchors and voids are as in the scene; the
 analysis is linear, so it describes small wobbles (docs/lattice.md). Last, the solid the springs make:
 Young's modulus along each box axis and the shear moduli under a uniform strain, beside the painted
 modulus (they differ on flat or long cells: docs/lattice.md, "What solid the springs make").
@@ -134,14 +135,15 @@ int runModes(const std::vector<std::string>& args) {
         std::printf("%s: %d unknowns, %d rigid modes; %s; %s, dt %.6g s (step %.6g s)\n", object.name.c_str(),
                     modes->unknowns, modes->rigidModes, element ? "solid element" : "springs",
                     std::string(integratorName(settings.integrator)).c_str(), settings.dt, h);
-        std::printf("  mode  frequency_hz  damping_ratio  node_part  spring_part  kept_per_period  material_alone  frequency_error\n");
+        std::printf("  mode  frequency_hz  damping_ratio  node_part  spring_part  clip_damping_ratio  kept_per_period  material_alone  "
+                    "frequency_error\n");
         std::string summary;  // what the scheme does to the lowest mode, in words
         for (std::size_t m = 0; m < modes->modes.size(); ++m) {
             const VibrationMode& mode = modes->modes[m];
             const ModeAccuracy a = schemeAccuracy(body.value(), settings, mode);
-            std::printf("  %4zu  %12.4f  %13.4f  %9.4f  %11.4f  %14.1f%%  %13.1f%%  %+14.2f%%\n", m + 1, mode.frequencyHz,
-                        mode.dampingRatio, mode.nodeDampingRatio, mode.springDampingRatio, 100.0 * a.amplitudePerPeriod,
-                        100.0 * a.exactAmplitudePerPeriod, 100.0 * a.frequencyError);
+            std::printf("  %4zu  %12.4f  %13.4f  %9.4f  %11.4f  %18.4f  %14.1f%%  %13.1f%%  %+14.2f%%\n", m + 1,
+                        mode.frequencyHz, mode.dampingRatio, mode.nodeDampingRatio, mode.springDampingRatio, a.dampingRatio,
+                        100.0 * a.amplitudePerPeriod, 100.0 * a.exactAmplitudePerPeriod, 100.0 * a.frequencyError);
             if (m == 0)
                 summary = describeModeAccuracy(settings, mode, a);
         }

@@ -88,12 +88,14 @@ ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double
     r.stable = roots.modulus <= 1.0;
     if (roots.complex) {
         r.amplitudePerPeriod = roots.perPeriod();
+        r.dampingRatio = dampingRatioKeeping(r.amplitudePerPeriod);
         r.frequencyHz = roots.angle / (2.0 * std::numbers::pi * h);
         r.frequencyError = dampedHz > 0.0 ? r.frequencyHz / dampedHz - 1.0 : 0.0;
     } else {
         // Two real eigenvalues: the numerical mode creeps or flips sign each step, it no longer swings.
         const double period = mode.frequencyHz > 0.0 ? 1.0 / mode.frequencyHz : 0.0;
         r.amplitudePerPeriod = std::pow(roots.modulus, period / h);
+        r.dampingRatio = r.stable ? 1.0 : dampingRatioKeeping(r.amplitudePerPeriod);
         r.frequencyHz = 0.0;
         r.frequencyError = dampedHz > 0.0 ? -1.0 : 0.0;
     }
@@ -170,6 +172,7 @@ ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const
     r.oscillates = fit.oscillates;
     r.stable = !fit.oscillates || fit.amplitudePerPeriod <= 1.0;
     r.amplitudePerPeriod = fit.oscillates ? fit.amplitudePerPeriod : 0.0;
+    r.dampingRatio = fit.oscillates ? dampingRatioKeeping(fit.amplitudePerPeriod) : 1.0;
     r.frequencyHz = fit.frequencyHz;
     const double damped = mode.dampedFrequencyHz();
     r.frequencyError = fit.oscillates && damped > 0.0 ? fit.frequencyHz / damped - 1.0 : -1.0;
@@ -179,6 +182,13 @@ ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const
 double integrationStep(const Simulator& simulator, const ExternalForces& external) {
     const int substeps = std::max(1, simulator.substepsFor(external));
     return simulator.settings().dt / substeps;
+}
+
+double dampingRatioKeeping(double perPeriod) {
+    if (!(perPeriod > 0.0))
+        return 1.0;  // nothing kept: at least critically damped
+    const double l = -std::log(perPeriod);  // negative for a growing mode, and so is ζ
+    return l / std::sqrt(4.0 * std::numbers::pi * std::numbers::pi + l * l);
 }
 
 std::string describeModeAccuracy(const SimulationSettings& settings, const VibrationMode& mode, const ModeAccuracy& a) {
@@ -197,9 +207,10 @@ std::string describeModeAccuracy(const SimulationSettings& settings, const Vibra
         std::snprintf(text, sizeof text, "%s no longer swings the %.3g Hz mode (it creeps back)", scheme, mode.frequencyHz);
     } else {
         std::snprintf(text, sizeof text,
-                      "%s keeps %.1f%% per period of the %.3g Hz mode (the material alone: %.1f%%), frequency %+.1f%%",
-                      scheme, 100.0 * a.amplitudePerPeriod, mode.frequencyHz, 100.0 * a.exactAmplitudePerPeriod,
-                      100.0 * a.frequencyError);
+                      "%s: the %.3g Hz mode damps as ζ %.3g in the clip (the material's %.3g), keeping %.1f%% per period "
+                      "(the material alone: %.1f%%), frequency %+.1f%%",
+                      scheme, mode.frequencyHz, a.dampingRatio, mode.dampingRatio, 100.0 * a.amplitudePerPeriod,
+                      100.0 * a.exactAmplitudePerPeriod, 100.0 * a.frequencyError);
     }
     return text;
 }

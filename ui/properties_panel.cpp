@@ -631,11 +631,20 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     const VibrationMode& lowest = modes->modes.front();
     setQuietly(m_frequency, lowest.frequencyHz);
     setQuietly(m_dampingRatio, lowest.dampingRatio);
-    showModeRows(modes->modes);
+    // The damping each mode shows in the clip: implicit Euler adds its own to the material's. In closed form
+    // per mode; XPBD's is measured by running it, so only for the lowest mode.
+    const ModeAccuracy lowestAccuracy = schemeAccuracy(body.value(), settings, lowest);
+    std::vector<double> clipDamping{lowestAccuracy.dampingRatio};
+    if (settings.integrator != IntegratorKind::Xpbd) {
+        const double h = integrationStep(Simulator(body.value(), settings));
+        for (std::size_t m = 1; m < modes->modes.size(); ++m)
+            clipDamping.push_back(modeAccuracy(settings.integrator, modes->modes[m], h).dampingRatio);
+    }
+    showModeRows(modes->modes, clipDamping);
     QStringList lines;
     if (modes->rigidModes > 0)
         lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
-    lines << QString::fromStdString(describeModeAccuracy(settings, lowest, schemeAccuracy(body.value(), settings, lowest)));
+    lines << QString::fromStdString(describeModeAccuracy(settings, lowest, lowestAccuracy));
     // The solid the springs make (it differs from the painted modulus on flat or long cells), or the one the solid
     // element runs (the painted material's), as `softtouch-cli modes` prints it.
     const bool element = o.material.element == BodyElement::Solid;
@@ -679,7 +688,7 @@ void PropertiesPanel::compareWithSolid() {
     m_solid->setVisible(true);
 }
 
-void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {
+void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes, const std::vector<double>& clipDamping) {
     m_analysedModes = modes;
     for (std::size_t m = 0; m < m_modeRows.size(); ++m) {
         const bool present = m < modes.size();
@@ -691,12 +700,17 @@ void PropertiesPanel::showModeRows(const std::vector<VibrationMode>& modes) {
         // On the solid element the relative damping is its viscosity, not springs'.
         const bool element = std::size_t(object()) < m_document->scene().objects.size() &&
                              m_document->scene().objects[std::size_t(object())].material.element == BodyElement::Solid;
-        m_modeRows[m]->setText((element ? tr("Mode %1: %2 Hz, ζ %3 (node %4, viscous %5)") : tr("Mode %1: %2 Hz, ζ %3 (node %4, spring %5)"))
-                                   .arg(m + 1)
-                                   .arg(mode.frequencyHz, 0, 'f', 3)
-                                   .arg(mode.dampingRatio, 0, 'f', 3)
-                                   .arg(mode.nodeDampingRatio, 0, 'f', 3)
-                                   .arg(mode.springDampingRatio, 0, 'f', 3));
+        QString row = (element ? tr("Mode %1: %2 Hz, ζ %3 (node %4, viscous %5)") : tr("Mode %1: %2 Hz, ζ %3 (node %4, spring %5)"))
+                          .arg(m + 1)
+                          .arg(mode.frequencyHz, 0, 'f', 3)
+                          .arg(mode.dampingRatio, 0, 'f', 3)
+                          .arg(mode.nodeDampingRatio, 0, 'f', 3)
+                          .arg(mode.springDampingRatio, 0, 'f', 3);
+        // What the integrator adds shows where it differs from the material's by a visible amount.
+        if (m < clipDamping.size() && std::isfinite(clipDamping[m]) &&
+            std::abs(clipDamping[m] - mode.dampingRatio) > std::max(0.0005, 0.02 * mode.dampingRatio))
+            row += tr("; in the clip ζ %1").arg(clipDamping[m], 0, 'f', 3);
+        m_modeRows[m]->setText(row);
     }
     // A mode being shown follows its new shape (a painted edit changes it), or stops when it is gone.
     const int shown = m_viewport->shownMode();

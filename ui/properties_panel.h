@@ -39,7 +39,9 @@ private:
     /// the viewport is showing follows the new shape (or stops when it is gone).
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
     /// Shows `modes` in the rows (none: rows hidden).
-    void showModeRows(const std::vector<VibrationMode>& modes);
+    /// `clipDamping[m]`: the damping ratio mode m shows in the clip under the scene's integrator (the
+    /// material's and the scheme's together); NaN or absent where it was not worked out.
+    void showModeRows(const std::vector<VibrationMode>& modes, const std::vector<double>& clipDamping = {});
     /// Solves the current object's material as a converged solid and shows each mode's error (on demand:
     /// a tenth of a second, too slow for every paint dab; the next edit clears it).
     void compareWithSolid();

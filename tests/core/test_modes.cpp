@@ -167,8 +167,10 @@ private slots:
             for (int rate : {24, 60, 240})
                 QTest::newRow((std::string(integratorName(k)) + "/" + std::to_string(rate)).c_str()) << int(k) << rate;
     }
-    // The displayed per-period amplitude (physics and the scheme's numerical damping together) against
-    // the motion baked with that scheme and step, within one percentage point.
+    // The displayed per-period amplitude and damping ratio in the clip (physics and the scheme's numerical
+    // damping together) against the motion baked with that scheme and step: within one percentage point and
+    // 5%. The material's own ratio is not what the clip shows: implicit Euler at 24 steps/s damps this bar
+    // several times harder.
     void displayedAmplificationMatchesMeasuredDecay() {
         QFETCH(int, integrator);
         QFETCH(int, stepsPerSecond);
@@ -183,6 +185,9 @@ private slots:
               describeModeAccuracy(settings, mode, displayed).c_str(), 100.0 * measured.amplitudePerPeriod);
         QVERIFY(measured.oscillates && displayed.oscillates);
         QVERIFY(std::abs(measured.amplitudePerPeriod - displayed.amplitudePerPeriod) < 0.01);
+        qInfo("  clip damping ratio: displayed %.4f, measured %.4f; the material's %.4f", displayed.dampingRatio,
+              measured.dampingRatio, mode.dampingRatio);
+        QVERIFY(std::abs(displayed.dampingRatio / measured.dampingRatio - 1.0) < 0.05);
     }
 
     // The explicit schemes below their bound keep nearly all of a mode; implicit Euler loses more the
