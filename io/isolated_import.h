@@ -27,11 +27,12 @@ inline constexpr double kImportIdleSeconds = 10.0;
 inline constexpr double kImportMostSeconds = 120.0;
 
 /// Runs `produce` in a child process and returns the bytes it made. The child is stopped when it shows no
-/// sign of life for kImportIdleSeconds (an import hung in a lock or a loop), or runs past kImportMostSeconds.
+/// sign of life for `idleSeconds` (an import hung in a lock or a loop), or runs past kImportMostSeconds.
 /// A crash, a hang, an exception or another failure of the child is an error naming `name` and the cause
-/// ("cannot read mesh NAME: …"). Where no child can be started, `produce` runs in this process.
+/// ("cannot read mesh NAME: …"). Where no child can be started, `produce` runs in this process. Every
+/// import uses the default window; a test of the watchdog itself may give a shorter one.
 Result<std::string> runIsolated(const std::filesystem::path& path, const std::string& name,
-                                const std::function<std::string()>& produce);
+                                const std::function<std::string()>& produce, double idleSeconds = kImportIdleSeconds);
 
 /// Tells the parent that the import running in this child is making progress (one sample of an animation
 /// done), so a long, legitimate import is not taken for a hung one. Cheap enough to call often: it writes at

@@ -150,7 +150,7 @@ void reportImportProgress() {
 }
 
 Result<std::string> runIsolated(const std::filesystem::path& path, const std::string& name,
-                                const std::function<std::string()>& produce) {
+                                const std::function<std::string()>& produce, double idleSeconds) {
     int fds[2], errs[2], beats[2];
     if (::pipe2(fds, O_CLOEXEC) != 0)
         return produce();  // no pipe: read in this process rather than not at all
@@ -214,7 +214,7 @@ Result<std::string> runIsolated(const std::filesystem::path& path, const std::st
     std::error_code sizeError;
     const auto megabytes = std::filesystem::file_size(path, sizeError) >> 20;
     const auto perFile = std::chrono::milliseconds(100 * megabytes);
-    const auto idle = std::chrono::milliseconds(std::int64_t(kImportIdleSeconds * 1000)) + perFile;
+    const auto idle = std::chrono::milliseconds(std::int64_t(idleSeconds * 1000)) + perFile;
     const auto started = std::chrono::steady_clock::now();
     const auto mostUntil = started + std::chrono::milliseconds(std::int64_t(kImportMostSeconds * 1000)) + perFile;
     auto quietUntil = started + idle;
