@@ -186,6 +186,15 @@ public:
         animation.name = "clip";
         tinygltf::Scene scene;
         scene.nodes.push_back(0);
+        // The bones hang under one still root, so the joints have a common root (the Khronos validator's
+        // SKIN_NO_COMMON_ROOT is an error, and pipelines that gate on it reject the file) and an importer
+        // builds one armature. The root is the identity, so each bone's keys stay world transforms.
+        tinygltf::Node root;
+        root.name = "softtouch_skeleton";
+        model.nodes.push_back(root);
+        const int rootNode = int(model.nodes.size() - 1);
+        scene.nodes.push_back(rootNode);
+        gltfSkin.skeleton = rootNode;
         for (std::size_t j = 0; j < k; ++j) {
             std::vector<float> translation(3 * frames), rotation(4 * frames);
             Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
@@ -212,7 +221,7 @@ public:
             model.nodes.push_back(bone);
             const int node = int(model.nodes.size() - 1);
             gltfSkin.joints.push_back(node);
-            scene.nodes.push_back(node);
+            model.nodes[std::size_t(rootNode)].children.push_back(node);
             for (const auto& [path, values, components] :
                  {std::tuple<const char*, const std::vector<float>*, int>{"translation", &translation, 3},
                   {"rotation", &rotation, 4}}) {

@@ -47,11 +47,12 @@ if [ ${#missing[@]} -ne 0 ]; then
   "${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# three.js at the version web/package-lock.json pins, from npm's registry, into web/node_modules.
+# three.js for the preview page and the Khronos glTF validator for the tests, at the versions
+# web/package-lock.json pins, from npm's registry, into web/node_modules.
 cd "$(dirname "$0")/../web"
-want=$(sed -n 's/^ *"three": "\(.*\)"$/\1/p' package.json)
-have=$(sed -n 's/^ *"version": "\(.*\)",$/\1/p' node_modules/three/package.json 2>/dev/null || true)
-if [ "$want" != "$have" ]; then
-  echo "installing three.js $want for the preview page (npm ci in web/)"
+pinned() { sed -n "s/^ *\"$1\": \"\(.*\)\",\{0,1\}$/\1/p" package.json; }
+installed() { sed -n 's/^ *"version": "\(.*\)",\{0,1\}$/\1/p' "node_modules/$1/package.json" 2>/dev/null || true; }
+if [ "$(pinned three)" != "$(installed three)" ] || [ "$(pinned gltf-validator)" != "$(installed gltf-validator)" ]; then
+  echo "installing three.js $(pinned three) and gltf-validator $(pinned gltf-validator) (npm ci in web/)"
   npm ci --no-audit --no-fund --loglevel=error
 fi
