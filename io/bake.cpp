@@ -122,6 +122,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     setup.info.pointCount = rest.positions.size();
     setup.info.frameCount = std::size_t(frames);
     setup.info.fps = source.fps();
+    setup.loops = source.loopLength() > 0 && frames % source.loopLength() == 0;
     if (Status s = writer->begin(options.output, setup); !s)
         return s;
 

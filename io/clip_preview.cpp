@@ -96,9 +96,14 @@ Status readAnimationTiming(const tinygltf::Model& model, const fs::path& path, P
     if (input < 0 || input >= int(model.accessors.size()))
         return Status::error(path.string() + ": animation 0 has no key times");
     const auto& times = model.accessors[std::size_t(input)];
-    clip.frames = int(times.count);
+    const int keys = int(times.count);
     const double last = times.maxValues.empty() ? 0.0 : times.maxValues[0];
-    clip.fps = clip.frames > 1 && last > 0.0 ? std::round(1000.0 * double(clip.frames - 1) / last) / 1000.0 : 24.0;
+    clip.fps = keys > 1 && last > 0.0 ? std::round(1000.0 * double(keys - 1) / last) / 1000.0 : 24.0;
+    // A loop's closing key is frame 0 again, one frame on (ClipSetup::loops): not a frame of its own.
+    const tinygltf::Value& extras = model.animations[0].extras;
+    clip.closesLoop = keys > 1 && extras.IsObject() && extras.Has("loopClosingKey") && extras.Get("loopClosingKey").IsBool() &&
+                      extras.Get("loopClosingKey").Get<bool>();
+    clip.frames = clip.closesLoop ? keys - 1 : keys;
     if (clip.frames < 1 || !std::isfinite(clip.fps) || clip.fps <= 0.0)
         return Status::error(path.string() + ": animation 0 has no usable key times");
     return Status::success();
@@ -391,6 +396,7 @@ Result<std::string> buildPreviewPage(const PreviewClip& clip, const PreviewCamer
         {"frames", clip.frames},
         {"fps", clip.fps},
         {"loop", clip.loop},
+        {"closesLoop", clip.closesLoop},
         {"summary", clip.summary},
         {"camera",
          {{"eye", camera.eye},

@@ -36,6 +36,7 @@ struct PreviewClip {
     int frames = 0;                            ///< >= 1.
     double fps = 0.0;                          ///< > 0.
     bool loop = true;                          ///< Played in a loop.
+    bool closesLoop = false;                   ///< The animation has a closing key at frames / fps (= frame 0).
     std::string summary;                       ///< One line: "8 bones", "2 morph targets", ...
     std::string kindData;                      ///< JSON the player needs for VAT and lattice (else empty).
 };

@@ -35,6 +35,10 @@ struct ClipSetup {
     CacheInfo info;                   ///< Vertices per frame, frames, fps, start frame.
     Mesh restMesh;                    ///< All objects concatenated: positions, unit normals, triangles.
     std::vector<ClipObject> objects;  ///< In vertex order; their ranges tile restMesh.
+    /// The frames are whole cycles of a loop: frame frameCount is frame 0 again. Formats that key time (glTF)
+    /// close the loop with one more key at frameCount / fps holding frame 0, so a player that loops by the
+    /// animation's length goes from the last frame to the first in one frame's time, not in none.
+    bool loops = false;
 };
 
 /// One frame handed to a clip writer.

@@ -15,6 +15,7 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 }
 
 namespace softtouch::io::detail {
@@ -67,6 +68,9 @@ Status checkExportMemory(const std::filesystem::path& target, double bytes, cons
 /// Returns the accessor index.
 int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
                      bool vertexAttribute, bool bounds);
+/// The extras of an animation that closes a loop (ClipSetup::loops): `{"loopClosingKey": true}`, so a reader
+/// that counts keys as frames (the preview) knows the last key is frame 0 again, one frame on.
+tinygltf::Value loopClosingExtras();
 /// Appends `byteCount` bytes, already laid out as glTF wants them (little-endian), as a new buffer view (with
 /// `target` when non-zero; the buffer padded to 4 bytes after it) and an accessor of `count` elements of
 /// `componentType` and `type` over it; returns the accessor's index. The other accessor writers go through it.

@@ -36,6 +36,8 @@ public:
     double fps() const { return m_fps; }
     /// The clip played; empty for the drivers.
     const std::string& clipName() const { return m_clipName; }
+    /// Frames in one cycle of a loop clip; 0 for anything else.
+    int loopLength() const { return m_loop ? int(m_clipFrames.nodes.size()) : 0; }
     /// For a loop clip, its seam measured on the lattice nodes.
     const std::optional<SeamMeasure>& seam() const { return m_seam; }
     /// Objects, meshes and lattices.

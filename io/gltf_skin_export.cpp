@@ -178,12 +178,16 @@ public:
 
         // Per bone: translations and rotations at every frame, quaternions kept in one hemisphere so
         // that slerp between keys takes the short way.
-        std::vector<float> times(frames);
-        for (std::size_t f = 0; f < frames; ++f)
+        // Key f at f / fps; a loop closes with key `frames` = key 0 (ClipSetup::loops).
+        const std::size_t keys = frames + (m_setup.loops ? 1 : 0);
+        std::vector<float> times(keys);
+        for (std::size_t f = 0; f < keys; ++f)
             times[f] = float(double(f) / m_setup.info.fps);
-        const int timeAccessor = detail::addFloatAccessor(model, times.data(), frames, 1, false, true);
+        const int timeAccessor = detail::addFloatAccessor(model, times.data(), keys, 1, false, true);
         tinygltf::Animation animation;
         animation.name = "clip";
+        if (m_setup.loops)
+            animation.extras = detail::loopClosingExtras();
         tinygltf::Scene scene;
         scene.nodes.push_back(0);
         // The bones hang under one still root, so the joints have a common root (the Khronos validator's
@@ -196,10 +200,10 @@ public:
         scene.nodes.push_back(rootNode);
         gltfSkin.skeleton = rootNode;
         for (std::size_t j = 0; j < k; ++j) {
-            std::vector<float> translation(3 * frames), rotation(4 * frames);
+            std::vector<float> translation(3 * keys), rotation(4 * keys);
             Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
-            for (std::size_t f = 0; f < frames; ++f) {
-                const BoneTransform& t = skin.transforms[f][j];
+            for (std::size_t f = 0; f < keys; ++f) {
+                const BoneTransform& t = skin.transforms[f % frames][j];
                 Eigen::Quaterniond q(t.rotation);
                 q.normalize();
                 if (f > 0 && q.dot(previous) < 0.0)
@@ -227,7 +231,7 @@ public:
                   {"rotation", &rotation, 4}}) {
                 tinygltf::AnimationSampler sampler;
                 sampler.input = timeAccessor;
-                sampler.output = detail::addFloatAccessor(model, values->data(), frames, components, false, false);
+                sampler.output = detail::addFloatAccessor(model, values->data(), keys, components, false, false);
                 sampler.interpolation = "LINEAR";
                 animation.samplers.push_back(sampler);
                 tinygltf::AnimationChannel channel;

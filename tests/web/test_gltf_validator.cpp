@@ -16,6 +16,9 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include <tiny_gltf.h>
+
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -38,6 +41,8 @@ class TestGltfValidator : public QObject {
 private slots:
     void everyGlbKindPassesTheValidator_data();
     void everyGlbKindPassesTheValidator();
+    void loopClipsCloseOnTheirFirstFrame_data();
+    void loopClipsCloseOnTheirFirstFrame();
 };
 
 void TestGltfValidator::everyGlbKindPassesTheValidator_data() {
@@ -48,7 +53,7 @@ void TestGltfValidator::everyGlbKindPassesTheValidator_data() {
     QTest::addColumn<bool>("compressed");       // judge expandGlb() of it
     const QString fish = "angelfish-swim.softtouch";
     const QStringList swim{"--clip", "swim"};
-    QTest::newRow("morph") << fish << (swim + QStringList{"--format", "gltf"}) << "swim.glb" << "swim.glb" << false;
+    QTest::newRow("morph") << fish << (swim + QStringList{"--format", "glb"}) << "swim.glb" << "swim.glb" << false;
     QTest::newRow("pca") << fish << (swim + QStringList{"--format", "pca"}) << "swim.glb" << "swim.glb" << false;
     QTest::newRow("pca, compressed") << fish << (swim + QStringList{"--format", "pca", "--compress"}) << "swim.glb"
                                      << "swim.glb" << true;
@@ -102,6 +107,67 @@ void TestGltfValidator::everyGlbKindPassesTheValidator() {
             QVERIFY2(explained.contains("`" + code + "`"), qPrintable(code + " is not explained in docs/formats.md"));
     }
     QCOMPARE(report["errors"].toInt(), 0);
+}
+
+void TestGltfValidator::loopClipsCloseOnTheirFirstFrame_data() {
+    QTest::addColumn<QString>("format");
+    QTest::addColumn<QString>("frames");  // --frames: one cycle, two cycles, or part of one (no closing key)
+    QTest::addColumn<int>("keys");
+    QTest::newRow("morph, one cycle") << "glb" << "24" << 25;
+    QTest::newRow("pca, two cycles") << "pca" << "48" << 49;
+    QTest::newRow("skin, one cycle") << "skin" << "24" << 25;
+    QTest::newRow("skin, part of a cycle") << "skin" << "12" << 12;
+}
+
+// The swim is a 24-frame loop at 24 fps. A player that loops a glTF animation by its length used to go from
+// frame 23 (at 23/24 s, the last key) to frame 0 in no time; the export now closes a whole cycle with a key at
+// 24/24 s equal to frame 0, and says so in the animation's extras. Part of a cycle gets no such key.
+void TestGltfValidator::loopClipsCloseOnTheirFirstFrame() {
+    QFETCH(QString, format);
+    QFETCH(QString, frames);
+    QFETCH(int, keys);
+    QTemporaryDir dir;
+    const QString out = dir.filePath("swim.glb");
+    const auto baked = runCli({"bake", kSource + "/presets/scenes/angelfish-swim.softtouch", "--clip", "swim", "--format",
+                               format, "--frames", frames, "--out", out, "--quiet"});
+    QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error, warning;
+    QVERIFY2(loader.LoadBinaryFromFile(&model, &error, &warning, out.toStdString()), error.c_str());
+    QCOMPARE(model.animations.size(), std::size_t(1));
+    const tinygltf::Animation& animation = model.animations[0];
+    const bool closes = keys > frames.toInt();
+    QCOMPARE(animation.extras.Has("loopClosingKey"), closes);
+    const auto floats = [&](int accessor) {
+        const tinygltf::Accessor& a = model.accessors.at(std::size_t(accessor));
+        const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(a.bufferView));
+        std::vector<float> values(a.count * std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(a.type))));
+        std::memcpy(values.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + a.byteOffset,
+                    values.size() * sizeof(float));
+        return values;
+    };
+    for (const tinygltf::AnimationSampler& sampler : animation.samplers) {
+        const std::vector<float> times = floats(sampler.input);
+        QCOMPARE(int(times.size()), keys);
+        QVERIFY2(std::abs(double(times.back()) - double(keys - 1) / 24.0) < 1e-6, qPrintable(QString::number(times.back())));
+        const std::vector<float> values = floats(sampler.output);
+        const std::size_t row = values.size() / times.size();
+        if (closes)  // the closing key is frame 0 exactly
+            QVERIFY(std::equal(values.end() - std::ptrdiff_t(row), values.end(), values.begin()) ||
+                    format == "skin");  // a bone's quaternion may be the other hemisphere's: checked below
+    }
+    if (closes && format == "skin")  // every bone's closing rotation is frame 0's, up to sign
+        for (const tinygltf::AnimationChannel& channel : animation.channels) {
+            const std::vector<float> values = floats(animation.samplers[std::size_t(channel.sampler)].output);
+            const std::size_t row = channel.target_path == "rotation" ? 4 : 3;
+            double dot = 0.0, first = 0.0;
+            for (std::size_t c = 0; c < row; ++c) {
+                dot += double(values[values.size() - row + c]) * double(values[c]);
+                first += double(values[c]) * double(values[c]);
+            }
+            QVERIFY2(std::abs(std::abs(dot) - first) < 1e-6, qPrintable(QString::fromStdString(channel.target_path)));
+        }
 }
 
 QTEST_GUILESS_MAIN(TestGltfValidator)
