@@ -7,9 +7,9 @@
 //   vat:            the shipped io/shaders/vat_deform.glsl on the EXR textures
 //   lattice:        the shipped io/shaders/lattice_deform.glsl, its WebGL 2 form (LATTICE_NODE_TEXTURE)
 //
-// Address options (after '#', joined by '&'): frame=N shows frame N and stops; size=WxH draws at that
-// size; matte draws a white silhouette on black; readback then writes the canvas as a PNG data URL into <pre id="readback"> and
-// the page's title becomes "ready" (tests/web/test_preview.cpp reads it with headless Chromium).
+// Address options (after '#', joined by '&'): frame=N shows frame N and stops; until=T plays from the
+// start and stops on the frame reached T seconds in (tick=S: S seconds a step on a timer, not the clock); size=WxH draws at that size; matte draws a white silhouette on black; readback then writes the canvas as a PNG data URL into <pre id="readback"> and
+// the page's title becomes "ready" once the frame is drawn (tests/web/test_preview.cpp reads it with headless Chromium).
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -20,6 +20,8 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 const clip = JSON.parse(document.getElementById('softtouch-clip').textContent);
 const options = new URLSearchParams(location.hash.slice(1));
 const stillFrame = options.has('frame') ? Math.max(0, Math.min(clip.frames - 1, parseInt(options.get('frame'), 10) || 0)) : -1;
+const playUntil = options.has('until') ? Math.max(0, Number(options.get('until')) || 0) : -1;
+const tick = options.has('tick') ? Math.max(0, Number(options.get('tick')) || 0) : 0;
 const matte = options.has('matte');
 const readback = options.has('readback');
 // size=WxH draws at that size whatever the window (a headless browser's window includes its frame).
@@ -124,13 +126,22 @@ async function loadAnimatedGltf() {
         }
     });
     const mixer = new THREE.AnimationMixer(gltf.scene);
-    if (gltf.animations.length) {
-        const action = mixer.clipAction(gltf.animations[0]);
-        action.setLoop(THREE.LoopOnce);
+    const action = gltf.animations.length ? mixer.clipAction(gltf.animations[0]) : null;
+    if (action) {
+        action.setLoop(THREE.LoopOnce);  // the page loops and clamps the time itself
         action.clampWhenFinished = true;
         action.play();
     }
-    return { root: gltf.scene, show: (time) => mixer.setTime(time) };
+    // An action that reached its end once is paused by three.js (clampWhenFinished) and setTime alone does not
+    // wake it: the clip stood on one frame while the label went on.
+    const show = (time) => {
+        if (action) {
+            action.paused = false;
+            action.enabled = true;
+        }
+        mixer.setTime(time);
+    };
+    return { root: gltf.scene, show };
 }
 
 async function loadVat() {
@@ -222,7 +233,7 @@ async function loadLattice() {
 }
 
 async function main() {
-    const renderer = new THREE.WebGLRenderer({ antialias: stillFrame < 0, preserveDrawingBuffer: readback });
+    const renderer = new THREE.WebGLRenderer({ antialias: stillFrame < 0 && playUntil < 0, preserveDrawingBuffer: readback });
     renderer.setPixelRatio(stillFrame < 0 ? window.devicePixelRatio : 1);
     renderer.setSize(viewWidth(), viewHeight());
     document.getElementById('view').appendChild(renderer.domElement);
@@ -256,12 +267,14 @@ async function main() {
     const label = document.getElementById('label');
     const play = document.getElementById('play');
     slider.max = String(clip.frames - 1);
-    const duration = Math.max(clip.frames - 1, 1) / clip.fps;
+    // A glTF loop's closing key is frame 0 again at frames / fps: the cycle plays through it, one frame's time
+    // from the last frame to the first. Other clips end on their last frame.
+    const duration = clip.closesLoop ? clip.frames / clip.fps : Math.max(clip.frames - 1, 1) / clip.fps;
     let time = stillFrame >= 0 ? stillFrame / clip.fps : 0;
     let playing = stillFrame < 0;
     const show = () => {
         player.show(time);
-        const frame = Math.round(time * clip.fps);
+        const frame = Math.round(time * clip.fps) % clip.frames;
         slider.value = String(frame);
         label.textContent = 'frame ' + frame + ' of ' + clip.frames + ' · ' + clip.fps + ' fps · ' + clip.summary;
         play.textContent = playing ? 'Pause' : 'Play';
@@ -292,14 +305,38 @@ async function main() {
         document.title = 'ready';
         return;
     }
-    let last = performance.now();
-    renderer.setAnimationLoop((now) => {
-        const dt = (now - last) / 1000;
-        last = now;
+    // One step of playback by dt seconds.
+    let timer = 0;
+    let elapsed = 0;  // seconds played, through any number of loops
+    const advance = (dt) => {
         if (!playing) return;
         time += dt;
+        elapsed += dt;
         if (time > duration) time = clip.loop ? time % duration : duration;
+        if (playUntil >= 0 && elapsed >= playUntil) {
+            // until=T: play, then stop on the frame the time has reached and hand the picture over.
+            playing = false;
+            time = Math.round(time * clip.fps) / clip.fps;
+            show();
+            renderer.setAnimationLoop(null);
+            clearInterval(timer);
+            if (readback) document.getElementById('readback').textContent = renderer.domElement.toDataURL('image/png');
+            document.title = 'ready';
+            return;
+        }
         show();
+    };
+    if (tick > 0) {
+        // tick=S: S seconds a step, on a timer (a headless browser draws few animation frames but keeps its timers).
+        timer = setInterval(() => advance(tick), 1000 * tick);
+        return;
+    }
+    let last = performance.now();
+    renderer.setAnimationLoop((now) => {
+        // A frame's timestamp can come before the performance.now() read above: never a step backwards.
+        const dt = Math.max(0, (now - last) / 1000);
+        last = now;
+        advance(dt);
     });
 }
 

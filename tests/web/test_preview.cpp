@@ -280,6 +280,36 @@ private slots:
             QVERIFY2(std::abs(best - frame) <= 1, qPrintable(QString("best match %1").arg(best)));
             QVERIFY(overlap[0] < overlap[std::size_t(frame)] - 0.1);
         }
+        // Played, not only still: the page plays from the start, a 60th of a second a step (a headless browser's
+        // clock does not keep time), and stops 0.4 s in, then 1.3 s in, past the end of the one-second loop. The stops show different frames, each the frame its label names: the glTF
+        // pages used to stand still once three.js had paused the action at the clip's end (or at a negative
+        // first step), while the label went on.
+        std::vector<int> played;
+        for (const double until : {0.4, 1.3}) {
+            const QString dom = openPage(folder + "/page/index.html", QString("until=%1&tick=%2&size=%3x%4&matte&readback")
+                                                                          .arg(until)
+                                                                          .arg(1.0 / 60.0)
+                                                                          .arg(kWidth)
+                                                                          .arg(kHeight));
+            QVERIFY2(dom.contains("<title>ready</title>"), qPrintable(dom.left(2000)));
+            const auto label = QRegularExpression("frame (\\d+) of 24").match(dom);
+            QVERIFY2(label.hasMatch(), "the page named no frame");
+            const int frame = label.captured(1).toInt();
+            QVERIFY2(frame >= 1 && frame < kRenderedFrames, qPrintable(label.captured(0)));
+            const auto data = QRegularExpression("data:image/png;base64,([A-Za-z0-9+/=]+)").match(dom);
+            QVERIFY2(data.hasMatch(), "the page wrote no picture");
+            const Mask page = matteMask(QImage::fromData(QByteArray::fromBase64(data.captured(1).toLatin1()), "PNG"));
+            std::vector<double> overlap;
+            for (const Mask& rendered : m_rendered)
+                overlap.push_back(intersectionOverUnion(page, rendered));
+            const int best = int(std::max_element(overlap.begin(), overlap.end()) - overlap.begin());
+            qInfo("%s played to %.1f s: label frame %d, overlap with its render %.4f, best match frame %d", qPrintable(format),
+                  until, frame, overlap[std::size_t(frame)], best);
+            QVERIFY2(overlap[std::size_t(frame)] >= minimumOverlap, qPrintable(QString::number(overlap[std::size_t(frame)])));
+            QVERIFY2(std::abs(best - frame) <= 1, qPrintable(QString("best match %1").arg(best)));
+            played.push_back(frame);
+        }
+        QVERIFY2(played[0] != played[1], qPrintable(QString("frames %1 and %2").arg(played[0]).arg(played[1])));
     }
 
     // Every module the page imports is in its import map, under the name it is imported by: a relative
