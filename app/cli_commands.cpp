@@ -151,6 +151,15 @@ int runBake(const std::vector<std::string>& args) {
         return fail(project.message());
     options.clips = &project->clips;
     options.clip = clipName;
+    std::filesystem::path madeFolder;
+    if (const std::string problem = makeOutputFolders(outPath, madeFolder); !problem.empty())
+        return fail(problem);
+    // A failed bake takes away the folders it made for its output.
+    struct Tidy {
+        const std::filesystem::path& made;
+        bool done = false;
+        ~Tidy() { if (!done) removeEmptyFolders(made); }
+    } tidy{madeFolder};
     if (eachObject) {
         auto results = io::bakeEachObject(project->scene, options);
         if (!results)
@@ -158,11 +167,13 @@ int runBake(const std::vector<std::string>& args) {
         for (const io::BakeResult& r : results.value())
             std::printf("wrote %s (%s, %d frames, %zu points), rest mesh %s\n", r.cache.string().c_str(),
                         std::string(format->name).c_str(), r.frames, r.points, r.restMesh.string().c_str());
+        tidy.done = true;
         return 0;
     }
     auto result = io::bake(project->scene, options);
     if (!result)
         return fail(result.message());
+    tidy.done = true;
     const std::size_t shown = std::min<std::size_t>(result->warnings.size(), 5);
     for (std::size_t i = 0; i < shown; ++i)
         std::fprintf(stderr, "softtouch-cli: warning: %s\n", result->warnings[i].c_str());

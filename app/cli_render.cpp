@@ -80,9 +80,14 @@ int runRender(const std::vector<std::string>& args) {
                 std::fprintf(stderr, "\rrendering frame %d/%d%s", done, total, done == total ? "\n" : "");
             return true;
         };
+    std::filesystem::path madeFolder;
+    if (const std::string problem = makeOutputFolders(outPath, madeFolder); !problem.empty())
+        return fail(problem);
     auto rendered = render::renderVideo(project->scene, options);
-    if (!rendered)
+    if (!rendered) {
+        removeEmptyFolders(madeFolder);  // a failed render leaves no folder it made behind
         return fail(rendered.message());
+    }
     const std::size_t shown = std::min<std::size_t>(rendered->warnings.size(), 5);
     for (std::size_t i = 0; i < shown; ++i)
         std::fprintf(stderr, "softtouch-cli: warning: %s\n", rendered->warnings[i].c_str());

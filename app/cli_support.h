@@ -42,6 +42,43 @@ inline void printWritten(std::span<const std::filesystem::path> files) {
         std::printf("wrote %s\n", file.c_str());
 }
 
+/// Creates the folders an output path needs, as someone asking for `new/dir/fish.pc2` expects: its parent, or the
+/// path itself when it names a folder (ends in '/'). Returns an error message (empty on success) and sets
+/// `made` to the topmost folder it created (empty when all were there), which removeEmptyFolders() takes
+/// away again after a failed command.
+inline std::string makeOutputFolders(const std::string& out, std::filesystem::path& made) {
+    namespace fs = std::filesystem;
+    made.clear();
+    const fs::path target = fs::path(out);
+    fs::path folder = !out.empty() && out.back() == '/' ? target : target.parent_path();
+    if (folder.empty())
+        return {};
+    std::error_code error;
+    for (fs::path p = folder; !p.empty() && !fs::exists(p, error); p = p.parent_path()) {
+        made = p;
+        if (p == p.parent_path())
+            break;
+    }
+    if (made.empty())
+        return {};
+    if (!fs::create_directories(folder, error) && error)
+        return "cannot create the folder '" + folder.string() + "' for '" + out + "': " + error.message();
+    return {};
+}
+
+/// Removes `made` (from makeOutputFolders()) when nothing but folders is inside it: a failed command leaves
+/// no empty folders behind.
+inline void removeEmptyFolders(const std::filesystem::path& made) {
+    namespace fs = std::filesystem;
+    if (made.empty())
+        return;
+    std::error_code error;
+    for (fs::recursive_directory_iterator it(made, error), end; !error && it != end; it.increment(error))
+        if (!it->is_directory(error))
+            return;
+    fs::remove_all(made, error);
+}
+
 /// A finite number spelled exactly by `text` (no trailing characters), or nothing.
 inline std::optional<double> parseNumber(const std::string& text) {
     double value = 0.0;

@@ -48,6 +48,7 @@ private slots:
     void pngSequenceHasFramesOfSize();
     void badInputFailsWithoutPartialFiles_data();
     void badInputFailsWithoutPartialFiles();
+    void missingOutputFoldersAreMade();
     void modePicturesShowEachShape();
     void baseAnimationIsDrawn();
 };
@@ -102,7 +103,6 @@ void TestCliRender::badInputFailsWithoutPartialFiles_data() {
     QTest::newRow("size without height") << "old.mp4" << "100x" << "--size: expects WIDTHxHEIGHT" << 2;
     QTest::newRow("size too small") << "old.mp4" << "8x8" << "--size: expects WIDTHxHEIGHT" << 2;
     QTest::newRow("odd size for yuv420p") << "old.mp4" << "161x96" << "even width and height" << 2;  // a usage error, as 0x0 is
-    QTest::newRow("missing directory") << "missing/out.mp4" << "160x96" << "missing" << 1;
     QTest::newRow("parent is a file") << "old.mp4/out.gif" << "160x96" << "old.mp4" << 1;
 }
 
@@ -123,6 +123,23 @@ void TestCliRender::badInputFailsWithoutPartialFiles() {
     QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::NoDotAndDotDot), QStringList{"old.mp4"});
     QVERIFY(old.open(QIODevice::ReadOnly));
     QCOMPARE(old.readAll(), QByteArray("previous render"));
+}
+
+// `bake --out new/dir/fish.pc2` and `render --out new/dir/fish.mp4` make the folders, as a pipeline expects
+// (they used to fail: "No such file or directory"); a command that fails after making them takes them away.
+void TestCliRender::missingOutputFoldersAreMade() {
+    QTemporaryDir dir;
+    const Run render = runCli({"render", kScene, "--out", dir.filePath("shots/a/fish.mp4"), "--size", "160x96", "--frames",
+                               "2", "--quiet"});
+    QVERIFY2(render.exitCode == 0, qPrintable(render.err));
+    QVERIFY(QFileInfo(dir.filePath("shots/a/fish.mp4")).size() > 0);
+    const Run bake = runCli({"bake", kScene, "--out", dir.filePath("caches/b/fish.pc2"), "--frames", "2", "--quiet"});
+    QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
+    QVERIFY(QFileInfo(dir.filePath("caches/b/fish.pc2")).size() > 0);
+    const Run failed = runCli({"bake", kScene, "--clip", "no-such-clip", "--out", dir.filePath("gone/c/fish.pc2"), "--quiet"});
+    QCOMPARE(failed.exitCode, 1);
+    QVERIFY2(failed.err.contains("no-such-clip"), qPrintable(failed.err));
+    QVERIFY(!QFileInfo::exists(dir.filePath("gone")));
 }
 
 // A body on its base animation is drawn as its rig moves it: half a swim cycle apart the rigged guppy's
