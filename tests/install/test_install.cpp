@@ -4,6 +4,7 @@
 // starts softtouch-bench for a measurement, and the editor opens its installed default scene (a
 // screenshot) — nothing read from the source or build tree.
 #include <QDir>
+#include <QDirIterator>
 #include <QFile>
 #include <QImage>
 #include <QProcess>
@@ -107,6 +108,18 @@ void TestInstall::installedBuildRunsOnItsOwn() {
     QVERIFY2(modes.exitCode == 0 && modes.text.contains("Hz"), qPrintable(modes.text));
     // The preview page from the installed player, three.js modules and shaders.
     QVERIFY(QFile::exists(share + "/web/preview.js") && QFile::exists(share + "/web/node_modules/three/build/three.module.js"));
+    // Only the modules the page embeds (the whole three.js package was 572 files, 10 MB), and Debian's copyright
+    // file with three.js's licence beside SoftTouch's terms.
+    int threeFiles = 0;
+    for (QDirIterator it(share + "/web/node_modules/three", QDir::Files, QDirIterator::Subdirectories); it.hasNext(); it.next())
+        ++threeFiles;
+    QVERIFY2(threeFiles <= 12, qPrintable(QString::number(threeFiles)));
+    QFile copyright(prefix + "/share/doc/softtouch/copyright");
+    QVERIFY(copyright.open(QIODevice::ReadOnly));
+    const QString terms = QString::fromUtf8(copyright.readAll());
+    QVERIFY2(terms.contains("Files: usr/share/softtouch/web/node_modules/three/*") && terms.contains("License: MIT") &&
+                 terms.contains(" Permission is hereby granted"),
+             qPrintable(terms));
     const Output lattice = run(cli, {"bake", share + "/presets/scenes/guppy-swim.softtouch", "--out", "guppy", "--format", "lattice",
                                      "--frames", "4", "--quiet"},
                                work);
