@@ -19,6 +19,7 @@
 #include <tiny_gltf.h>
 
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -43,6 +44,8 @@ private slots:
     void everyGlbKindPassesTheValidator();
     void loopClipsCloseOnTheirFirstFrame_data();
     void loopClipsCloseOnTheirFirstFrame();
+    void threeJsLoopsThemByLengthWithoutAJump_data();
+    void threeJsLoopsThemByLengthWithoutAJump();
 };
 
 void TestGltfValidator::everyGlbKindPassesTheValidator_data() {
@@ -168,6 +171,53 @@ void TestGltfValidator::loopClipsCloseOnTheirFirstFrame() {
             }
             QVERIFY2(std::abs(std::abs(dot) - first) < 1e-6, qPrintable(QString::fromStdString(channel.target_path)));
         }
+}
+
+void TestGltfValidator::threeJsLoopsThemByLengthWithoutAJump_data() {
+    QTest::addColumn<QStringList>("bake");
+    QTest::newRow("morph") << QStringList{"--format", "glb"};
+    QTest::newRow("pca") << QStringList{"--format", "pca"};
+    QTest::newRow("skin") << QStringList{"--format", "skin"};
+    QTest::newRow("skin, compressed") << QStringList{"--format", "skin", "--compress"};
+}
+
+// The swim played by three.js as a game plays it (loop_by_length.mjs: a mixer looping by the clip's length,
+// vertices skinned and morphed on the CPU): one cycle is 24 distinct frames and one second, the frame one
+// cycle on is the first, and the step across the seam is like the others (the clip's own seam is 0.3x the
+// median on its lattice nodes). Before the closing key the length was 23/24 s: 23 frames a cycle, frame 23
+// never shown, and the step from frame 22 to frame 0 at the seam.
+void TestGltfValidator::threeJsLoopsThemByLengthWithoutAJump() {
+    QFETCH(QStringList, bake);
+    const QString node = QStandardPaths::findExecutable("node");
+    if (node.isEmpty() || !QFile::exists(kNodeModules + "/three/package.json"))
+        QSKIP("glTF validator test skipped: node or web/node_modules/three is missing (scripts/install-deps.sh installs both)");
+    QTemporaryDir dir;
+    const QString out = dir.filePath("swim.glb");
+    const auto baked = runCli(QStringList{"bake", kSource + "/presets/scenes/angelfish-swim.softtouch", "--clip", "swim"} + bake +
+                              QStringList{"--out", out, "--quiet"});
+    QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+    QProcess player;
+    player.start(node, {kSource + "/tests/web/loop_by_length.mjs", kNodeModules, out, "24"});
+    QVERIFY(player.waitForFinished(120000));
+    const QByteArray printed = player.readAllStandardOutput();
+    QVERIFY2(player.exitCode() == 0, player.readAllStandardError().constData());
+    const QJsonObject played = QJsonDocument::fromJson(printed).object();
+    std::vector<double> steps;
+    for (const QJsonValue& v : played["steps"].toArray())
+        steps.push_back(v.toDouble());
+    QCOMPARE(played["frames"].toInt(), 24);
+    QVERIFY2(std::abs(played["duration"].toDouble() - 1.0) < 1e-6, printed.constData());
+    QCOMPARE(int(steps.size()), 48);
+    std::vector<double> sorted = steps;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const double seam = steps[23];  // frame 23 to frame 24, which is frame 0 again
+    qInfo("one cycle: %d frames in %.4f s; step across the seam %.3g m, median step %.3g m, smallest %.3g m; frame 24 is "
+          "frame 0 within %.3g m",
+          played["frames"].toInt(), played["duration"].toDouble(), seam, median, sorted.front(), played["cycle"].toDouble());
+    QVERIFY2(sorted.front() > 0.0, "two frames in a row are the same frame");
+    QVERIFY2(seam <= 1.5 * median, qPrintable(QString("seam %1 against median %2").arg(seam).arg(median)));
+    QVERIFY2(played["cycle"].toDouble() < 1e-5, printed.constData());
 }
 
 QTEST_GUILESS_MAIN(TestGltfValidator)
