@@ -1,4 +1,5 @@
 #include "core/simulator.h"
+#include "core/mesh.h"
 #include "core/strain_limits.h"
 
 #include "core/ranges.h"
@@ -7,7 +8,7 @@
 #include <cassert>
 
 #include <cmath>
-#include <limits>
+#include <numeric>
 #include <sstream>
 
 namespace softtouch {
@@ -48,15 +49,8 @@ Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSet
     if (accountsEnergy()) {
         // The energy of the stiffest motion at a millionth of the body's size: growth of a few percent of
         // that is round-off, invisible in any frame (1e-7 m on a 0.3 m fish), and is not energy from nowhere.
-        Vec3 low = Vec3::Constant(std::numeric_limits<double>::max()), high = -low;
-        double mass = 0.0;
-        for (std::size_t i = 0; i < m_model->nodeCount(); ++i) {
-            low = low.cwiseMin(m_model->restPositions[i]);
-            high = high.cwiseMax(m_model->restPositions[i]);
-            mass += m_model->mass[i];
-        }
-        const double size = m_model->nodeCount() > 0 ? (high - low).norm() : 0.0;
-        const double motion = 1e-6 * size;
+        const double mass = std::accumulate(m_model->mass.begin(), m_model->mass.end(), 0.0);
+        const double motion = 1e-6 * boundsOf(m_model->restPositions).diagonal();
         m_noiseEnergy = std::max(0.5 * mass * m_model->maxStiffnessOverMass() * motion * motion, 1e-12);
         m_tracker.reset(*m_model);
         trackStiffness(kFreshIterations);
@@ -64,22 +58,14 @@ Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSet
     resetEnergyAccount({});
 }
 
-void Simulator::restoreState(const BodyState& state) {
-    m_state = state;
-    m_sleeping = false;
-    m_quietSteps = 0;
+void Simulator::restoreState(const BodyState& state) { restoreState(state, m_stepCount); }
+
+void Simulator::restoreState(const BodyState& state, long long stepCount) {
+    // A new run: what the guard learnt about the old one goes (rewind() keeps it).
     m_guardFactor = 1;
     m_stopped.clear();
     m_peakScale = 0.0;
-    trackStiffness(kFreshIterations);
-    resetEnergyAccount({});
-}
-
-void Simulator::restoreState(const BodyState& state, long long stepCount) {
-    assert(stepCount >= 0);
-    restoreState(state);
-    m_stepCount = stepCount;
-    m_lastGoodStep = stepCount;
+    rewind(state, stepCount);
 }
 
 void Simulator::trackStiffness(int iterations) {
@@ -232,10 +218,9 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, 
     // negative only where a mode past its bound flips sign every substep, and the damping force, a substep
     // late, pumps it. The account would take that pumping for energy that left and see no growth.
     const double pumped = m_dissipatedAtCheck - m_account.dissipated;
-    const bool unstable = edgeShare > edgeLimit || pumped > m_settings.energyTolerance * scale;
+    const bool pumping = pumped > m_settings.energyTolerance * scale;
+    const bool unstable = edgeShare > edgeLimit || pumping;
     if (!grew && !unstable) {
-        if (regular)
-            m_dissipatedAtCheck = m_account.dissipated;
         if (!regular) {
             // A settle: the state is accepted (a rollback never goes before it) but the regular checks'
             // cadence, the stiffness tracking and the account go on as if it had not run, so where a caller
@@ -244,6 +229,7 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, 
             m_lastGoodStep = m_stepCount;
             return true;
         }
+        m_dissipatedAtCheck = m_account.dissipated;
         checkpoint();
         // The bound follows the state: a stiffer state takes more substeps from the next step on.
         trackStiffness(kCheckIterations);
@@ -271,8 +257,9 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, 
             << " with nothing doing that work (";
     else
         msg << "unstable motion in " << lost << (lost == 1 ? " step" : " steps") << " (the fastest motion outran the step: "
-            << (pumped > m_settings.energyTolerance * scale ? "damping a substep late fed it " + std::to_string(int(std::lround(100.0 * pumped / scale))) + "% of the body's energy; "
-                                                             : std::to_string(int(std::lround(100.0 * edgeShare))) + "% of its energy in the step's (h/2)v·f term; ");
+            << (pumping ? "damping a substep late fed it " + std::to_string(int(std::lround(100.0 * pumped / scale))) +
+                              "% of the body's energy; "
+                        : std::to_string(int(std::lround(100.0 * edgeShare))) + "% of its energy in the step's (h/2)v·f term; ");
     msg << integratorName(m_settings.integrator) << ", " << substepsFor(external) << " substeps a step)";
     rollBack(external, msg.str(), report);
     return false;
