@@ -139,8 +139,11 @@ Status SessionPlayer::start(SceneSimulation& sim, const Session& session) {
     for (std::size_t e = 0; e < session.events.size(); ++e)
         m_eventsOf[session.events[e].object].push_back(e);
     sim.restoreSnapshot(session.start);
-    for (std::size_t i = 0; i < sim.objectCount(); ++i)
-        sim.setInteractiveDrags(i, dragsAt(i, session.start.step));
+    m_applied.assign(sim.objectCount(), nullptr);
+    for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+        m_applied[i] = &dragsAt(i, session.start.step);
+        sim.setInteractiveDrags(i, *m_applied[i]);
+    }
     return Status::success();
 }
 
@@ -156,10 +159,14 @@ const std::vector<DragSpring>& SessionPlayer::dragsAt(std::size_t object, long l
     return m_session->startDrags.empty() ? kNone : m_session->startDrags[object];
 }
 
-SceneSimulation::StepInputs SessionPlayer::inputs() const {
+SceneSimulation::StepInputs SessionPlayer::inputs() {
     assert(m_session);
     return [this](SceneSimulation& sim, std::size_t object, long long step) {
-        sim.setInteractiveDrags(object, dragsAt(object, step));
+        const std::vector<DragSpring>& drags = dragsAt(object, step);
+        if (&drags == m_applied[object])
+            return;
+        m_applied[object] = &drags;
+        sim.setInteractiveDrags(object, drags);
     };
 }
 

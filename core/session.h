@@ -82,8 +82,9 @@ public:
     /// SceneSimulation::advanceTo); never past the session's end.
     void advanceTo(SceneSimulation& sim, double seconds, std::vector<std::string>* problems = nullptr);
     /// The recorded drags as per-step inputs (SceneSimulation::StepInputs): what advanceTo steps with,
-    /// for a caller that samples between steps (advanceToSample). Past the end the last drags hold.
-    SceneSimulation::StepInputs inputs() const;
+    /// for a caller that samples between steps (advanceToSample). Past the end the last drags hold. The
+    /// player must outlive them.
+    SceneSimulation::StepInputs inputs();
 
 private:
     /// Object o's drags in force at `step`: its last event at or before it, or its start drags.
@@ -91,6 +92,9 @@ private:
 
     const Session* m_session = nullptr;
     std::vector<std::vector<std::size_t>> m_eventsOf;  ///< Per object, its events' indices in step order.
+    /// Per object, the drags last handed to the simulation (one of the session's lists): a step whose drags
+    /// are the same list sets nothing, as when the player applied events only.
+    std::vector<const std::vector<DragSpring>*> m_applied;
 };
 
 /// Replays the whole session: restores its start and calls `onStep(step)` after every step (the
