@@ -15,7 +15,7 @@
 
 namespace tinygltf {
 class Model;
-class Value;
+struct Animation;
 }
 
 namespace softtouch::io::detail {
@@ -68,9 +68,13 @@ Status checkExportMemory(const std::filesystem::path& target, double bytes, cons
 /// Returns the accessor index.
 int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
                      bool vertexAttribute, bool bounds);
-/// The extras of an animation that closes a loop (ClipSetup::loops): `{"loopClosingKey": true}`, so a reader
-/// that counts keys as frames (the preview) knows the last key is frame 0 again, one frame on.
-tinygltf::Value loopClosingExtras();
+/// Keys of a clip's animation: one per frame, and one more closing a loop (ClipSetup::loops) at
+/// frameCount / fps, which holds frame `key % frameCount`.
+inline std::size_t animationKeys(const ClipSetup& setup) { return setup.info.frameCount + (setup.loops ? 1 : 0); }
+/// Appends the key times, key f at f / fps (animationKeys() of them), as an animation input accessor, and
+/// marks `animation` when the last key closes a loop (`"extras": {"loopClosingKey": true}`, so a reader that
+/// counts keys as frames, the preview, knows it is frame 0 again, one frame on). Returns the accessor.
+int addKeyTimes(tinygltf::Model& model, const ClipSetup& setup, tinygltf::Animation& animation);
 /// Appends `byteCount` bytes, already laid out as glTF wants them (little-endian), as a new buffer view (with
 /// `target` when non-zero; the buffer padded to 4 bytes after it) and an accessor of `count` elements of
 /// `componentType` and `type` over it; returns the accessor's index. The other accessor writers go through it.

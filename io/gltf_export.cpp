@@ -61,10 +61,17 @@ int addRawAccessor(tinygltf::Model& model, const void* bytes, std::size_t byteCo
     return int(model.accessors.size() - 1);
 }
 
-tinygltf::Value loopClosingExtras() {
-    tinygltf::Value::Object extras;
-    extras["loopClosingKey"] = tinygltf::Value(true);
-    return tinygltf::Value(extras);
+int addKeyTimes(tinygltf::Model& model, const ClipSetup& setup, tinygltf::Animation& animation) {
+    const std::size_t keys = animationKeys(setup);
+    std::vector<float> times(keys);
+    for (std::size_t f = 0; f < keys; ++f)
+        times[f] = float(double(f) / setup.info.fps);
+    if (setup.loops) {
+        tinygltf::Value::Object extras;
+        extras["loopClosingKey"] = tinygltf::Value(true);
+        animation.extras = tinygltf::Value(extras);
+    }
+    return addFloatAccessor(model, times.data(), keys, 1, false, true);
 }
 
 int addFloatAccessor(tinygltf::Model& model, const float* values, std::size_t count, int components,
@@ -305,20 +312,14 @@ public:
 
         // Key f at f / fps; a loop closes with key `frames` = key 0 (ClipSetup::loops).
         warnAboutTargets(weights, targets);
-        const std::size_t keys = frames + (m_setup.loops ? 1 : 0);
-        std::vector<float> times(keys);
-        for (std::size_t f = 0; f < keys; ++f)
-            times[f] = float(double(f) / m_setup.info.fps);
         if (m_setup.loops)
             weights.insert(weights.end(), weights.begin(), weights.begin() + std::ptrdiff_t(targets));
-        tinygltf::AnimationSampler sampler;
-        sampler.input = detail::addFloatAccessor(*m_model, times.data(), keys, 1, false, true);
-        sampler.output = detail::addFloatAccessor(*m_model, weights.data(), weights.size(), 1, false, false);
-        sampler.interpolation = m_options.gltfLinear ? "LINEAR" : "STEP";
         tinygltf::Animation animation;
         animation.name = "clip";
-        if (m_setup.loops)
-            animation.extras = detail::loopClosingExtras();
+        tinygltf::AnimationSampler sampler;
+        sampler.input = detail::addKeyTimes(*m_model, m_setup, animation);
+        sampler.output = detail::addFloatAccessor(*m_model, weights.data(), weights.size(), 1, false, false);
+        sampler.interpolation = m_options.gltfLinear ? "LINEAR" : "STEP";
         animation.samplers.push_back(sampler);
         for (std::size_t p = 0; p < m_model->nodes.size(); ++p) {  // every object keys the same frames
             tinygltf::AnimationChannel channel;

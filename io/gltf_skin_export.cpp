@@ -179,15 +179,10 @@ public:
         // Per bone: translations and rotations at every frame, quaternions kept in one hemisphere so
         // that slerp between keys takes the short way.
         // Key f at f / fps; a loop closes with key `frames` = key 0 (ClipSetup::loops).
-        const std::size_t keys = frames + (m_setup.loops ? 1 : 0);
-        std::vector<float> times(keys);
-        for (std::size_t f = 0; f < keys; ++f)
-            times[f] = float(double(f) / m_setup.info.fps);
-        const int timeAccessor = detail::addFloatAccessor(model, times.data(), keys, 1, false, true);
+        const std::size_t keys = detail::animationKeys(m_setup);
         tinygltf::Animation animation;
         animation.name = "clip";
-        if (m_setup.loops)
-            animation.extras = detail::loopClosingExtras();
+        const int timeAccessor = detail::addKeyTimes(model, m_setup, animation);
         tinygltf::Scene scene;
         scene.nodes.push_back(0);
         // The bones hang under one still root, so the joints have a common root (the Khronos validator's
