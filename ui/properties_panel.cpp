@@ -632,14 +632,15 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     setQuietly(m_frequency, lowest.frequencyHz);
     setQuietly(m_dampingRatio, lowest.dampingRatio);
     // The damping each mode shows in the clip: implicit Euler adds its own to the material's. In closed form
-    // per mode; XPBD's is measured by running it, so only for the lowest mode.
-    const ModeAccuracy lowestAccuracy = schemeAccuracy(body.value(), settings, lowest);
+    // per mode at the scheme's step (what schemeAccuracy() gives); XPBD's is measured by running it, so only
+    // for the lowest mode.
+    const bool measured = settings.integrator == IntegratorKind::Xpbd;
+    const double h = measured ? 0.0 : integrationStep(Simulator(body.value(), settings));
+    const ModeAccuracy lowestAccuracy =
+        measured ? schemeAccuracy(body.value(), settings, lowest) : modeAccuracy(settings.integrator, lowest, h);
     std::vector<double> clipDamping{lowestAccuracy.dampingRatio};
-    if (settings.integrator != IntegratorKind::Xpbd) {
-        const double h = integrationStep(Simulator(body.value(), settings));
-        for (std::size_t m = 1; m < modes->modes.size(); ++m)
-            clipDamping.push_back(modeAccuracy(settings.integrator, modes->modes[m], h).dampingRatio);
-    }
+    for (std::size_t m = 1; !measured && m < modes->modes.size(); ++m)
+        clipDamping.push_back(modeAccuracy(settings.integrator, modes->modes[m], h).dampingRatio);
     showModeRows(modes->modes, clipDamping);
     QStringList lines;
     if (modes->rigidModes > 0)
