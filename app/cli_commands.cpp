@@ -155,25 +155,22 @@ int runBake(const std::vector<std::string>& args) {
     if (const std::string problem = makeOutputFolders(outPath, madeFolder); !problem.empty())
         return fail(problem);
     // A failed bake takes away the folders it made for its output.
-    struct Tidy {
-        const std::filesystem::path& made;
-        bool done = false;
-        ~Tidy() { if (!done) removeEmptyFolders(made); }
-    } tidy{madeFolder};
+    const auto failed = [&](const std::string& message) {
+        removeEmptyFolders(madeFolder);
+        return fail(message);
+    };
     if (eachObject) {
         auto results = io::bakeEachObject(project->scene, options);
         if (!results)
-            return fail(results.message());
+            return failed(results.message());
         for (const io::BakeResult& r : results.value())
             std::printf("wrote %s (%s, %d frames, %zu points), rest mesh %s\n", r.cache.string().c_str(),
                         std::string(format->name).c_str(), r.frames, r.points, r.restMesh.string().c_str());
-        tidy.done = true;
         return 0;
     }
     auto result = io::bake(project->scene, options);
     if (!result)
-        return fail(result.message());
-    tidy.done = true;
+        return failed(result.message());
     const std::size_t shown = std::min<std::size_t>(result->warnings.size(), 5);
     for (std::size_t i = 0; i < shown; ++i)
         std::fprintf(stderr, "softtouch-cli: warning: %s\n", result->warnings[i].c_str());
