@@ -125,9 +125,8 @@ void TestCleanMotion::yankHasNoPops() {
     jumps.erase(jumps.begin(), jumps.begin() + 15);  // the yank's first swing, the largest motion of the clip
     const double mid = median(jumps);
     const double largest = *std::max_element(jumps.begin(), jumps.end());
-    qInfo("%s: largest frame motion %.3g m = %.2fx the median %.3g m; %zu reports%s%s", QTest::currentDataTag(), largest,
-          largest / mid, mid, problems.size(), problems.empty() ? "" : ", first: ",
-          problems.empty() ? "" : problems.front().c_str());
+    qInfo("%s: largest frame motion %.3g m = %.2fx the median %.3g m; %zu reports, first: %s", QTest::currentDataTag(),
+          largest, largest / mid, mid, problems.size(), problems.front().c_str());
     QVERIFY2(largest <= 1.5 * mid, qPrintable(QString("%1x").arg(largest / mid)));
 }
 

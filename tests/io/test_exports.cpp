@@ -9,6 +9,7 @@
 #include "io/lattice_cache.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
+#include "gltf_read.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/anim.h>
@@ -41,6 +42,8 @@
 
 using namespace softtouch;
 using namespace softtouch::io;
+using softtouch::test::accessorFloats;
+using softtouch::test::loadGlb;
 namespace fs = std::filesystem;
 
 namespace {
@@ -114,30 +117,6 @@ void exportRows() {
     QTest::addColumn<QString>("format");
     for (const ExportFormat& f : exportFormats())
         QTest::newRow(std::string(f.name).c_str()) << QString::fromUtf8(f.name.data(), qsizetype(f.name.size()));
-}
-
-/// Loads a GLB with tinygltf; fails the test on error.
-tinygltf::Model loadGlb(const fs::path& path) {
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
-    std::string error;
-    std::string warning;
-    if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string()))
-        qFatal("cannot load %s: %s", path.string().c_str(), error.c_str());
-    return model;
-}
-
-/// The floats of a tightly packed FLOAT accessor.
-std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
-    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
-    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
-    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || view.byteStride != 0)
-        qFatal("accessor %d is not tightly packed floats", index);
-    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
-    std::vector<float> out(accessor.count * components);
-    std::memcpy(out.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset,
-                out.size() * sizeof(float));
-    return out;
 }
 
 /// Every B-spline basis function of one axis and its derivative at t, by the textbook Cox-de Boor

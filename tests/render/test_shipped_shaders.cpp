@@ -10,6 +10,8 @@
 #include "render/gl.h"
 #include "render/gl_program.h"
 
+#include "../io/gltf_read.h"
+
 #include <ImfRgbaFile.h>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -22,6 +24,8 @@
 #include <iterator>
 
 using namespace softtouch;
+using softtouch::test::accessorFloats;
+using softtouch::test::loadGlb;
 namespace fs = std::filesystem;
 
 namespace {
@@ -32,25 +36,6 @@ constexpr int kFrames = 6;
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-tinygltf::Model loadGlb(const fs::path& path) {
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
-    std::string error, warning;
-    if (!loader.LoadBinaryFromFile(&model, &error, &warning, path.string()))
-        qFatal("cannot load %s: %s", path.string().c_str(), error.c_str());
-    return model;
-}
-
-std::vector<float> accessorFloats(const tinygltf::Model& model, int index) {
-    const tinygltf::Accessor& accessor = model.accessors.at(std::size_t(index));
-    const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(accessor.bufferView));
-    const std::size_t components = std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(accessor.type)));
-    std::vector<float> out(accessor.count * components);
-    std::memcpy(out.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + accessor.byteOffset,
-                out.size() * sizeof(float));
-    return out;
 }
 
 void bakeTo(const Scene& scene, std::string_view format, const fs::path& out) {

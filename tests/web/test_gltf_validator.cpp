@@ -4,6 +4,7 @@
 // validator cannot decode EXT_meshopt_compression, so it would check nothing inside them.
 
 #include "../cli/cli_run.h"
+#include "../io/gltf_read.h"
 #include "io/gltf_meshopt.h"
 
 #include <QDir>
@@ -16,13 +17,12 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
-#include <tiny_gltf.h>
-
-#include <cstring>
 #include <algorithm>
 #include <fstream>
 #include <iterator>
 
+using softtouch::test::accessorFloats;
+using softtouch::test::loadGlb;
 using softtouch::test::runCli;
 
 namespace {
@@ -134,27 +134,16 @@ void TestGltfValidator::loopClipsCloseOnTheirFirstFrame() {
     const auto baked = runCli({"bake", kSource + "/presets/scenes/angelfish-swim.softtouch", "--clip", "swim", "--format",
                                format, "--frames", frames, "--out", out, "--quiet"});
     QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
-    std::string error, warning;
-    QVERIFY2(loader.LoadBinaryFromFile(&model, &error, &warning, out.toStdString()), error.c_str());
+    const tinygltf::Model model = loadGlb(out.toStdString());
     QCOMPARE(model.animations.size(), std::size_t(1));
     const tinygltf::Animation& animation = model.animations[0];
     const bool closes = keys > frames.toInt();
     QCOMPARE(animation.extras.Has("loopClosingKey"), closes);
-    const auto floats = [&](int accessor) {
-        const tinygltf::Accessor& a = model.accessors.at(std::size_t(accessor));
-        const tinygltf::BufferView& view = model.bufferViews.at(std::size_t(a.bufferView));
-        std::vector<float> values(a.count * std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(a.type))));
-        std::memcpy(values.data(), model.buffers.at(std::size_t(view.buffer)).data.data() + view.byteOffset + a.byteOffset,
-                    values.size() * sizeof(float));
-        return values;
-    };
     for (const tinygltf::AnimationSampler& sampler : animation.samplers) {
-        const std::vector<float> times = floats(sampler.input);
+        const std::vector<float> times = accessorFloats(model, sampler.input);
         QCOMPARE(int(times.size()), keys);
         QVERIFY2(std::abs(double(times.back()) - double(keys - 1) / 24.0) < 1e-6, qPrintable(QString::number(times.back())));
-        const std::vector<float> values = floats(sampler.output);
+        const std::vector<float> values = accessorFloats(model, sampler.output);
         const std::size_t row = values.size() / times.size();
         if (closes)  // the closing key is frame 0 exactly
             QVERIFY(std::equal(values.end() - std::ptrdiff_t(row), values.end(), values.begin()) ||
@@ -162,7 +151,7 @@ void TestGltfValidator::loopClipsCloseOnTheirFirstFrame() {
     }
     if (closes && format == "skin")  // every bone's closing rotation is frame 0's, up to sign
         for (const tinygltf::AnimationChannel& channel : animation.channels) {
-            const std::vector<float> values = floats(animation.samplers[std::size_t(channel.sampler)].output);
+            const std::vector<float> values = accessorFloats(model, animation.samplers[std::size_t(channel.sampler)].output);
             const std::size_t row = channel.target_path == "rotation" ? 4 : 3;
             double dot = 0.0, first = 0.0;
             for (std::size_t c = 0; c < row; ++c) {
