@@ -20,9 +20,22 @@ if(SOFTTOUCH_SANITIZE)
     # -O1 with line tables only: half the compile time of -O2 -g under the sanitizers (the instrumented
     # build was most of CI's wall time) with the same file:line in every report. Placed after the build
     # type's flags, so these win.
-    -O1 -g1)
+    -O1 -g1
+    # UndefinedBehaviorSanitizer's pointer checks (alignment, null, object-size, pointer-overflow, vptr)
+    # are off in the targets marked with softtouch_arithmetic_ub_checks(): they double those files'
+    # compile time, and there AddressSanitizer already checks every access. They stay on where bytes from
+    # files are reinterpreted or Qt's objects are cast (io, render, ui, analysis, the programs).
+    $<$<BOOL:$<TARGET_PROPERTY:SOFTTOUCH_ARITHMETIC_UB_CHECKS>>:-fno-sanitize=alignment,null,object-size,pointer-overflow,vptr>)
   target_link_options(softtouch_build_options INTERFACE -fsanitize=address,undefined)
 endif()
+
+# softtouch_arithmetic_ub_checks(TARGET): under the sanitizers, TARGET keeps AddressSanitizer and
+# UndefinedBehaviorSanitizer's arithmetic checks (overflow, shifts, division, bool and enum values,
+# unreachable code) without its pointer checks: core's numerics and the test drivers (docs/reliability.md,
+# "What CI spends its 40 minutes on").
+function(softtouch_arithmetic_ub_checks target)
+  set_target_properties(${target} PROPERTIES SOFTTOUCH_ARITHMETIC_UB_CHECKS ON)
+endfunction()
 
 if(SOFTTOUCH_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang" OR NOT SOFTTOUCH_SANITIZE)
