@@ -1,5 +1,6 @@
 #include "analysis/study.h"
 
+#include "analysis/clip_frames.h"
 #include "analysis/timer.h"
 #include "analysis/trajectory_error.h"
 #include "core/solid_modes.h"
@@ -19,6 +20,8 @@ using Frames = std::vector<Vec3f>;  ///< Mesh positions of every frame, one fram
 
 /// The object rebuilt on another lattice over the same box, material carried over as a continuum.
 Result<SceneObject> onLattice(const SceneObject& source, const LatticeShape& shape) {
+    if (source.lattice.shape() == shape)
+        return source;  // its own lattice: the object as authored
     auto lattice = Lattice::create(shape, source.lattice.box());
     if (!lattice)
         return Status::error(lattice.message());
@@ -28,65 +31,51 @@ Result<SceneObject> onLattice(const SceneObject& source, const LatticeShape& sha
     return o;
 }
 
-/// Mesh frames at `fps` over `seconds` of driven simulation, and the wall time of the physics.
-struct DrivenRun {
-    Frames frames;
-    int frameCount = 0;
-    double physicsSeconds = 0.0;
+/// The clip's mesh frames of a scene, and the wall time they took (physics and deformation).
+struct ClipRun {
+    ClipMeshFrames frames;
+    double seconds = 0.0;
     bool finite = true;
+    std::string failure;  ///< Why the clip could not be played; empty when it was.
 };
 
-/// Runs the first object of `scene` through the same SceneSimulation a bake uses (its drivers, the
-/// scene's world and simulation settings). Frames are evaluated only when `keepFrames`.
-DrivenRun runDriven(const Scene& scene, double seconds, double fps, bool keepFrames = true) {
-    auto sim = SceneSimulation::create(scene);
-    DrivenRun run;
-    if (!sim) {
+ClipRun runClip(const Scene& scene, const ClipLibrary& library, const Clip& clip) {
+    ClipRun run;
+    Stopwatch watch;
+    auto frames = clipMeshFrames(scene, library, clip);
+    run.seconds = watch.seconds();
+    if (!frames) {
         run.finite = false;
+        run.failure = frames.message();
         return run;
     }
-    const std::size_t vertices = scene.objects.front().mesh->positions.size();
-    // Frame f at f / fps from f = 0 (the rest pose), as a bake writes them.
-    const int frames = int(std::lround(seconds * fps));
-    if (keepFrames)
-        run.frames.resize(std::size_t(frames) * vertices);
-    for (int f = 0; f < frames; ++f) {
-        Stopwatch watch;
-        sim->advanceTo(double(f) / fps);
-        run.physicsSeconds += watch.seconds();
-        if (!keepFrames)
-            continue;
-        const std::span<Vec3f> positions(run.frames.data() + std::size_t(f) * vertices, vertices);
-        sim->evaluate(0, positions, {}, 0);
-        for (const Vec3f& p : positions)
+    run.frames = std::move(frames.value());
+    for (const std::vector<Vec3f>& object : run.frames.positions)
+        for (const Vec3f& p : object)
             run.finite = run.finite && p.allFinite();
-        ++run.frameCount;
-    }
     return run;
 }
 
-/// The scene with only its first object, on the given integrator and step.
-Scene withSetting(const Scene& scene, const SceneObject& object, IntegratorKind integrator, double dt) {
-    Scene s;
-    s.objects = {object};
-    s.world = scene.world;
-    s.world.simulation.integrator = integrator;
-    s.world.simulation.dt = dt;
-    return s;
+/// The scene with every object on `shape` over its own box, on the given integrator and step.
+Result<Scene> withSetting(const Scene& scene, const StudySetting& setting) {
+    Scene out = scene;
+    for (SceneObject& object : out.objects) {
+        auto moved = onLattice(object, setting.lattice);
+        if (!moved)
+            return Status::error("object '" + object.name + "': " + moved.message());
+        object = std::move(moved.value());
+    }
+    out.world.simulation.integrator = setting.integrator;
+    out.world.simulation.dt = setting.dt;
+    return out;
 }
 
-/// RMS and largest distance between two runs / diagonal; NaN when they do not hold the same frames (a run
-/// that failed to start).
-TrajectoryDistance distance(const Frames& a, const Frames& b, double diagonal) {
-    if (a.size() != b.size())
-        return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-    return trajectoryDistance(a, b, diagonal);
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+/// The same scene on Verlet at `dt`: what "converged in time" means for its lattice.
+Scene convergedInTime(const Scene& scene, double dt) {
+    Scene out = scene;
+    out.world.simulation.integrator = IntegratorKind::Verlet;
+    out.world.simulation.dt = dt;
+    return out;
 }
 
 /// Free vibration of the undamped body from a bent shape: energy drift, amplitude loss, frequency.
@@ -200,25 +189,30 @@ bool sameSetting(const StudySetting& a, const StudySetting& b) {
 Result<Scene> applySetting(const Scene& scene, const StudySetting& setting) {
     if (scene.objects.empty())
         return Status::error("the scene has no object");
-    auto moved = onLattice(scene.objects.front(), setting.lattice);
-    if (!moved)
-        return Status::error(moved.message());
-    Scene out = scene;
-    out.objects.front() = std::move(moved.value());
-    out.world.simulation.integrator = setting.integrator;
-    out.world.simulation.dt = setting.dt;
-    return out;
+    return withSetting(scene, setting);
 }
 
-StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostream& log) {
+double StudyResult::referenceUncertainty() const {
+    return reference ? reference->uncertainty : std::numeric_limits<double>::infinity();
+}
+
+StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const StudyOptions& options, std::ostream& log) {
     StudyResult result;
     result.error = options.error;
-    if (scene.objects.empty())
-        return result;  // nothing to measure: no rows
-    const SceneObject& source = scene.objects.front();
-    result.fps = scene.world.fps;
-    result.seconds = options.seconds > 0.0 ? options.seconds : double(scene.world.frames) / scene.world.fps;
-    const double seconds = result.seconds, fps = result.fps;
+    if (scene.objects.empty()) {
+        result.failure = "the scene has no object";
+        return result;
+    }
+    auto clip = clipToPlay(scene, library, options.clip);
+    if (!clip) {
+        result.failure = clip.message();
+        return result;
+    }
+    result.clip = clip.value();
+    result.seconds = clip->seconds();
+    result.fps = clip->fps;
+    for (const SceneObject& object : scene.objects)
+        result.objects.push_back(object.name);
     const int repeats = std::clamp(options.repeats, 1, 100);
     std::vector<double> steps = {1.0 / 1000, 1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 24};
     std::vector<LatticeShape> shapes = {{LatticeKind::Bezier, {2, 2, 2}}, {LatticeKind::Bezier, {3, 3, 3}},
@@ -247,49 +241,56 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         std::none_of(settings.begin(), settings.end(), [&](const StudySetting& s) { return sameSetting(s, current); }))
         settings.push_back(current);
 
-    // Reference: the finest Bezier lattice SoftTouch builds (8x8x8, degree 7), central differences
-    // (second order) at a tiny step; halving the step again says how converged it is. The Bezier family
-    // converges towards it monotonically (test_study); B-spline nets converge to a limit a few 1e-3 of the
-    // diagonal away (their nodes crowd at the faces), which their model error shows.
-    const LatticeShape referenceShape{LatticeKind::Bezier, {8, 8, 8}};
-    result.referenceDt = 1.0 / 4000;
-    const SceneObject referenceObject = onLattice(source, referenceShape).value();
-    // The reference runs are the longest of the study: a cancel is honoured between them too.
-    auto cancelled = [&] { return options.progress && !options.progress(0.0); };
-    if (cancelled()) {
-        result.cancelled = true;
+    // The truth: the converged solid (made here, or given by a study of the same scene and clip before).
+    // Its runs are the longest of the study; they report the first fifth of the progress.
+    if (options.given) {
+        result.reference = options.given;
+    } else {
+        ReferenceOptions made = options.reference;
+        if (options.progress)
+            made.progress = [&](double fraction) { return options.progress(0.2 * fraction); };
+        auto reference = convergedReference(scene, library, clip.value(), made, log);
+        if (!reference) {
+            result.failure = reference.message();
+            return result;
+        }
+        if (reference->cancelled) {
+            result.cancelled = true;
+            return result;
+        }
+        result.reference = std::make_shared<const ConvergedReference>(std::move(reference.value()));
+    }
+    const ClipMeshFrames& reference = result.reference->frames;
+    const std::vector<double> diagonals = meshDiagonals(scene);
+    auto rest = restFrames(scene, clip.value());
+    if (!rest) {
+        result.failure = rest.message();
         return result;
     }
-    const DrivenRun reference =
-        runDriven(withSetting(scene, referenceObject, IntegratorKind::Verlet, result.referenceDt), seconds, fps);
-    if (cancelled()) {
-        result.cancelled = true;
-        return result;
+    result.restError = worstDistance(objectDistances(rest.value(), reference, diagonals));
+    for (std::size_t i = 0; i < diagonals.size(); ++i)
+        result.motionAmplitude = std::max(result.motionAmplitude,
+                                          trajectoryDistance(rest->positions[i], reference.positions[i], diagonals[i]).max);
+    log << "clip '" << result.clip.name << "': " << result.seconds << " s from " << result.clip.startSeconds << " s at " << result.fps
+        << " fps, " << result.objects.size() << (result.objects.size() == 1 ? " object" : " objects")
+        << "; the mesh moves up to " << result.motionAmplitude << " of its diagonal; doing nothing (the bodies at rest) scores "
+        << result.restError << " (RMS, worst object)\n";
+    if (options.target) {
+        if (std::string refusal = refusalOfTarget(result, *options.target); !refusal.empty()) {
+            char target[32];
+            std::snprintf(target, sizeof target, "%g", *options.target);
+            result.failure = std::string("target ") + target + " refused: " + refusal;
+            return result;
+        }
     }
-    const DrivenRun finer =
-        runDriven(withSetting(scene, referenceObject, IntegratorKind::Verlet, result.referenceDt / 2), seconds, fps);
-    const double diagonal = source.lattice.box().diagonal();
-    result.referenceUncertainty = distance(reference.frames, finer.frames, diagonal).rms;
-    result.reference = latticeShapeName(referenceShape) + ", verlet, dt = 1/" + std::to_string(int(std::lround(1.0 / result.referenceDt))) + " s";
-    result.referenceFrames = std::make_shared<const Frames>(reference.frames);
-    Frames rest;
-    for (int f = 0; f < reference.frameCount; ++f)
-        rest.insert(rest.end(), source.mesh->positions.begin(), source.mesh->positions.end());
-    const TrajectoryDistance still = distance(rest, reference.frames, diagonal);
-    result.restError = still.rms;
-    result.motionAmplitude = still.max;
-    log << "reference: " << result.reference << " (halving its dt changes it by " << result.referenceUncertainty
-        << " of the diagonal, RMS)\n"
-        << "clip: " << seconds << " s at " << fps << " fps; the mesh moves up to " << result.motionAmplitude
-        << " of the diagonal; doing nothing (the rest pose) scores " << result.restError << " (RMS)\n";
 
     const double freeSeconds = options.quick ? 2.0 : 3.0;  // several periods of the lowest lateral mode
     // Per lattice: converged in time (the reference of the integration error and of the frequency), and
     // its model error. Even exact integration trades amplitude between modes, so amplitude loss is
     // measured against the converged free vibration.
     struct LatticeRuns {
-        SceneObject object;
-        DrivenRun converged;
+        Scene scene;  ///< Every object on the lattice; the scene's own integrator and step.
+        ClipRun converged;
         double modelError = 0.0;
         FreeRun free;
         std::vector<double> solidModeError;
@@ -299,15 +300,18 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         for (auto& [s, runs] : lattices)
             if (s == shape)
                 return runs;
-        auto runs = std::make_shared<LatticeRuns>();
-        auto object = onLattice(source, shape);
-        if (!object)
+        auto moved = withSetting(scene, {scene.world.simulation.integrator, scene.world.simulation.dt, shape});
+        if (!moved) {
+            log << "  " << latticeShapeName(shape) << ": " << moved.message() << "\n";
             return nullptr;
-        runs->object = std::move(object.value());
-        runs->converged = runDriven(withSetting(scene, runs->object, IntegratorKind::Verlet, result.referenceDt), seconds, fps);
-        runs->modelError = distance(runs->converged.frames, reference.frames, diagonal).rms;
-        runs->free = runFree(runs->object, IntegratorKind::Verlet, result.referenceDt, freeSeconds);
-        if (auto compared = compareWithSolid(runs->object.lattice, runs->object.material))
+        }
+        auto runs = std::make_shared<LatticeRuns>();
+        runs->scene = std::move(moved.value());
+        runs->converged = runClip(convergedInTime(runs->scene, result.convergedDt), library, clip.value());
+        runs->modelError = worstDistance(objectDistances(runs->converged.frames, reference, diagonals));
+        const SceneObject& first = runs->scene.objects.front();
+        runs->free = runFree(first, IntegratorKind::Verlet, result.convergedDt, freeSeconds);
+        if (auto compared = compareWithSolid(first.lattice, first.material))
             runs->solidModeError = compared->error;  // empty unless the solid converged
         lattices.emplace_back(shape, runs);
         log << "  " << latticeShapeName(shape) << ": model error " << runs->modelError << " (RMS / diagonal)";
@@ -318,7 +322,7 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
     };
 
     for (std::size_t i = 0; i < settings.size(); ++i) {
-        if (options.progress && !options.progress(double(i) / double(settings.size()))) {
+        if (options.progress && !options.progress(0.2 + 0.8 * double(i) / double(settings.size()))) {
             result.cancelled = true;
             break;
         }
@@ -331,25 +335,31 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         row.dt = setting.dt;
         row.lattice = setting.lattice;
         row.resolution = latticeShapeName(setting.lattice);
-        row.nodes = runs->object.lattice.nodeCount();
+        row.nodes = runs->scene.objects.front().lattice.nodeCount();
         row.current = sameSetting(setting, current);
-        const Scene run = withSetting(scene, runs->object, setting.integrator, setting.dt);
-        const DrivenRun driven = runDriven(run, seconds, fps);
-        std::vector<double> costs{driven.physicsSeconds / seconds};
-        for (int r = 1; r < repeats; ++r)
-            costs.push_back(runDriven(run, seconds, fps, false).physicsSeconds / seconds);
-        row.costPerSecond = median(costs);
-        row.costSpread = row.costPerSecond > 0.0
-                             ? (*std::max_element(costs.begin(), costs.end()) - *std::min_element(costs.begin(), costs.end())) / row.costPerSecond
-                             : 0.0;
-        row.finite = driven.finite && driven.frames.size() == reference.frames.size();
-        const TrajectoryDistance total = distance(driven.frames, reference.frames, diagonal);
-        row.rmsError = total.rms;
-        row.maxError = total.max;
-        row.timeError = distance(driven.frames, runs->converged.frames, diagonal).rms;
+        Scene run = runs->scene;
+        run.world.simulation.integrator = setting.integrator;
+        run.world.simulation.dt = setting.dt;
+        const ClipRun played = runClip(run, library, clip.value());
+        // The cost the user pays for the clip: the fastest of the repeats (noise only ever adds time).
+        double fastest = played.seconds, slowest = played.seconds;
+        for (int r = 1; r < repeats; ++r) {
+            const double seconds = runClip(run, library, clip.value()).seconds;
+            fastest = std::min(fastest, seconds);
+            slowest = std::max(slowest, seconds);
+        }
+        row.costPerSecond = fastest / result.seconds;
+        row.costSpread = fastest > 0.0 ? (slowest - fastest) / fastest : 0.0;
+        row.objectErrors = objectDistances(played.frames, reference, diagonals);
+        row.finite = played.finite && std::all_of(row.objectErrors.begin(), row.objectErrors.end(),
+                                                  [](double e) { return std::isfinite(e); });
+        row.rmsError = worstDistance(row.objectErrors);
+        for (std::size_t o = 0; o < diagonals.size() && row.finite; ++o)
+            row.maxError = std::max(row.maxError, trajectoryDistance(played.frames.positions[o], reference.positions[o], diagonals[o]).max);
+        row.timeError = worstDistance(objectDistances(played.frames, runs->converged.frames, diagonals));
         row.modelError = runs->modelError;
         row.solidModeError = runs->solidModeError;
-        const FreeRun free = runFree(runs->object, setting.integrator, setting.dt, freeSeconds);
+        const FreeRun free = runFree(runs->scene.objects.front(), setting.integrator, setting.dt, freeSeconds);
         row.energyDrift = free.energyDrift;
         if (free.periods > 0.0 && runs->free.amplitudeRatio > 0.0)
             row.amplitudeLoss = 1.0 - std::pow(std::max(0.0, free.amplitudeRatio / runs->free.amplitudeRatio), 1.0 / free.periods);
@@ -359,10 +369,10 @@ StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostre
         result.rows.push_back(row);
         char line[260];
         std::snprintf(line, sizeof line,
-                      "  %-14s %-17s dt 1/%-4d  cost %9.2e s/s (±%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
+                      "  %-14s %-17s dt 1/%-4d  cost %9.2e s/s (+%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
                       "energy %+8.1e  loss/period %6.3f  freq %+7.3f%s\n",
                       row.resolution.c_str(), std::string(integratorName(row.integrator)).c_str(), int(std::lround(1 / row.dt)),
-                      row.costPerSecond, 50.0 * row.costSpread, row.rmsError, row.timeError, row.modelError, row.energyDrift,
+                      row.costPerSecond, 100.0 * row.costSpread, row.rmsError, row.timeError, row.modelError, row.energyDrift,
                       row.amplitudeLoss, row.frequencyError, row.current ? "  (the scene's own)" : "");
         log << line << std::flush;
     }
@@ -383,27 +393,60 @@ void markPareto(StudyResult& result) {
 }
 
 const StudyRow* cheapestWithin(const StudyResult& result, double target) {
-    const StudyRow* best = nullptr;
+    const StudyRow* cheapest = nullptr;
     for (const StudyRow& r : result.rows) {
-        if (r.finite && r.error(result.error) <= target && (!best || r.costPerSecond < best->costPerSecond))
+        if (r.finite && r.error(result.error) <= target && (!cheapest || r.costPerSecond < cheapest->costPerSecond))
+            cheapest = &r;
+    }
+    if (!cheapest)
+        return nullptr;
+    // Within the cheapest one's own spread the costs cannot be told apart: the more accurate wins the tie.
+    const StudyRow* best = cheapest;
+    const double noise = cheapest->costPerSecond * (1.0 + cheapest->costSpread);
+    for (const StudyRow& r : result.rows) {
+        if (r.finite && r.error(result.error) <= target && r.costPerSecond <= noise &&
+            r.error(result.error) < best->error(result.error))
             best = &r;
     }
     return best;
 }
 
-Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study) {
-    if (scene.objects.empty() || !study.referenceFrames)
+std::string refusalOfTarget(const StudyResult& result, double target) {
+    char text[400];
+    if (result.error == StudyError::Total && target >= result.restError) {
+        std::snprintf(text, sizeof text,
+                      "doing nothing at all (the bodies at rest) scores %.2e, within a target of %g: the target asks for no "
+                      "motion (the clip moves up to %.2e of the diagonal)",
+                      result.restError, target, result.motionAmplitude);
+        return text;
+    }
+    if (result.error != StudyError::Integration && !(target >= 10.0 * result.referenceUncertainty())) {
+        std::snprintf(text, sizeof text,
+                      "the converged solid is itself about %.2e of the diagonal from the limit, so a target below %.2e (ten "
+                      "times that) cannot be certified against it",
+                      result.referenceUncertainty(), 10.0 * result.referenceUncertainty());
+        return text;
+    }
+    return {};
+}
+
+Result<Remeasured> remeasure(const Scene& scene, const ClipLibrary& library, const StudyResult& study) {
+    if (scene.objects.empty() || !study.reference)
         return Status::error("nothing to measure: no object or no reference");
-    const double diagonal = scene.objects.front().lattice.box().diagonal();
-    const DrivenRun run = runDriven(scene, study.seconds, study.fps);
-    const DrivenRun converged =
-        runDriven(withSetting(scene, scene.objects.front(), IntegratorKind::Verlet, study.referenceDt), study.seconds, study.fps);
-    if (!run.finite || run.frames.size() != study.referenceFrames->size() || converged.frames.size() != run.frames.size())
-        return Status::error("the scene does not run to the study's clip with the study's mesh");
+    const std::vector<double> diagonals = meshDiagonals(scene);
+    const ClipRun run = runClip(scene, library, study.clip);
+    const ClipRun converged = runClip(convergedInTime(scene, study.convergedDt), library, study.clip);
+    const ClipMeshFrames& reference = study.reference->frames;
+    if (!run.failure.empty())
+        return Status::error(run.failure);
+    if (!run.finite || run.frames.frames != reference.frames || run.frames.positions.size() != reference.positions.size())
+        return Status::error("the scene does not play the study's clip with the study's meshes");
     Remeasured r;
-    r.total = distance(run.frames, *study.referenceFrames, diagonal).rms;
-    r.integration = distance(run.frames, converged.frames, diagonal).rms;
-    r.model = distance(converged.frames, *study.referenceFrames, diagonal).rms;
+    r.total = worstDistance(objectDistances(run.frames, reference, diagonals));
+    r.integration = worstDistance(objectDistances(run.frames, converged.frames, diagonals));
+    r.model = worstDistance(objectDistances(converged.frames, reference, diagonals));
+    if (!std::isfinite(r.total))
+        return Status::error("the scene does not play the study's clip with the study's meshes");
     return r;
 }
 
@@ -417,7 +460,7 @@ double worstModeError(const std::vector<double>& errors) {
 std::string studyCsv(const StudyResult& result) {
     std::ostringstream out;
     out << "integrator,dt_s,resolution,nodes,cost_s_per_s,cost_spread,rms_error,max_error,time_error,model_error,"
-           "energy_drift,amplitude_loss_per_period,frequency_error,finite,pareto,current,solid_mode_error\n";
+           "energy_drift,amplitude_loss_per_period,frequency_error,finite,pareto,current,solid_mode_error,object_errors\n";
     for (const StudyRow& r : result.rows) {
         out << integratorName(r.integrator) << ',' << r.dt << ',' << r.resolution << ',' << r.nodes << ',' << r.costPerSecond
             << ',' << r.costSpread << ',' << r.rmsError << ',' << r.maxError << ',' << r.timeError << ',' << r.modelError << ','
@@ -425,6 +468,9 @@ std::string studyCsv(const StudyResult& result) {
             << (r.pareto ? 1 : 0) << ',' << (r.current ? 1 : 0) << ',';
         if (!r.solidModeError.empty())  // the largest of the three; empty: no converged solid
             out << worstModeError(r.solidModeError);
+        out << ',';
+        for (std::size_t o = 0; o < r.objectErrors.size(); ++o)  // each object's total error, in scene order
+            out << (o ? ";" : "") << r.objectErrors[o];
         out << '\n';
     }
     return out.str();
@@ -434,37 +480,56 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
     std::ostringstream out;
     auto row = [&](const StudyRow& r) {
         char line[320];
-        std::snprintf(line, sizeof line, "| %s | 1/%d | %s | %.2e ±%.0f%% | %.2e | %.2e | %.2e | %.2e | %+.1e | %.3f | %+.3f |%s\n",
+        std::snprintf(line, sizeof line, "| %s | 1/%d | %s | %.2e +%.0f%% | %.2e | %.2e | %.2e | %.2e | %+.1e | %.3f | %+.3f |%s\n",
                       std::string(integratorName(r.integrator)).c_str(), int(std::lround(1.0 / r.dt)), r.resolution.c_str(),
-                      r.costPerSecond, 50.0 * r.costSpread, r.rmsError, r.timeError, r.modelError, r.maxError, r.energyDrift,
+                      r.costPerSecond, 100.0 * r.costSpread, r.rmsError, r.timeError, r.modelError, r.maxError, r.energyDrift,
                       r.amplitudeLoss, r.frequencyError, r.pareto ? " ★ |" : " |");
         out << line;
     };
-    const char* header = "| integrator | dt (s) | lattice | cost (s per simulated s) | total error | integration error | "
+    const char* header = "| integrator | dt (s) | lattice | cost (s per clip s) | total error | integration error | "
                          "model error | max error | energy drift | amplitude lost / period | frequency error | Pareto |\n"
                          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::string objects;
+    for (const std::string& name : result.objects)
+        objects += (objects.empty() ? "" : ", ") + name;
     out << "# Speed against accuracy\n\nMade by `" << command << "`.\n\n"
-        << "Every integrator × time step × lattice resolution simulates the same scene (its drivers, anchors and material,\n"
-        << "carried to each resolution as the same continuum: density, Young's modulus and viscosity do not depend on the\n"
-        << "lattice; anchors keep their extent in the material) for the scene's clip, " << result.seconds << " s at "
-        << result.fps << " fps.\n\n"
-        << "- **cost**: wall seconds of physics per simulated second (one thread; mesh evaluation excluded), the median of\n"
-        << "  repeated runs, ± half their spread.\n"
-        << "- **integration error**: mesh vertex distance at every frame to this very lattice converged in time (Verlet at\n"
-        << "  1/" << int(std::lround(1.0 / result.referenceDt)) << " s), RMS, relative to the box diagonal: what the integrator and step alone cost.\n"
-        << "- **model error**: this lattice converged in time against the reference, the finest lattice converged in time:\n"
-        << "  what the resolution alone costs. It is the same for every integrator and step of a lattice.\n"
-        << "- **total error**: the run against the reference directly (at most integration + model error). The Pareto front\n"
-        << "  and picks use the **" << studyErrorName(result.error) << "** error.\n"
-        << "- **reference**: " << result.reference << "; halving its step changes it by " << result.referenceUncertainty
-        << " (RMS, relative): errors below that are noise.\n"
+        << "Every integrator × time step × lattice resolution plays the scene's clip '" << result.clip.name << "' ("
+        << result.seconds << " s from " << result.clip.startSeconds << " s at " << result.fps << " fps) as a bake exports it,\n"
+        << "every object (" << objects << ") on the setting's lattice over its own box, with its drivers, anchors and\n"
+        << "material carried to each resolution as the same continuum (density, Young's modulus and viscosity do not depend\n"
+        << "on the lattice; anchors keep their extent in the material). Errors are RMS vertex distances over every frame,\n"
+        << "relative to the mesh's bounding-box diagonal; the worst object's is shown.\n\n"
+        << "- **cost**: wall seconds per second of clip for its physics and mesh deformation (one thread), the fastest of\n"
+        << "  repeated runs, + how much slower the slowest was.\n"
+        << "- **total error**: the exported mesh against the converged solid (below). The Pareto front and picks use the\n"
+        << "  **" << studyErrorName(result.error) << "** error.\n"
+        << "- **integration error**: against this very lattice converged in time (Verlet at 1/"
+        << int(std::lround(1.0 / result.convergedDt)) << " s): what the integrator and step alone cost.\n"
+        << "- **model error**: this lattice converged in time against the converged solid: what the resolution alone costs.\n"
+        << "  It is the same for every integrator and step of a lattice.\n"
         << "- **what the numbers mean**: the mesh moves up to " << result.motionAmplitude
         << " of the diagonal in this clip, and doing nothing\n"
-        << "  at all (the rest pose) scores " << result.restError << " RMS: an error is worth having only well below that.\n"
-        << "- **free vibration** (damping off, bent sideways and released, the body's mean lateral displacement tracked): energy\n"
-        << "  drift over the run; amplitude lost per period beyond what the same lattice converged in time loses (modes trade\n"
-        << "  energy even then) — implicit Euler's numerical damping shows here; frequency error against that converged run.\n"
+        << "  at all (the bodies at rest) scores " << result.restError << " RMS: an error is worth having only well below that.\n"
+        << "- **free vibration** (first object, damping off, bent sideways and released, the body's mean lateral displacement\n"
+        << "  tracked): energy drift over the run; amplitude lost per period beyond what the same lattice converged in time\n"
+        << "  loses (modes trade energy even then) — implicit Euler's numerical damping shows here; frequency error against\n"
+        << "  that converged run.\n"
         << "- ★ marks the Pareto front: no other setting is both cheaper and more accurate.\n\n";
+    if (result.reference) {
+        const ConvergedReference& ref = *result.reference;
+        out << "## The converged solid\n\nThe reference is the " << ref.description << ": the solid element refined in space "
+            << "and in time. Each rung's change is the clip's RMS motion from the rung before:\n\n| rung | change | wall time |\n|---|---|---|\n";
+        for (const ReferenceLevel& level : ref.levels) {
+            char line[200];
+            std::snprintf(line, sizeof line, "| %s | %s | %.1f s |\n", level.what.c_str(),
+                          std::isfinite(level.change) ? (std::to_string(level.change)).c_str() : "—", level.seconds);
+            out << line;
+        }
+        out << "\nEstimated distance from the limit: " << ref.uncertainty << " (lattice " << ref.spaceUncertainty
+            << (ref.spaceConverging ? ", the rest of the shrinking series of changes" : ", the last change: the changes do not shrink")
+            << "; step " << ref.timeUncertainty << ", a third of the last change). A target below "
+            << 10.0 * ref.uncertainty << " (ten times it) cannot be certified.\n\n";
+    }
     std::vector<const StudyRow*> sorted;
     for (const StudyRow& r : result.rows)
         sorted.push_back(&r);
@@ -473,7 +538,7 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
     for (const StudyRow* r : sorted)
         if (r->pareto)
             row(*r);
-    out << "\n## Model error by lattice\n\nModel error against the finest lattice, and each lattice's three lowest modes "
+    out << "\n## Model error by lattice\n\nModel error against the converged solid, and each lattice's three lowest modes "
            "against the converged solid of its material (`softtouch-cli modes --reference`; none where the solid does not "
            "converge):\n\n| lattice | nodes | model error | modes against the solid |\n|---|---|---|---|\n";
     std::vector<std::string> seen;

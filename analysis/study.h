@@ -1,12 +1,15 @@
 #pragma once
-/// `softtouch-cli study`: the speed/accuracy trade measured on a scene. For every integrator × time
-/// step × lattice resolution: cost per simulated second (median of repeats), and two errors of the mesh
-/// kept apart: integration error (this lattice against itself converged in time) and model error (this
-/// lattice converged in time against the finest lattice, same material), beside the clip's own motion and
-/// the do-nothing baseline. Also the integrator's character in free vibration (energy drift, amplitude
-/// lost per period, frequency error). Reported as CSV, a markdown table with the Pareto front, and data
-/// for a plot; a pick can be written into a project and re-measured as written.
+/// `softtouch-cli study`: the speed/accuracy trade measured on a scene's clip, as it is exported. For every
+/// integrator × time step × lattice resolution, applied to every object: the wall time the clip costs
+/// (physics and mesh deformation, best of repeats, with their spread), and the errors of the exported mesh
+/// against the converged solid (analysis/converged_reference.h), every object measured and the worst one
+/// deciding: integration error (this lattice against itself converged in time) and model error (this
+/// lattice converged in time against the converged solid) kept apart, beside the clip's own motion and the
+/// do-nothing baseline. Also the integrator's character in free vibration (energy drift, amplitude lost
+/// per period, frequency error). Reported as CSV, a markdown table with the Pareto front, and data for a
+/// plot; a pick can be written into a project and re-measured as written.
 
+#include "analysis/converged_reference.h"
 #include "core/scene.h"
 
 #include <functional>
@@ -21,9 +24,9 @@ namespace softtouch::analysis {
 
 /// Which error a target, the Pareto front and a pick use.
 enum class StudyError {
-    Total,        ///< Against the finest lattice converged in time: integration and model error together.
+    Total,        ///< Against the converged solid: integration and model error together.
     Integration,  ///< Against this same lattice converged in time: what the integrator and step cost.
-    Model,        ///< This lattice converged in time against the finest: what the resolution costs.
+    Model,        ///< This lattice converged in time against the converged solid: what the resolution costs.
 };
 std::string_view studyErrorName(StudyError kind);              ///< "total", "integration", "model".
 std::optional<StudyError> parseStudyError(std::string_view name);
@@ -32,7 +35,7 @@ std::optional<StudyError> parseStudyError(std::string_view name);
 struct StudySetting {
     IntegratorKind integrator = IntegratorKind::Verlet;
     double dt = 1.0 / 240;     ///< Step, s.
-    LatticeShape lattice;      ///< Kind and nodes per axis, over the object's box.
+    LatticeShape lattice;      ///< Kind and nodes per axis, over each object's box.
 };
 
 /// The scene's own setting: the world's integrator and step, the first object's lattice (it must have one).
@@ -43,16 +46,23 @@ bool sameSetting(const StudySetting& a, const StudySetting& b);
 /// What to run.
 struct StudyOptions {
     bool quick = false;        ///< Fewer steps and resolutions (for tests and the editor); the same clip.
-    /// Simulated time of each run, s; 0: the scene's clip (world.frames / world.fps), as a bake runs it.
-    double seconds = 0.0;
+    /// The clip measured, by name; empty: what `bake` plays without --clip (the default clip or the drivers).
+    std::string clip;
     StudyError error = StudyError::Total;
-    int repeats = 5;           ///< Timed runs per setting; the cost is their median. [1, 100].
-    /// The grid; empty: the default (quick) grid. Lattices are carried over the object's box.
+    int repeats = 5;           ///< Timed runs per setting; the cost is the fastest. [1, 100].
+    /// The grid; empty: the default (quick) grid. Lattices are carried over each object's box.
     std::vector<LatticeShape> lattices;
     std::vector<IntegratorKind> integrators;
     std::vector<double> steps;
     /// Also measure the scene's own setting (integrator, step and lattice of its first object).
     bool includeCurrent = true;
+    /// How the converged solid is made (its ladder of nets and its step).
+    ReferenceOptions reference;
+    /// A reference made before for this very scene and clip (a second study of it): used instead of making one.
+    std::shared_ptr<const ConvergedReference> given;
+    /// The error target the study is run for, if any: when the reference cannot certify it (refusalOfTarget),
+    /// the study stops before the grid and says why in `failure`.
+    std::optional<double> target;
     /// Called between runs with the fraction done; returning false cancels (the result then says so).
     std::function<bool(double)> progress;
 };
@@ -64,12 +74,15 @@ struct StudyRow {
     LatticeShape lattice;              ///< Kind and nodes per axis.
     std::string resolution;            ///< latticeShapeName(lattice), e.g. "4x4x4 bezier".
     int nodes = 0;                     ///< Lattice nodes.
-    double costPerSecond = 0.0;        ///< Wall seconds per simulated second (physics only), median of the repeats.
-    double costSpread = 0.0;           ///< (slowest − fastest) / median of the repeats.
-    double rmsError = 0.0;             ///< Total: RMS vertex error over all frames against the reference / box diagonal.
-    double maxError = 0.0;             ///< Largest vertex error over all frames, same reference / box diagonal.
-    double timeError = 0.0;            ///< Integration: RMS error against this same lattice converged in time / diagonal.
-    double modelError = 0.0;           ///< Model: this lattice converged in time against the reference (RMS / diagonal).
+    /// Wall seconds per second of clip: the clip's physics and mesh deformation, the fastest of the repeats.
+    double costPerSecond = 0.0;
+    double costSpread = 0.0;           ///< (slowest − fastest) / fastest of the repeats.
+    /// Total: RMS vertex error over all frames against the reference / mesh diagonal, the worst object's.
+    double rmsError = 0.0;
+    double maxError = 0.0;             ///< Largest vertex error over all frames and objects, same reference / diagonal.
+    double timeError = 0.0;            ///< Integration: RMS error against this same lattice converged in time (worst object).
+    double modelError = 0.0;           ///< Model: this lattice converged in time against the reference (worst object).
+    std::vector<double> objectErrors;  ///< Total error of each object, in scene order.
     double energyDrift = 0.0;          ///< Free vibration, no damping: (E_end − E_0) / E_0.
     double amplitudeLoss = 0.0;        ///< Free vibration: fraction of amplitude lost per period.
     double frequencyError = 0.0;       ///< Free vibration: (f − f_ref) / f_ref, f_ref the same lattice converged.
@@ -89,44 +102,52 @@ struct StudyRow {
 struct StudyResult {
     std::vector<StudyRow> rows;
     StudyError error = StudyError::Total;  ///< The error the front and picks use.
-    std::string reference;             ///< How the reference was made.
-    double referenceUncertainty = 0.0; ///< RMS change of the reference when its dt is halved (/ diagonal).
-    double restError = 0.0;            ///< The do-nothing baseline: the rest pose against the reference (RMS / diagonal).
+    Clip clip;                         ///< The clip measured (named "drivers": the scene's drivers from rest).
+    double seconds = 0.0;              ///< Its length, s.
+    double fps = 24.0;                 ///< Its frames per second.
+    std::vector<std::string> objects;  ///< Names of the objects measured, in scene order.
+    /// The converged solid every row is graded against (its frames, ladder and uncertainty).
+    std::shared_ptr<const ConvergedReference> reference;
+    double convergedDt = 1.0 / 4000;   ///< Step of each lattice's run converged in time (Verlet), s.
+    double restError = 0.0;            ///< The do-nothing baseline: the bodies at rest against the reference (worst object).
     double motionAmplitude = 0.0;      ///< Largest vertex displacement of the reference from rest / diagonal.
-    double seconds = 0.0;              ///< Simulated time of each run, s.
-    double fps = 24.0;                 ///< Frames compared per second.
+    std::string failure;               ///< Why there are no rows (the reference could not be made); empty otherwise.
     bool cancelled = false;            ///< The progress callback stopped it; rows are those measured so far.
-    /// The reference's mesh positions, every frame one after another (kept to re-measure a pick as written).
-    std::shared_ptr<const std::vector<Vec3f>> referenceFrames;
-    double referenceDt = 0.0;          ///< Step of the converged runs, s.
+    /// The reference's uncertainty (ConvergedReference::uncertainty); infinite without one.
+    double referenceUncertainty() const;
 };
 
 /// "4x4x4 bezier": how the study names a lattice shape.
 std::string latticeShapeName(const LatticeShape& shape);
 
-/// Runs the study on the first object of `scene` (its drivers, anchors and painted material, carried
-/// to every resolution with resampleMaterial(..., keepContinuum = true)) in the scene's world and its
-/// simulation settings (only the integrator and step change), through the same SceneSimulation a bake uses.
-StudyResult runStudy(const Scene& scene, const StudyOptions& options, std::ostream& log);
+/// Runs the study on every object of `scene` (their drivers, anchors and painted material, carried to every
+/// resolution with resampleMaterial(..., keepContinuum = true)) in the scene's world and its simulation
+/// settings (only the integrator and step change), playing the clip of `library` as a bake does.
+StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const StudyOptions& options, std::ostream& log);
 
 /// Flags the Pareto front (no other finite row both cheaper and more accurate) in the study's error kind:
 /// run again after changing `result.error`.
 void markPareto(StudyResult& result);
 
-/// The cheapest finite row whose error (the study's kind) is at most `target`; nullptr if none.
+/// The cheapest finite row whose error (the study's kind) is at most `target`; nullptr if none. Rows whose
+/// costs lie within the cheapest one's spread are a tie, which the smaller error wins.
 const StudyRow* cheapestWithin(const StudyResult& result, double target);
 
-/// `scene` with a study setting applied: the world's integrator and step, and the first object moved to
-/// the setting's lattice over the same box with its material carried over. What `study --apply` writes.
+/// Why `target` cannot be certified by this study (empty when it can): doing nothing meets it, or it lies
+/// below ten times the reference's uncertainty.
+std::string refusalOfTarget(const StudyResult& result, double target);
+
+/// `scene` with a study setting applied: the world's integrator and step, and every object moved to the
+/// setting's lattice over its own box with its material carried over. What `study --apply` writes.
 Result<Scene> applySetting(const Scene& scene, const StudySetting& setting);
 
 /// The three errors of a scene as it stands (e.g. a project written by --apply and read back), against
-/// the study's reference: runs the scene as a bake does, and its own lattice converged in time.
+/// the study's reference, on the study's clip: runs the clip as a bake does, and its own lattice converged in time.
 struct Remeasured {
     double total = 0.0, integration = 0.0, model = 0.0;
     double error(StudyError kind) const;
 };
-Result<Remeasured> remeasure(const Scene& scene, const StudyResult& study);
+Result<Remeasured> remeasure(const Scene& scene, const ClipLibrary& library, const StudyResult& study);
 
 /// The largest |error| of a lattice's modes against the solid (StudyRow::solidModeError): the CSV's column.
 double worstModeError(const std::vector<double>& errors);

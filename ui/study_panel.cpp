@@ -113,17 +113,13 @@ StudyPanel::StudyPanel(Document* document, QWidget* parent) : QWidget(parent), m
     m_check->setTextFormat(Qt::RichText);
     layout->addWidget(m_check);
 
-    // Only the first object is measured (analysis::runStudy): edits of others leave the study valid.
+    // Every object is measured (analysis::runStudy), on the clip a bake plays: any of their edits, or the
+    // clips', makes the study out of date.
     connect(document, &Document::worldChanged, this, &StudyPanel::sceneChanged);
     connect(document, &Document::sceneReplaced, this, &StudyPanel::sceneChanged);
-    connect(document, &Document::latticeChanged, this, [this](int object) {
-        if (object == 0)
-            sceneChanged();
-    });
-    connect(document, &Document::materialChanged, this, [this](int object) {
-        if (object == 0)
-            sceneChanged();
-    });
+    connect(document, &Document::latticeChanged, this, &StudyPanel::sceneChanged);
+    connect(document, &Document::materialChanged, this, &StudyPanel::sceneChanged);
+    connect(document, &Document::clipsChanged, this, &StudyPanel::sceneChanged);
     connect(m_target, &QDoubleSpinBox::valueChanged, this, &StudyPanel::refresh);
     connect(m_errorKind, &QComboBox::currentIndexChanged, this, [this] {
         // The pick, the plot's axis and its front follow the chosen kind (cheapestWithin and the plot read it).
@@ -176,10 +172,11 @@ void StudyPanel::measure() {
     m_remeasuring = false;
     m_progress->setRange(0, 0);  // busy until the reference runs are done and the grid starts
     m_progress->setFormat(tr("Measuring… %p%"));
-    startWorker([this, scene = m_document->scene()] {
+    startWorker([this, scene = m_document->scene(), clips = m_document->project().clips] {
         analysis::StudyOptions options;
         options.quick = true;
         options.error = analysis::StudyError::Total;  // the plot's axis; picks follow the dock's choice
+        options.reference = analysis::quickReference();  // its larger uncertainty is shown and enforced
         options.progress = [this](double fraction) {
             post([this, fraction] {
                 m_progress->setRange(0, 1000);
@@ -188,7 +185,7 @@ void StudyPanel::measure() {
             return !m_cancel.load();
         };
         std::ostringstream log;  // the dock shows the result; the CLI's study prints this log
-        analysis::StudyResult result = analysis::runStudy(scene, options, log);
+        analysis::StudyResult result = analysis::runStudy(scene, clips, options, log);
         post([this, result = std::move(result)]() mutable { studyDone(std::move(result)); });
     });
 }
@@ -206,6 +203,8 @@ void StudyPanel::studyDone(analysis::StudyResult result) {
     if (result.cancelled) {
         m_notice = hasStudy() ? tr("Measurement cancelled: the previous measurement is still shown.")
                               : tr("Measurement cancelled: nothing was kept. Press <i>Measure this scene</i> to start again.");
+    } else if (!result.failure.empty()) {
+        m_notice = tr("The measurement gave no result: %1").arg(QString::fromStdString(result.failure).toHtmlEscaped());
     } else if (result.rows.empty()) {
         m_notice = tr("The measurement gave no result: check that the scene plays (press Play) and measure again.");
     } else {
@@ -238,12 +237,10 @@ bool StudyPanel::applyRow(int row) {
     }
     // Copies: each command's redo() changes the scene these would otherwise point into.
     const WorldSettings worldBefore = scene.world;
-    const Lattice latticeBefore = scene.objects.front().lattice;
-    const LatticeMaterial materialBefore = scene.objects.front().material;
-    const LatticeShape shape = latticeBefore.shape();
     const bool newStep = worldBefore.simulation.integrator != pick->integrator || worldBefore.simulation.dt != pick->dt;
-    const bool newLattice = shape.kind != pick->lattice.kind || shape.nodes != pick->lattice.nodes;
-    const SceneObject& moved = next->objects.front();
+    std::vector<std::pair<Lattice, LatticeMaterial>> before;
+    for (const SceneObject& object : scene.objects)
+        before.emplace_back(object.lattice, object.material);
 
     m_applying = true;
     QUndoStack* undo = m_document->undoStack();
@@ -251,9 +248,13 @@ bool StudyPanel::applyRow(int row) {
                                           : tr("Use %1 (picked on the study's chart)").arg(settingName(pick->setting())));
     if (newStep)
         undo->push(new WorldEditCommand(m_document, worldBefore, next->world, tr("Integrator and time step")));
-    if (newLattice)
-        undo->push(new LatticeEditCommand(m_document, 0, latticeBefore, materialBefore, moved.lattice, moved.material,
-                                          tr("Lattice resolution")));
+    for (std::size_t i = 0; i < before.size(); ++i) {
+        // Every object moves to the pick's lattice (the study measured them all on it).
+        const LatticeShape shape = before[i].first.shape();
+        if (shape.kind != pick->lattice.kind || shape.nodes != pick->lattice.nodes)
+            undo->push(new LatticeEditCommand(m_document, int(i), before[i].first, before[i].second, next->objects[i].lattice,
+                                              next->objects[i].material, tr("Lattice resolution")));
+    }
     undo->endMacro();
     m_applying = false;
 
@@ -262,8 +263,8 @@ bool StudyPanel::applyRow(int row) {
     m_remeasured.reset();
     m_progress->setRange(0, 0);
     m_progress->setFormat(tr("Re-measuring…"));
-    startWorker([this, scene = m_document->scene(), study = m_study] {
-        Result<analysis::Remeasured> result = analysis::remeasure(scene, study);
+    startWorker([this, scene = m_document->scene(), clips = m_document->project().clips, study = m_study] {
+        Result<analysis::Remeasured> result = analysis::remeasure(scene, clips, study);
         post([this, result = std::move(result)] { remeasureDone(result); });
     });
     return true;
@@ -315,6 +316,8 @@ QString StudyPanel::rowBlocker(int row) const {
 QString StudyPanel::applyBlocker() const {
     if (const QString blocked = rowBlocker(-1); !blocked.isEmpty())
         return blocked;
+    if (const std::string refusal = analysis::refusalOfTarget(m_study, target()); !refusal.empty())
+        return tr("This target cannot be certified: %1.").arg(QString::fromStdString(refusal).toHtmlEscaped());
     const analysis::StudyRow* pick = suggestion();
     if (!pick)
         return tr("No measured setting is within the target: raise the target or choose another error.");
@@ -370,10 +373,12 @@ void StudyPanel::refresh() {
         if (isOutOfDate())
             text << tr("<b style='color:#b00000'>Out of date:</b> the scene changed since it was measured. Press "
                        "<i>Measure again</i>.");
-        text << tr("Errors are RMS vertex distances over the %1 s clip, in % of the box diagonal. The mesh moves up to %2; "
-                   "doing nothing (the rest pose) would score %3.")
+        text << tr("Errors are RMS vertex distances over the %1 s clip '%2', in % of the mesh's diagonal, against the "
+                   "converged solid (itself within %3); the worst object counts. The mesh moves up to %4; doing nothing "
+                   "(the bodies at rest) would score %5.")
                     .arg(m_study.seconds, 0, 'g', 3)
-                    .arg(percent(m_study.motionAmplitude), percent(m_study.restError));
+                    .arg(QString::fromStdString(m_study.clip.name).toHtmlEscaped(), percent(m_study.referenceUncertainty()),
+                         percent(m_study.motionAmplitude), percent(m_study.restError));
         if (const analysis::StudyRow* current = currentRow())
             text << tr("<b>Current</b> (%1): %2; error %3 total, %4 integration, %5 model.")
                         .arg(settingName(current->setting()), cost(current->costPerSecond), percent(current->rmsError),

@@ -1,5 +1,6 @@
 // The speed/accuracy study measures what it claims: integrator character, convergence, Pareto front.
 #include "analysis/study.h"
+#include "analysis/converged_reference.h"
 #include "core/solid_modes.h"
 #include "io/project_file.h"
 
@@ -21,7 +22,7 @@ private slots:
     void csvAndMarkdownHoldEveryRow();
     void totalErrorIsBoundedByItsTwoParts();
     void doingNothingIsTheBaselineNoRealRunLosesTo();
-    void modelErrorFallsAsTheLatticeIsRefined();
+    void theReferenceConvergesAsTheSolidIsRefined();
     void aPickRemeasuredAsAppliedKeepsItsError();
     void theScenesOwnSettingIsMeasured();
     void latticesAreMeasuredAgainstTheSolid();
@@ -30,20 +31,38 @@ private:
     const StudyRow& row(IntegratorKind kind, double dt, const std::string& resolution) const;
     StudyResult m_result;
     Scene m_scene;
+    ClipLibrary m_clips;
 };
+
+namespace {
+/// The project's clips and a first second of its drivers ("first second"), which the tests measure: every
+/// test function is its own ctest run and measures again, so it stays short.
+ClipLibrary withFirstSecond(ClipLibrary clips) {
+    Clip second;
+    second.name = "first second";
+    second.frames = 24;
+    second.fps = 24.0;
+    clips.clips.push_back(second);
+    return clips;
+}
+}  // namespace
 
 void TestStudy::initTestCase() {
     auto project = io::loadProject(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-swim.softtouch");
     QVERIFY2(project.ok(), project.message().c_str());
     StudyOptions options;
     options.quick = true;
-    options.repeats = 1;   // the cost's median is not what these tests check
-    options.seconds = 1.0; // every test function is its own ctest run and measures again: keep it short
-    // The two lattices the tests read (the quick grid's B-spline 6x6x6 would cost most of the run).
+    options.repeats = 1;   // the cost is not what these tests check
+    options.clip = "first second";
+    // The two lattices the tests read (the quick grid's B-spline 6x6x6 would cost most of the run), and a
+    // reference of two nets (its uncertainty is large; the ladder's convergence has a test of its own).
     options.lattices = {{LatticeKind::Bezier, {3, 3, 3}}, {LatticeKind::Bezier, {4, 4, 4}}};
+    options.reference.nodes = {3, 4};
     std::ostringstream log;
     m_scene = project->scene;
-    m_result = runStudy(m_scene, options, log);
+    m_clips = withFirstSecond(project->clips);
+    m_result = runStudy(m_scene, m_clips, options, log);
+    QVERIFY2(m_result.failure.empty(), m_result.failure.c_str());
     // integrators x dt x resolutions (quick); the scene's own setting (implicit Euler, 1/240 s, 4x4x4) is among them
     QCOMPARE(int(m_result.rows.size()), 4 * 3 * 2);
 }
@@ -57,7 +76,9 @@ const StudyRow& TestStudy::row(IntegratorKind kind, double dt, const std::string
 }
 
 void TestStudy::everyRowIsFiniteAndPriced() {
-    QVERIFY(m_result.referenceUncertainty < 1e-3);
+    QVERIFY(m_result.reference && m_result.reference->frames.frames == 24);
+    QCOMPARE(m_result.clip.name, std::string("first second"));
+    QVERIFY(std::isfinite(m_result.referenceUncertainty()) && m_result.referenceUncertainty() > 0.0);
     for (const StudyRow& r : m_result.rows) {
         QVERIFY(r.finite);
         QVERIFY(r.costPerSecond > 0.0);
@@ -163,48 +184,55 @@ void TestStudy::doingNothingIsTheBaselineNoRealRunLosesTo() {
     }
     Scene still = m_scene;
     still.objects.front().drivers.clear();  // the rest pose, run the way a bake runs it
-    const auto measured = remeasure(still, m_result);
+    const auto measured = remeasure(still, m_clips, m_result);
     QVERIFY2(measured.ok(), measured.message().c_str());
     QVERIFY(std::abs(measured->total - m_result.restError) < 1e-6 * m_result.restError);
     QVERIFY(measured->total > 0.99 * m_result.restError);
 }
 
-void TestStudy::modelErrorFallsAsTheLatticeIsRefined() {
-    // Same material, Bezier 2x2x2 .. 8x8x8: each finer lattice converged in time is closer to the finest.
-    StudyOptions options;
-    options.repeats = 1;
-    options.includeCurrent = false;
-    options.integrators = {IntegratorKind::Verlet};
-    options.steps = {1.0 / 240};
-    for (int n = 2; n <= 8; ++n)
-        options.lattices.push_back({LatticeKind::Bezier, {n, n, n}});
+void TestStudy::theReferenceConvergesAsTheSolidIsRefined() {
+    // The converged solid's ladder (3x3x3, 4x4x4, 6x6x6 Bezier nets of the solid element, the step halved on
+    // the coarsest) on the clips users export: each refinement moves the clip less than the one before, so
+    // the rest of the series is an estimate of the distance to the limit, which comes out below the last
+    // change; the step's part is far below the lattice's.
     for (const char* name : {"angelfish-swim", "guppy-swim"}) {
         auto project = io::loadProject(std::string(SOFTTOUCH_SOURCE_DIR "/presets/scenes/") + name + ".softtouch");
         QVERIFY(project.ok());
-        options.seconds = 1.0;
+        ReferenceOptions options;
+        options.nodes = {3, 4, 6};
         std::ostringstream log;
-        const StudyResult ladder = runStudy(project->scene, options, log);
-        QCOMPARE(int(ladder.rows.size()), 7);
-        for (std::size_t i = 1; i < ladder.rows.size(); ++i)
-            QVERIFY2(ladder.rows[i].modelError < ladder.rows[i - 1].modelError,
-                     qPrintable(QString("%1: %2 scores %3, coarser %4 scores %5").arg(name)
-                                    .arg(QString::fromStdString(ladder.rows[i].resolution)).arg(ladder.rows[i].modelError)
-                                    .arg(QString::fromStdString(ladder.rows[i - 1].resolution)).arg(ladder.rows[i - 1].modelError)));
-        QVERIFY(ladder.rows.back().modelError < 1e-9);  // the reference lattice itself
-        QVERIFY(ladder.rows.front().modelError < ladder.restError);
+        const auto clip = clipToPlay(project->scene, project->clips, "swim");
+        QVERIFY2(clip.ok(), clip.message().c_str());
+        const auto reference = convergedReference(project->scene, project->clips, clip.value(), options, log);
+        QVERIFY2(reference.ok(), reference.message().c_str());
+        QCOMPARE(int(reference->levels.size()), 4);  // 3^3 at dt/2, then 3^3, 4^3, 6^3 at dt
+        const double time = reference->levels[1].change, first = reference->levels[2].change, second = reference->levels[3].change;
+        QVERIFY2(reference->spaceConverging && second < first,
+                 qPrintable(QString("%1: 3->4 moves %2, 4->6 moves %3\n%4").arg(name).arg(first).arg(second)
+                                .arg(QString::fromStdString(log.str()))));
+        QVERIFY2(time < 0.1 * second, qPrintable(QString("%1: the step moves it %2").arg(name).arg(time)));
+        const double r = second / first;
+        QVERIFY(std::abs(reference->spaceUncertainty - second * r / (1.0 - r)) <= 1e-12 * second);
+        QVERIFY(std::abs(reference->uncertainty - reference->spaceUncertainty - reference->timeUncertainty) <= 1e-15);
+        // Certified targets start at ten times the estimate.
+        QVERIFY(certifiable(reference.value(), 10.0 * reference->uncertainty));
+        QVERIFY(!certifiable(reference.value(), 9.0 * reference->uncertainty));
     }
 }
 
 void TestStudy::aPickRemeasuredAsAppliedKeepsItsError() {
     // What --apply writes runs to the error the study printed for it (the CLI test re-bakes it from the file).
-    for (double target : {0.004, 0.006, 0.012}) {
+    double best = 1e300;
+    for (const StudyRow& r : m_result.rows)
+        best = std::min(best, r.rmsError);
+    for (double target : {1.2 * best, 2.0 * best, 4.0 * best}) {
         const StudyRow* pick = cheapestWithin(m_result, target);
         QVERIFY(pick != nullptr);
         const auto applied = applySetting(m_scene, pick->setting());
         QVERIFY2(applied.ok(), applied.message().c_str());
         QCOMPARE(applied->world.simulation.integrator, pick->integrator);
         QCOMPARE(applied->objects.front().lattice.shape().nodes, pick->lattice.nodes);
-        const auto measured = remeasure(applied.value(), m_result);
+        const auto measured = remeasure(applied.value(), m_clips, m_result);
         QVERIFY2(measured.ok(), measured.message().c_str());
         QVERIFY(std::abs(measured->total - pick->rmsError) <= 1e-9 * pick->rmsError);
         QVERIFY(std::abs(measured->integration - pick->timeError) <= 1e-9 * pick->timeError);
@@ -240,7 +268,7 @@ void TestStudy::latticesAreMeasuredAgainstTheSolid() {
                                                describeModeErrors(coarse.solidModeError))));
     QVERIFY(std::abs(usual.solidModeError[0]) < 0.01);  // the wobble an animator tunes by
     const std::string csv = studyCsv(m_result);
-    QVERIFY(csv.substr(0, csv.find('\n')).ends_with(",solid_mode_error"));
+    QVERIFY(csv.substr(0, csv.find('\n')).ends_with(",solid_mode_error,object_errors"));
     const std::string md = studyMarkdown(m_result, "x");
     QVERIFY2(md.find("| 4x4x4 bezier | 64 | ") != std::string::npos &&
                  md.find(describeModeErrors(usual.solidModeError) + " |") != std::string::npos,

@@ -7,6 +7,8 @@
 #include "io/export_formats.h"
 #include "io/project_file.h"
 #include "io/vertex_cache.h"
+#include "analysis/clip_frames.h"
+#include "analysis/converged_reference.h"
 #include "app/cli_usage.h"
 
 #include "cli_run.h"
@@ -548,11 +550,13 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
 // The study command end to end on a small grid (a few seconds, so it also runs under the sanitizers):
 // its three files, a pick written as a project that loads with the picked setting, and bad usage.
 void TestCli::studyWritesItsFilesAndAppliesAPick() {
-    const QString path = kScenes + "guppy-swim.softtouch";
+    const QString path = kScenes + "demekin-swim.softtouch";
     QTemporaryDir dir;
+    qputenv("XDG_CACHE_HOME", dir.filePath("cache").toUtf8());
     const QString applied = dir.filePath("pick.softtouch");
     const Run study = runCli({"study", path, "--lattices", "bezier2,bezier3", "--integrators", "verlet,implicit-euler",
-                              "--steps", "24,240", "--repeats", "1", "--target", "0.05", "--apply", applied, "--out", dir.path()});
+                              "--steps", "24,240", "--repeats", "1", "--reference-nets", "2,3,4", "--target", "0.005",
+                              "--apply", applied, "--out", dir.path()});
     QVERIFY2(study.exitCode == 0, qPrintable(study.out.right(600) + study.err));
     for (const char* file : {"study.csv", "study.md", "study.png"})
         QVERIFY2(QFileInfo(dir.filePath(file)).size() > 0, file);
@@ -575,7 +579,8 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
     QVERIFY2(line.contains(QString("%1x%1x%1 bezier").arg(nodes)), qPrintable(line));
     QVERIFY2(line.contains(QString("dt = 1/%1 s").arg(std::lround(1.0 / dt))), qPrintable(line));
 
-    const QStringList bad[] = {{"--error", "bogus"}, {"--apply", applied}, {"--lattices", "bezier1"}, {"--repeats", "0"}};
+    const QStringList bad[] = {{"--error", "bogus"}, {"--apply", applied}, {"--lattices", "bezier1"}, {"--repeats", "0"},
+                               {"--reference-nets", "4,3"}, {"--reference-nets", "9"}};
     for (const QStringList& extra : bad) {
         const Run r = runCli(QStringList{"study", path} + extra);
         QVERIFY2(r.exitCode == 2, qPrintable(extra.join(' ') + ": " + r.err));
@@ -585,62 +590,105 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
 
 void TestCli::studyPicksHoldWhenRebaked_data() {
     QTest::addColumn<QString>("scene");
-    QTest::addColumn<QList<double>>("targets");  // reachable, from loose to tight, between the scene's best and doing nothing
-    QTest::newRow("angelfish") << "angelfish-swim" << QList<double>{0.012, 0.006, 0.0045};
-    QTest::newRow("guppy") << "guppy-swim" << QList<double>{0.05, 0.03, 0.02};
-    QTest::newRow("demekin") << "demekin-swim" << QList<double>{0.003, 0.001, 0.0006};
+    QTest::addColumn<QList<double>>("targets");
+    QTest::addColumn<int>("certified");  // how many of them the --quick reference must certify
+    // The angelfish and the guppy: their 6x6x6 solid is itself further from the limit than a tenth of 1-5%
+    // (docs/study.md), so every target is refused. The demekin's reference certifies down to 0.2%.
+    QTest::newRow("angelfish") << "angelfish-swim" << QList<double>{0.01, 0.02, 0.05} << 0;
+    QTest::newRow("guppy") << "guppy-swim" << QList<double>{0.01, 0.02, 0.05} << 0;
+    QTest::newRow("demekin") << "demekin-swim" << QList<double>{0.002, 0.004, 0.01} << 2;
 }
 
-// study --target --apply writes a project; baked through the CLI as a user would, it meets the target
-// against a converged reference this test bakes itself (the 8x8x8 Bezier lattice, Verlet at 1/4000 s).
+// The must-show of the study on the clip users export: `study --clip swim --target T --apply` for targets of
+// 1%, 2% and 5% of the diagonal. A target the study certifies is met by the pick re-baked through `bake --clip
+// swim` as a user would, against a converged solid this test bakes itself through `bake` (the solid element
+// on a 6x6x6 Bezier net, Verlet at 1/4000 s: the study's --quick reference), and the error the study printed
+// is the re-baked one within 5%. A target it refuses says why and writes nothing. The second study of a scene
+// reads its reference from the cache.
 void TestCli::studyPicksHoldWhenRebaked() {
     QFETCH(QString, scene);
     QFETCH(QList<double>, targets);
+    QFETCH(int, certified);
     const QString path = kScenes + scene + ".softtouch";
+    QTemporaryDir dir;
+    qputenv("XDG_CACHE_HOME", dir.filePath("cache").toUtf8());
     auto project = io::loadProject(path.toStdString());
     QVERIFY2(project.ok(), project.message().c_str());
-    Scene reference = project->scene;
-    SceneObject& object = reference.objects.front();
-    const Lattice fine = Lattice::create({LatticeKind::Bezier, {8, 8, 8}}, object.lattice.box()).value();
-    object.material = resampleMaterial(object.lattice, object.material, fine, true);
-    object.lattice = fine;
-    reference.world.simulation.integrator = IntegratorKind::Verlet;
-    reference.world.simulation.dt = 1.0 / 4000;
-    auto sim = SceneSimulation::create(reference);
-    QVERIFY2(sim.ok(), sim.message().c_str());
-    const int frames = reference.world.frames;
-    std::vector<std::vector<Vec3f>> expected;
-    for (int f = 0; f < frames; ++f) {
-        sim->advanceTo(f / reference.world.fps);
-        expected.emplace_back(object.mesh->positions.size());
-        sim->evaluate(0, expected.back(), {}, 0);
-    }
-    const double diagonal = object.lattice.box().diagonal();
 
-    QTemporaryDir dir;
+    // The reference, baked as a project of its own when a target is certified.
+    std::optional<io::VertexCache> expected;
+    const std::vector<double> diagonals = analysis::meshDiagonals(project->scene);
+    auto bakeReference = [&]() -> bool {
+        io::Project solid = project.value();
+        auto moved = analysis::solidOnBezier(solid.scene, 6);
+        if (!moved.ok())
+            return false;
+        solid.scene = moved.value();
+        solid.scene.world.simulation.integrator = IntegratorKind::Verlet;
+        solid.scene.world.simulation.dt = 1.0 / 4000;
+        solid.clips.sessions.clear();  // takes and keys live on the authored lattice's nodes; the swim clip plays drivers
+        solid.clips.keyframes.clear();
+        std::erase_if(solid.clips.clips, [](const Clip& c) { return c.source != ClipSource::Drivers; });
+        for (std::string& mesh : solid.meshReferences)  // the file is written elsewhere: its meshes by full path
+            mesh = (std::filesystem::path(path.toStdString()).parent_path() / mesh).lexically_normal().string();
+        const QString solidPath = dir.filePath("reference.softtouch");
+        if (!io::saveProject(solid, solidPath.toStdString()).ok())
+            return false;
+        const QString referenceCache = dir.filePath("reference.pc2");
+        const Run referenceBake = runCli({"bake", solidPath, "--clip", "swim", "--out", referenceCache, "--quiet"});
+        if (referenceBake.exitCode != 0) {
+            qWarning("%s", qPrintable(referenceBake.err));
+            return false;
+        }
+        auto read = io::readPc2(referenceCache.toStdString());
+        if (!read.ok())
+            return false;
+        expected = read.value();
+        return true;
+    };
+
+    int held = 0;
     QStringList picks;
     for (double target : targets) {
         const QString applied = dir.filePath(QString("pick-%1.softtouch").arg(target));
-        const Run study = runCli({"study", path, "--quick", "--repeats", "1", "--target", QString::number(target), "--apply", applied});
-        QVERIFY2(study.exitCode == 0, qPrintable(study.out.right(600) + study.err));
+        const QString out = dir.filePath(QString("study-%1").arg(target));
+        const Run study = runCli({"study", path, "--clip", "swim", "--quick", "--repeats", "1", "--target", QString::number(target),
+                                  "--apply", applied, "--out", out});
+        // The reference is made by the first study and read from the cache by the next ones.
+        QVERIFY2(study.out.contains("from the cache") == (target != targets.front()), qPrintable(study.out.left(400)));
+        if (study.exitCode != 0) {
+            QVERIFY2(study.exitCode == 1 && study.err.contains("refused") &&
+                         (study.err.contains("cannot be certified") || study.err.contains("doing nothing")),
+                     qPrintable(study.out.right(600) + study.err));
+            QVERIFY2(!QFileInfo::exists(applied) && !QFileInfo::exists(out), "a refused target wrote files");
+            picks << QString("%1: refused").arg(target);
+            continue;
+        }
+        ++held;
         QVERIFY(study.out.contains("re-measured as written"));
+        QVERIFY(expected || bakeReference());
+        const double printed = study.out.section("re-measured as written: total error ", 1).section(' ', 0, 0).toDouble();
         const QString cache = dir.filePath(QString("pick-%1.pc2").arg(target));
-        const Run bake = runCli({"bake", applied, "--out", cache, "--quiet"});
+        const Run bake = runCli({"bake", applied, "--clip", "swim", "--out", cache, "--quiet"});
         QVERIFY2(bake.exitCode == 0, qPrintable(bake.err));
         auto baked = io::readPc2(cache.toStdString());
         QVERIFY2(baked.ok(), baked.message().c_str());
-        QCOMPARE(int(baked->frames.size()), frames);
+        QCOMPARE(baked->frames.size(), expected->frames.size());
         double sum = 0.0;
         std::size_t count = 0;
-        for (int f = 0; f < frames; ++f) {
-            QCOMPARE(baked->frames[std::size_t(f)].size(), expected[std::size_t(f)].size());
-            for (std::size_t v = 0; v < expected[std::size_t(f)].size(); ++v, ++count)
-                sum += double((baked->frames[std::size_t(f)][v] - expected[std::size_t(f)][v]).squaredNorm());
+        for (std::size_t f = 0; f < expected->frames.size(); ++f) {
+            QCOMPARE(baked->frames[f].size(), expected->frames[f].size());
+            for (std::size_t v = 0; v < expected->frames[f].size(); ++v, ++count)
+                sum += double((baked->frames[f][v] - expected->frames[f][v]).squaredNorm());
         }
-        const double error = std::sqrt(sum / double(count)) / diagonal;
+        QCOMPARE(int(diagonals.size()), 1);  // one object: the PC2 is its mesh
+        const double error = std::sqrt(sum / double(count)) / diagonals.front();
         QVERIFY2(error <= target, qPrintable(QString("%1 at target %2: re-baked error %3\n%4").arg(scene).arg(target).arg(error).arg(study.out.right(400))));
-        picks << study.out.section("cheapest setting", 1).section('\n', 0, 0);
+        QVERIFY2(std::abs(printed - error) <= 0.05 * error,
+                 qPrintable(QString("%1 at target %2: printed %3, re-baked %4").arg(scene).arg(target).arg(printed).arg(error)));
+        picks << QString("%1: %2 (%3)").arg(target).arg(study.out.section("cheapest setting", 1).section('\n', 0, 0)).arg(error);
     }
+    QVERIFY2(held >= certified, qPrintable(picks.join(" | ")));
     qInfo("%s picks: %s", qPrintable(scene), qPrintable(picks.join(" | ")));
 }
 
