@@ -23,6 +23,7 @@ private slots:
     void totalErrorIsBoundedByItsTwoParts();
     void doingNothingIsTheBaselineNoRealRunLosesTo();
     void theReferenceConvergesAsTheSolidIsRefined();
+    void everyObjectOfAPairIsMeasuredWithItsCollisions();
     void aPickRemeasuredAsAppliedKeepsItsError();
     void theScenesOwnSettingIsMeasured();
     void latticesAreMeasuredAgainstTheSolid();
@@ -218,6 +219,43 @@ void TestStudy::theReferenceConvergesAsTheSolidIsRefined() {
         QVERIFY(certifiable(reference.value(), 10.0 * reference->uncertainty));
         QVERIFY(!certifiable(reference.value(), 9.0 * reference->uncertainty));
     }
+}
+
+void TestStudy::everyObjectOfAPairIsMeasuredWithItsCollisions() {
+    // Two angelfish swimming into each other: both are measured, each against its own mesh's diagonal, and
+    // the worst decides; the reference and every row run the contacts between them (without them, the first
+    // fish's clip is another one).
+    auto project = io::loadProject(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-pair.softtouch");
+    QVERIFY2(project.ok(), project.message().c_str());
+    QCOMPARE(int(project->scene.objects.size()), 2);
+    StudyOptions options;
+    options.repeats = 1;
+    options.includeCurrent = false;
+    options.integrators = {IntegratorKind::Verlet};
+    options.steps = {1.0 / 240};
+    options.lattices = {{LatticeKind::Bezier, {3, 3, 3}}};
+    options.reference.nodes = {3, 4};
+    std::ostringstream log;
+    const StudyResult pair = runStudy(project->scene, project->clips, options, log);
+    QVERIFY2(pair.failure.empty(), pair.failure.c_str());
+    QCOMPARE(pair.objects.size(), std::size_t(2));
+    QCOMPARE(int(pair.rows.size()), 1);
+    const StudyRow& row = pair.rows.front();
+    QCOMPARE(row.objectErrors.size(), std::size_t(2));
+    QVERIFY(row.objectErrors[0] > 0.0 && row.objectErrors[1] > 0.0);
+    QCOMPARE(row.rmsError, std::max(row.objectErrors[0], row.objectErrors[1]));
+    QCOMPARE(pair.reference->frames.positions.size(), std::size_t(2));
+
+    // The same clip with the fish passing through each other: the first fish's reference moves.
+    Scene apart = project->scene;
+    apart.world.bodyCollisions.enabled = false;
+    const auto clip = clipToPlay(apart, project->clips, "");
+    QVERIFY(clip.ok());
+    std::ostringstream quiet;
+    const auto alone = convergedReference(apart, project->clips, clip.value(), options.reference, quiet);
+    QVERIFY2(alone.ok(), alone.message().c_str());
+    const std::vector<double> moved = objectDistances(alone->frames, pair.reference->frames, meshDiagonals(apart));
+    QVERIFY2(moved[0] > 1e-3 && moved[1] > 1e-3, qPrintable(QString("contacts move the fish %1 and %2").arg(moved[0]).arg(moved[1])));
 }
 
 void TestStudy::aPickRemeasuredAsAppliedKeepsItsError() {
