@@ -1,6 +1,7 @@
 #include "io/batch_plan.h"
 
 #include "io/atomic_file.h"
+#include "io/content_hash.h"
 #include "io/export_formats.h"
 #include "io/input_file.h"
 #include "io/json_reader.h"
@@ -37,21 +38,7 @@ std::string extensionOf(const std::string& format) {
     return extensions.empty() ? std::string() : std::string(extensions.front());
 }
 
-/// FNV-1a, 64 bit: a content hash for change detection (not for security; inputs are the user's own).
-struct Fnv1a {
-    std::uint64_t value = 0xcbf29ce484222325ull;
-    void add(const void* data, std::size_t size) {
-        const auto* bytes = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < size; ++i)
-            value = (value ^ bytes[i]) * 0x100000001b3ull;
-    }
-    void add(const std::string& text) {
-        add(text.data(), text.size());
-        add("\0", 1);  // so that "ab" + "c" and "a" + "bc" differ
-    }
-};
-
-Status hashFile(const fs::path& path, Fnv1a& hash) {
+Status hashFile(const fs::path& path, ContentHash& hash) {
     std::ifstream in(path, std::ios::binary);
     if (!in)
         return Status::error("cannot read '" + path.string() + "'");
@@ -292,7 +279,7 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const Bat
     auto contentHash = [&](const fs::path& input) -> Result<std::uint64_t> {
         if (auto it = contentHashes.find(input); it != contentHashes.end())
             return it->second;
-        Fnv1a hash;
+        ContentHash hash;
         if (Status s = hashFile(input, hash); !s)
             return s;
         contentHashes.emplace(input, hash.value);
@@ -364,7 +351,7 @@ Result<std::vector<BatchJob>> planBatch(const BatchManifest& manifest, const Bat
                     job.inputs = sceneInputs;
                     if (!preset.empty())
                         job.inputs.push_back(preset);
-                    Fnv1a hash;
+                    ContentHash hash;
                     hash.add(std::string("softtouch-batch-job 2 " SOFTTOUCH_VERSION));
                     for (const std::string& field : {job.format, job.clip, std::to_string(job.frames),
                                                      std::to_string(job.videoWidth), std::to_string(job.videoHeight)})

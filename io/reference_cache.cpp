@@ -1,6 +1,7 @@
 #include "io/reference_cache.h"
 
 #include "io/atomic_file.h"
+#include "io/content_hash.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -18,26 +19,6 @@ namespace {
 constexpr char kMagic[] = "softtouch-reference 1\n";
 /// Bounds a stored file must respect to be read (a damaged or foreign file is refused, then made again).
 constexpr std::uint64_t kMaxLevels = 64, kMaxText = 4096, kMaxObjects = 1024, kMaxFloats = std::uint64_t(1) << 31;
-
-/// FNV-1a, 64 bit: a content key (not for security; the inputs are the user's own).
-struct Hash {
-    std::uint64_t value = 0xcbf29ce484222325ull;
-    void add(const void* data, std::size_t size) {
-        const auto* bytes = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < size; ++i)
-            value = (value ^ bytes[i]) * 0x100000001b3ull;
-    }
-    template <typename T>
-    void add(const std::vector<T>& v) {
-        const std::uint64_t n = v.size();
-        add(&n, sizeof n);
-        add(v.data(), v.size() * sizeof(T));
-    }
-    void add(const std::string& text) {
-        add(text.data(), text.size());
-        add("\0", 1);
-    }
-};
 
 class Writer {
 public:
@@ -116,7 +97,7 @@ fs::path referenceCacheFolder() {
 }
 
 Result<std::string> referenceKey(const Project& project, const Clip& clip, const analysis::ReferenceOptions& options) {
-    Hash hash;
+    ContentHash hash;
     hash.add(std::string("softtouch-reference 1 " SOFTTOUCH_VERSION));
     // The project as saved holds every authored setting (materials inline, drivers, world, clips); it is
     // written beside nothing the user has, then read back and removed.
