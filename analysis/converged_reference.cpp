@@ -81,6 +81,10 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     log << "converged reference: the solid element refined in time on the coarsest net, then in space\n";
     // Time first, on the coarsest net (the cheap one): a finer net substeps at least as finely (its stable
     // step is shorter), so its step error is at most this one's.
+    if (cancelled(0)) {
+        reference.cancelled = true;
+        return reference;
+    }
     auto coarse = rung(options.nodes.front(), options.dt / 2);
     if (!coarse)
         return Status::error(coarse.message());

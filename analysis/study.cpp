@@ -517,17 +517,21 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         << "- ★ marks the Pareto front: no other setting is both cheaper and more accurate.\n\n";
     if (result.reference) {
         const ConvergedReference& ref = *result.reference;
-        out << "## The converged solid\n\nThe reference is the " << ref.description << ": the solid element refined in space "
-            << "and in time. Each rung's change is the clip's RMS motion from the rung before:\n\n| rung | change | wall time |\n|---|---|---|\n";
+        out << "## The converged solid\n\nThe reference is the " << ref.description << ", the last rung of a ladder that "
+            << "halves the step on the coarsest net, then refines the net. Each rung's change is the clip's RMS motion from "
+            << "the rung before (relative to the diagonal; a rung's wall time is taken when it is made, and a reference read "
+            << "from the cache keeps those of the study that made it):\n\n| rung | change | wall time |\n|---|---|---|\n";
         for (const ReferenceLevel& level : ref.levels) {
             char line[200];
-            std::snprintf(line, sizeof line, "| %s | %s | %.1f s |\n", level.what.c_str(),
-                          std::isfinite(level.change) ? (std::to_string(level.change)).c_str() : "—", level.seconds);
+            char change[32] = "—";
+            if (std::isfinite(level.change))
+                std::snprintf(change, sizeof change, "%.2e", level.change);
+            std::snprintf(line, sizeof line, "| %s | %s | %.1f s |\n", level.what.c_str(), change, level.seconds);
             out << line;
         }
         out << "\nEstimated distance from the limit: " << ref.uncertainty << " (lattice " << ref.spaceUncertainty
             << (ref.spaceConverging ? ", the rest of the shrinking series of changes" : ", the last change: the changes do not shrink")
-            << "; step " << ref.timeUncertainty << ", a third of the last change). A target below "
+            << "; step " << ref.timeUncertainty << ", 4/3 of the change when the step is halved). A target below "
             << 10.0 * ref.uncertainty << " (ten times it) cannot be certified.\n\n";
     }
     std::vector<const StudyRow*> sorted;
