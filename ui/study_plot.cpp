@@ -99,11 +99,16 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         extend(marker->costPerSecond, marker->rmsError);
     if (result.restError > 0)
         ymax = std::max(ymax, result.restError);  // doing nothing: the line every setting must stay well below
+    // Ten times the reference's own uncertainty: targets below it cannot be certified (refusalOfTarget).
+    const double floor = result.error == analysis::StudyError::Integration ? 0.0 : 10.0 * result.referenceUncertainty();
+    const bool showFloor = std::isfinite(floor) && floor > 0;
+    if (showFloor)
+        ymax = std::max(ymax, floor), ymin = std::min(ymin, floor);
 
     const QString errorKind = name(analysis::studyErrorName(result.error));
-    auto* x = logAxis(dock ? QObject::tr("cost (s per simulated s)") : QObject::tr("cost: wall seconds per simulated second"), xmin, xmax, font);
+    auto* x = logAxis(dock ? QObject::tr("cost (s per clip s)") : QObject::tr("cost: wall seconds per second of clip"), xmin, xmax, font);
     auto* y = logAxis(dock ? QObject::tr("%1 error / diagonal").arg(errorKind)
-                           : QObject::tr("%1 error / box diagonal (RMS)").arg(errorKind),
+                           : QObject::tr("%1 error / mesh diagonal (RMS, worst object)").arg(errorKind),
                       ymin, ymax, font);
     addAxis(x, Qt::AlignBottom);
     addAxis(y, Qt::AlignLeft);
@@ -115,7 +120,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
 
     if (result.restError > 0) {
         auto* rest = new QLineSeries;
-        rest->setName((dock ? QObject::tr("doing nothing: %1") : QObject::tr("doing nothing (the rest pose): %1")).arg(result.restError, 0, 'g', 3));
+        rest->setName((dock ? QObject::tr("doing nothing: %1") : QObject::tr("doing nothing (the bodies at rest): %1")).arg(result.restError, 0, 'g', 3));
         rest->setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DotLine));
         rest->append(x->min(), result.restError);
         rest->append(x->max(), result.restError);
@@ -132,6 +137,16 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             add(label);
             hideFromLegend(this, label);
         }
+    }
+    if (showFloor) {
+        auto* certifiable = new QLineSeries;
+        certifiable->setName(QObject::tr("targets certified from: %1").arg(floor, 0, 'g', 3));
+        certifiable->setPen(QPen(QColor(40, 40, 40), 1.5, Qt::DashDotLine));
+        certifiable->append(x->min(), floor);
+        certifiable->append(x->max(), floor);
+        add(certifiable);
+        if (dock)
+            hideFromLegend(this, certifiable);
     }
     QScatterSeries* byKind[std::size(kKinds)] = {};
     for (std::size_t k = 0; k < std::size(kKinds); ++k) {
