@@ -28,7 +28,7 @@ namespace {
 QString percent(double fraction) { return QString::number(100.0 * fraction, 'g', 2) + QChar(0x00A0) + QLatin1Char('%'); }
 
 QString cost(double secondsPerSecond) {
-    return QObject::tr("%1 ms per simulated second").arg(QString::number(1000.0 * secondsPerSecond, 'g', 3));
+    return QObject::tr("%1 ms per second of clip").arg(QString::number(1000.0 * secondsPerSecond, 'g', 3));
 }
 
 /// "verlet, 1/240 s, 4x4x4 bezier".

@@ -145,8 +145,18 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         certifiable->append(x->min(), floor);
         certifiable->append(x->max(), floor);
         add(certifiable);
-        if (dock)
+        if (dock) {  // named on the line itself, as doing nothing is
             hideFromLegend(this, certifiable);
+            auto* label = new QScatterSeries;
+            label->setMarkerSize(0.1);
+            label->append(std::sqrt(x->min() * x->max()), floor);
+            label->setPointLabelsFormat(QObject::tr("certified from: %1").arg(floor, 0, 'g', 3));
+            label->setPointLabelsColor(QColor(40, 40, 40));
+            label->setPointLabelsFont(font);
+            label->setPointLabelsVisible(true);
+            add(label);
+            hideFromLegend(this, label);
+        }
     }
     QScatterSeries* byKind[std::size(kKinds)] = {};
     for (std::size_t k = 0; k < std::size(kKinds); ++k) {
