@@ -31,26 +31,36 @@ std::span<const Vec3f> ClipMeshFrames::frame(std::size_t object, int f) const {
     return {all.data() + std::size_t(f) * vertices, vertices};
 }
 
-Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip) {
-    ClipMeshFrames out;
-    auto nodes = evaluateClip(scene, library, clip, &out.problems);
-    if (!nodes)
-        return Status::error(nodes.message());
-    // A simulation only to place meshes on given nodes (evaluateNodes steps nothing).
-    auto sim = SceneSimulation::create(scene);
-    if (!sim)
-        return Status::error(sim.message());
-    out.frames = int(nodes->nodes.size());
+namespace {
+
+/// Every object's mesh on node positions `nodesOf(object, frame)` at each frame's time, the clip's start
+/// + f / fps, as FrameSource plays it (a base animation's time). `sim` only places meshes: it steps nothing.
+template <typename NodesOf>
+void placeMeshes(const SceneSimulation& sim, const Scene& scene, const Clip& clip, NodesOf&& nodesOf, ClipMeshFrames& out) {
     out.positions.resize(scene.objects.size());
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const std::size_t vertices = scene.objects[i].mesh->positions.size();
         out.positions[i].resize(std::size_t(out.frames) * vertices);
         for (int f = 0; f < out.frames; ++f) {
-            // Frame f at the clip's start + f / fps, as FrameSource plays it (a base animation's time).
             const std::span<Vec3f> positions(out.positions[i].data() + std::size_t(f) * vertices, vertices);
-            sim->evaluateNodes(i, nodes->nodes[std::size_t(f)][i], clip.startSeconds + double(f) / clip.fps, positions, {}, 1);
+            sim.evaluateNodes(i, nodesOf(i, f), clip.startSeconds + double(f) / clip.fps, positions, {}, 1);
         }
     }
+}
+
+}  // namespace
+
+Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip) {
+    ClipMeshFrames out;
+    auto nodes = evaluateClip(scene, library, clip, &out.problems);
+    if (!nodes)
+        return Status::error(nodes.message());
+    auto sim = SceneSimulation::create(scene);
+    if (!sim)
+        return Status::error(sim.message());
+    out.frames = int(nodes->nodes.size());
+    placeMeshes(sim.value(), scene, clip,
+                [&](std::size_t i, int f) -> std::span<const Vec3> { return nodes->nodes[std::size_t(f)][i]; }, out);
     return out;
 }
 
@@ -60,17 +70,9 @@ Result<ClipMeshFrames> restFrames(const Scene& scene, const Clip& clip) {
         return Status::error(sim.message());
     ClipMeshFrames out;
     out.frames = clip.frames;
-    out.positions.resize(scene.objects.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        // The body at rest: on a base animation, the animation alone.
-        const std::vector<Vec3>& rest = sim->simulator(i).model().restPositions;
-        const std::size_t vertices = scene.objects[i].mesh->positions.size();
-        out.positions[i].resize(std::size_t(out.frames) * vertices);
-        for (int f = 0; f < out.frames; ++f) {
-            const std::span<Vec3f> positions(out.positions[i].data() + std::size_t(f) * vertices, vertices);
-            sim->evaluateNodes(i, rest, clip.startSeconds + double(f) / clip.fps, positions, {}, 1);
-        }
-    }
+    // The body at rest: on a base animation, the animation alone.
+    placeMeshes(sim.value(), scene, clip,
+                [&](std::size_t i, int) -> std::span<const Vec3> { return sim->simulator(i).model().restPositions; }, out);
     return out;
 }
 

@@ -133,8 +133,12 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     return reference;
 }
 
+double certifiedFrom(const ConvergedReference& reference) {
+    return std::isfinite(reference.uncertainty) ? 10.0 * reference.uncertainty : std::numeric_limits<double>::infinity();
+}
+
 bool certifiable(const ConvergedReference& reference, double target) {
-    return std::isfinite(reference.uncertainty) && target >= 10.0 * reference.uncertainty;
+    return target >= certifiedFrom(reference);
 }
 
 }  // namespace softtouch::analysis

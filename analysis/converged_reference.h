@@ -69,7 +69,10 @@ Result<Scene> solidOnBezier(const Scene& scene, int nodes);
 Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibrary& library, const Clip& clip,
                                               const ReferenceOptions& options, std::ostream& log);
 
-/// Whether `target` can be certified against `reference`: at least ten times its uncertainty.
+/// The smallest target `reference` certifies: ten times its uncertainty (a tenth of the target is what the
+/// reference may be off by); infinite when it has no finite uncertainty.
+double certifiedFrom(const ConvergedReference& reference);
+/// Whether `target` can be certified against `reference`: at least certifiedFrom(reference).
 bool certifiable(const ConvergedReference& reference, double target);
 
 }  // namespace softtouch::analysis

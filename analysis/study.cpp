@@ -196,6 +196,10 @@ double StudyResult::referenceUncertainty() const {
     return reference ? reference->uncertainty : std::numeric_limits<double>::infinity();
 }
 
+double StudyResult::certifiedFrom() const {
+    return reference ? analysis::certifiedFrom(*reference) : std::numeric_limits<double>::infinity();
+}
+
 StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const StudyOptions& options, std::ostream& log) {
     StudyResult result;
     result.error = options.error;
@@ -209,8 +213,6 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         return result;
     }
     result.clip = clip.value();
-    result.seconds = clip->seconds();
-    result.fps = clip->fps;
     for (const SceneObject& object : scene.objects)
         result.objects.push_back(object.name);
     const int repeats = std::clamp(options.repeats, 1, 100);
@@ -271,7 +273,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
     for (std::size_t i = 0; i < diagonals.size(); ++i)
         result.motionAmplitude = std::max(result.motionAmplitude,
                                           trajectoryDistance(rest->positions[i], reference.positions[i], diagonals[i]).max);
-    log << "clip '" << result.clip.name << "': " << result.seconds << " s from " << result.clip.startSeconds << " s at " << result.fps
+    log << "clip '" << result.clip.name << "': " << result.clip.seconds() << " s from " << result.clip.startSeconds << " s at " << result.clip.fps
         << " fps, " << result.objects.size() << (result.objects.size() == 1 ? " object" : " objects")
         << "; the mesh moves up to " << result.motionAmplitude << " of its diagonal; doing nothing (the bodies at rest) scores "
         << result.restError << " (RMS, worst object)\n";
@@ -348,7 +350,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
             fastest = std::min(fastest, seconds);
             slowest = std::max(slowest, seconds);
         }
-        row.costPerSecond = fastest / result.seconds;
+        row.costPerSecond = fastest / result.clip.seconds();
         row.costSpread = fastest > 0.0 ? (slowest - fastest) / fastest : 0.0;
         row.objectErrors = objectDistances(played.frames, reference, diagonals);
         row.finite = played.finite && std::all_of(row.objectErrors.begin(), row.objectErrors.end(),
@@ -420,11 +422,11 @@ std::string refusalOfTarget(const StudyResult& result, double target) {
                       result.restError, target, result.motionAmplitude);
         return text;
     }
-    if (result.error != StudyError::Integration && !(target >= 10.0 * result.referenceUncertainty())) {
+    if (result.error != StudyError::Integration && !(target >= result.certifiedFrom())) {
         std::snprintf(text, sizeof text,
                       "the converged solid is itself about %.2e of the diagonal from the limit, so a target below %.2e (ten "
                       "times that) cannot be certified against it",
-                      result.referenceUncertainty(), 10.0 * result.referenceUncertainty());
+                      result.referenceUncertainty(), result.certifiedFrom());
         return text;
     }
     return {};
@@ -494,7 +496,7 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         objects += (objects.empty() ? "" : ", ") + name;
     out << "# Speed against accuracy\n\nMade by `" << command << "`.\n\n"
         << "Every integrator × time step × lattice resolution plays the scene's clip '" << result.clip.name << "' ("
-        << result.seconds << " s from " << result.clip.startSeconds << " s at " << result.fps << " fps) as a bake exports it,\n"
+        << result.clip.seconds() << " s from " << result.clip.startSeconds << " s at " << result.clip.fps << " fps) as a bake exports it,\n"
         << "every object (" << objects << ") on the setting's lattice over its own box, with its drivers, anchors and\n"
         << "material carried to each resolution as the same continuum (density, Young's modulus and viscosity do not depend\n"
         << "on the lattice; anchors keep their extent in the material). Errors are RMS vertex distances over every frame,\n"
@@ -532,7 +534,7 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         out << "\nEstimated distance from the limit: " << ref.uncertainty << " (lattice " << ref.spaceUncertainty
             << (ref.spaceConverging ? ", the rest of the shrinking series of changes" : ", the last change: the changes do not shrink")
             << "; step " << ref.timeUncertainty << ", 4/3 of the change when the step is halved). A target below "
-            << 10.0 * ref.uncertainty << " (ten times it) cannot be certified.\n\n";
+            << analysis::certifiedFrom(ref) << " (ten times it) cannot be certified.\n\n";
     }
     std::vector<const StudyRow*> sorted;
     for (const StudyRow& r : result.rows)

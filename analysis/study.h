@@ -103,8 +103,6 @@ struct StudyResult {
     std::vector<StudyRow> rows;
     StudyError error = StudyError::Total;  ///< The error the front and picks use.
     Clip clip;                         ///< The clip measured (named "drivers": the scene's drivers from rest).
-    double seconds = 0.0;              ///< Its length, s.
-    double fps = 24.0;                 ///< Its frames per second.
     std::vector<std::string> objects;  ///< Names of the objects measured, in scene order.
     /// The converged solid every row is graded against (its frames, ladder and uncertainty).
     std::shared_ptr<const ConvergedReference> reference;
@@ -115,6 +113,8 @@ struct StudyResult {
     bool cancelled = false;            ///< The progress callback stopped it; rows are those measured so far.
     /// The reference's uncertainty (ConvergedReference::uncertainty); infinite without one.
     double referenceUncertainty() const;
+    /// The smallest target the reference certifies (certifiedFrom()); infinite without one.
+    double certifiedFrom() const;
 };
 
 /// "4x4x4 bezier": how the study names a lattice shape.

@@ -126,8 +126,8 @@ Result<std::string> referenceKey(const Project& project, const Clip& clip, const
     hash.add(&clip.startSeconds, sizeof(double));
     hash.add(&clip.frames, sizeof(int));
     hash.add(&clip.fps, sizeof(double));
-    const std::uint8_t flags[2] = {clip.loop, std::uint8_t(clip.blendFrames)};
-    hash.add(flags, sizeof flags);
+    const std::uint8_t loop = clip.loop;
+    hash.add(&loop, sizeof loop);
     hash.add(&clip.blendFrames, sizeof(int));
     hash.add(options.nodes);
     hash.add(&options.dt, sizeof(double));

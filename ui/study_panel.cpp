@@ -376,7 +376,7 @@ void StudyPanel::refresh() {
         text << tr("Errors are RMS vertex distances over the %1 s clip '%2', in % of the mesh's diagonal, against the "
                    "converged solid (itself within %3); the worst object counts. The mesh moves up to %4; doing nothing "
                    "(the bodies at rest) would score %5.")
-                    .arg(m_study.seconds, 0, 'g', 3)
+                    .arg(m_study.clip.seconds(), 0, 'g', 3)
                     .arg(QString::fromStdString(m_study.clip.name).toHtmlEscaped(), percent(m_study.referenceUncertainty()),
                          percent(m_study.motionAmplitude), percent(m_study.restError));
         if (const analysis::StudyRow* current = currentRow())

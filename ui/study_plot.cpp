@@ -100,7 +100,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
     if (result.restError > 0)
         ymax = std::max(ymax, result.restError);  // doing nothing: the line every setting must stay well below
     // Ten times the reference's own uncertainty: targets below it cannot be certified (refusalOfTarget).
-    const double floor = result.error == analysis::StudyError::Integration ? 0.0 : 10.0 * result.referenceUncertainty();
+    const double floor = result.error == analysis::StudyError::Integration ? 0.0 : result.certifiedFrom();
     const bool showFloor = std::isfinite(floor) && floor > 0;
     if (showFloor)
         ymax = std::max(ymax, floor), ymin = std::min(ymin, floor);
