@@ -72,6 +72,7 @@ public:
             return {};
         }
         std::vector<Vec3f> out(n / 3);
+        if (n == 0) return out;  // memcpy's pointers must be valid even for no bytes
         std::memcpy(static_cast<void*>(out.data()), m_bytes.data() + m_at, n * sizeof(float));
         m_at += n * sizeof(float);
         return out;
