@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds with warnings as errors, and runs every test through ctest.
 # --with-asan also builds and runs the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer.
+# Each step's wall time goes to stderr (scripts/step.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-bash scripts/build.sh release
-ctest --preset release -j "$(nproc)"
+. scripts/step.sh
+step "install" bash scripts/install-deps.sh
+step "release build" bash scripts/build.sh release
+step "release suite" ctest --preset release -j "$(nproc)"
 if [ "${1:-}" = "--with-asan" ]; then
-  bash scripts/build.sh asan
+  step "sanitizer build" bash scripts/build.sh asan
   # intercept_tls_get_addr=0: LeakSanitizer's thread scan (GCC 12's libasan) crashes now and then ("Tracer
   # caught signal 11") walking the dynamic TLS of Mesa's dlopen'ed driver in a headless render; a batch of
   # two renders at once failed 4 runs in 6 with it on, none in 4 with it off (docs/reliability.md).
-  ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan -j "$(nproc)"
+  ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 \
+    step "sanitizer suite" ctest --preset asan -j "$(nproc)"
 fi
