@@ -50,11 +50,12 @@ void placeMeshes(const SceneSimulation& sim, const Scene& scene, const Clip& cli
 
 }  // namespace
 
-Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip) {
+Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip,
+                                      const std::function<bool(double)>& keepGoing) {
     ClipMeshFrames out;
-    auto nodes = evaluateClip(scene, library, clip, &out.problems);
+    auto nodes = evaluateClip(scene, library, clip, &out.problems, 0, keepGoing);
     if (!nodes)
-        return Status::error(nodes.message());
+        return nodes.status();
     auto sim = SceneSimulation::create(scene);
     if (!sim)
         return Status::error(sim.message());

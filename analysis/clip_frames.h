@@ -5,6 +5,7 @@
 
 #include "core/clip.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,10 @@ struct ClipMeshFrames {
 };
 
 /// Evaluates `clip` over `scene` (evaluateClip, then each object's mesh at each frame's time, on a base
-/// animation included) as a bake of that clip writes it. Fails where evaluateClip or the scene does.
-Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip);
+/// animation included) as a bake of that clip writes it. Fails where evaluateClip or the scene does, or
+/// when `keepGoing` (asked before each frame with the fraction done) returns false.
+Result<ClipMeshFrames> clipMeshFrames(const Scene& scene, const ClipLibrary& library, const Clip& clip,
+                                      const std::function<bool(double)>& keepGoing = {});
 
 /// What doing nothing exports for `clip`: every body at rest at every frame (on a base animation, the
 /// animation alone).

@@ -46,13 +46,15 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     ConvergedReference reference;
     reference.dt = options.dt;
     const std::size_t runs = options.nodes.size() + 1;
-    auto cancelled = [&](std::size_t done) {
-        return options.progress && !options.progress(double(done) / double(runs));
+    // Progress through the rungs, and within a rung frame by frame, so a cancel stops a long rung at its
+    // next frame rather than at its end.
+    auto keepGoing = [&](std::size_t done, double withinRung) {
+        return !options.progress || options.progress((double(done) + withinRung) / double(runs));
     };
 
     // One rung: the scene on an n^3 solid at dt; its change from the rung before.
     ClipMeshFrames previous;
-    auto rung = [&](int nodes, double dt) -> Result<ClipMeshFrames> {
+    auto rung = [&](int nodes, double dt, std::size_t done) -> Result<ClipMeshFrames> {
         auto solid = solidOnBezier(scene, nodes);
         if (!solid)
             return Status::error(solid.message());
@@ -62,7 +64,9 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
         level.what = "solid " + std::to_string(nodes) + "x" + std::to_string(nodes) + "x" + std::to_string(nodes) +
                      " bezier, verlet, dt " + stepName(dt) + " s";
         Stopwatch watch;
-        auto frames = clipMeshFrames(solid.value(), library, clip);
+        auto frames = clipMeshFrames(solid.value(), library, clip, [&](double f) { return keepGoing(done, f); });
+        if (frames.wasCancelled())
+            return frames.status();
         level.seconds = watch.seconds();
         if (!frames)
             return Status::error("the converged solid (" + level.what + "): " + frames.message());
@@ -81,21 +85,21 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     log << "converged reference: the solid element refined in time on the coarsest net, then in space\n";
     // Time first, on the coarsest net (the cheap one): a finer net substeps at least as finely (its stable
     // step is shorter), so its step error is at most this one's.
-    if (cancelled(0)) {
+    auto coarse = rung(options.nodes.front(), options.dt / 2, 0);
+    if (coarse.wasCancelled()) {
         reference.cancelled = true;
         return reference;
     }
-    auto coarse = rung(options.nodes.front(), options.dt / 2);
     if (!coarse)
         return Status::error(coarse.message());
     previous = std::move(coarse.value());
     std::vector<double> spaceChanges;
     for (std::size_t i = 0; i < options.nodes.size(); ++i) {
-        if (cancelled(i + 1)) {
+        auto frames = rung(options.nodes[i], options.dt, i + 1);
+        if (frames.wasCancelled()) {
             reference.cancelled = true;
             return reference;
         }
-        auto frames = rung(options.nodes[i], options.dt);
         if (!frames)
             return Status::error(frames.message());
         if (i > 0)

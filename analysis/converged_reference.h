@@ -52,7 +52,7 @@ struct ConvergedReference {
 struct ReferenceOptions {
     std::vector<int> nodes = {4, 6, 8};  ///< Bezier nodes per axis, coarsest first; the last is the reference.
     double dt = 1.0 / 4000;              ///< Step of the reference; the coarsest net also runs at half of it.
-    /// Called before each rung with the fraction done; returning false cancels.
+    /// Called before each frame of each rung with the fraction done; returning false cancels at that frame.
     std::function<bool(double)> progress;
 };
 

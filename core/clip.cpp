@@ -238,7 +238,8 @@ SeamMeasure measureSeam(const NodeFrames& frames) {
 }
 
 Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
-                                std::vector<std::string>* problems, int firstFrames) {
+                                std::vector<std::string>* problems, int firstFrames,
+                                const std::function<bool(double)>& keepGoing) {
     if (Status s = clip.validate(); !s)
         return s;
     auto created = SceneSimulation::create(scene);
@@ -254,6 +255,7 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
     const int last = close ? n : n - 1;
     int pre = close && clip.startSeconds - double(clip.blendFrames) / clip.fps >= -1e-9 ? clip.blendFrames : 0;
     auto timeOf = [&](int j) { return std::max(0.0, clip.startSeconds + double(j) / clip.fps); };
+    auto stopped = [&](int j) { return keepGoing && !keepGoing(double(j + pre) / double(last + pre + 1)); };
 
     std::vector<std::vector<Vec3>> rest;
     for (std::size_t i = 0; i < sim.objectCount(); ++i)
@@ -263,6 +265,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
     switch (clip.source) {
     case ClipSource::Drivers:
         for (int j = -pre; j <= last; ++j) {
+            if (stopped(j))
+                return Status::cancelled(where + "cancelled");
             sim.advanceToSample(timeOf(j), problems);
             samples.push_back(sampleNodes(sim, timeOf(j)));
         }
@@ -280,6 +284,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
         if (Status s = player.start(sim, session); !s)
             return Status::error(where + "session '" + named->name + "': " + s.message());
         for (int j = -pre; j <= last; ++j) {
+            if (stopped(j))
+                return Status::cancelled(where + "cancelled");
             sim.advanceToSample(session.startSeconds() + timeOf(j), problems, player.inputs());
             samples.push_back(sampleNodes(sim, session.startSeconds() + timeOf(j)));
         }
@@ -298,6 +304,8 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
                                      " nodes, lattice " + std::to_string(rest[i].size()) + ")");
         }
         for (int j = -pre; j <= last; ++j) {
+            if (stopped(j))
+                return Status::cancelled(where + "cancelled");
             if (clip.goals) {
                 sim.advanceToSample(timeOf(j), problems, goalInputs(*keys, *clip.goals, rest));
                 samples.push_back(sampleNodes(sim, timeOf(j)));

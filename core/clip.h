@@ -22,6 +22,7 @@
 #include "core/scene.h"
 #include "core/session.h"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,9 +93,12 @@ struct NodeFrames {
 /// and closes the loop when asked. Problems reported by the simulation are appended to `problems`.
 /// `firstFrames` > 0: only the clip's first frames are wanted (`bake --frames 12` of a long clip). A clip
 /// whose loop is not blended then evaluates only those (its frames do not depend on later ones); a blended
-/// loop is evaluated whole, because its closure reaches across the clip.
+/// loop is evaluated whole, because its closure reaches across the clip. `keepGoing`, when set, is asked
+/// with the fraction of frames done before each frame: false stops the evaluation, which then fails
+/// as cancelled (Status::cancelled), so a long clip can be stopped between frames.
 Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
-                                std::vector<std::string>* problems = nullptr, int firstFrames = 0);
+                                std::vector<std::string>* problems = nullptr, int firstFrames = 0,
+                                const std::function<bool(double)>& keepGoing = {});
 
 /// Applies loop closure to `frames` (N+1 frames F_0..F_N, F_N one period after F_0) with optional
 /// `preroll` (W+1 frames G_{N-W}..G_N, or empty) over a window of `window` frames; drops F_N.

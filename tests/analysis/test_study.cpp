@@ -24,6 +24,7 @@ private slots:
     void doingNothingIsTheBaselineNoRealRunLosesTo();
     void theReferenceConvergesAsTheSolidIsRefined();
     void everyObjectOfAPairIsMeasuredWithItsCollisions();
+    void aCancelStopsTheReferenceWithinARung();
     void aPickRemeasuredAsAppliedKeepsItsError();
     void theScenesOwnSettingIsMeasured();
     void latticesAreMeasuredAgainstTheSolid();
@@ -256,6 +257,29 @@ void TestStudy::everyObjectOfAPairIsMeasuredWithItsCollisions() {
     QVERIFY2(alone.ok(), alone.message().c_str());
     const std::vector<double> moved = objectDistances(alone->frames, pair.reference->frames, meshDiagonals(apart));
     QVERIFY2(moved[0] > 1e-3 && moved[1] > 1e-3, qPrintable(QString("contacts move the fish %1 and %2").arg(moved[0]).arg(moved[1])));
+}
+
+void TestStudy::aCancelStopsTheReferenceWithinARung() {
+    // The editor's Cancel: the reference's rungs are the study's longest runs (a minute at 8x8x8), so the
+    // progress callback is asked frame by frame and a refusal stops the rung at its next frame.
+    ReferenceOptions options;
+    options.nodes = {3, 4};
+    std::vector<double> asked;
+    options.progress = [&](double fraction) {
+        asked.push_back(fraction);
+        return asked.size() < 5;  // the fifth frame of the first rung is refused
+    };
+    const auto clip = clipToPlay(m_scene, m_clips, "first second");
+    QVERIFY(clip.ok());
+    std::ostringstream log;
+    const auto reference = convergedReference(m_scene, m_clips, clip.value(), options, log);
+    QVERIFY2(reference.ok(), reference.message().c_str());
+    QVERIFY(reference->cancelled);
+    QCOMPARE(int(asked.size()), 5);           // not asked again once refused
+    QVERIFY(reference->levels.empty());       // the first rung (3x3x3 at half the step) never finished
+    QVERIFY(reference->frames.positions.empty());
+    for (std::size_t i = 1; i < asked.size(); ++i)
+        QVERIFY(asked[i] > asked[i - 1] && asked[i] < 1.0 / 3.0);  // within the first of three runs, advancing
 }
 
 void TestStudy::aPickRemeasuredAsAppliedKeepsItsError() {

@@ -2406,7 +2406,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(!study->isMeasuring());
 }
 
-// Cancel stops a measurement after its current run and keeps nothing; closing the window while one runs
+// Cancel stops a measurement (the reference at its next frame, a grid run when it ends) and keeps nothing; closing the window while one runs
 // stops it too, and destroying the window waits for the worker thread (no crash, no late delivery).
 void TestEditor::studyDockCancelsAndStopsWithTheWindow() {
     MainWindow& w = *m_window;
@@ -2421,7 +2421,7 @@ void TestEditor::studyDockCancelsAndStopsWithTheWindow() {
     clock.start();
     cancel->click();
     QVERIFY(done.wait(kStudyWaitMs));
-    qInfo("cancelled after %.1f s (the run in progress finishes first)", double(clock.elapsed()) / 1000.0);
+    qInfo("cancelled after %.1f s (the reference stops at its next frame)", double(clock.elapsed()) / 1000.0);
     QVERIFY(!study->isMeasuring());
     QVERIFY(!study->hasStudy());
     QVERIFY2(study->findChild<QLabel*>("studyText")->text().contains("cancelled"),
