@@ -475,9 +475,8 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << "  times the bound is always substepped, so the 1x, 10x and most 1/24 s explicit runs are caught even\n"
        << "  when the motion is perfectly fine.\n"
        << "- **B, bounded**: finite and nothing reported, E above 2 E₀ but not growing (the last third of the run\n"
-       << "  peaks no higher than 10x the rest): stable but inaccurate. XPBD with one constraint pass per substep\n"
-       << "  cannot resolve springs stiffer than about m/h², so the body settles softer than k and the energy,\n"
-       << "  measured with the real k, reads high. More XPBD substeps (or implicit Euler) fix it.\n"
+       << "  peaks no higher than 10x the rest): energy from nowhere that stopped growing, which no guard\n"
+       << "  reported.\n"
        << "- **F, failed**: anything else: a non-finite exported frame, or E above 2 E₀ after a step that\n"
        << "  reported nothing and still growing at the end of the run (or beyond 10⁶ E₀), even when a later\n"
        << "  step is rolled back: the frames before it were already wrong.\n\n";

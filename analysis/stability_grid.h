@@ -10,8 +10,7 @@
 ///           nothing ended above the energy limit: a step was refused or rolled back
 ///           (StepReport::problem), or an explicit scheme was substepped (StepReport::substeps > 1)
 ///   Bounded finite, nothing reported, energy above 2x its start but not growing (the last third of the
-///           run peaks no higher than 10x the rest): stable but inaccurate — XPBD with one pass per
-///           substep cannot resolve springs stiffer than about m/h², so it settles softer than k
+///           run peaks no higher than 10x the rest): energy from nowhere that stopped growing, unreported
 ///   Failed  anything else: a non-finite exported frame, or energy growth in a step that said nothing
 ///           that is still growing at the end of the run (or beyond 1e6x its start)
 #include "core/integrator.h"

@@ -171,6 +171,8 @@ private:
     void checkpoint();
     /// The energy guard runs: an explicit scheme with checks on.
     bool accountsEnergy() const;
+    /// Starts the account's expected energy and scale from `parts` (the current state's).
+    void startAccountAt(const EnergyParts& parts);
     /// Takes a checkpoint and starts the energy account afresh from the current state (restore,
     /// rollback, gravity change, sleep).
     void resetEnergyAccount(const ExternalForces& external);

@@ -13,11 +13,18 @@ namespace {
 /// constraint too, C = p − target with p = Σ w_n x_n (three components, compliance 1/Ks, damping Kd),
 /// so even a very stiff drag cannot make the substep unstable — as a force it would (h·ω > 2).
 /// Spring projections move each pair along ∇C with weights 1/m, so they conserve linear momentum.
+///
+/// For the Simulator's energy guard it measures the work that crosses the body in a substep: each node
+/// force f (held over the substep) does f·Δx, and each drag, whose projection applies the force Δλ/h² at
+/// its point, does Δλ/h²·Δp. What damping takes out is not booked: the guard only looks for growth.
 class Xpbd final : public Integrator {
 public:
     IntegratorKind kind() const override { return IntegratorKind::Xpbd; }
     bool isExplicit() const override { return false; }
+    void setMeasuresWork(bool measure) override { m_measure = measure; }
+    StepWork lastWork() const override { return m_work; }
     void step(const BodyModel& model, const ExternalForces& external, BodyState& state, double h) override {
+        m_work = {};
         const std::size_t n = model.nodeCount();
         m_force.resize(n);
         m_previous.resize(n);
@@ -59,21 +66,39 @@ public:
             xa += wa * dlambda * gradient;
             xb -= wb * dlambda * gradient;
         }
+        m_dragForces.clear();
         for (const DragSpring& drag : external.drags)
-            projectDrag(model, drag, state, h);
+            m_dragForces.push_back(projectDrag(model, drag, state, h));
         for (std::size_t i = 0; i < n; ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
             state.velocity[i] = (state.position[i] - m_previous[i]) / h;
         }
+        if (m_measure)
+            measureWork(model, external, state);
     }
 
 private:
+    /// The substep's work on the body: node forces over each node's move, drags over their point's move.
+    void measureWork(const BodyModel& model, const ExternalForces& external, const BodyState& state) {
+        if (external.nodeForces.size() == model.nodeCount())
+            for (std::size_t i = 0; i < model.nodeCount(); ++i)
+                if (model.inverseMass[i] != 0.0)
+                    m_work.external += external.nodeForces[i].dot(state.position[i] - m_previous[i]);
+        for (std::size_t d = 0; d < external.drags.size(); ++d) {
+            Vec3 moved = Vec3::Zero();
+            for (const NodeWeight& w : external.drags[d].support)
+                moved += w.weight * (state.position[w.node] - m_previous[w.node]);
+            m_work.external += m_dragForces[d].dot(moved);
+        }
+    }
+
     /// One compliant projection of C = p − target, p = Σ w_n x_n over the drag's support (gradient w_n I;
-    /// pinned and void nodes have no inverse mass, so they do not move).
-    void projectDrag(const BodyModel& model, const DragSpring& drag, BodyState& state, double h) const {
+    /// pinned and void nodes have no inverse mass, so they do not move). Returns the force it applied at
+    /// the point over the substep, Δλ/h², N.
+    Vec3 projectDrag(const BodyModel& model, const DragSpring& drag, BodyState& state, double h) const {
         if (drag.stiffness <= 0.0)
-            return;
+            return Vec3::Zero();
         const std::vector<NodeWeight>& weights = drag.support;
         double generalisedInverseMass = 0.0;
         Vec3 point = Vec3::Zero(), moved = Vec3::Zero();
@@ -83,7 +108,7 @@ private:
             moved += w.weight * (state.position[w.node] - m_previous[w.node]);
         }
         if (generalisedInverseMass == 0.0)
-            return;
+            return Vec3::Zero();
         const double compliance = 1.0 / (drag.stiffness * h * h);
         const double gamma = drag.damping / (drag.stiffness * h);
         const Vec3 C = point - drag.target;
@@ -91,8 +116,12 @@ private:
         const Vec3 dlambda = (-C - gamma * rate) / ((1.0 + gamma) * generalisedInverseMass + compliance);
         for (const NodeWeight& w : weights)
             state.position[w.node] += (w.weight * model.inverseMass[w.node]) * dlambda;
+        return dlambda / (h * h);
     }
 
+    bool m_measure = false;
+    StepWork m_work;
+    std::vector<Vec3> m_dragForces;  ///< Per drag, the force its projection applied this substep.
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
     std::vector<Vec3> m_previous;
