@@ -35,6 +35,10 @@ struct ModeAccuracy {
     /// oscillator that keeps amplitudePerPeriod per period (dampingRatioKeeping()); 1 where the numerical
     /// mode no longer swings, negative where it grows. What an animator reads beside the material's ζ.
     double dampingRatio = 0.0;
+    /// XPBD: at the project's xpbdSubsteps the body gains energy, so the energy guard substeps it further
+    /// (stepSeconds is the substep it takes for the body's free motion; a drag may need more), and these
+    /// figures are measured there, as the clip runs.
+    bool guardSubsteps = false;
 };
 
 /// The damping ratio ζ of the oscillator q̈ + 2ζω q̇ + ω² q = 0 that keeps `perPeriod` of its amplitude
@@ -46,7 +50,8 @@ double dampingRatioKeeping(double perPeriod);
 ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double stepSeconds);
 
 /// The figures the editor and `softtouch-cli modes` show for one mode of `model` under `settings`:
-/// modeAccuracy() at the scheme's (sub)step, or for XPBD measured on the scheme (see above).
+/// modeAccuracy() at the scheme's (sub)step, or for XPBD measured on the scheme (see above), at the
+/// substeps its energy guard runs the body at.
 ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
                             const VibrationMode& mode);
 
