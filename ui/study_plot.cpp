@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <string>
+#include <vector>
 
 namespace softtouch::ui {
 
@@ -27,6 +30,11 @@ constexpr IntegratorKind kKinds[] = {IntegratorKind::SymplecticEuler, Integrator
                                      IntegratorKind::Xpbd};
 const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
 const QColor kMarkerColour(200, 0, 160);
+const QColor kLatticeKeyColour(110, 110, 110);
+/// Dot shapes of the lattices (the star marks the current setting).
+constexpr QScatterSeries::MarkerShape kLatticeShapes[] = {
+    QScatterSeries::MarkerShapeCircle, QScatterSeries::MarkerShapeRectangle, QScatterSeries::MarkerShapeTriangle,
+    QScatterSeries::MarkerShapeRotatedRectangle, QScatterSeries::MarkerShapePentagon};
 
 QString name(std::string_view text) { return QString::fromLatin1(text.data(), qsizetype(text.size())); }
 
@@ -158,15 +166,34 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             hideFromLegend(this, label);
         }
     }
-    QScatterSeries* byKind[std::size(kKinds)] = {};
-    for (std::size_t k = 0; k < std::size(kKinds); ++k) {
-        byKind[k] = new QScatterSeries;
-        byKind[k]->setName(name(integratorName(kKinds[k])));
-        byKind[k]->setColor(kColours[k]);
-        byKind[k]->setBorderColor(kColours[k]);
-        byKind[k]->setMarkerSize(dock ? 8 : 9);
-        add(byKind[k]);
-    }
+    // A dot's colour is its integrator, its shape its lattice (in the order the study lists them). Each
+    // integrator's legend entry is its first series; each lattice has a grey entry of its own shape.
+    std::vector<std::string> lattices;
+    for (const StudyRow& r : result.rows)
+        if (plottable(r, result.error) && std::find(lattices.begin(), lattices.end(), r.resolution) == lattices.end())
+            lattices.push_back(r.resolution);
+    const auto shapeOf = [&](const std::string& lattice) {
+        const auto l = std::size_t(std::find(lattices.begin(), lattices.end(), lattice) - lattices.begin());
+        return kLatticeShapes[l % std::size(kLatticeShapes)];
+    };
+    std::map<std::pair<std::size_t, std::string>, QScatterSeries*> series;  // (integrator, lattice)
+    bool named[std::size(kKinds)] = {};
+    const auto seriesFor = [&](std::size_t k, const std::string& lattice) {
+        QScatterSeries*& s = series[{k, lattice}];
+        if (!s) {
+            s = new QScatterSeries;
+            s->setName(name(integratorName(kKinds[k])));
+            s->setColor(kColours[k]);
+            s->setBorderColor(kColours[k]);
+            s->setMarkerShape(shapeOf(lattice));
+            s->setMarkerSize(dock ? 8 : 9);
+            add(s);
+            if (named[k])
+                hideFromLegend(this, s);
+            named[k] = true;
+        }
+        return s;
+    };
     std::vector<int> front;
     for (int i = 0; i < int(result.rows.size()); ++i) {
         const StudyRow& r = result.rows[std::size_t(i)];
@@ -174,10 +201,24 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             continue;
         const auto k = std::size_t(std::find(std::begin(kKinds), std::end(kKinds), r.integrator) - std::begin(kKinds)) % std::size(kKinds);
         const QPointF value(r.costPerSecond, error(r));
-        byKind[k]->append(value);
-        m_points.push_back({i, value, byKind[k]});
+        QScatterSeries* s = seriesFor(k, r.resolution);
+        s->append(value);
+        m_points.push_back({i, value, s});
         if (r.pareto)
             front.push_back(i);
+    }
+    if (lattices.size() > 1) {
+        for (const std::string& lattice : lattices) {
+            auto* key = new QScatterSeries;  // no dots: a legend entry naming the shape
+            key->setName(QString::fromStdString(lattice));
+            key->setColor(kLatticeKeyColour);
+            key->setBorderColor(kLatticeKeyColour);
+            key->setMarkerShape(shapeOf(lattice));
+            key->setMarkerSize(dock ? 8 : 9);
+            add(key);
+            for (QLegendMarker* m : legend()->markers(key))
+                m->setShape(QLegend::MarkerShapeFromSeries);
+        }
     }
     std::sort(front.begin(), front.end(), [&](int a, int b) {
         return result.rows[std::size_t(a)].costPerSecond < result.rows[std::size_t(b)].costPerSecond;

@@ -1,8 +1,8 @@
 #pragma once
-/// The study's error-against-cost chart (log-log, one colour per integrator, the Pareto front joined by a
-/// line, the do-nothing line, the current setting marked), built once with Qt Charts: the editor's Study
-/// dock shows it in a StudyChartView (hover a point, click to use it) and `softtouch-bench study` renders
-/// the same chart to study.png.
+/// The study's error-against-cost chart (log-log, a colour per integrator and a shape per lattice, the Pareto
+/// front joined by a line, the do-nothing line, the current setting marked), built once with Qt Charts: the
+/// editor's Study dock shows it in a StudyChartView (hover a point, click to use it) and `softtouch-cli study`
+/// renders the same chart to study.png.
 
 #include "analysis/study.h"
 

@@ -1,5 +1,5 @@
 // The study's chart (ui/study_plot.h, ui/study_chart_view.h) on a made-up study, without a scene: every
-// plottable row is drawn where its cost and error put it, in the PNG `softtouch-bench study` writes as
+// plottable row is drawn where its cost and error put it, in the PNG `softtouch-cli study` writes as
 // in the editor's view; the pointer on a dot names that row and a click picks it.
 
 #include "ui/study_chart_view.h"
@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
 using namespace softtouch;
 using namespace softtouch::ui;
@@ -31,6 +32,7 @@ analysis::StudyResult madeUpStudy() {
         r.integrator = kinds[i % 4];
         r.dt = 1.0 / (24 << (i % 3));
         r.lattice = LatticeShape{LatticeKind::Bezier, {3 + i / 4, 3 + i / 4, 3 + i / 4}};
+        r.resolution = analysis::latticeShapeName(r.lattice);
         r.costPerSecond = 1e-4 * std::pow(10.0, 3.0 * i / 11.0);
         r.rmsError = 5e-2 * std::pow(10.0, -2.0 * ((i * 5) % 12) / 11.0);  // not monotonic: a real front
         r.timeError = r.rmsError / 2;
@@ -108,6 +110,54 @@ private slots:
         QVERIFY(!StudyChart(blewUp, std::nullopt, StudyChartSize::Picture).hasPoints());
         QVERIFY(renderStudyPlot(blewUp, 400, 300).isNull());
         QVERIFY(!writeStudyPlot(blewUp, QDir::temp().filePath("never.png").toStdString()).empty());
+    }
+
+    // A dot's colour is its integrator and its shape its lattice: every row of one lattice has one shape,
+    // the three lattices three; the legend names each integrator once and each lattice with its shape.
+    void latticesAreToldApartByShape() {
+        const analysis::StudyResult result = madeUpStudy();
+        for (const StudyChartSize size : {StudyChartSize::Picture, StudyChartSize::Dock}) {
+            QGraphicsScene scene;  // laid out, as drawn: a legend marker is visible only in a scene
+            auto* laidOut = new StudyChart(result, std::nullopt, size);
+            scene.addItem(laidOut);
+            laidOut->setGeometry(QRectF(0, 0, 1000, 700));
+            const StudyChart& chart = *laidOut;
+            std::map<std::string, std::set<int>> shapes;  // lattice -> shapes its dots have
+            for (int i = 0; i < 12; ++i) {
+                const std::string& lattice = result.rows[std::size_t(i)].resolution;
+                for (QAbstractSeries* s : chart.series()) {
+                    auto* scatter = qobject_cast<QScatterSeries*>(s);
+                    if (!scatter || scatter->name() != QString::fromLatin1(integratorName(result.rows[std::size_t(i)].integrator).data()))
+                        continue;
+                    for (const QPointF& p : scatter->points())
+                        if (p == QPointF(result.rows[std::size_t(i)].costPerSecond, result.rows[std::size_t(i)].rmsError))
+                            shapes[lattice].insert(int(scatter->markerShape()));
+                }
+            }
+            QCOMPARE(int(shapes.size()), 3);
+            std::set<int> all;
+            for (const auto& [lattice, used] : shapes) {
+                QVERIFY2(used.size() == 1, lattice.c_str());
+                all.insert(*used.begin());
+            }
+            QCOMPARE(int(all.size()), 3);
+            // The legend: one visible entry per integrator, one per lattice drawn in its shape.
+            std::map<QString, int> visible;
+            for (QLegendMarker* m : chart.legend()->markers())
+                if (m->isVisible())
+                    ++visible[m->label()];
+            for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
+                                           IntegratorKind::Xpbd})
+                QCOMPARE(visible[QString::fromLatin1(integratorName(k).data())], 1);
+            for (const auto& [lattice, used] : shapes) {
+                QCOMPARE(visible[QString::fromStdString(lattice)], 1);
+                for (QLegendMarker* m : chart.legend()->markers())
+                    if (m->label() == QString::fromStdString(lattice)) {
+                        QCOMPARE(m->shape(), QLegend::MarkerShapeFromSeries);
+                        QCOMPARE(int(static_cast<QScatterSeries*>(m->series())->markerShape()), *used.begin());
+                    }
+            }
+        }
     }
 
     // The headless PNG is the laid-out chart: at each row's position there is its integrator's colour,
