@@ -166,15 +166,34 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             hideFromLegend(this, label);
         }
     }
-    // A dot's colour is its integrator, its shape its lattice (in the order the study lists them). Each
-    // integrator's legend entry is its first series; each lattice has a grey entry of its own shape.
-    std::vector<std::string> lattices;
+    // A dot's colour is its integrator, its shape its lattice: a shape per resolution in the order the study
+    // lists them, filled on Bezier lattices and hollow on B-splines. Each integrator's legend entry is its
+    // first series; each lattice has a grey entry of its own shape.
+    std::vector<LatticeShape> lattices;
+    std::vector<std::string> latticeNames;
     for (const StudyRow& r : result.rows)
-        if (plottable(r, result.error) && std::find(lattices.begin(), lattices.end(), r.resolution) == lattices.end())
-            lattices.push_back(r.resolution);
-    const auto shapeOf = [&](const std::string& lattice) {
-        const auto l = std::size_t(std::find(lattices.begin(), lattices.end(), lattice) - lattices.begin());
-        return kLatticeShapes[l % std::size(kLatticeShapes)];
+        if (plottable(r, result.error) && std::find(latticeNames.begin(), latticeNames.end(), r.resolution) == latticeNames.end()) {
+            lattices.push_back(r.lattice);
+            latticeNames.push_back(r.resolution);
+        }
+    const auto styleOf = [&](const std::string& lattice) {
+        const auto l = std::size_t(std::find(latticeNames.begin(), latticeNames.end(), lattice) - latticeNames.begin());
+        const LatticeKind kind = lattices[l].kind;
+        const auto sameKindBefore =
+            std::size_t(std::count_if(lattices.begin(), lattices.begin() + std::ptrdiff_t(l),
+                                      [&](const LatticeShape& other) { return other.kind == kind; }));
+        return std::pair{kLatticeShapes[sameKindBefore % std::size(kLatticeShapes)], kind != LatticeKind::Bezier};
+    };
+    const auto styleDots = [&](QScatterSeries* s, const std::string& lattice, const QColor& colour) {
+        const auto [shape, hollow] = styleOf(lattice);
+        s->setMarkerShape(shape);
+        s->setMarkerSize(dock ? 8 : 9);
+        s->setColor(colour);
+        s->setBorderColor(colour);
+        if (hollow) {
+            s->setBrush(Qt::white);
+            s->setPen(QPen(colour, 1.8));
+        }
     };
     std::map<std::pair<std::size_t, std::string>, QScatterSeries*> series;  // (integrator, lattice)
     bool named[std::size(kKinds)] = {};
@@ -183,10 +202,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         if (!s) {
             s = new QScatterSeries;
             s->setName(name(integratorName(kKinds[k])));
-            s->setColor(kColours[k]);
-            s->setBorderColor(kColours[k]);
-            s->setMarkerShape(shapeOf(lattice));
-            s->setMarkerSize(dock ? 8 : 9);
+            styleDots(s, lattice, kColours[k]);
             add(s);
             if (named[k])
                 hideFromLegend(this, s);
@@ -207,14 +223,11 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         if (r.pareto)
             front.push_back(i);
     }
-    if (lattices.size() > 1) {
-        for (const std::string& lattice : lattices) {
+    if (latticeNames.size() > 1) {
+        for (const std::string& lattice : latticeNames) {
             auto* key = new QScatterSeries;  // no dots: a legend entry naming the shape
             key->setName(QString::fromStdString(lattice));
-            key->setColor(kLatticeKeyColour);
-            key->setBorderColor(kLatticeKeyColour);
-            key->setMarkerShape(shapeOf(lattice));
-            key->setMarkerSize(dock ? 8 : 9);
+            styleDots(key, lattice, kLatticeKeyColour);
             add(key);
             for (QLegendMarker* m : legend()->markers(key))
                 m->setShape(QLegend::MarkerShapeFromSeries);

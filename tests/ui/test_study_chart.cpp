@@ -21,7 +21,7 @@ using namespace softtouch::ui;
 
 namespace {
 
-/// Twelve rows, three per integrator, spread over three decades of cost and two of error (no two drawn
+/// Twelve rows, three per integrator (on 3x3x3 and 4x4x4 Bezier and 5x5x5 B-spline lattices), spread over three decades of cost and two of error (no two drawn
 /// within a few pixels of each other), plus one that blew up and one measured at no cost.
 analysis::StudyResult madeUpStudy() {
     analysis::StudyResult result;
@@ -31,7 +31,7 @@ analysis::StudyResult madeUpStudy() {
         analysis::StudyRow r;
         r.integrator = kinds[i % 4];
         r.dt = 1.0 / (24 << (i % 3));
-        r.lattice = LatticeShape{LatticeKind::Bezier, {3 + i / 4, 3 + i / 4, 3 + i / 4}};
+        r.lattice = LatticeShape{i < 8 ? LatticeKind::Bezier : LatticeKind::BSpline, {3 + i / 4, 3 + i / 4, 3 + i / 4}};
         r.resolution = analysis::latticeShapeName(r.lattice);
         r.costPerSecond = 1e-4 * std::pow(10.0, 3.0 * i / 11.0);
         r.rmsError = 5e-2 * std::pow(10.0, -2.0 * ((i * 5) % 12) / 11.0);  // not monotonic: a real front
@@ -112,8 +112,9 @@ private slots:
         QVERIFY(!writeStudyPlot(blewUp, QDir::temp().filePath("never.png").toStdString()).empty());
     }
 
-    // A dot's colour is its integrator and its shape its lattice: every row of one lattice has one shape,
-    // the three lattices three; the legend names each integrator once and each lattice with its shape.
+    // A dot's colour is its integrator and its shape its lattice (hollow on a B-spline): every row of one
+    // lattice has one style, the three lattices three; the legend names each integrator once and each
+    // lattice in its style.
     void latticesAreToldApartByShape() {
         const analysis::StudyResult result = madeUpStudy();
         for (const StudyChartSize size : {StudyChartSize::Picture, StudyChartSize::Dock}) {
@@ -122,7 +123,9 @@ private slots:
             scene.addItem(laidOut);
             laidOut->setGeometry(QRectF(0, 0, 1000, 700));
             const StudyChart& chart = *laidOut;
-            std::map<std::string, std::set<int>> shapes;  // lattice -> shapes its dots have
+            // lattice -> the styles its dots have: marker shape, and 1 when hollow (a white fill)
+            const auto styleOf = [](const QScatterSeries* s) { return 10 * int(s->markerShape()) + (s->brush().color() == Qt::white); };
+            std::map<std::string, std::set<int>> shapes;
             for (int i = 0; i < 12; ++i) {
                 const std::string& lattice = result.rows[std::size_t(i)].resolution;
                 for (QAbstractSeries* s : chart.series()) {
@@ -131,7 +134,7 @@ private slots:
                         continue;
                     for (const QPointF& p : scatter->points())
                         if (p == QPointF(result.rows[std::size_t(i)].costPerSecond, result.rows[std::size_t(i)].rmsError))
-                            shapes[lattice].insert(int(scatter->markerShape()));
+                            shapes[lattice].insert(styleOf(scatter));
                 }
             }
             QCOMPARE(int(shapes.size()), 3);
@@ -141,6 +144,8 @@ private slots:
                 all.insert(*used.begin());
             }
             QCOMPARE(int(all.size()), 3);
+            QCOMPARE(*shapes["5x5x5 bspline"].begin() % 10, 1);  // hollow
+            QCOMPARE(*shapes["3x3x3 bezier"].begin() % 10, 0);
             // The legend: one visible entry per integrator, one per lattice drawn in its shape.
             std::map<QString, int> visible;
             for (QLegendMarker* m : chart.legend()->markers())
@@ -154,7 +159,7 @@ private slots:
                 for (QLegendMarker* m : chart.legend()->markers())
                     if (m->label() == QString::fromStdString(lattice)) {
                         QCOMPARE(m->shape(), QLegend::MarkerShapeFromSeries);
-                        QCOMPARE(int(static_cast<QScatterSeries*>(m->series())->markerShape()), *used.begin());
+                        QCOMPARE(styleOf(static_cast<QScatterSeries*>(m->series())), *used.begin());
                     }
             }
         }
@@ -179,7 +184,7 @@ private slots:
                 for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                                IntegratorKind::Xpbd})
                     if (scatter->name() == QString::fromLatin1(integratorName(k).data()))
-                        colours[k] = scatter->color();
+                        colours[k] = scatter->borderColor();  // a hollow dot (B-spline) is filled white
         QCOMPARE(int(colours.size()), 4);
         for (int i = 0; i < 12; ++i) {
             const QPointF at = chart->positionOf(i);
