@@ -30,7 +30,7 @@ struct LinearSolveStats {
     bool direct = false;  ///< CG did not converge and the system was factorised and solved directly.
 };
 
-/// Energy that crossed the body's boundary during one step(), measured by the explicit schemes for
+/// Energy that crossed the body's boundary during one step(), measured by the explicit schemes (and XPBD) for
 /// the Simulator's energy account. Each force g that is not a spring's elastic pull is held over the
 /// substep and does the work h g·(v + v')/2 on the body: the exact change of the scheme's modified
 /// energy E + (h/2) vᵀf for linear springs (docs/lattice.md, "The energy guard").
@@ -53,7 +53,7 @@ public:
     /// How the last step's linear system was solved; all zero for schemes that solve none.
     virtual LinearSolveStats lastSolve() const { return {}; }
     /// Asks the scheme to measure each step's StepWork (off by default: it costs a pass over the
-    /// damped springs). Only the explicit schemes measure; the others ignore it.
+    /// damped springs). The explicit schemes and XPBD measure; implicit Euler ignores it.
     virtual void setMeasuresWork(bool /*measure*/) {}
     /// The last step's StepWork; zero unless measuring.
     virtual StepWork lastWork() const { return {}; }

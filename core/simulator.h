@@ -5,7 +5,7 @@
 /// state and take finer substeps from then on, a non-finite result is rolled back the same way and
 /// reported with its cause, and a body at rest sleeps (costs nothing) until something changes.
 ///
-/// The energy account (explicit schemes; docs/lattice.md, "The energy guard"): the scheme's modified
+/// The energy account (explicit schemes and XPBD; docs/lattice.md, "The energy guard"): the scheme's modified
 /// energy H̃ = kinetic + spring + gravity + (h/2) vᵀf may change only by what crossed the body's
 /// boundary since the account started: the drags' work (drivers are drags), minus what node and spring
 /// damping dissipated, plus what plane contacts changed (each measured per substep, exactly for linear
@@ -18,6 +18,9 @@
 /// its time, and doubles the substeps, so the caller steps the span again, finer: the motion stays one
 /// continuous trajectory. A guard already at kMaxGuardFactor cannot do better; it stops the body there
 /// (every later step is refused, as a step needing more than maxSubsteps is), which a bake reports as a failure.
+/// XPBD has no modified energy: its account compares E, from twice the body's elastic energy above what it
+/// holds (its Gauss-Seidel pass swings E even where it is stable), and its substeps are xpbdSubsteps times
+/// the guard's factor.
 
 #include "core/body_model.h"
 #include "core/current_stiffness.h"
@@ -38,7 +41,7 @@ struct SimulationSettings {
                                   ///< ~0.85 undamped bodies can grow slowly; above 1 the explicit schemes
                                   ///< are unstable and only the energy guard catches it (tests use that).
     int maxSubsteps = 200000;     ///< Cap on explicit substeps per step; beyond it the step is refused.
-    int energyCheckSteps = 8;     ///< Steps between energy checks (explicit schemes; sooner once 256 substeps
+    int energyCheckSteps = 8;     ///< Steps between energy checks (explicit schemes and XPBD; sooner once 256 substeps
                                   ///< have run since the last); 0 turns the guard off. [0, 1e6].
     double energyTolerance = 0.05; ///< Growth beyond what the account explains, as a fraction of kinetic +
                                    ///< spring energy, that counts as energy from nowhere. (0, 1]. H̃ is
@@ -96,8 +99,8 @@ public:
     /// Advances one step of dt under the given forces. After a rollback (report.rewoundSteps > 0) the
     /// time is that of the state restored; step on to take the span again at the finer substep.
     StepReport step(const ExternalForces& external);
-    /// Runs the energy check now if steps were taken since the last one (explicit schemes with the guard
-    /// on), so the current state is one the guard has accepted before it is shown or written. `external`:
+    /// Runs the energy check now if steps were taken since the last one (explicit schemes and XPBD with the
+    /// guard on), so the current state is one the guard has accepted before it is shown or written. `external`:
     /// the forces of the step just taken. Returns false when it rolled back (the report says how far).
     bool settle(const ExternalForces& external, StepReport& report);
     /// Step count of the last state the guard accepted.
@@ -124,7 +127,7 @@ public:
     /// with the guard off); stableStep() uses it where it exceeds the rest value.
     double currentStiffnessOverMass() const { return m_currentStiffness; }
 
-    /// The energy account since it last started (explicit schemes with the guard on), joules.
+    /// The energy account since it last started (explicit schemes and XPBD with the guard on), joules.
     struct EnergyAccount {
         double start = 0.0;       ///< H̃ when the account started.
         double work = 0.0;        ///< Drags' work on the body since.

@@ -21,8 +21,9 @@ using namespace softtouch::ui;
 
 namespace {
 
-/// Twelve rows, three per integrator (on 3x3x3 and 4x4x4 Bezier and 5x5x5 B-spline lattices), spread over three decades of cost and two of error (no two drawn
-/// within a few pixels of each other), plus one that blew up and one measured at no cost.
+/// Twelve rows, three per integrator (on 3x3x3 and 4x4x4 Bezier and 5x5x5 B-spline lattices), spread over
+/// three decades of cost and two of error (no two drawn within a few pixels of each other), plus one that
+/// blew up and one measured at no cost.
 analysis::StudyResult madeUpStudy() {
     analysis::StudyResult result;
     const IntegratorKind kinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
