@@ -138,9 +138,10 @@ int runModes(const std::vector<std::string>& args) {
         std::printf("  mode  frequency_hz  damping_ratio  node_part  spring_part  clip_damping_ratio  kept_per_period  material_alone  "
                     "frequency_error\n");
         std::string summary;  // what the scheme does to the lowest mode, in words
+        const std::vector<ModeAccuracy> accuracy = schemeAccuracies(body.value(), settings, modes->modes);
         for (std::size_t m = 0; m < modes->modes.size(); ++m) {
             const VibrationMode& mode = modes->modes[m];
-            const ModeAccuracy a = schemeAccuracy(body.value(), settings, mode);
+            const ModeAccuracy& a = accuracy[m];
             std::printf("  %4zu  %12.4f  %13.4f  %9.4f  %11.4f  %18.4f  %14.1f%%  %13.1f%%  %+14.2f%%\n", m + 1,
                         mode.frequencyHz, mode.dampingRatio, mode.nodeDampingRatio, mode.springDampingRatio, a.dampingRatio,
                         100.0 * a.amplitudePerPeriod, 100.0 * a.exactAmplitudePerPeriod, 100.0 * a.frequencyError);

@@ -1,5 +1,4 @@
 #include "core/mode_accuracy.h"
-#include "core/mesh.h"
 
 #include <Eigen/Dense>
 
@@ -167,17 +166,27 @@ std::vector<double> bakeModeProjection(const std::shared_ptr<const BodyModel>& m
 
 namespace {
 
+/// The largest distance of a rest node from the first (a corner of the lattice): the body's size, which
+/// the measuring runs' small displacements are fractions of.
+double restExtent(const BodyModel& model) {
+    double extent = 0.0;
+    for (const Vec3& p : model.restPositions)
+        extent = std::max(extent, (p - model.restPositions.front()).norm());
+    return std::max(extent, 1e-9);
+}
+
 /// The substeps XPBD's energy guard settles on for `model`: a run from a small displacement of every free
-/// node (every mode at once, as a drag or a collision starts them), long enough for growth to show
-/// (two periods of `mode`, at least 256 steps). Its figures are measured there, as the clip runs.
+/// node (every mode at once, as a drag or a collision starts them), long enough for growth to show (two
+/// periods at `frequencyHz`, the body's lowest, and at least 256 steps). Its figures are measured there,
+/// as the clip runs.
 int guardedXpbdSubsteps(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
-                        const VibrationMode& mode) {
+                        double frequencyHz) {
     SimulationSettings quiet = settings;
     quiet.sleep = false;
     Simulator simulator(model, quiet);
     if (quiet.energyCheckSteps <= 0)
         return simulator.substepsFor({});
-    const double extent = boundsOf(model->restPositions).diagonal();
+    const double extent = restExtent(*model);
     BodyState state = restState(*model);
     for (std::size_t i = 0; i < model->nodeCount(); ++i) {
         if (model->inverseMass[i] > 0.0) {
@@ -187,7 +196,7 @@ int guardedXpbdSubsteps(const std::shared_ptr<const BodyModel>& model, const Sim
     }
     updateVoidNodes(*model, state);
     simulator.restoreState(state, 0);
-    const double periods = mode.frequencyHz > 0.0 ? 2.0 / (mode.frequencyHz * settings.dt) : 0.0;
+    const double periods = frequencyHz > 0.0 ? 2.0 / (frequencyHz * settings.dt) : 0.0;
     const long long steps = std::max<long long>(256, std::llround(std::min(periods, 1e5)));
     while (simulator.stepCount() < steps)
         if (simulator.step({}).refused)
@@ -195,26 +204,17 @@ int guardedXpbdSubsteps(const std::shared_ptr<const BodyModel>& model, const Sim
     return simulator.substepsFor({});
 }
 
-}  // namespace
-
-ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
-                            const VibrationMode& mode) {
-    const Simulator simulator(model, settings);
-    const double h = integrationStep(simulator);
-    ModeAccuracy r = modeAccuracy(settings.integrator, mode, h);
-    if (settings.integrator != IntegratorKind::Xpbd || mode.frequencyHz <= 0.0)
-        return r;
-    // Two periods (at least 8 steps) from a small displacement: 1e-4 of the largest rest extent.
-    double extent = 0.0;
-    for (const Vec3& p : model->restPositions)
-        extent = std::max(extent, (p - model->restPositions.front()).norm());
-    const double seconds = std::max(2.0 / mode.frequencyHz, 8.0 * settings.dt);
+/// XPBD's figures for `mode`, measured on the scheme at `substeps` (the guard's): two periods (at least 8
+/// steps) from a small displacement, 1e-4 of the body's size, fitted.
+ModeAccuracy measuredXpbd(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                          const VibrationMode& mode, int substeps) {
     SimulationSettings guarded = settings;
-    guarded.xpbdSubsteps = guardedXpbdSubsteps(model, settings, mode);
-    r.guardSubsteps = guarded.xpbdSubsteps > settings.xpbdSubsteps;
-    r.stepSeconds = settings.dt / guarded.xpbdSubsteps;
+    guarded.xpbdSubsteps = substeps;
+    ModeAccuracy r = modeAccuracy(settings.integrator, mode, settings.dt / substeps);
+    r.guardSubsteps = substeps > settings.xpbdSubsteps;
+    const double seconds = std::max(2.0 / mode.frequencyHz, 8.0 * settings.dt);
     const FittedOscillation fit =
-        fitOscillation(bakeModeProjection(model, guarded, mode, 1e-4 * std::max(extent, 1e-9), seconds), settings.dt);
+        fitOscillation(bakeModeProjection(model, guarded, mode, 1e-4 * restExtent(*model), seconds), settings.dt);
     r.oscillates = fit.oscillates;
     r.stable = !fit.oscillates || fit.amplitudePerPeriod <= 1.0;
     r.amplitudePerPeriod = fit.oscillates ? fit.amplitudePerPeriod : 0.0;
@@ -223,6 +223,32 @@ ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const
     const double damped = mode.dampedFrequencyHz();
     r.frequencyError = fit.oscillates && damped > 0.0 ? fit.frequencyHz / damped - 1.0 : -1.0;
     return r;
+}
+
+}  // namespace
+
+std::vector<ModeAccuracy> schemeAccuracies(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                                           std::span<const VibrationMode> modes) {
+    const double h = integrationStep(Simulator(model, settings));
+    const bool xpbd = settings.integrator == IntegratorKind::Xpbd;
+    // XPBD: the guard's substeps are the body's, found once from its lowest mode that vibrates.
+    int substeps = 0;
+    std::vector<ModeAccuracy> out;
+    for (const VibrationMode& mode : modes) {
+        if (!xpbd || mode.frequencyHz <= 0.0) {
+            out.push_back(modeAccuracy(settings.integrator, mode, h));
+            continue;
+        }
+        if (substeps == 0)
+            substeps = guardedXpbdSubsteps(model, settings, mode.frequencyHz);
+        out.push_back(measuredXpbd(model, settings, mode, substeps));
+    }
+    return out;
+}
+
+ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                            const VibrationMode& mode) {
+    return schemeAccuracies(model, settings, std::span(&mode, 1)).front();
 }
 
 double integrationStep(const Simulator& simulator, const ExternalForces& external) {

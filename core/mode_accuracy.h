@@ -18,7 +18,9 @@
 #include "core/modes.h"
 #include "core/simulator.h"
 
+#include <span>
 #include <string>
+#include <vector>
 
 namespace softtouch {
 
@@ -54,6 +56,10 @@ ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double
 /// substeps its energy guard runs the body at.
 ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
                             const VibrationMode& mode);
+/// schemeAccuracy() of each of `modes`, lowest first (as analyseModes lists them): for XPBD the substeps its
+/// guard settles on are the body's, found once from the lowest, and every mode is measured there.
+std::vector<ModeAccuracy> schemeAccuracies(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
+                                           std::span<const VibrationMode> modes);
 
 /// A damped oscillation fitted to samples taken every `sampleSeconds` (Prony's method: for one
 /// damped mode q_n = A r^n cos(nθ + φ) the recurrence q_{n+1} = 2r cos θ q_n − r² q_{n−1} holds
