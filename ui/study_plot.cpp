@@ -169,28 +169,30 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
     // A dot's colour is its integrator, its shape its lattice: a shape per resolution in the order the study
     // lists them, filled on Bezier lattices and hollow on B-splines. Each integrator's legend entry is its
     // first series; each lattice has a grey entry of its own shape.
-    std::vector<LatticeShape> lattices;
-    std::vector<std::string> latticeNames;
-    for (const StudyRow& r : result.rows)
-        if (plottable(r, result.error) && std::find(latticeNames.begin(), latticeNames.end(), r.resolution) == latticeNames.end()) {
-            lattices.push_back(r.lattice);
-            latticeNames.push_back(r.resolution);
-        }
-    const auto styleOf = [&](const std::string& lattice) {
-        const auto l = std::size_t(std::find(latticeNames.begin(), latticeNames.end(), lattice) - latticeNames.begin());
-        const LatticeKind kind = lattices[l].kind;
-        const auto sameKindBefore =
-            std::size_t(std::count_if(lattices.begin(), lattices.begin() + std::ptrdiff_t(l),
-                                      [&](const LatticeShape& other) { return other.kind == kind; }));
-        return std::pair{kLatticeShapes[sameKindBefore % std::size(kLatticeShapes)], kind != LatticeKind::Bezier};
+    struct DotStyle {
+        std::string lattice;
+        QScatterSeries::MarkerShape shape;
+        bool hollow;
+    };
+    std::vector<DotStyle> styles;  // one per lattice, in the order the study lists them
+    std::map<LatticeKind, std::size_t> ofKind;
+    for (const StudyRow& r : result.rows) {
+        if (!plottable(r, result.error) ||
+            std::any_of(styles.begin(), styles.end(), [&](const DotStyle& d) { return d.lattice == r.resolution; }))
+            continue;
+        const std::size_t n = ofKind[r.lattice.kind]++;
+        styles.push_back({r.resolution, kLatticeShapes[n % std::size(kLatticeShapes)], r.lattice.kind != LatticeKind::Bezier});
+    }
+    const auto styleOf = [&](const std::string& lattice) -> const DotStyle& {
+        return *std::find_if(styles.begin(), styles.end(), [&](const DotStyle& d) { return d.lattice == lattice; });
     };
     const auto styleDots = [&](QScatterSeries* s, const std::string& lattice, const QColor& colour) {
-        const auto [shape, hollow] = styleOf(lattice);
-        s->setMarkerShape(shape);
+        const DotStyle& style = styleOf(lattice);
+        s->setMarkerShape(style.shape);
         s->setMarkerSize(dock ? 8 : 9);
         s->setColor(colour);
         s->setBorderColor(colour);
-        if (hollow) {
+        if (style.hollow) {
             s->setBrush(Qt::white);
             s->setPen(QPen(colour, 1.8));
         }
@@ -223,11 +225,11 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         if (r.pareto)
             front.push_back(i);
     }
-    if (latticeNames.size() > 1) {
-        for (const std::string& lattice : latticeNames) {
+    if (styles.size() > 1) {
+        for (const DotStyle& style : styles) {
             auto* key = new QScatterSeries;  // no dots: a legend entry naming the shape
-            key->setName(QString::fromStdString(lattice));
-            styleDots(key, lattice, kLatticeKeyColour);
+            key->setName(QString::fromStdString(style.lattice));
+            styleDots(key, style.lattice, kLatticeKeyColour);
             add(key);
             for (QLegendMarker* m : legend()->markers(key))
                 m->setShape(QLegend::MarkerShapeFromSeries);
