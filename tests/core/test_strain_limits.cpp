@@ -95,7 +95,7 @@ private slots:
         QVERIFY2(shortest >= limits.squash * 0.99, qPrintable(QString::number(shortest)));
         QCOMPARE(problems, 0);
         QVERIFY(sim.state().isFinite());
-        // Never a source of energy (the explicit schemes' energy account books what the limits do).
+        // Never a source of energy (the energy account of the explicit schemes and XPBD books what the limits do).
         QVERIFY2(sim.energyAccount().limits <= 1e-9, qPrintable(QString::number(sim.energyAccount().limits)));
     }
 
