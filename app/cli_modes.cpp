@@ -13,6 +13,8 @@
 #include "io/project_file.h"
 #include "render/mode_pictures.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace softtouch::cli {
@@ -72,6 +74,10 @@ void printReference(const SceneObject& object, const SolidComparison& c) {
         std::printf(" %.4f", f);
     std::printf(" Hz (degree %d: within %.2f%%)\n  this lattice's error%s: %s\n", solid.degree - 1, 100.0 * solid.spread,
                 object.baseAnimation ? " (without the goal springs)" : "", describeModeErrors(c.error).c_str());
+    const bool far = std::any_of(c.error.begin(), c.error.end(), [](double e) { return std::abs(e) > kSpringDepartureTolerance; });
+    if (far)
+        std::printf("  more than %.0f%% off the material's solid: the frequencies above are this lattice's, not the "
+                    "material's\n", 100.0 * kSpringDepartureTolerance);
 }
 
 }  // namespace
@@ -163,6 +169,11 @@ int runModes(const std::vector<std::string>& args) {
         } else {
             std::printf("  %s: no resistance to some uniform strain (a spring kind scaled to 0)\n", actor);
         }
+        if (const auto departure = element ? std::nullopt : springDeparture(object.lattice, object.material);
+            departure && departure->largest() > kSpringDepartureTolerance)
+            std::printf("  springs on these cells are not the painted material (%s): the modes are the springs'; "
+                        "--reference measures them against the material's solid, which the solid element runs\n",
+                        departure->describe().c_str());
         if (reference || referenceDegree) {
             const int degree = int(referenceDegree.value_or(kDefaultSolidDegree));
             auto compared = compareWithSolid(object.lattice, object.material, degree, int(count.value_or(3)));

@@ -6,6 +6,7 @@
 #include "core/network_elasticity.h"
 #include "core/scene.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
@@ -114,7 +115,17 @@ Result<Eigen::VectorXd> weightedField(const std::array<AxisQuadrature, 3>& q, co
 
 }  // namespace
 
-Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count) {
+/// A solid's stiffness and consistent mass over the free nodes' unknowns (3 per node), and each node's share of the
+/// mass ∫ρ N_i over all nodes, pinned ones included (what a uniform acceleration loads it with).
+namespace {
+struct Assembled {
+    Eigen::MatrixXd stiffness, mass;
+    Eigen::VectorXd nodeMass;
+    int degree = 0;
+};
+}  // namespace
+
+static Result<Assembled> assemble(const SolidField& solid, const SolidElement& element) {
     if (!solid.size.allFinite() || solid.size.minCoeff() <= 0.0)
         return Status::error("the solid's box has a side that is not a positive length");
     if (!solid.modulus || !solid.density)
@@ -196,7 +207,13 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
     if (free == 0)
         return Status::error("every node of the reference solid is pinned, so it has no modes");
     const int dof = 3 * free;
-    Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dof, dof), massMatrix = Eigen::MatrixXd::Zero(dof, dof);
+    Assembled out;
+    out.degree = degree;
+    out.nodeMass = mass.rowwise().sum();
+    Eigen::MatrixXd& stiffness = out.stiffness;
+    Eigen::MatrixXd& massMatrix = out.mass;
+    stiffness = Eigen::MatrixXd::Zero(dof, dof);
+    massMatrix = Eigen::MatrixXd::Zero(dof, dof);
     for (int i = 0; i < nodes; ++i) {
         const int si = slot[std::size_t(i)];
         if (si < 0)
@@ -218,7 +235,17 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
             }
         }
     }
+    return out;
+}
 
+Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count) {
+    auto assembled = assemble(solid, element);
+    if (!assembled)
+        return assembled.status();
+    const Eigen::MatrixXd& stiffness = assembled->stiffness;
+    const Eigen::MatrixXd& massMatrix = assembled->mass;
+    const int dof = int(stiffness.rows());
+    const int degree = assembled->degree;
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, massMatrix, Eigen::EigenvaluesOnly);
     if (solver.info() != Eigen::Success)
         return Status::error("the eigenvalue solver did not converge on the reference solid");
@@ -233,17 +260,85 @@ Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& eleme
     return result;
 }
 
+Result<Vec3> solidSag(const SolidField& solid, const SolidElement& element, const Vec3& gravity) {
+    if (!gravity.allFinite())
+        return Status::error("gravity is not a finite vector");
+    auto assembled = assemble(solid, element);
+    if (!assembled)
+        return assembled.status();
+    // The load ∫ρ N_i g is the mass row sums times g (the basis sums to 1); the centre of mass moves by
+    // Σ_i (∫ρ N_i) u_i / ∫ρ, pinned nodes not moving.
+    const int nodes = int(assembled->nodeMass.size());
+    Eigen::VectorXd load(assembled->stiffness.rows());
+    Eigen::VectorXd share(assembled->stiffness.rows());
+    for (int i = 0, s = 0; i < nodes; ++i) {
+        if (!solid.pinned.empty() && solid.pinned[std::size_t(i)])
+            continue;
+        load.segment<3>(3 * s) = assembled->nodeMass[i] * gravity;
+        share.segment<3>(3 * s) = Vec3::Constant(assembled->nodeMass[i]);
+        ++s;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> factor(assembled->stiffness);
+    if (factor.info() != Eigen::Success || !(factor.vectorD().array() > 0.0).all())
+        return Status::error("the solid is not held: it has no static rest under gravity");
+    const Eigen::VectorXd u = factor.solve(load);
+    Vec3 moved = Vec3::Zero();
+    for (Eigen::Index s = 0; s < u.size() / 3; ++s)
+        moved += Vec3(u.segment<3>(3 * s)).cwiseProduct(Vec3(share.segment<3>(3 * s)));
+    return Vec3(moved / assembled->nodeMass.sum());
+}
+
 NetworkElasticity materialElasticity(const Lattice& lattice, const LatticeMaterial& material) {
-    if (material.model != MaterialModel::Continuum || lattice.shape().kind == LatticeKind::Bezier)
+    if (material.model != MaterialModel::Continuum)
         return networkElasticity(lattice, material);
+    // One cubic cell, aligned with the box: the spring coefficients' 61/117 makes the painted value its Young's
+    // modulus along every axis. Its size does not matter (a uniform strain stores energy per volume).
     OrientedBox cell = lattice.box();
-    for (int a = 0; a < 3; ++a)
-        cell.size[a] /= double(lattice.count(a) - 1);
+    cell.size = Vec3::Constant(cell.size.minCoeff());
     const Lattice one = Lattice::create({LatticeKind::Bezier, {2, 2, 2}}, cell).value();  // a sub-box of a valid box
     LatticeMaterial cellMaterial = continuumMaterial(one, 1.0, solidMean(material.stiffness, material), 0.0);
     cellMaterial.kindScale = material.kindScale;
     cellMaterial.anisotropy = material.anisotropy;
     return networkElasticity(one, cellMaterial);
+}
+
+double SpringDeparture::largest() const {
+    double worst = 0.0;
+    for (double r : relative)
+        worst = std::max(worst, std::abs(r));
+    return worst;
+}
+
+std::string SpringDeparture::describe() const {
+    static constexpr std::array<const char*, 6> kNames{"E_u", "E_v", "E_w", "G_vw", "G_uw", "G_uv"};
+    std::array<int, 6> order{0, 1, 2, 3, 4, 5};
+    std::stable_sort(order.begin(), order.end(),
+                     [this](int a, int b) { return std::abs(relative[std::size_t(a)]) > std::abs(relative[std::size_t(b)]); });
+    std::string text;
+    for (int i : order) {
+        const double r = relative[std::size_t(i)];
+        if (std::abs(r) <= kSpringDepartureTolerance)
+            continue;
+        char part[32];
+        std::snprintf(part, sizeof part, "%s%s %+.0f%%", text.empty() ? "" : ", ", kNames[std::size_t(i)], 100.0 * r);
+        text += part;
+    }
+    return text;
+}
+
+std::optional<SpringDeparture> springDeparture(const Lattice& lattice, const LatticeMaterial& material) {
+    if (material.model != MaterialModel::Continuum)
+        return std::nullopt;
+    const NetworkElasticity springs = networkElasticity(lattice, material);
+    const NetworkElasticity solid = materialElasticity(lattice, material);
+    if (!springs.resistsEveryStrain || !solid.resistsEveryStrain)
+        return std::nullopt;
+    SpringDeparture departure;
+    for (int a = 0; a < 3; ++a) {
+        departure.relative[std::size_t(a)] = springs.youngsModulus[a] / solid.youngsModulus[a] - 1.0;
+        departure.relative[std::size_t(a + 3)] = springs.shearModulus[a] / solid.shearModulus[a] - 1.0;
+    }
+    return departure;
 }
 
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree) {

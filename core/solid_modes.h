@@ -27,6 +27,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -106,8 +107,8 @@ SolidElement latticeElement(const Lattice& lattice);
 
 /// The share of the exactly integrated stiffness in the element a body simulates (simulatedElement()). Reduced
 /// integration alone leaves a Bezier lattice deformations that cost no energy; with 0.2 of the exact stiffness
-/// blended in they rise above a free cube's third mode on a 4x4x4 net, 0.3 leaves a margin, and the fish's third
-/// mode stays within 5% of the converged solid (+4.4%, against +6.0% fully integrated; docs/lattice.md).
+/// blended in they rise above a free cube's third mode on a 4x4x4 net, and 0.3 leaves a margin; the fish's three
+/// lowest modes stay within 0.6% of the converged solid (within 3.0% fully integrated; docs/lattice.md).
 inline constexpr double kElementExactShare = 0.3;
 
 /// The element a body with LatticeMaterial::element = Solid runs (core/element_body.h): the lattice's own basis,
@@ -119,21 +120,42 @@ SolidElement simulatedElement(const Lattice& lattice);
 /// integration's hourglass modes) are counted in `rigidModes` with the rigid motions.
 Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count = 3);
 
-/// The elasticity a material's painted values mean: its springs' on a uniform cell of the lattice's mean spacing
-/// (box size / (nodes - 1) along each axis), at the mean painted modulus. Every cell of a Bezier lattice is that
-/// cell, so there it is the lattice's own network (networkElasticity(), painted maps averaged); a clamped
-/// B-spline's end cells are a third and two thirds as wide and make another solid, which is the springs' error,
-/// not the material's (docs/lattice.md). A lone cell gives it exactly, since each spring's coefficient sums its
-/// cells' shares. The legacy spring model (a stiffness per spring, whatever the cells) means nothing beyond its
-/// own network. The solid element runs this solid.
+/// How far the centre of mass of `solid` moves hanging under `gravity` (m/s²) on `element`: the linear static solve
+/// K u = ∫ρ N g, u weighted by each node's share of the mass. A measure every lattice of one body shares, whatever
+/// its nodes. Fails where the anchors do not hold the solid.
+Result<Vec3> solidSag(const SolidField& solid, const SolidElement& element, const Vec3& gravity);
+
+/// The elasticity a material's painted values mean, whatever the lattice: for a Continuum material, the solid its
+/// springs make on a cubic cell aligned with the box, at the mean painted modulus (Young's modulus the painted one
+/// along every axis, Poisson's ratio 17/61, shear modulus 17/18 · 61/117 of it; spring kinds and anisotropy
+/// applied). Springs on other cell shapes (flat or long cells, a clamped B-spline's end cells) make another solid:
+/// that is the springs' error, which springDeparture() states and `modes --reference` measures, not the material's.
+/// The legacy spring model (a stiffness per spring, whatever the cells) means nothing beyond its own network.
+/// The solid element runs this solid, so its modes do not depend on the lattice's cells.
 NetworkElasticity materialElasticity(const Lattice& lattice, const LatticeMaterial& material);
 
-/// The solid a lattice material describes (either model: the painted values interpolated by the lattice's
-/// basis, the springs' elasticity per unit of them from networkElasticity(); for a Continuum material on a
-/// B-spline lattice, that of a uniform cell of its mean spacing, since its uneven end cells are the lattice's
-/// error), with anchors (pinned and
-/// heavy alike) held where the material holds them, carried to the reference net as resampleMaterial()
-/// carries them. Refuses void nodes: the solid fills the box.
+/// The largest departure of the springs' solid from the material's that the front ends pass without a word.
+inline constexpr double kSpringDepartureTolerance = 0.05;
+
+/// How far a Continuum material's springs on a lattice are from the material they stand for: each constant of
+/// networkElasticity() against materialElasticity(), springs / material - 1. On a cubic cell they are the
+/// material; on flat or long cells central springs cannot be (shear across the thin side would need springs of
+/// negative stiffness, docs/lattice.md).
+struct SpringDeparture {
+    std::array<double, 6> relative{};  ///< E_u, E_v, E_w, G_vw, G_uw, G_uv.
+    double largest() const;            ///< The largest |relative|.
+    /// "E_u +67%, G_uw -87%": every constant off by more than kSpringDepartureTolerance, the largest first.
+    std::string describe() const;
+};
+
+/// The springs' departure from the material; nullopt for the legacy spring model (its springs are its material)
+/// and where the springs or the material resist no uniform strain.
+std::optional<SpringDeparture> springDeparture(const Lattice& lattice, const LatticeMaterial& material);
+
+/// The solid a lattice material describes: the painted values interpolated by the lattice's basis, times the
+/// elasticity per unit of them that materialElasticity() gives (lattice-independent for a Continuum material),
+/// with anchors (pinned and heavy alike) held where the material holds them, carried to the reference net as
+/// resampleMaterial() carries them. Refuses void nodes: the solid fills the box.
 Result<SolidField> materialSolid(const Lattice& lattice, const LatticeMaterial& material, int degree);
 
 /// materialSolid() then solidModes(), at `degree` and at degree - 1 to fill `spread`.

@@ -99,7 +99,8 @@ fs::path referenceCacheFolder() {
 
 Result<std::string> referenceKey(const Project& project, const Clip& clip, const analysis::ReferenceOptions& options) {
     ContentHash hash;
-    hash.add(std::string("softtouch-reference 1 " SOFTTOUCH_VERSION));
+    // The number changes whenever the converged solid itself changes (2: the material is one cubic cell's solid).
+    hash.add(std::string("softtouch-reference 2 " SOFTTOUCH_VERSION));
     // The project as saved holds every authored setting (materials inline, drivers, world, clips); it is
     // written beside nothing the user has, then read back and removed.
     std::error_code ec;

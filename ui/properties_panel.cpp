@@ -660,6 +660,11 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
             springs += tr(" (painted modulus: %1 Pa)").arg(g(solidMean(o.material.stiffness, o.material)));
         lines << springs;
     }
+    if (const auto departure = element ? std::nullopt : springDeparture(o.lattice, o.material);
+        departure && departure->largest() > kSpringDepartureTolerance)
+        lines << tr("Springs on these cells are not the painted material (%1): the modes are the springs'. Compare "
+                    "with the solid to see how far; the solid element runs the material.")
+                     .arg(QString::fromStdString(departure->describe()));
     m_modes->setText(lines.join('\n'));
 }
 

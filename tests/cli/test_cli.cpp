@@ -524,6 +524,14 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
         QVERIFY2(std::abs(errorLine.captured(1 + m).toDouble() - error) < 0.051, qPrintable(errorLine.captured(0)));
     }
     QVERIFY(solid->converged());
+    // The fish's flat cells: the springs are not the painted material, and their second mode is more than 5% off
+    // the material's solid; both are said beside the numbers.
+    const auto departure = springDeparture(fish.lattice, fish.material);
+    QVERIFY(departure && departure->largest() > kSpringDepartureTolerance);
+    QVERIFY2(run.out.contains(QString::fromStdString("springs on these cells are not the painted material (" +
+                                                     departure->describe() + ")")) &&
+                 run.out.contains("more than 5% off the material's solid"),
+             qPrintable(run.out));
     const Run star = runCli({"modes", kScenes + "star-drag.softtouch", "--reference"});
     QVERIFY2(star.exitCode == 0 && star.out.contains("no converged solid") && !star.out.contains("this lattice's error"),
              qPrintable(star.out));
@@ -539,6 +547,8 @@ void TestCli::modesReferenceIsTheConvergedSolid() {
     QVERIFY2(element.out.contains("; solid element;") && elementErrors.hasMatch(), qPrintable(element.out));
     for (int m = 0; m < 3; ++m)
         QVERIFY2(std::abs(elementErrors.captured(1 + m).toDouble()) < 5.0, qPrintable(elementErrors.captured(0)));
+    QVERIFY2(!element.out.contains("not the painted material") && !element.out.contains("more than 5% off"),
+             qPrintable(element.out));
     const Run rock = runCli({"modes", kScenes + "angelfish-rock.softtouch", "--element", "solid"});
     QCOMPARE(rock.exitCode, 1);
     QVERIFY2(rock.err.contains("volume"), qPrintable(rock.err));

@@ -14,6 +14,7 @@
 
 #include <QtTest>
 
+#include <array>
 #include <random>
 
 using namespace softtouch;
@@ -197,34 +198,84 @@ private slots:
         QVERIFY((end - drag.target).norm() < 0.5 * (lattice.box().toWorld(Vec3(0.0, 0.5, 0.5)) - drag.target).norm());
     }
 
-    // #11's "4x4x4 Bezier → 6x6x6 and 8x8x8 Bezier and cubic B-spline, same material: the three lowest mode
-    // frequencies change by ≤ 5% (anchored fish and free cube)", on the element; the springs' rows beside it.
-    void modesAgreeAcrossLattices() {
-        for (const bool fish : {true, false}) {
-            const OrientedBox box = boxOf(fish ? kFishBox : Vec3::Constant(0.5));
-            const Lattice coarse = latticeOver(box, LatticeKind::Bezier, 4);
-            LatticeMaterial coarseMaterial = fish ? pinnedFish(coarse) : continuumMaterial(coarse, 1.0, 1000.0, 0.0);
-            coarseMaterial.element = BodyElement::Solid;
-            const std::vector<double> first = frequencies(*build(coarse, coarseMaterial));
-            LatticeMaterial coarseSprings = coarseMaterial;
-            coarseSprings.element = BodyElement::Springs;
-            const std::vector<double> coarseSpringHz = frequencies(*build(coarse, coarseSprings));
-            qInfo("%s Bezier 4: %.3f / %.3f / %.3f Hz (springs %.3f / %.3f / %.3f Hz)", fish ? "fish" : "free cube", first[0],
-                  first[1], first[2], coarseSpringHz[0], coarseSpringHz[1], coarseSpringHz[2]);
-            for (const auto& [kind, nodes] : std::vector<std::pair<LatticeKind, int>>{
-                     {LatticeKind::Bezier, 6}, {LatticeKind::Bezier, 8}, {LatticeKind::BSpline, 6}, {LatticeKind::BSpline, 8}}) {
-                const Lattice lattice = latticeOver(box, kind, nodes);
-                LatticeMaterial material = resampleMaterial(coarse, coarseMaterial, lattice, true);
-                const std::vector<double> solid = frequencies(*build(lattice, material));
-                material.element = BodyElement::Springs;
-                const std::vector<double> springs = frequencies(*build(lattice, material));
-                QString row = QString("%1 %2 %3:").arg(fish ? "fish" : "free cube", kind == LatticeKind::Bezier ? "Bezier" : "B-spline").arg(nodes);
-                for (std::size_t m = 0; m < 3; ++m) {
-                    const double change = solid[m] / first[m] - 1.0;
-                    row += QString(" %1 Hz (%2%, springs %3 Hz)").arg(solid[m], 0, 'f', 3).arg(100.0 * change, 0, 'f', 1).arg(springs[m], 0, 'f', 3);
-                    QVERIFY2(std::abs(change) <= 0.05, qPrintable(row));
+    // #39: the same material on any lattice, refined along any axis, is the same solid. Three bodies (a bar and a
+    // cube held at u = 0, the fish's box at u = 1, each held on a whole face, the same region on every lattice)
+    // on Bezier 4/6/8, 8x4x4 and B-spline 6/8, 10x4x4: the element's three lowest modes within 5% of the
+    // converged solid's and its static sag (the centre of mass under gravity) within 2%. The springs' rows
+    // beside them, with how far their cells' solid is from the material (docs/lattice.md quotes the table).
+    void materialSurvivesRefinementOfAnyAxis() {
+        struct Body {
+            const char* name;
+            Vec3 size;
+            double density, modulus;
+            bool heldAtEnd;  // the face u = 1, else u = 0
+        };
+        for (const Body& b : {Body{"bar", Vec3(1.0, 0.25, 0.25), 1000.0, 1e6, false},
+                              Body{"cube", Vec3::Constant(0.5), 1000.0, 1e6, false},
+                              Body{"fish", kFishBox, 1.0, 1000.0, true}}) {
+            const auto materialOn = [&](const Lattice& lattice) {
+                LatticeMaterial m = continuumMaterial(lattice, b.density, b.modulus, 0.0);
+                for (int i = 0; i < lattice.nodeCount(); ++i) {
+                    const double u = lattice.restNodeParameters(i).x();
+                    if (b.heldAtEnd ? u >= 1.0 - 1e-9 : u <= 1e-9)
+                        m.anchor[std::size_t(i)] = AnchorMode::Pinned;
                 }
+                m.element = BodyElement::Solid;
+                return m;
+            };
+            const Vec3 gravity(0.0, 0.0, -9.81);
+            const Lattice first = latticeOver(boxOf(b.size), LatticeKind::Bezier, 4);
+            auto solid = materialSolidModes(first, materialOn(first), kDefaultSolidDegree, 3);
+            QVERIFY2(solid && solid->converged(), solid ? qPrintable(QString::number(solid->spread)) : solid.message().c_str());
+            auto solidField = materialSolid(first, materialOn(first), kDefaultSolidDegree + 1);
+            QVERIFY(solidField);
+            auto solidSagged = solidSag(solidField.value(), bernsteinElement(kDefaultSolidDegree + 1), gravity);
+            QVERIFY2(solidSagged, solidSagged.message().c_str());
+            const double sag = -solidSagged->z();
+            qInfo("%s (%.3g x %.3g x %.3g m): converged solid %.3f / %.3f / %.3f Hz, sag %.4g mm", b.name, b.size.x(),
+                  b.size.y(), b.size.z(), solid->frequencyHz[0], solid->frequencyHz[1], solid->frequencyHz[2], 1e3 * sag);
+            QVERIFY(sag > 0.0);
+            for (const auto& [kind, nodes] : std::vector<std::pair<LatticeKind, std::array<int, 3>>>{
+                     {LatticeKind::Bezier, {4, 4, 4}}, {LatticeKind::Bezier, {6, 6, 6}}, {LatticeKind::Bezier, {8, 8, 8}},
+                     {LatticeKind::Bezier, {8, 4, 4}}, {LatticeKind::BSpline, {6, 6, 6}}, {LatticeKind::BSpline, {8, 8, 8}},
+                     {LatticeKind::BSpline, {10, 4, 4}}}) {
+                const Lattice lattice = Lattice::create({kind, nodes}, boxOf(b.size)).value();
+                LatticeMaterial material = materialOn(lattice);
+                auto same = materialSolidModes(lattice, material, kDefaultSolidDegree, 3);  // one solid, whatever the lattice
+                QVERIFY(same);
+                for (std::size_t m = 0; m < 3; ++m)
+                    QVERIFY2(std::abs(same->frequencyHz[m] / solid->frequencyHz[m] - 1.0) < 1e-9,
+                             qPrintable(QString("%1 against %2 Hz").arg(same->frequencyHz[m]).arg(solid->frequencyHz[m])));
+                const std::vector<double> element = frequencies(*build(lattice, material));
+                SolidField own = materialSolid(lattice, material, 1).value();
+                own.pinned.assign(std::size_t(lattice.nodeCount()), 0);
+                for (std::size_t i = 0; i < own.pinned.size(); ++i)
+                    own.pinned[i] = material.anchor[i] != AnchorMode::Free;
+                auto sagged = solidSag(own, simulatedElement(lattice), gravity);
+                QVERIFY2(sagged, sagged.message().c_str());
+                const double sagError = -sagged->z() / sag - 1.0;
+                LatticeMaterial springs = material;
+                springs.element = BodyElement::Springs;
+                const std::vector<double> springHz = frequencies(*build(lattice, springs));
+                const auto departure = springDeparture(lattice, springs);
+                QVERIFY(departure);
+                std::vector<double> elementError, springError;
+                for (std::size_t m = 0; m < 3; ++m) {
+                    elementError.push_back(element[m] / solid->frequencyHz[m] - 1.0);
+                    springError.push_back(springHz[m] / solid->frequencyHz[m] - 1.0);
+                }
+                const QString row = QString("| %1 | %2 %3x%4x%5 | %6 | %7% | %8 | %9 |")
+                                        .arg(b.name, kind == LatticeKind::Bezier ? "Bezier" : "B-spline")
+                                        .arg(nodes[0]).arg(nodes[1]).arg(nodes[2])
+                                        .arg(QString::fromStdString(describeModeErrors(elementError)))
+                                        .arg(100.0 * sagError, 0, 'f', 2)
+                                        .arg(QString::fromStdString(describeModeErrors(springError)))
+                                        .arg(departure->largest() > kSpringDepartureTolerance
+                                                 ? QString::fromStdString(departure->describe()) : QString("within 5%"));
                 qInfo("%s", qPrintable(row));
+                for (double e : elementError)
+                    QVERIFY2(std::abs(e) <= 0.05, qPrintable(row));
+                QVERIFY2(std::abs(sagError) <= 0.02, qPrintable(row));
             }
         }
     }
@@ -269,7 +320,7 @@ private slots:
                   std::string(integratorName(kind)).c_str(), reports, substeps, simulator.substepsFor({}), 100.0 * worst,
                   100.0 * worstPlain);
             QVERIFY2(worst < 0.02, qPrintable(QString::number(100.0 * worst) + "%"));
-            QVERIFY(worstPlain < 0.5);
+            QVERIFY2(worstPlain < 1.0, qPrintable(QString::number(100.0 * worstPlain) + "%"));  // bounded: no growth
         }
     }
 

@@ -2501,8 +2501,16 @@ void TestEditor::propertiesCompareTheLatticeWithTheSolid() {
     QVERIFY2(solid->isVisibleTo(&w) && solid->text().contains(hz.join(" / ") + " Hz") &&
                  solid->text().contains("are " + off.join(" / ") + " from it"),
              qPrintable(solid->text() + " | " + hz.join(" / ") + " | " + off.join(" / ")));
-    // The lowest mode of the bundled fish is right; its third is the coarse net's to get wrong.
-    QVERIFY(std::abs(expected->error[0]) < 0.01 && expected->error[2] < -0.05);
+    // The bundled fish's springs: its lowest mode close, its second their flat cells' (they are not the painted
+    // material, and the modes text says so beside the numbers).
+    QVERIFY2(std::abs(expected->error[0]) < 0.05 && expected->error[1] < -0.1, qPrintable(off.join(" / ")));
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY(modes);
+    const auto departure = springDeparture(fish.lattice, fish.material);
+    QVERIFY(departure && departure->largest() > 0.05);
+    QVERIFY2(modes->text().contains("Springs on these cells are not the painted material (" +
+                                    QString::fromStdString(departure->describe()) + ")"),
+             qPrintable(modes->text()));
 
     const int undoBefore = w.document()->undoStack()->count();
     frequency->setValue(frequency->value() * 1.5);
@@ -2512,7 +2520,7 @@ void TestEditor::propertiesCompareTheLatticeWithTheSolid() {
 }
 
 // Properties ▸ Element: the solid element is an undoable material edit; the shown modes become the element's and
-// "Compare with the solid" finds all three within 5% of the converged solid (the springs' third is 12% off); a
+// "Compare with the solid" finds all three within 5% of the converged solid (the springs' second is 20% off); a
 // world or material edit the element cannot run is not applied and says why; a save writes it.
 void TestEditor::elementChoiceRunsTheSolidAndSaysWhatItCannot() {
     MainWindow& w = *m_window;
