@@ -56,7 +56,8 @@ ClipRun runClip(const Scene& scene, const ClipLibrary& library, const Clip& clip
     return run;
 }
 
-/// The scene with every object on `shape` over its own box, on the given integrator and step.
+/// The scene with every object on `shape` over its own box and on the setting's element, on the given integrator
+/// and step. Refused, naming the object and why, where an object's material cannot run on that element.
 Result<Scene> withSetting(const Scene& scene, const StudySetting& setting) {
     Scene out = scene;
     for (SceneObject& object : out.objects) {
@@ -64,6 +65,11 @@ Result<Scene> withSetting(const Scene& scene, const StudySetting& setting) {
         if (!moved)
             return Status::error("object '" + object.name + "': " + moved.message());
         object = std::move(moved.value());
+        if (object.material.element != setting.element) {
+            object.material.element = setting.element;
+            if (auto body = buildLatticeBody(object.lattice, object.material); !body)
+                return Status::error("object '" + object.name + "': " + body.message());
+        }
     }
     out.world.simulation.integrator = setting.integrator;
     out.world.simulation.dt = setting.dt;
@@ -178,12 +184,18 @@ std::string latticeShapeName(const LatticeShape& s) {
            (s.kind == LatticeKind::Bezier ? " bezier" : " bspline");
 }
 
+std::string studyModelName(const LatticeShape& shape, BodyElement element) {
+    return latticeShapeName(shape) + (element == BodyElement::Solid ? " solid" : "");
+}
+
 StudySetting sceneSetting(const Scene& scene) {
-    return {scene.world.simulation.integrator, scene.world.simulation.dt, scene.objects.front().lattice.shape()};
+    const SceneObject& first = scene.objects.front();
+    return {scene.world.simulation.integrator, scene.world.simulation.dt, first.lattice.shape(), first.material.element};
 }
 
 bool sameSetting(const StudySetting& a, const StudySetting& b) {
-    return a.integrator == b.integrator && std::abs(a.dt - b.dt) <= 1e-12 * b.dt && a.lattice == b.lattice;
+    return a.integrator == b.integrator && std::abs(a.dt - b.dt) <= 1e-12 * b.dt && a.lattice == b.lattice &&
+           a.element == b.element;
 }
 
 Result<Scene> applySetting(const Scene& scene, const StudySetting& setting) {
@@ -227,17 +239,32 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
     }
     std::vector<IntegratorKind> kinds = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                          IntegratorKind::Xpbd};
+    // The solid element's part of the grid (StudyOptions::elements says why it is smaller).
+    std::vector<LatticeShape> elementShapes;
+    for (const LatticeShape& shape : shapes)
+        if (shape.nodes[0] * shape.nodes[1] * shape.nodes[2] <= (options.quick ? kQuickStudyElementNodes : kStudyElementNodes))
+            elementShapes.push_back(shape);
+    std::vector<IntegratorKind> elementKinds = {IntegratorKind::ImplicitEuler};
     if (!options.lattices.empty())
-        shapes = options.lattices;
-    if (!options.integrators.empty())
+        shapes = elementShapes = options.lattices;
+    if (!options.integrators.empty()) {
         kinds = options.integrators;
+        elementKinds.clear();
+        std::copy_if(kinds.begin(), kinds.end(), std::back_inserter(elementKinds),
+                     [](IntegratorKind k) { return k != IntegratorKind::Xpbd; });
+    }
     if (!options.steps.empty())
         steps = options.steps;
+    const std::vector<BodyElement> elements =
+        options.elements.empty() ? std::vector<BodyElement>{BodyElement::Springs, BodyElement::Solid} : options.elements;
     std::vector<StudySetting> settings;
-    for (const LatticeShape& shape : shapes)
-        for (IntegratorKind kind : kinds)
-            for (double dt : steps)
-                settings.push_back({kind, dt, shape});
+    for (const BodyElement element : elements) {
+        const bool solid = element == BodyElement::Solid;
+        for (const LatticeShape& shape : solid ? elementShapes : shapes)
+            for (IntegratorKind kind : solid ? elementKinds : kinds)
+                for (double dt : steps)
+                    settings.push_back({kind, dt, shape, element});
+    }
     const StudySetting current = sceneSetting(scene);
     if (options.includeCurrent &&
         std::none_of(settings.begin(), settings.end(), [&](const StudySetting& s) { return sameSetting(s, current); }))
@@ -297,14 +324,19 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         FreeRun free;
         std::vector<double> solidModeError;
     };
-    std::vector<std::pair<LatticeShape, std::shared_ptr<LatticeRuns>>> lattices;
-    auto runsFor = [&](const LatticeShape& shape) -> std::shared_ptr<LatticeRuns> {
+    std::vector<std::pair<std::string, std::shared_ptr<LatticeRuns>>> lattices;  // by studyModelName()
+    std::vector<std::string> refused;
+    auto runsFor = [&](const LatticeShape& shape, BodyElement element) -> std::shared_ptr<LatticeRuns> {
+        const std::string name = studyModelName(shape, element);
         for (auto& [s, runs] : lattices)
-            if (s == shape)
+            if (s == name)
                 return runs;
-        auto moved = withSetting(scene, {scene.world.simulation.integrator, scene.world.simulation.dt, shape});
+        if (std::find(refused.begin(), refused.end(), name) != refused.end())
+            return nullptr;
+        auto moved = withSetting(scene, {scene.world.simulation.integrator, scene.world.simulation.dt, shape, element});
         if (!moved) {
-            log << "  " << latticeShapeName(shape) << ": " << moved.message() << "\n";
+            log << "  " << name << ": not measured: " << moved.message() << "\n";
+            refused.push_back(name);
             return nullptr;
         }
         auto runs = std::make_shared<LatticeRuns>();
@@ -315,8 +347,8 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         runs->free = runFree(first, IntegratorKind::Verlet, result.convergedDt, freeSeconds);
         if (auto compared = compareWithSolid(first.lattice, first.material))
             runs->solidModeError = compared->error;  // empty unless the solid converged
-        lattices.emplace_back(shape, runs);
-        log << "  " << latticeShapeName(shape) << ": model error " << runs->modelError << " (RMS / diagonal)";
+        lattices.emplace_back(name, runs);
+        log << "  " << name << ": model error " << runs->modelError << " (RMS / diagonal)";
         if (!runs->solidModeError.empty())
             log << "; modes against the solid " << describeModeErrors(runs->solidModeError);
         log << "\n";
@@ -329,14 +361,15 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
             break;
         }
         const StudySetting& setting = settings[i];
-        const auto runs = runsFor(setting.lattice);
+        const auto runs = runsFor(setting.lattice, setting.element);
         if (!runs)
             continue;
         StudyRow row;
         row.integrator = setting.integrator;
         row.dt = setting.dt;
         row.lattice = setting.lattice;
-        row.resolution = latticeShapeName(setting.lattice);
+        row.element = setting.element;
+        row.resolution = studyModelName(setting.lattice, setting.element);
         row.nodes = runs->scene.objects.front().lattice.nodeCount();
         row.current = sameSetting(setting, current);
         Scene run = runs->scene;
@@ -371,7 +404,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         result.rows.push_back(row);
         char line[260];
         std::snprintf(line, sizeof line,
-                      "  %-14s %-17s dt 1/%-4d  cost %9.2e s/s (+%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
+                      "  %-20s %-17s dt 1/%-4d  cost %9.2e s/s (+%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
                       "energy %+8.1e  loss/period %6.3f  freq %+7.3f%s\n",
                       row.resolution.c_str(), std::string(integratorName(row.integrator)).c_str(), int(std::lround(1 / row.dt)),
                       row.costPerSecond, 100.0 * row.costSpread, row.rmsError, row.timeError, row.modelError, row.energyDrift,
@@ -461,10 +494,11 @@ double worstModeError(const std::vector<double>& errors) {
 
 std::string studyCsv(const StudyResult& result) {
     std::ostringstream out;
-    out << "integrator,dt_s,resolution,nodes,cost_s_per_s,cost_spread,rms_error,max_error,time_error,model_error,"
+    out << "integrator,dt_s,resolution,element,nodes,cost_s_per_s,cost_spread,rms_error,max_error,time_error,model_error,"
            "energy_drift,amplitude_loss_per_period,frequency_error,finite,pareto,current,solid_mode_error,object_errors\n";
     for (const StudyRow& r : result.rows) {
-        out << integratorName(r.integrator) << ',' << r.dt << ',' << r.resolution << ',' << r.nodes << ',' << r.costPerSecond
+        out << integratorName(r.integrator) << ',' << r.dt << ',' << r.resolution << ','
+            << (r.element == BodyElement::Solid ? "solid" : "springs") << ',' << r.nodes << ',' << r.costPerSecond
             << ',' << r.costSpread << ',' << r.rmsError << ',' << r.maxError << ',' << r.timeError << ',' << r.modelError << ','
             << r.energyDrift << ',' << r.amplitudeLoss << ',' << r.frequencyError << ',' << (r.finite ? 1 : 0) << ','
             << (r.pareto ? 1 : 0) << ',' << (r.current ? 1 : 0) << ',';
@@ -491,11 +525,17 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
     const char* header = "| integrator | dt (s) | lattice | cost (s per clip s) | total error | integration error | "
                          "model error | max error | energy drift | amplitude lost / period | frequency error | Pareto |\n"
                          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    const bool anySolid =
+        std::any_of(result.rows.begin(), result.rows.end(), [](const StudyRow& r) { return r.element == BodyElement::Solid; });
     std::string objects;
     for (const std::string& name : result.objects)
         objects += (objects.empty() ? "" : ", ") + name;
     out << "# Speed against accuracy\n\nMade by `" << command << "`.\n\n"
-        << "Every integrator × time step × lattice resolution plays the scene's clip '" << result.clip.name << "' ("
+        << "Every integrator × time step × lattice resolution"
+        << (anySolid ? ", on springs and on the solid element (the lattices marked \"solid\"; by default implicit Euler "
+                       "on lattices\nof up to " + std::to_string(kStudyElementNodes) + " nodes, as the element's cost suggests),\n"
+                     : std::string(" "))
+        << "plays the scene's clip '" << result.clip.name << "' ("
         << result.clip.seconds() << " s from " << result.clip.startSeconds << " s at " << result.clip.fps << " fps) as a bake exports it,\n"
         << "every object (" << objects << ") on the setting's lattice over its own box, with its drivers, anchors and\n"
         << "material carried to each resolution as the same continuum (density, Young's modulus and viscosity do not depend\n"
@@ -507,7 +547,8 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         << "  **" << studyErrorName(result.error) << "** error.\n"
         << "- **integration error**: against this very lattice converged in time (Verlet at 1/"
         << int(std::lround(1.0 / result.convergedDt)) << " s): what the integrator and step alone cost.\n"
-        << "- **model error**: this lattice converged in time against the converged solid: what the resolution alone costs.\n"
+        << "- **model error**: this lattice converged in time against the converged solid: what the resolution and the\n"
+        << "  element alone cost.\n"
         << "  It is the same for every integrator and step of a lattice.\n"
         << "- **what the numbers mean**: the mesh moves up to " << result.motionAmplitude
         << " of the diagonal in this clip, and doing nothing\n"

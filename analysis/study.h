@@ -36,9 +36,16 @@ struct StudySetting {
     IntegratorKind integrator = IntegratorKind::Verlet;
     double dt = 1.0 / 240;     ///< Step, s.
     LatticeShape lattice;      ///< Kind and nodes per axis, over each object's box.
+    BodyElement element = BodyElement::Springs;  ///< What every object's material runs on.
 };
 
-/// The scene's own setting: the world's integrator and step, the first object's lattice (it must have one).
+/// The largest lattice (nodes) the default grid runs the solid element on, and the quick grid's: its runs converged
+/// in time (Verlet at the study's fine step, substepping the consistent mass) take minutes on 8^3 nets, and tens of
+/// seconds on a 6^3 B-spline, more than the editor's quick study may take.
+inline constexpr int kStudyElementNodes = 216;
+inline constexpr int kQuickStudyElementNodes = 64;
+
+/// The scene's own setting: the world's integrator and step, the first object's lattice and element.
 StudySetting sceneSetting(const Scene& scene);
 /// Whether two settings are the same (the steps equal within rounding): how a row is found to be the scene's own.
 bool sameSetting(const StudySetting& a, const StudySetting& b);
@@ -54,6 +61,12 @@ struct StudyOptions {
     std::vector<LatticeShape> lattices;
     std::vector<IntegratorKind> integrators;
     std::vector<double> steps;
+    /// The elements; empty: springs and the solid element. The solid element's rows run on the grid's lattices of
+    /// at most kStudyElementNodes nodes (kQuickStudyElementNodes when quick; every given lattice when `lattices`
+    /// is set) with implicit Euler (the given integrators but XPBD, which it cannot run, when `integrators` is
+    /// set): explicit schemes substep it far harder than springs, so their element rows cost more for the same
+    /// error.
+    std::vector<BodyElement> elements;
     /// Also measure the scene's own setting (integrator, step and lattice of its first object).
     bool includeCurrent = true;
     /// How the converged solid is made (its ladder of nets and its step).
@@ -72,7 +85,8 @@ struct StudyRow {
     IntegratorKind integrator = IntegratorKind::ImplicitEuler;
     double dt = 0.0;                   ///< Step, s.
     LatticeShape lattice;              ///< Kind and nodes per axis.
-    std::string resolution;            ///< latticeShapeName(lattice), e.g. "4x4x4 bezier".
+    BodyElement element = BodyElement::Springs;
+    std::string resolution;            ///< studyModelName(lattice, element), e.g. "4x4x4 bezier", "4x4x4 bezier solid".
     int nodes = 0;                     ///< Lattice nodes.
     /// Wall seconds per second of clip: the clip's physics and mesh deformation, the fastest of the repeats.
     double costPerSecond = 0.0;
@@ -95,7 +109,7 @@ struct StudyRow {
     bool current = false;              ///< The scene's own setting.
 
     double error(StudyError kind) const;
-    StudySetting setting() const { return {integrator, dt, lattice}; }
+    StudySetting setting() const { return {integrator, dt, lattice, element}; }
 };
 
 /// The whole study.
@@ -119,6 +133,8 @@ struct StudyResult {
 
 /// "4x4x4 bezier": how the study names a lattice shape.
 std::string latticeShapeName(const LatticeShape& shape);
+/// "4x4x4 bezier" for springs, "4x4x4 bezier solid" for the solid element: how the study names a body model.
+std::string studyModelName(const LatticeShape& shape, BodyElement element);
 
 /// Runs the study on every object of `scene` (their drivers, anchors and painted material, carried to every
 /// resolution with resampleMaterial(..., keepContinuum = true)) in the scene's world and its simulation

@@ -9,6 +9,7 @@
 #include "io/reference_cache.h"
 #include "ui/study_plot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -40,13 +41,14 @@ int runStudy(const std::vector<std::string>& args) {
     CommandLine line("study", std::string("Usage: softtouch-cli study SCENE [--clip NAME] [--out DIR] [--quick] [--error KIND]\n"
                       "                           [--repeats N] [--target ERROR [--apply OUT.softtouch]]\n\n"
                       "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3, 6^3, 8^3 Bezier; 6^3, 8^3\n"
-                      "B-spline), every object on that lattice, the clip played as bake exports it: its cost (wall time of\n"
-                      "physics and mesh deformation per second of clip, fastest of the repeats) and the mesh's error against\n"
-                      "the converged solid (the solid element on 4^3, 6^3, 8^3 Bezier nets at 1/4000 s, then 1/8000 s; its\n"
-                      "estimated distance from the limit is printed): total, integration (against the same lattice converged\n"
-                      "in time) and model (that converged run against the solid), RMS relative to the mesh's bounding-box\n"
-                      "diagonal, the worst object's; energy drift, amplitude lost per period and frequency error in free\n"
-                      "vibration.\n"
+                      "B-spline) on springs, and implicit Euler x dt x the lattices of at most 216 nodes on the solid\n"
+                      "element (64 with --quick), every object on that lattice, the clip played as bake exports it: its\n"
+                      "cost (wall time of physics and mesh deformation per second of clip, fastest of the repeats) and the\n"
+                      "mesh's error against the converged solid (the solid element on 4^3, 6^3, 8^3 Bezier nets at\n"
+                      "1/4000 s, then 1/8000 s; its estimated distance from the limit is printed): total, integration\n"
+                      "(against the same lattice converged in time) and model (that converged run against the solid), RMS\n"
+                      "relative to the mesh's bounding-box diagonal, the worst object's; energy drift, amplitude lost per\n"
+                      "period and frequency error in free vibration.\n"
                       "  --clip NAME     the clip to measure (default: what bake plays, the default clip or the drivers)\n"
                       "  --out DIR       write DIR/study.csv, DIR/study.md and DIR/study.png (error against cost, Pareto front)\n"
                       "  --quick         fewer steps and lattices (3 x 3), the same clip, a coarser reference (3^3, 4^3, 6^3)\n"
@@ -57,10 +59,12 @@ int runStudy(const std::vector<std::string>& args) {
                       "  --lattices L    the lattices instead of the grid's: e.g. bezier2,bezier4,bspline10 (n^3 nodes)\n"
                       "  --integrators I the integrators instead of all four: e.g. verlet,xpbd\n"
                       "  --steps S       the steps per second instead of the grid's: e.g. 24,240\n"
+                      "  --elements E    springs, solid or springs,solid (default); with --lattices or --integrators the\n"
+                      "                  solid element runs those (XPBD aside)\n"
                       "  --target ERROR  print the cheapest setting whose error is at most ERROR (e.g. 0.01); refused, with\n"
                       "                  nothing written, when doing nothing meets it or the reference cannot certify it\n"
-                      "  --apply OUT     write SCENE with that setting (integrator, dt; every object moved to its lattice,\n"
-                      "                  material carried over) to OUT, read it back and re-measure it as written"));
+                      "  --apply OUT     write SCENE with that setting (integrator, dt; every object moved to its lattice and\n"
+                      "                  element, material carried over) to OUT, read it back and re-measure it as written"));
     line.positional("SCENE", scenePath);
     line.flag("--quick", options.quick);
     line.text("--out", outDir);
@@ -113,6 +117,16 @@ int runStudy(const std::vector<std::string>& args) {
             if (!readNumber(item, {1, 1e5}, rate).empty())
                 return "expects steps per second from 1 to 100000 separated by commas, got '" + item + "'";
             options.steps.push_back(1.0 / rate);
+        }
+        return std::string();
+    });
+    line.value("--elements", [&options](const std::string& v) {
+        for (const std::string& item : commaSeparated(v)) {
+            if (item != "springs" && item != "solid")
+                return "expects springs, solid or springs,solid, got '" + item + "'";
+            const BodyElement element = item == "solid" ? BodyElement::Solid : BodyElement::Springs;
+            if (std::find(options.elements.begin(), options.elements.end(), element) == options.elements.end())
+                options.elements.push_back(element);
         }
         return std::string();
     });
@@ -179,10 +193,12 @@ int runStudy(const std::vector<std::string>& args) {
     const analysis::StudyRow* pick = analysis::cheapestWithin(result, *target);
     if (!pick)
         return fail("no setting reaches a " + errorName + " error of " + formatValue(*target) + " of the diagonal");
-    std::printf("cheapest setting within %g of the diagonal (%s error): %s, dt = 1/%d s, %s lattice (%s error %.2e; "
+    std::printf("cheapest setting within %g of the diagonal (%s error): %s, dt = 1/%d s, %s lattice, %s (%s error %.2e; "
                 "%.2e s per second of clip)\n",
                 *target, errorName.c_str(), std::string(integratorName(pick->integrator)).c_str(), int(std::lround(1.0 / pick->dt)),
-                pick->resolution.c_str(), errorName.c_str(), pick->error(result.error), pick->costPerSecond);
+                analysis::latticeShapeName(pick->lattice).c_str(),
+                pick->element == BodyElement::Solid ? "solid element" : "springs", errorName.c_str(), pick->error(result.error),
+                pick->costPerSecond);
     if (applyPath.empty())
         return 0;
     auto applied = analysis::applySetting(project->scene, pick->setting());

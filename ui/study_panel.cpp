@@ -36,7 +36,7 @@ QString settingName(const analysis::StudySetting& setting) {
     return QObject::tr("%1, 1/%2 s, %3")
         .arg(QString::fromLatin1(integratorName(setting.integrator).data()))
         .arg(std::lround(1.0 / setting.dt))
-        .arg(QString::fromStdString(analysis::latticeShapeName(setting.lattice)));
+        .arg(QString::fromStdString(analysis::studyModelName(setting.lattice, setting.element)));
 }
 
 QString errorName(analysis::StudyError kind) { return QString::fromLatin1(analysis::studyErrorName(kind).data()); }
@@ -249,11 +249,14 @@ bool StudyPanel::applyRow(int row) {
     if (newStep)
         undo->push(new WorldEditCommand(m_document, worldBefore, next->world, tr("Integrator and time step")));
     for (std::size_t i = 0; i < before.size(); ++i) {
-        // Every object moves to the pick's lattice (the study measured them all on it).
+        // Every object moves to the pick's lattice and element (the study measured them all on it).
         const LatticeShape shape = before[i].first.shape();
-        if (shape.kind != pick->lattice.kind || shape.nodes != pick->lattice.nodes)
+        if (shape.kind != pick->lattice.kind || shape.nodes != pick->lattice.nodes ||
+            before[i].second.element != pick->element)
             undo->push(new LatticeEditCommand(m_document, int(i), before[i].first, before[i].second, next->objects[i].lattice,
-                                              next->objects[i].material, tr("Lattice resolution")));
+                                              next->objects[i].material,
+                                              before[i].second.element != pick->element ? tr("Lattice and element")
+                                                                                         : tr("Lattice resolution")));
     }
     undo->endMacro();
     m_applying = false;

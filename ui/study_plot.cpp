@@ -1,5 +1,6 @@
 #include "ui/study_plot.h"
 
+#include <array>
 #include <QGraphicsScene>
 #include <QLegendMarker>
 #include <QLineSeries>
@@ -75,13 +76,37 @@ void hideFromLegend(QChart* chart, QAbstractSeries* series) {
 
 }  // namespace
 
+QString integratorLegendName(IntegratorKind kind, StudyChartSize size) {
+    if (size == StudyChartSize::Picture)
+        return name(integratorName(kind));
+    switch (kind) {
+    case IntegratorKind::SymplecticEuler: return QObject::tr("sympl.");
+    case IntegratorKind::Verlet: return QObject::tr("Verlet");
+    case IntegratorKind::ImplicitEuler: return QObject::tr("implicit");
+    case IntegratorKind::Xpbd: return QObject::tr("XPBD");
+    }
+    return name(integratorName(kind));
+}
+
+QString latticeLegendName(const StudyRow& row, StudyChartSize size) {
+    if (size == StudyChartSize::Picture)
+        return QString::fromStdString(row.resolution);
+    const std::array<int, 3>& n = row.lattice.nodes;
+    QString text = QString("%1x%2x%3").arg(n[0]).arg(n[1]).arg(n[2]);
+    if (row.lattice.kind != LatticeKind::Bezier)
+        text += QObject::tr(" B-spl.");
+    if (row.element == BodyElement::Solid)
+        text += QObject::tr(" solid");
+    return text;
+}
+
 StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker>& marker, StudyChartSize size) {
     const bool dock = size == StudyChartSize::Dock;
     setBackgroundRoundness(0);
     QFont font;
     font.setPixelSize(dock ? 11 : 13);
     legend()->setFont(font);
-    legend()->setAlignment(dock ? Qt::AlignBottom : Qt::AlignRight);
+    legend()->setAlignment(Qt::AlignRight);
     if (dock) {
         setMargins(QMargins(2, 2, 2, 2));  // the dock's own title names the chart
     } else {
@@ -128,7 +153,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
 
     if (result.restError > 0) {
         auto* rest = new QLineSeries;
-        rest->setName((dock ? QObject::tr("doing nothing: %1") : QObject::tr("doing nothing (the bodies at rest): %1")).arg(result.restError, 0, 'g', 3));
+        rest->setName((dock ? QObject::tr("nothing: %1") : QObject::tr("doing nothing (the bodies at rest): %1")).arg(result.restError, 0, 'g', 3));
         rest->setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DotLine));
         rest->append(x->min(), result.restError);
         rest->append(x->max(), result.restError);
@@ -137,7 +162,8 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             hideFromLegend(this, rest);
             auto* label = new QScatterSeries;
             label->setMarkerSize(0.1);
-            label->append(std::sqrt(x->min() * x->max()), result.restError);
+            // Left of the middle, the certified line's label right of it: the two lines often lie close.
+            label->append(std::pow(x->min(), 0.7) * std::pow(x->max(), 0.3), result.restError);
             label->setPointLabelsFormat(rest->name());
             label->setPointLabelsColor(QColor(90, 90, 90));
             label->setPointLabelsFont(font);
@@ -157,8 +183,8 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             hideFromLegend(this, certifiable);
             auto* label = new QScatterSeries;
             label->setMarkerSize(0.1);
-            label->append(std::sqrt(x->min() * x->max()), floor);
-            label->setPointLabelsFormat(QObject::tr("certified from: %1").arg(floor, 0, 'g', 3));
+            label->append(std::pow(x->min(), 0.3) * std::pow(x->max(), 0.7), floor);
+            label->setPointLabelsFormat(QObject::tr("certified: %1").arg(floor, 0, 'g', 3));
             label->setPointLabelsColor(QColor(40, 40, 40));
             label->setPointLabelsFont(font);
             label->setPointLabelsVisible(true);
@@ -173,6 +199,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         std::string lattice;
         QScatterSeries::MarkerShape shape;
         bool hollow;
+        QString legend;  ///< latticeLegendName()
     };
     std::vector<DotStyle> styles;  // one per lattice, in the order the study lists them
     std::map<LatticeKind, std::size_t> ofKind;
@@ -181,7 +208,8 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
             std::any_of(styles.begin(), styles.end(), [&](const DotStyle& d) { return d.lattice == r.resolution; }))
             continue;
         const std::size_t n = ofKind[r.lattice.kind]++;
-        styles.push_back({r.resolution, kLatticeShapes[n % std::size(kLatticeShapes)], r.lattice.kind != LatticeKind::Bezier});
+        styles.push_back({r.resolution, kLatticeShapes[n % std::size(kLatticeShapes)], r.lattice.kind != LatticeKind::Bezier,
+                          latticeLegendName(r, size)});
     }
     const auto styleOf = [&](const std::string& lattice) -> const DotStyle& {
         return *std::find_if(styles.begin(), styles.end(), [&](const DotStyle& d) { return d.lattice == lattice; });
@@ -203,7 +231,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
         QScatterSeries*& s = series[{k, lattice}];
         if (!s) {
             s = new QScatterSeries;
-            s->setName(name(integratorName(kKinds[k])));
+            s->setName(integratorLegendName(kKinds[k], size));
             styleDots(s, lattice, kColours[k]);
             add(s);
             if (named[k])
@@ -228,7 +256,7 @@ StudyChart::StudyChart(const StudyResult& result, const std::optional<PlotMarker
     if (styles.size() > 1) {
         for (const DotStyle& style : styles) {
             auto* key = new QScatterSeries;  // no dots: a legend entry naming the shape
-            key->setName(QString::fromStdString(style.lattice));
+            key->setName(style.legend);
             styleDots(key, style.lattice, kLatticeKeyColour);
             add(key);
             for (QLegendMarker* m : legend()->markers(key))

@@ -27,8 +27,13 @@ struct PlotMarker {
 bool plottable(const analysis::StudyRow& row, analysis::StudyError error);
 
 /// Where the chart is shown: a picture of its own (study.png: legend on the right, full axis titles) or
-/// the editor's dock (legend below, short titles, small text: the plot keeps most of a narrow dock).
+/// the editor's dock (short names and titles, small text: the plot keeps most of a narrow dock).
 enum class StudyChartSize { Picture, Dock };
+
+/// How the legend names an integrator and a lattice: in full on a picture ("implicit-euler", "4x4x4 bezier solid");
+/// short in the dock, whose legend is a narrow column beside the plot ("implicit", "4x4x4 solid", "6x6x6 B-spl.").
+QString integratorLegendName(IntegratorKind kind, StudyChartSize size);
+QString latticeLegendName(const analysis::StudyRow& row, StudyChartSize size);
 
 /// The chart of one study. Needs a QApplication (Qt Charts draws through QGraphicsWidget).
 class StudyChart : public QChart {

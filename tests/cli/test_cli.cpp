@@ -570,10 +570,11 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
     QVERIFY2(study.exitCode == 0, qPrintable(study.out.right(600) + study.err));
     for (const char* file : {"study.csv", "study.md", "study.png"})
         QVERIFY2(QFileInfo(dir.filePath(file)).size() > 0, file);
-    // Every measured row is in the CSV: 2 lattices x 2 integrators x 2 steps, plus the scene's own setting.
+    // Every measured row is in the CSV: 2 lattices x 2 integrators x 2 steps on springs and on the solid element,
+    // plus the scene's own setting.
     QFile csv(dir.filePath("study.csv"));
     QVERIFY(csv.open(QIODevice::ReadOnly));
-    QCOMPARE(QString(csv.readAll()).trimmed().split('\n').size(), 1 + 8 + 1);
+    QCOMPARE(QString(csv.readAll()).trimmed().split('\n').size(), 1 + 8 + 8 + 1);
     QVERIFY(study.out.contains("re-measured as written"));
 
     auto pick = io::loadProject(applied.toStdString());
@@ -588,9 +589,10 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
     const QString line = study.out.section("cheapest setting", 1).section('\n', 0, 0);
     QVERIFY2(line.contains(QString("%1x%1x%1 bezier").arg(nodes)), qPrintable(line));
     QVERIFY2(line.contains(QString("dt = 1/%1 s").arg(std::lround(1.0 / dt))), qPrintable(line));
+    QCOMPARE(line.contains(" solid"), object.material.element == BodyElement::Solid);
 
     const QStringList bad[] = {{"--error", "bogus"}, {"--apply", applied}, {"--lattices", "bezier1"}, {"--repeats", "0"},
-                               {"--reference-nets", "4,3"}, {"--reference-nets", "9"}};
+                               {"--reference-nets", "4,3"}, {"--reference-nets", "9"}, {"--elements", "fem"}};
     for (const QStringList& extra : bad) {
         const Run r = runCli(QStringList{"study", path} + extra);
         QVERIFY2(r.exitCode == 2, qPrintable(extra.join(' ') + ": " + r.err));

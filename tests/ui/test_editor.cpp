@@ -2376,6 +2376,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QCOMPARE(scene.world.simulation.integrator, clicked.integrator);
     QCOMPARE(scene.world.simulation.dt, clicked.dt);
     QVERIFY(scene.objects[0].lattice.shape().nodes == clicked.lattice.nodes);
+    QCOMPARE(scene.objects[0].material.element, clicked.element);  // springs or the solid element, as measured
     QVERIFY(study->isMeasuring());
     QVERIFY(done.wait(kStudyWaitMs));
     QVERIFY(study->remeasured().has_value());

@@ -55,7 +55,7 @@ int plottedPoints(const QChart& chart) {
     for (QAbstractSeries* s : chart.series())
         for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                        IntegratorKind::Xpbd})
-            if (s->name() == QString::fromLatin1(integratorName(k).data()))
+            if (s->name() == integratorLegendName(k, StudyChartSize::Picture) || s->name() == integratorLegendName(k, StudyChartSize::Dock))
                 points += int(static_cast<QScatterSeries*>(s)->count());
     return points;
 }
@@ -131,7 +131,7 @@ private slots:
                 const std::string& lattice = result.rows[std::size_t(i)].resolution;
                 for (QAbstractSeries* s : chart.series()) {
                     auto* scatter = qobject_cast<QScatterSeries*>(s);
-                    if (!scatter || scatter->name() != QString::fromLatin1(integratorName(result.rows[std::size_t(i)].integrator).data()))
+                    if (!scatter || scatter->name() != integratorLegendName(result.rows[std::size_t(i)].integrator, size))
                         continue;
                     for (const QPointF& p : scatter->points())
                         if (p == QPointF(result.rows[std::size_t(i)].costPerSecond, result.rows[std::size_t(i)].rmsError))
@@ -147,6 +147,17 @@ private slots:
             QCOMPARE(int(all.size()), 3);
             QCOMPARE(*shapes["5x5x5 bspline"].begin() % 10, 1);  // hollow
             QCOMPARE(*shapes["3x3x3 bezier"].begin() % 10, 0);
+            // The dock's narrow legend names them short, the picture in full.
+            const analysis::StudyRow& bspline = *std::find_if(result.rows.begin(), result.rows.end(),
+                                                              [](const analysis::StudyRow& r) { return r.resolution == "5x5x5 bspline"; });
+            QCOMPARE(latticeLegendName(bspline, size), size == StudyChartSize::Dock ? QString("5x5x5 B-spl.") : QString("5x5x5 bspline"));
+            analysis::StudyRow solid = bspline;
+            solid.lattice = {LatticeKind::Bezier, {4, 4, 4}};
+            solid.element = BodyElement::Solid;
+            solid.resolution = analysis::studyModelName(solid.lattice, solid.element);
+            QCOMPARE(latticeLegendName(solid, size), size == StudyChartSize::Dock ? QString("4x4x4 solid") : QString("4x4x4 bezier solid"));
+            QCOMPARE(integratorLegendName(IntegratorKind::ImplicitEuler, size),
+                     size == StudyChartSize::Dock ? QString("implicit") : QString("implicit-euler"));
             // The legend: one visible entry per integrator, one per lattice drawn in its shape.
             std::map<QString, int> visible;
             for (QLegendMarker* m : chart.legend()->markers())
@@ -154,11 +165,14 @@ private slots:
                     ++visible[m->label()];
             for (const IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
                                            IntegratorKind::Xpbd})
-                QCOMPARE(visible[QString::fromLatin1(integratorName(k).data())], 1);
+                QCOMPARE(visible[integratorLegendName(k, size)], 1);
             for (const auto& [lattice, used] : shapes) {
-                QCOMPARE(visible[QString::fromStdString(lattice)], 1);
+                const auto first = std::find_if(result.rows.begin(), result.rows.end(),
+                                                [&](const analysis::StudyRow& r) { return r.resolution == lattice; });
+                const QString label = latticeLegendName(*first, size);
+                QCOMPARE(visible[label], 1);
                 for (QLegendMarker* m : chart.legend()->markers())
-                    if (m->label() == QString::fromStdString(lattice)) {
+                    if (m->label() == label) {
                         QCOMPARE(m->shape(), QLegend::MarkerShapeFromSeries);
                         QCOMPARE(styleOf(static_cast<QScatterSeries*>(m->series())), *used.begin());
                     }
