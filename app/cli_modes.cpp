@@ -156,6 +156,10 @@ int runModes(const std::vector<std::string>& args) {
         }
         if (!summary.empty())
             std::printf("  %s\n", summary.c_str());
+        if (modes->rigidModes > 0) {  // a free body: how its spin fares under the scheme
+            if (const std::string spin = describeSpinKept(body.value(), settings); !spin.empty())
+                std::printf("  %s\n", spin.c_str());
+        }
         // The element runs the painted material's solid; springs make their own network's.
         const NetworkElasticity e = element ? materialElasticity(object.lattice, object.material)
                                             : networkElasticity(object.lattice, object.material);

@@ -646,6 +646,9 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     if (modes->rigidModes > 0)
         lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
     lines << QString::fromStdString(describeModeAccuracy(settings, lowest, lowestAccuracy));
+    if (modes->rigidModes > 0)  // a free body: whether the scheme slows its spin
+        if (const std::string spin = describeSpinKept(body.value(), settings); !spin.empty())
+            lines << QString::fromStdString(spin);
     // The solid the springs make (it differs from the painted modulus on flat or long cells), or the one the solid
     // element runs (the painted material's), as `softtouch-cli modes` prints it.
     const bool element = o.material.element == BodyElement::Solid;
