@@ -4,6 +4,7 @@
 #include "ui/study_chart_view.h"
 
 #include "core/solid_modes.h"
+#include "io/reference_cache.h"
 
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -18,6 +19,7 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <sstream>
 
@@ -172,11 +174,28 @@ void StudyPanel::measure() {
     m_remeasuring = false;
     m_progress->setRange(0, 0);  // busy until the reference runs are done and the grid starts
     m_progress->setFormat(tr("Measuring… %p%"));
-    startWorker([this, scene = m_document->scene(), clips = m_document->project().clips] {
+    startWorker([this, project = m_document->project()] {
+        const Scene& scene = project.scene;
+        const ClipLibrary& clips = project.clips;
         analysis::StudyOptions options;
         options.quick = true;
         options.error = analysis::StudyError::Total;  // the plot's axis; picks follow the dock's choice
         options.reference = analysis::quickReference();  // its larger uncertainty is shown and enforced
+        // The converged solid is kept by content, as `softtouch-cli study` keeps it: a full study's reference of
+        // this very scene and clip certifies lower targets than the quick one, which is made only when neither
+        // is kept, and then kept for the next measurement.
+        const std::filesystem::path folder = io::referenceCacheFolder();
+        std::string quickKey;
+        if (auto clip = analysis::clipToPlay(scene, clips, {})) {
+            for (const analysis::ReferenceOptions& ladder : {analysis::ReferenceOptions{}, analysis::quickReference()}) {
+                auto key = io::referenceKey(project, clip.value(), ladder);
+                if (!key)
+                    break;
+                if ((options.given = io::readCachedReference(folder, key.value())))
+                    break;
+                quickKey = key.value();  // the last one looked up: the quick ladder's
+            }
+        }
         options.progress = [this](double fraction) {
             post([this, fraction] {
                 m_progress->setRange(0, 1000);
@@ -186,6 +205,8 @@ void StudyPanel::measure() {
         };
         std::ostringstream log;  // the dock shows the result; the CLI's study prints this log
         analysis::StudyResult result = analysis::runStudy(scene, clips, options, log);
+        if (!options.given && result.reference && !result.cancelled && !quickKey.empty())
+            (void)io::writeCachedReference(folder, quickKey, *result.reference);  // not kept: measured again next time
         post([this, result = std::move(result)]() mutable { studyDone(std::move(result)); });
     });
 }

@@ -5,6 +5,7 @@
 // viewport draws the fish in shaded and wireframe modes.
 #include "core/mesh_surface.h"
 #include "io/bake.h"
+#include "io/reference_cache.h"
 #include "io/gltf_meshopt.h"
 #include "io/trajectory_file.h"
 #include "io/vertex_cache.h"
@@ -229,6 +230,8 @@ void TestEditor::initTestCase() {
 void TestEditor::init() {
     m_dir = std::make_unique<QTemporaryDir>();
     QVERIFY(m_dir->isValid());
+    QVERIFY(QDir().mkpath(m_dir->filePath("cache")));
+    qputenv("XDG_CACHE_HOME", m_dir->filePath("cache").toUtf8());  // the study dock keeps references there
     QSettings().clear();
     m_window = makeWindow();
     QVERIFY(m_window->openFile(kDefaultScene));
@@ -2237,6 +2240,25 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QCOMPARE(static_cast<QStackedWidget*>(chart->parentWidget())->currentWidget(), chart);
     // The clip moves the mesh, so doing nothing has a price the settings are compared with.
     QVERIFY(study->study().motionAmplitude > 0.0 && study->study().restError > 0.0);
+
+    // The reference is kept by content, as `softtouch-cli study` keeps it; a full study's reference of the same
+    // scene and clip, when one is kept, is measured against instead (it certifies lower targets).
+    {
+        const auto clip = analysis::clipToPlay(scene, w.document()->project().clips, {});
+        QVERIFY(clip);
+        const auto quickKey = io::referenceKey(w.document()->project(), clip.value(), analysis::quickReference());
+        const auto fullKey = io::referenceKey(w.document()->project(), clip.value(), analysis::ReferenceOptions{});
+        QVERIFY(quickKey && fullKey && quickKey.value() != fullKey.value());
+        const auto kept = io::readCachedReference(io::referenceCacheFolder(), quickKey.value());
+        QVERIFY2(kept, qPrintable(QString::fromStdString((io::referenceCacheFolder() / quickKey.value()).string())));
+        QCOMPARE(kept->description, study->study().reference->description);
+        analysis::ConvergedReference full = *kept;
+        full.description = "a full study's reference";
+        QVERIFY(io::writeCachedReference(io::referenceCacheFolder(), fullKey.value(), full).ok());
+        measure->click();
+        QVERIFY(done.wait(kStudyWaitMs));
+        QCOMPARE(study->study().reference->description, std::string("a full study's reference"));
+    }
 
     // The marked row is the scene's own setting.
     const analysis::StudyRow* current = study->currentRow();
