@@ -230,8 +230,6 @@ void TestEditor::initTestCase() {
 void TestEditor::init() {
     m_dir = std::make_unique<QTemporaryDir>();
     QVERIFY(m_dir->isValid());
-    QVERIFY(QDir().mkpath(m_dir->filePath("cache")));
-    qputenv("XDG_CACHE_HOME", m_dir->filePath("cache").toUtf8());  // the study dock keeps references there
     QSettings().clear();
     m_window = makeWindow();
     QVERIFY(m_window->openFile(kDefaultScene));
@@ -2194,7 +2192,14 @@ void TestEditor::scriptedDeviceDrivesTheFishAtHapticRate() {
 // that it moves visibly (a few % of its diagonal; the default body barely bends). The
 // measurement runs on a worker thread; the pick applies as one undo step and the scene as it then
 // stands is re-measured within the target: what the person sees to trust the pick.
+/// The study dock keeps its references in the test's own folder: none from another run is found there.
+static void keepReferencesIn(const QTemporaryDir& dir) {
+    QVERIFY(QDir().mkpath(dir.filePath("cache")));
+    qputenv("XDG_CACHE_HOME", dir.filePath("cache").toUtf8());
+}
+
 void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
+    keepReferencesIn(*m_dir);
     MainWindow& w = *m_window;
     const QString sphere = m_dir->filePath("sphere.obj");
     QVERIFY(io::writeObj(sphere.toStdString(), makeUvEllipsoid(16, 32, Vec3::Constant(0.5))).ok());
@@ -2432,6 +2437,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
 // Cancel stops a measurement (the reference at its next frame, a grid run when it ends) and keeps nothing; closing the window while one runs
 // stops it too, and destroying the window waits for the worker thread (no crash, no late delivery).
 void TestEditor::studyDockCancelsAndStopsWithTheWindow() {
+    keepReferencesIn(*m_dir);
     MainWindow& w = *m_window;
     StudyPanel* study = w.study();
     auto* measure = study->findChild<QPushButton*>("studyMeasure");
