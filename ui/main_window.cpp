@@ -12,6 +12,7 @@
 #include "ui/take_dialog.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
+#include "ui/wheel_guard.h"
 
 #include <algorithm>
 
@@ -38,6 +39,7 @@ namespace softtouch::ui {
 MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     : QMainWindow(parent), m_options(options) {
     setObjectName("SoftTouchMainWindow");
+    QApplication::instance()->installEventFilter(new WheelGuard(this));  // scrolling a panel edits nothing
     m_document = new Document(this);
     m_simulation = new SimulationController(m_document, this);
     m_viewport = new Viewport(m_document, m_simulation, this);

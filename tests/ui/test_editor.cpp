@@ -29,6 +29,8 @@
 #include <QListWidget>
 #include <QApplication>
 #include <QScrollArea>
+#include <QScrollBar>
+#include <QWheelEvent>
 #include <QAbstractSpinBox>
 #include <QSlider>
 #include <QStackedWidget>
@@ -199,6 +201,7 @@ private slots:
     void studyDockCancelsAndStopsWithTheWindow();
     void propertiesShowTheBodysModes();
     void propertiesCompareTheLatticeWithTheSolid();
+    void wheelScrollsPropertiesWithoutEditing();
     void elementChoiceRunsTheSolidAndSaysWhatItCannot();
     void modeViewAnimatesTheShapeWithoutEditing();
     void importedMeshStartsOnVerletAndSavesIt();
@@ -2854,6 +2857,54 @@ void TestEditor::propertiesFieldsFitTheDock_data() {
     QTest::newRow("1280x800") << QSize(1280, 800);
     QTest::newRow("1600x1000") << QSize(1600, 1000);
     QTest::newRow("1920x1080") << QSize(1920, 1080);
+}
+
+// #42: the wheel over a number field or a drop-down that has no focus scrolls the panel and edits nothing (an
+// animator scrolling Properties once set the total mass from 0.2373 to 0.0373 kg); once the field has the focus,
+// the wheel edits it as before, one undoable step.
+void TestEditor::wheelScrollsPropertiesWithoutEditing() {
+    MainWindow& w = *m_window;
+    w.findChild<QDockWidget*>("propertiesDock")->raise();
+    QApplication::processEvents();
+    auto* scroll = qobject_cast<QScrollArea*>(w.properties()->parentWidget()->parentWidget());
+    QVERIFY(scroll && scroll->verticalScrollBar()->maximum() > 0);  // the panel is taller than its dock
+    auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
+    auto* integrator = w.findChild<QComboBox*>("integrator");
+    QVERIFY(frequency && integrator && frequency->isVisible());
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    w.viewport()->setFocus();
+    QVERIFY(!frequency->hasFocus() && !integrator->hasFocus());
+    QUndoStack* undo = w.document()->undoStack();
+    const int steps = undo->count();
+    const double hz = frequency->value();
+    const int scheme = integrator->currentIndex();
+    // To the widget under the pointer (a spin box's line edit), or to the field itself, where the window system's
+    // wheel arrives once the line edit has passed it on (a synthetic one is not passed on).
+    const auto wheel = [](QWidget* target, int delta, bool toField = false) {
+        const QPoint centre = target->rect().center();
+        QWidget* under = !toField && target->childAt(centre) ? target->childAt(centre) : target;
+        const QPoint at = under->mapFrom(target, centre);
+        QWheelEvent event(at, under->mapToGlobal(at), QPoint(), QPoint(0, delta), Qt::NoButton, Qt::NoModifier,
+                          Qt::NoScrollPhase, false);
+        QApplication::sendEvent(under, &event);
+    };
+    scroll->verticalScrollBar()->setValue(0);
+    wheel(frequency, -120);
+    wheel(integrator, -120);
+    QCOMPARE(frequency->value(), hz);
+    QCOMPARE(integrator->currentIndex(), scheme);
+    QCOMPARE(undo->count(), steps);
+    QVERIFY2(scroll->verticalScrollBar()->value() > 0, "the panel did not scroll");
+    // Focused, the field takes the wheel.
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    frequency->setFocus();
+    QTRY_VERIFY(frequency->hasFocus());
+    wheel(frequency, 120, true);
+    QVERIFY2(frequency->value() > hz, qPrintable(QString::number(frequency->value())));
+    QCOMPARE(undo->count(), steps + 1);
+    undo->undo();
 }
 
 void TestEditor::propertiesFieldsFitTheDock() {
