@@ -98,29 +98,42 @@ struct FreeRun {
     double frequency = 0.0;       ///< Hz.
 };
 
-FreeRun runFree(const SceneObject& object, IntegratorKind integrator, double dt, double seconds) {
-    FreeRun r;
+/// The undamped body of an object and its lowest mode: what every free vibration of one lattice starts from
+/// (one eigensolve a lattice, not one a row).
+struct FreeBody {
+    std::shared_ptr<const BodyModel> model;
+    VibrationMode mode;
+    double amplitude = 0.0;  ///< How far the mode shape's largest node moves at the start, m.
+};
+
+std::optional<FreeBody> freeBody(const SceneObject& object) {
     LatticeMaterial m = object.material;
     m.damping.assign(m.damping.size(), 0.0);
     m.nodeDamping.assign(m.mass.size(), 0.0);
     auto built = buildLatticeBody(object.lattice, m);
     if (!built)
-        return r;
-    const std::shared_ptr<const BodyModel> model = built.value();
-    auto modes = analyseModes(*model, 1);
+        return std::nullopt;
+    auto modes = analyseModes(*built.value(), 1);
     if (!modes || modes->modes.empty())
+        return std::nullopt;
+    return FreeBody{built.value(), modes->modes.front(), 0.03 * object.lattice.box().diagonal()};
+}
+
+FreeRun runFree(const std::optional<FreeBody>& body, IntegratorKind integrator, double dt, double seconds) {
+    FreeRun r;
+    if (!body)
         return r;
-    const VibrationMode& mode = modes->modes.front();
+    const std::shared_ptr<const BodyModel>& model = body->model;
+    const VibrationMode& mode = body->mode;
     SimulationSettings settings;
     settings.integrator = integrator;
     settings.dt = dt;
     settings.sleep = false;
     Simulator sim(model, settings);
     BodyState start = sim.saveState();
-    const double amplitude = 0.03 * object.lattice.box().diagonal();  // the shape's largest node moves this far
     for (std::size_t n = 0; n < model->nodeCount(); ++n)
         if (model->inverseMass[n] > 0.0)
-            start.position[n] += amplitude * mode.shape[n];
+            start.position[n] += body->amplitude * mode.shape[n];
     sim.restoreState(start);
     auto energy = [&] { return kineticEnergy(*model, sim.state()) + springEnergy(*model, sim.state()); };
     const double e0 = energy();
@@ -316,6 +329,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         Scene scene;  ///< Every object on the lattice; the scene's own integrator and step.
         ClipRun converged;
         double modelError = 0.0;
+        std::optional<FreeBody> freeBody;  ///< The first object undamped, and its lowest mode.
         FreeRun free;
         std::vector<double> solidModeError;
     };
@@ -339,7 +353,8 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         runs->converged = runClip(convergedInTime(runs->scene, result.convergedDt), library, clip.value());
         runs->modelError = worstDistance(objectDistances(runs->converged.frames, reference, diagonals));
         const SceneObject& first = runs->scene.objects.front();
-        runs->free = runFree(first, IntegratorKind::Verlet, result.convergedDt, freeSeconds);
+        runs->freeBody = freeBody(first);
+        runs->free = runFree(runs->freeBody, IntegratorKind::Verlet, result.convergedDt, freeSeconds);
         if (auto compared = compareWithSolid(first.lattice, first.material))
             runs->solidModeError = compared->error;  // empty unless the solid converged
         lattices.emplace_back(name, runs);
@@ -389,7 +404,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         row.timeError = worstDistance(objectDistances(played.frames, runs->converged.frames, diagonals));
         row.modelError = runs->modelError;
         row.solidModeError = runs->solidModeError;
-        const FreeRun free = runFree(runs->scene.objects.front(), setting.integrator, setting.dt, freeSeconds);
+        const FreeRun free = runFree(runs->freeBody, setting.integrator, setting.dt, freeSeconds);
         row.energyDrift = free.energyDrift;
         const bool both = free.oscillates && runs->free.oscillates && runs->free.keptPerPeriod > 0.0;
         row.amplitudeLoss = both ? 1.0 - free.keptPerPeriod / runs->free.keptPerPeriod : 1.0;  // 1: no swing left
