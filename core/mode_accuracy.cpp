@@ -169,18 +169,15 @@ double spinKeptPerSecond(const std::shared_ptr<const BodyModel>& model, const Si
     const std::size_t n = model->nodeCount();
     if (std::any_of(model->inverseMass.begin(), model->inverseMass.end(), [](double w) { return w == 0.0; }))
         return 1.0;  // anchored: it cannot spin freely
+    // The centre of mass: each node's share of the mass (a consistent mass's row sums, ∫ρ N_i), as linearMomentum().
+    double total = 0.0;
+    for (const double m : model->mass)
+        total += m;
     const auto centre = [&](const std::vector<Vec3>& x) {
         Vec3 c = Vec3::Zero();
-        for (int a = 0; a < 3; ++a) {
-            std::vector<Vec3> along(n, Vec3::Zero());
-            for (Vec3& e : along)
-                e[a] = 1.0;
-            std::vector<Vec3> coordinate(n, Vec3::Zero());
-            for (std::size_t i = 0; i < n; ++i)
-                coordinate[i][a] = x[i][a];
-            c[a] = massInnerProduct(*model, along, coordinate) / massInnerProduct(*model, along, along);
-        }
-        return c;
+        for (std::size_t i = 0; i < n; ++i)
+            c += model->mass[i] * x[i];
+        return Vec3(c / total);
     };
     const auto swirl = [&](const Vec3& axis, const std::vector<Vec3>& x) {  // axis × (x − c) at every node
         const Vec3 c = centre(x);

@@ -61,7 +61,7 @@ ModeAccuracy schemeAccuracy(const std::shared_ptr<const BodyModel>& model, const
 std::vector<ModeAccuracy> schemeAccuracies(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
                                            std::span<const VibrationMode> modes);
 
-/// How much of a free spin the scheme keeps over a second: `model` turned rigidly at one turn a second about the box
+/// How much of a free spin the scheme keeps over a second: `model` turned rigidly at one turn a second about its
 /// principal axis of largest inertia through its centre of mass, no force, run for one second under `settings`;
 /// the angular momentum about that axis at the end over the start. Node damping (on absolute velocity) takes its
 /// share under every scheme; Verlet keeps the rest, while implicit Euler's damping of the stretch the spin

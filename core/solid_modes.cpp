@@ -115,17 +115,17 @@ Result<Eigen::VectorXd> weightedField(const std::array<AxisQuadrature, 3>& q, co
 
 }  // namespace
 
+namespace {
+
 /// A solid's stiffness and consistent mass over the free nodes' unknowns (3 per node), and each node's share of the
 /// mass ∫ρ N_i over all nodes, pinned ones included (what a uniform acceleration loads it with).
-namespace {
 struct Assembled {
     Eigen::MatrixXd stiffness, mass;
     Eigen::VectorXd nodeMass;
     int degree = 0;
 };
-}  // namespace
 
-static Result<Assembled> assemble(const SolidField& solid, const SolidElement& element) {
+Result<Assembled> assemble(const SolidField& solid, const SolidElement& element) {
     if (!solid.size.allFinite() || solid.size.minCoeff() <= 0.0)
         return Status::error("the solid's box has a side that is not a positive length");
     if (!solid.modulus || !solid.density)
@@ -238,6 +238,8 @@ static Result<Assembled> assemble(const SolidField& solid, const SolidElement& e
     return out;
 }
 
+}  // namespace
+
 Result<SolidModes> solidModes(const SolidField& solid, const SolidElement& element, int count) {
     auto assembled = assemble(solid, element);
     if (!assembled)
@@ -268,23 +270,20 @@ Result<Vec3> solidSag(const SolidField& solid, const SolidElement& element, cons
         return assembled.status();
     // The load ∫ρ N_i g is the mass row sums times g (the basis sums to 1); the centre of mass moves by
     // Σ_i (∫ρ N_i) u_i / ∫ρ, pinned nodes not moving.
-    const int nodes = int(assembled->nodeMass.size());
+    std::vector<double> freeMass;  // the free nodes' shares, in the order of their unknowns
+    for (Eigen::Index i = 0; i < assembled->nodeMass.size(); ++i)
+        if (solid.pinned.empty() || !solid.pinned[std::size_t(i)])
+            freeMass.push_back(assembled->nodeMass[i]);
     Eigen::VectorXd load(assembled->stiffness.rows());
-    Eigen::VectorXd share(assembled->stiffness.rows());
-    for (int i = 0, s = 0; i < nodes; ++i) {
-        if (!solid.pinned.empty() && solid.pinned[std::size_t(i)])
-            continue;
-        load.segment<3>(3 * s) = assembled->nodeMass[i] * gravity;
-        share.segment<3>(3 * s) = Vec3::Constant(assembled->nodeMass[i]);
-        ++s;
-    }
+    for (std::size_t s = 0; s < freeMass.size(); ++s)
+        load.segment<3>(Eigen::Index(3 * s)) = freeMass[s] * gravity;
     const Eigen::LDLT<Eigen::MatrixXd> factor(assembled->stiffness);
     if (factor.info() != Eigen::Success || !(factor.vectorD().array() > 0.0).all())
         return Status::error("the solid is not held: it has no static rest under gravity");
     const Eigen::VectorXd u = factor.solve(load);
     Vec3 moved = Vec3::Zero();
-    for (Eigen::Index s = 0; s < u.size() / 3; ++s)
-        moved += Vec3(u.segment<3>(3 * s)).cwiseProduct(Vec3(share.segment<3>(3 * s)));
+    for (std::size_t s = 0; s < freeMass.size(); ++s)
+        moved += freeMass[s] * Vec3(u.segment<3>(Eigen::Index(3 * s)));
     return Vec3(moved / assembled->nodeMass.sum());
 }
 
