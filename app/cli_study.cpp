@@ -147,16 +147,12 @@ int runStudy(const std::vector<std::string>& args) {
         options.reference.nodes = referenceNets;
     // The converged solid takes minutes: kept by content between studies of the same scene and clip.
     const std::filesystem::path cacheFolder = io::referenceCacheFolder();
-    std::string key;
-    if (auto clip = analysis::clipToPlay(project->scene, project->clips, options.clip)) {
-        if (auto made = io::referenceKey(project.value(), clip.value(), options.reference)) {
-            key = made.value();
-            options.given = io::readCachedReference(cacheFolder, key);
-            if (options.given)
-                std::printf("converged reference: %s, from the cache (%s)\n", options.given->description.c_str(),
-                            (cacheFolder / key).c_str());
-        }
-    }
+    const io::KeptReference kept = io::findKeptReference(cacheFolder, project.value(), options.clip, std::span(&options.reference, 1));
+    const std::string& key = kept.key;
+    options.given = kept.reference;
+    if (options.given)
+        std::printf("converged reference: %s, from the cache (%s)\n", options.given->description.c_str(),
+                    (cacheFolder / key).c_str());
     options.target = target;  // a target the reference cannot certify stops the study before its grid
     const analysis::StudyResult result = analysis::runStudy(project->scene, project->clips, options, std::cout);
     if (!options.given && result.reference && !key.empty()) {

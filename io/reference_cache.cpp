@@ -3,6 +3,8 @@
 #include "io/atomic_file.h"
 #include "io/content_hash.h"
 
+#include "analysis/clip_frames.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -136,6 +138,23 @@ Result<std::string> referenceKey(const Project& project, const Clip& clip, const
     char key[17];
     std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(hash.value));
     return std::string(key);
+}
+
+KeptReference findKeptReference(const fs::path& folder, const Project& project, const std::string& clipName,
+                                std::span<const analysis::ReferenceOptions> ladders) {
+    KeptReference kept;
+    const auto clip = analysis::clipToPlay(project.scene, project.clips, clipName);
+    if (!clip)
+        return kept;
+    for (const analysis::ReferenceOptions& ladder : ladders) {
+        auto key = referenceKey(project, clip.value(), ladder);
+        if (!key)
+            return {};
+        kept.key = key.value();
+        if ((kept.reference = readCachedReference(folder, kept.key)))
+            break;
+    }
+    return kept;
 }
 
 std::shared_ptr<const analysis::ConvergedReference> readCachedReference(const fs::path& folder, const std::string& key) {

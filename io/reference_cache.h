@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace softtouch::io {
@@ -25,6 +26,16 @@ Result<std::string> referenceKey(const Project& project, const Clip& clip, const
 /// damaged file is made again, not trusted).
 std::shared_ptr<const analysis::ConvergedReference> readCachedReference(const std::filesystem::path& folder,
                                                                         const std::string& key);
+
+/// A study's reference looked up in `folder` for the clip a study of `project` plays (`clipName`; empty: what
+/// `bake` plays), trying `ladders` in order: the first one kept, and its key; when none is kept, the last ladder's
+/// key, under which the reference the study then makes is kept. Both empty when there is no such clip.
+struct KeptReference {
+    std::shared_ptr<const analysis::ConvergedReference> reference;
+    std::string key;
+};
+KeptReference findKeptReference(const std::filesystem::path& folder, const Project& project, const std::string& clipName,
+                                std::span<const analysis::ReferenceOptions> ladders);
 
 /// Stores `reference` in `folder` under `key` (written atomically; the folder is made when missing).
 Status writeCachedReference(const std::filesystem::path& folder, const std::string& key,

@@ -185,17 +185,9 @@ void StudyPanel::measure() {
         // this very scene and clip certifies lower targets than the quick one, which is made only when neither
         // is kept, and then kept for the next measurement.
         const std::filesystem::path folder = io::referenceCacheFolder();
-        std::string quickKey;
-        if (auto clip = analysis::clipToPlay(scene, clips, {})) {
-            for (const analysis::ReferenceOptions& ladder : {analysis::ReferenceOptions{}, analysis::quickReference()}) {
-                auto key = io::referenceKey(project, clip.value(), ladder);
-                if (!key)
-                    break;
-                if ((options.given = io::readCachedReference(folder, key.value())))
-                    break;
-                quickKey = key.value();  // the last one looked up: the quick ladder's
-            }
-        }
+        const analysis::ReferenceOptions ladders[] = {analysis::ReferenceOptions{}, analysis::quickReference()};
+        const io::KeptReference kept = io::findKeptReference(folder, project, {}, ladders);
+        options.given = kept.reference;
         options.progress = [this](double fraction) {
             post([this, fraction] {
                 m_progress->setRange(0, 1000);
@@ -205,8 +197,8 @@ void StudyPanel::measure() {
         };
         std::ostringstream log;  // the dock shows the result; the CLI's study prints this log
         analysis::StudyResult result = analysis::runStudy(scene, clips, options, log);
-        if (!options.given && result.reference && !result.cancelled && !quickKey.empty())
-            (void)io::writeCachedReference(folder, quickKey, *result.reference);  // not kept: measured again next time
+        if (!options.given && result.reference && !result.cancelled && !kept.key.empty())  // the quick ladder's key
+            (void)io::writeCachedReference(folder, kept.key, *result.reference);  // not kept: measured again next time
         post([this, result = std::move(result)]() mutable { studyDone(std::move(result)); });
     });
 }
