@@ -29,6 +29,8 @@ packages=(
   slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
   strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
   chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
+  blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/)
+  python3-numpy           # Blender's glTF importer needs it (a Recommends of blender)
 )
 
 missing=()
