@@ -26,16 +26,16 @@ int runBench(const std::vector<std::string>& args) {
                       "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
                       "  --json FILE   also write the results as JSON (keys: docs/benchmarks.md)\n"
                       "  --quick       small sizes only (seconds, not minutes)\n"
-                      "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, edit, haptic\n"
+                      "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, lattice_step_us_8x8x8, features, deform, table1, edit, haptic\n"
                       "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"
                       "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)\n"
                       "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)"));
     line.flag("--quick", options.quick);
     line.value("--only", [&options](const std::string& v) {
-        static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "features",
+        static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "lattice_step_us_8x8x8", "features",
                                                        "deform", "table1", "edit", "haptic"};
         if (!sections.count(v))
-            return "expects one of lattice_step_us, lattice_step_us_8x4x4, features, deform, table1, edit, haptic, got '" + v + "'";
+            return "expects one of lattice_step_us, lattice_step_us_8x4x4, lattice_step_us_8x8x8, features, deform, table1, edit, haptic, got '" + v + "'";
         options.only = v;
         return std::string();
     });

@@ -33,11 +33,13 @@ struct CartoonControls {
     /// The solid element instead of springs, on the continuum material with the springs' lowest mode and mass
     /// (continuumEquivalent()).
     bool solidElement = false;
+    /// No damping at all (the material's viscosity included): what the step bound is without it.
+    bool undamped = false;
 };
 
 /// A lattice body with the fish material, pinned at its u = 0 face.
 std::shared_ptr<const BodyModel> benchBody(const Lattice& lattice, const CartoonControls& controls = {}) {
-    LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, 0.9);
+    LatticeMaterial m = uniformMaterial(lattice, 0.02, 80.0, controls.undamped ? 0.0 : 0.9);
     m.strainLimits = controls.limits;
     setVolumePreservation(m, controls.volumePreservation);
     for (int k = 0; k < lattice.count(2); ++k)
@@ -118,17 +120,21 @@ json latticeSteps(const LatticeShape& shape, const char* label, double minSecond
             << std::setw(9) << us << " us   " << std::setprecision(1) << us / baseline << "x symplectic-euler\n";
     }
     // The solid element on the same body (the continuum material of the springs' lowest mode and mass): its
-    // consistent mass raises the step bound's frequency, so the substeps are counted too.
-    CartoonControls solid;
-    solid.solidElement = true;
+    // consistent mass raises the highest frequency, where the material's viscosity (damping that grows with
+    // frequency) then bounds the explicit step, so the substeps are counted too, and what they would be undamped.
+    CartoonControls solid, undamped;
+    solid.solidElement = undamped.solidElement = true;
+    undamped.undamped = true;
     for (IntegratorKind k : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler}) {
         const double us = stepMicroseconds(shape, k, {}, false, minSeconds, true, solid);
         const DraggedBody body(shape, k, {}, false, true, solid);
+        const DraggedBody withoutViscosity(shape, k, {}, false, true, undamped);
         const std::string name = std::string(integratorName(k)) + " (solid element)";
         result[name] = us;
         out << "  " << std::left << std::setw(33) << name << std::right << std::fixed << std::setprecision(2) << std::setw(9)
             << us << " us   " << std::setprecision(1) << us / baseline << "x symplectic-euler, "
-            << body.sim.substepsFor(body.forces) << " substeps a step\n";
+            << body.sim.substepsFor(body.forces) << " substeps a step (" << withoutViscosity.sim.substepsFor(withoutViscosity.forces)
+            << " undamped)\n";
     }
     return result;
 }
@@ -392,6 +398,9 @@ json runBench(const BenchOptions& options, std::ostream& out) {
         doc["lattice_step_us"] = latticeSteps({LatticeKind::Bezier, {4, 4, 4}}, "4x4x4 Bezier", minSeconds, out);
     if (wanted("lattice_step_us_8x4x4"))
         doc["lattice_step_us_8x4x4"] = latticeSteps({LatticeKind::BSpline, {8, 4, 4}}, "8x4x4 B-spline", minSeconds, out);
+    // A fine lattice, where the element's explicit substeps grow fastest: seconds of stepping, so only in a full run.
+    if ((!options.quick && options.only.empty()) || options.only == "lattice_step_us_8x8x8")
+        doc["lattice_step_us_8x8x8"] = latticeSteps({LatticeKind::Bezier, {8, 8, 8}}, "8x8x8 Bezier", minSeconds, out);
     if (wanted("features")) doc["features"] = features(minSeconds, out);
     if (wanted("deform")) doc["deform"] = deformation(options, out);
     if (wanted("table1")) doc["table1"] = table1Section(options.quick, out);

@@ -464,12 +464,16 @@ double elementMassProduct(const ElementBody& body, std::span<const Vec3> a, std:
 
 void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix, double scale,
                            std::span<const Vec3> in, std::span<Vec3> out) {
+    // Column by column: the matrix is column-major, so a column's rows are read in order; a node that does not
+    // move (a held one, in a product over the free nodes) is skipped.
     const std::size_t n = body.nodeCount();
-    for (const std::uint32_t i : body.freeNodes) {
-        Vec3 sum = Vec3::Zero();
-        for (std::size_t j = 0; j < n; ++j)
-            sum += nodeMatrix(Eigen::Index(i), Eigen::Index(j)) * in[j];
-        out[i] += scale * sum;
+    for (std::size_t j = 0; j < n; ++j) {
+        if (in[j].isZero(0.0))
+            continue;
+        const Vec3 x = scale * in[j];
+        const double* column = nodeMatrix.data() + j * n;
+        for (const std::uint32_t i : body.freeNodes)
+            out[i] += column[i] * x;
     }
 }
 

@@ -36,7 +36,8 @@ void ElementImplicitEuler::apply(const BodyModel& model, const ExternalForces& e
         forEachDragShare(model, drag, [&](std::uint32_t node, double share) { m_product[node] += k * share * shared; });
     }
     addElementMatrixTimes(e, e.mass, 1.0, m_nodes, m_product);
-    addElementMatrixTimes(e, e.nodeDamping, h, m_nodes, m_product);
+    if (e.nodeDamped)
+        addElementMatrixTimes(e, e.nodeDamping, h, m_nodes, m_product);
     y.resize(Eigen::Index(3 * free));
     for (std::size_t s = 0; s < free; ++s)
         y.segment<3>(Eigen::Index(3 * s)) = m_product[e.freeNodes[s]];
