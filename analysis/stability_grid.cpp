@@ -19,8 +19,6 @@
 namespace softtouch::analysis {
 namespace {
 
-constexpr IntegratorKind kIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
-                                           IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd};
 constexpr double kBoundFactors[] = {0.1, 1.0, 10.0};  // kDtLabels[0..2]; kDtLabels[3] is 1/24 s
 constexpr double kFilmStep = 1.0 / 24.0;              ///< s, the coarsest step an animator would bake at.
 constexpr double kMaxDt = ranges::kMaxDt;             ///< s, SimulationSettings' upper limit.
@@ -379,7 +377,7 @@ std::vector<StabilityCell> runStabilityGrid(const StabilityGridOptions& options)
         int dtIndex;
     };
     std::vector<Job> jobs;
-    for (IntegratorKind integrator : kIntegrators)
+    for (IntegratorKind integrator : integratorKinds())
         for (std::size_t s = 0; s < setups.size(); ++s)
             for (int d = 0; d < int(std::size(kDtLabels)); ++d)
                 jobs.push_back({s, integrator, d});
@@ -499,7 +497,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
     };
     OutcomeCounts all;
     int allSub = 0, allRef = 0, allRoll = 0;
-    for (IntegratorKind kind : kIntegrators) {
+    for (IntegratorKind kind : integratorKinds()) {
         const OutcomeCounts c = countOutcomes(cells, kind);
         int sub = 0, ref = 0, roll = 0;
         for (const StabilityCell& cell : cells) {
@@ -538,7 +536,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
     for (std::size_t i = 0; i < std::size(kDtLabels); ++i)
         md << "---:|";
     md << "\n";
-    for (IntegratorKind kind : kIntegrators)
+    for (IntegratorKind kind : integratorKinds())
         for (double perturbation : {kPerturbation, kLargeDeformation}) {
             md << "| " << integratorName(kind) << " | " << formatNumber(100.0 * perturbation) << " cm |";
             for (std::string_view label : kDtLabels)
@@ -586,7 +584,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
     for (const StabilityCell& c : cells)
         index[{int(c.integrator), c.stiffness, c.nodeMass, c.massRatio, c.damping, c.perturbation, c.dragReleased,
                c.dtLabel}] = &c;
-    for (IntegratorKind kind : kIntegrators) {
+    for (IntegratorKind kind : integratorKinds()) {
         md << "### " << integratorName(kind) << "\n\n| *k* (N/m) | *m* (kg) |";
         for (std::string_view label : kDtLabels)
             md << " " << label << " |";
@@ -634,7 +632,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
         for (std::size_t i = 0; i < std::size(kDtLabels); ++i)
             md << "---:|";
         md << "\n";
-        for (IntegratorKind kind : kIntegrators) {
+        for (IntegratorKind kind : integratorKinds()) {
             md << "| " << integratorName(kind) << " |";
             for (std::string_view label : kDtLabels) {
                 auto here = [&](const StabilityCell* c) { return c->integrator == kind && c->dtLabel == label; };

@@ -245,8 +245,8 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         steps = {1.0 / 240, 1.0 / 60, 1.0 / 24};
         shapes = {{LatticeKind::Bezier, {3, 3, 3}}, {LatticeKind::Bezier, {4, 4, 4}}, {LatticeKind::BSpline, {6, 6, 6}}};
     }
-    std::vector<IntegratorKind> kinds = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
-                                         IntegratorKind::Xpbd};
+    const auto allKinds = integratorKinds();
+    std::vector<IntegratorKind> kinds(allKinds.begin(), allKinds.end());
     // The solid element's part of the grid (StudyOptions::elements says why it is smaller).
     std::vector<LatticeShape> elementShapes;
     for (const LatticeShape& shape : shapes)
@@ -259,7 +259,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         kinds = options.integrators;
         elementKinds.clear();
         std::copy_if(kinds.begin(), kinds.end(), std::back_inserter(elementKinds),
-                     [](IntegratorKind k) { return k != IntegratorKind::Xpbd; });
+                     [](IntegratorKind k) { return integratorInfo(k).runsElement; });
     }
     if (!options.steps.empty())
         steps = options.steps;

@@ -63,8 +63,7 @@ int runStability(const std::vector<std::string>& args) {
                 "bounded", "caught", "failed", "runs");
     int failed = 0;
     bool implicitAllStable = true;
-    for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet,
-                                IntegratorKind::ImplicitEuler, IntegratorKind::Xpbd}) {
+    for (IntegratorKind kind : integratorKinds()) {
         const analysis::OutcomeCounts c = analysis::countOutcomes(cells, kind);
         std::printf("  %-18s %7d %7d %7d %7d %7d\n", std::string(integratorName(kind)).c_str(), c.stable, c.bounded,
                     c.caught, c.failed, c.total());

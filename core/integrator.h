@@ -5,9 +5,12 @@
 #include "core/body_model.h"
 #include "core/forces.h"
 
+#include <array>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace softtouch {
 
@@ -19,10 +22,52 @@ enum class IntegratorKind : std::uint8_t {
     Xpbd,            ///< Extended position-based dynamics, one iteration per substep.
 };
 
+/// What the program knows about a scheme, in one row: every list of schemes (the study, the stability grid, the
+/// bench, the editor's menu and legends, the messages that name them) iterates kIntegrators. A kind added to the
+/// enum without its row stops the build (integrator.cpp's rowOf()); test_core_integrators checks each row against
+/// the scheme itself.
+struct IntegratorInfo {
+    IntegratorKind kind;
+    std::string_view name;        ///< In files and on the command line: "implicit-euler".
+    std::string_view label;       ///< In the editor's menu: "Implicit Euler (stable, damps)".
+    std::string_view shortLabel;  ///< In a chart's legend: "implicit".
+    bool isExplicit;              ///< Stable only below a step bound: the Simulator substeps it.
+    bool runsElement;             ///< Runs the solid element (XPBD's constraints act on springs and node masses).
+};
+
+inline constexpr IntegratorInfo kIntegrators[] = {
+    {IntegratorKind::SymplecticEuler, "symplectic-euler", "Symplectic Euler", "sympl.", true, true},
+    {IntegratorKind::Verlet, "verlet", "Verlet (the paper's)", "Verlet", true, true},
+    {IntegratorKind::ImplicitEuler, "implicit-euler", "Implicit Euler (stable, damps)", "implicit", false, true},
+    {IntegratorKind::Xpbd, "xpbd", "XPBD (fast, softer)", "XPBD", false, false},
+};
+
+/// Every kind, in the table's order.
+constexpr std::array<IntegratorKind, std::size(kIntegrators)> integratorKinds() {
+    std::array<IntegratorKind, std::size(kIntegrators)> kinds{};
+    for (std::size_t r = 0; r < kinds.size(); ++r)
+        kinds[r] = kIntegrators[r].kind;
+    return kinds;
+}
+
+/// The row of `kind`.
+const IntegratorInfo& integratorInfo(IntegratorKind kind);
 /// Stable name used in files and on the command line ("implicit-euler", …).
 std::string_view integratorName(IntegratorKind kind);
 /// Parses a name written by integratorName().
 std::optional<IntegratorKind> parseIntegratorKind(std::string_view name);
+/// The names of the schemes `which` accepts, quoted and joined for a message: "\"verlet\", … or \"xpbd\"".
+template <typename Which>
+std::string integratorNames(Which&& which) {
+    std::vector<std::string_view> names;
+    for (const IntegratorInfo& info : kIntegrators)
+        if (which(info))
+            names.push_back(info.name);
+    std::string out;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + std::string(names[i]) + "\"");
+    return out;
+}
 
 /// How an implicit scheme solved its last step's linear system.
 struct LinearSolveStats {

@@ -104,9 +104,11 @@ Status checkSolverLimits(const SceneObject& object, const WorldSettings& world) 
         return Status::error("object '" + object.name + "': implicit Euler factorises at most " +
                              std::to_string(ranges::kMaxImplicitNodes) + " lattice nodes (16x16x16) and this lattice has " +
                              std::to_string(object.lattice.nodeCount()) + "; use verlet or xpbd, or fewer nodes");
-    if (object.material.element == BodyElement::Solid && world.simulation.integrator == IntegratorKind::Xpbd)
-        return Status::error("object '" + object.name + "': the solid element runs with verlet, symplectic-euler or "
-                             "implicit-euler, not xpbd (whose constraints act on springs and node masses); set "
+    if (const IntegratorInfo& scheme = integratorInfo(world.simulation.integrator);
+        object.material.element == BodyElement::Solid && !scheme.runsElement)
+        return Status::error("object '" + object.name + "': the solid element runs with " +
+                             integratorNames([](const IntegratorInfo& i) { return i.runsElement; }) + ", not " +
+                             std::string(scheme.name) + " (whose constraints act on springs and node masses); set "
                              "simulation.integrator or use \"element\": \"springs\"");
     return Status::success();
 }

@@ -368,8 +368,8 @@ void readWorld(const JsonValue& root, const fs::path& baseDir, WorldSettings& w)
             if (auto kind = parseIntegratorKind(*name))
                 w.simulation.integrator = *kind;
             else
-                sim["integrator"].problem("expected \"symplectic-euler\", \"verlet\", \"implicit-euler\" or \"xpbd\", got \"" +
-                                          *name + "\"");
+                sim["integrator"].problem("expected " + integratorNames([](const IntegratorInfo&) { return true; }) +
+                                          ", got \"" + *name + "\"");
         }
         if (auto x = sim.field(ranges::kDt)) w.simulation.dt = *x;
         if (auto x = sim.field(ranges::kXpbdSubsteps)) w.simulation.xpbdSubsteps = int(*x);

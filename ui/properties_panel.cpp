@@ -57,10 +57,8 @@ QWidget* PropertiesPanel::buildSimulation() {
     auto* form = new QFormLayout(box);
     m_integrator = new QComboBox;
     m_integrator->setObjectName("integrator");
-    m_integrator->addItem(tr("Implicit Euler (stable, damps)"), int(IntegratorKind::ImplicitEuler));
-    m_integrator->addItem(tr("Verlet (the paper's)"), int(IntegratorKind::Verlet));
-    m_integrator->addItem(tr("Symplectic Euler"), int(IntegratorKind::SymplecticEuler));
-    m_integrator->addItem(tr("XPBD (fast, softer)"), int(IntegratorKind::Xpbd));
+    for (const IntegratorInfo& scheme : kIntegrators)
+        m_integrator->addItem(QString::fromUtf8(scheme.label.data(), qsizetype(scheme.label.size())), int(scheme.kind));
     m_integrator->setToolTip(tr("Speed against accuracy: docs/study.md measures each scheme."));
     form->addRow(tr("Integrator"), m_integrator);
     m_stepsPerSecond = makeSpinBox(10, 100000, 0, tr(" steps/s"), 10);

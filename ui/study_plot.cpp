@@ -27,9 +27,10 @@ bool plottable(const StudyRow& row, analysis::StudyError error) {
 
 namespace {
 
-constexpr IntegratorKind kKinds[] = {IntegratorKind::SymplecticEuler, IntegratorKind::Verlet, IntegratorKind::ImplicitEuler,
-                                     IntegratorKind::Xpbd};
-const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
+constexpr auto kKinds = integratorKinds();
+const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40),
+                           QColor(148, 103, 189), QColor(140, 86, 75)};
+static_assert(std::size(kColours) >= kKinds.size(), "a colour for every integrator");
 const QColor kMarkerColour(200, 0, 160);
 const QColor kLatticeKeyColour(110, 110, 110);
 /// Dot shapes of the lattices (the star marks the current setting).
@@ -79,13 +80,7 @@ void hideFromLegend(QChart* chart, QAbstractSeries* series) {
 QString integratorLegendName(IntegratorKind kind, StudyChartSize size) {
     if (size == StudyChartSize::Picture)
         return name(integratorName(kind));
-    switch (kind) {
-    case IntegratorKind::SymplecticEuler: return QObject::tr("sympl.");
-    case IntegratorKind::Verlet: return QObject::tr("Verlet");
-    case IntegratorKind::ImplicitEuler: return QObject::tr("implicit");
-    case IntegratorKind::Xpbd: return QObject::tr("XPBD");
-    }
-    return name(integratorName(kind));
+    return name(integratorInfo(kind).shortLabel);
 }
 
 QString latticeLegendName(const StudyRow& row, StudyChartSize size) {

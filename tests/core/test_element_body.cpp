@@ -386,7 +386,7 @@ private slots:
                 QVERIFY2(sim, sim.message().c_str());
             } else {
                 QVERIFY(!sim);
-                QVERIFY2(sim.message().find("solid element runs with verlet, symplectic-euler or implicit-euler, not xpbd") !=
+                QVERIFY2(sim.message().find("solid element runs with \"symplectic-euler\", \"verlet\" or \"implicit-euler\", not xpbd") !=
                              std::string::npos,
                          sim.message().c_str());
             }
