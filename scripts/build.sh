@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Configures and builds one CMake preset (default: release). Usage: scripts/build.sh [release|debug|asan]
+# Configures and builds one CMake preset (default: release), or only the named targets.
+# Usage: scripts/build.sh [release|debug|asan] [TARGET...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 preset="${1:-release}"
+shift || true
 cmake --preset "$preset" >/dev/null
-cmake --build --preset "$preset" -j "$(nproc)"
+targets=()
+[ $# -eq 0 ] || targets=(--target "$@")
+cmake --build --preset "$preset" -j "$(nproc)" "${targets[@]}"

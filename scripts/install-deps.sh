@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages SoftTouch needs to build and test, only those missing.
+# --editor: only what building and running the editor needs (scripts/run.sh).
 # Runs as root (or through sudo when available).
 set -euo pipefail
 
+# To build every program and run the editor.
 packages=(
   cmake ninja-build g++ pkg-config
-  dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
   qt6-base-dev            # Qt Core/Gui/Widgets/Test
   libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
   qt6-charts-dev          # the study's error-against-cost chart (ui/study_plot.cpp), in the editor and as study.png
@@ -21,17 +22,23 @@ packages=(
   libtinygltf-dev         # glTF/GLB exports (bake --format gltf|glb|lattice)
   libmeshoptimizer-dev    # compressed GLB for shipping (bake --compress: EXT_meshopt_compression)
   libopenexr-dev          # vertex animation textures (bake --format vat)
-  glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
-  libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
-  clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
-  slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
-  strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
-  chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
-  blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/)
-  python3-numpy           # Blender's glTF importer needs it (a Recommends of blender)
 )
+# To test, measure and package as well.
+if [ "${1:-}" != "--editor" ]; then
+  packages+=(
+    dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
+    glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
+    libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
+    clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
+    slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
+    strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
+    chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
+    blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/)
+    python3-numpy           # Blender's glTF importer needs it (a Recommends of blender)
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -39,7 +46,9 @@ for p in "${packages[@]}"; do
 done
 # npm installs three.js for the preview page (web/package.json). Any npm will do (a nodejs package from
 # elsewhere may already bring one), so only a machine without the command gets Debian's.
-command -v npm >/dev/null 2>&1 || missing+=(npm)
+editor_only=false
+[ "${1:-}" = "--editor" ] && editor_only=true
+$editor_only || command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ ${#missing[@]} -ne 0 ]; then
   echo "installing: ${missing[*]}"
   as_root=()
@@ -50,7 +59,8 @@ if [ ${#missing[@]} -ne 0 ]; then
 fi
 
 # three.js for the preview page and the Khronos glTF validator for the tests, at the versions
-# web/package-lock.json pins, from npm's registry, into web/node_modules.
+# web/package-lock.json pins, from npm's registry, into web/node_modules. Not for the editor alone.
+$editor_only && exit 0
 cd "$(dirname "$0")/../web"
 pinned() { sed -n "s/^ *\"$1\": \"\(.*\)\",\{0,1\}$/\1/p" package.json; }
 installed() { sed -n 's/^ *"version": "\(.*\)",\{0,1\}$/\1/p' "node_modules/$1/package.json" 2>/dev/null || true; }

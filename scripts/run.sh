@@ -4,8 +4,9 @@
 # (e.g. a project path). Without a display it says so and writes a screenshot instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-bash scripts/build.sh release
+# Only what the editor needs, and only the editor (with its device plugins): no test suites, fuzzers or benchmarks.
+bash scripts/install-deps.sh --editor
+bash scripts/build.sh release softtouch
 if [ -n "${DISPLAY:-}" ] || [ -n "${WAYLAND_DISPLAY:-}" ]; then
   exec ./build/bin/softtouch "$@"
 fi
