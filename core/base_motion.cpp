@@ -43,7 +43,7 @@ LatticeMaterial followingMaterial(LatticeMaterial material) {
 
 Result<std::shared_ptr<BaseMotion>> BaseMotion::create(const Lattice& lattice, const BodyModel& model,
                                                        std::span<const Vec3f> restPositions,
-                                                       std::span<const Vec3> parameters,
+                                                       std::shared_ptr<const GoalFit> fit,
                                                        std::shared_ptr<const BaseAnimation> animation,
                                                        std::span<const double> goalWeight, const FollowSettings& settings) {
     if (!animation)
@@ -55,12 +55,11 @@ Result<std::shared_ptr<BaseMotion>> BaseMotion::create(const Lattice& lattice, c
     for (double w : goalWeight)
         if (!(w >= 0.0 && w <= 1.0))
             return Status::error("goal weight must be in [0, 1], got " + std::to_string(w));
-    auto fit = GoalFit::create(lattice, restPositions, parameters);
     if (!fit)
-        return fit.status();
+        return Status::error("no goal fit");
     auto motion = std::make_shared<BaseMotion>();
     motion->m_animation = std::move(animation);
-    motion->m_fit = std::move(fit.value());
+    motion->m_fit = std::move(fit);
     motion->m_restNodes = lattice.restNodes();
     // The goal springs do not change while the body runs: made once, appended to every step's drags.
     const NodeSprings springs = goalSprings(model, goalWeight, settings);
@@ -89,7 +88,7 @@ void BaseMotion::goal(double seconds, std::vector<Vec3>& nodes, Mat3& rotation) 
     m_animation->positionsAt(seconds, m_positions);
     Cached c;
     c.seconds = seconds;
-    m_fit.fit(m_positions, c.nodes, c.rotation);
+    m_fit->fit(m_positions, c.nodes, c.rotation);
     nodes = c.nodes;
     rotation = c.rotation;
     if (m_cache.size() == kCachedFits)

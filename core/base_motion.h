@@ -35,6 +35,7 @@ struct FollowSettings {
     double frequency = 2.0;    ///< Hz: the swing of a node of goal weight ½ alone on its spring, (0, 1000].
     double dampingRatio = 0.5; ///< Of that swing, at every weight, [0, 100].
     Status validate() const;
+    bool operator==(const FollowSettings&) const = default;
 };
 
 /// The goal springs of a body built from followingMaterial(): per node, k = m ω² w/(1 − w) and
@@ -49,10 +50,12 @@ class BaseMotion {
 public:
     /// `model`: the body built from followingMaterial() (its masses set the goal springs, made once here).
     /// `goalWeight`: per lattice node, [0, 1] (empty: 0 everywhere). `restPositions` is the mesh the
-    /// animation moves (its first sample is where the lattice was fitted) and `parameters` its binding's.
+    /// animation moves (its first sample is where the lattice was fitted) and `fit` the lattice's GoalFit of it
+    /// (GoalFit::create with its binding's parameters), which depends on mesh and lattice only: a material edit
+    /// keeps it.
     static Result<std::shared_ptr<BaseMotion>> create(const Lattice& lattice, const BodyModel& model,
                                                       std::span<const Vec3f> restPositions,
-                                                      std::span<const Vec3> parameters,
+                                                      std::shared_ptr<const GoalFit> fit,
                                                       std::shared_ptr<const BaseAnimation> animation,
                                                       std::span<const double> goalWeight, const FollowSettings& settings);
 
@@ -78,7 +81,7 @@ public:
 
 private:
     std::shared_ptr<const BaseAnimation> m_animation;
-    GoalFit m_fit;
+    std::shared_ptr<const GoalFit> m_fit;
     std::vector<Vec3> m_restNodes;
     mutable std::vector<Vec3f> m_restEvaluated;  ///< B x_rest as the binding evaluates it (so weight 1 gives exactly 0).
     std::vector<DragSpring> m_goalSprings;  ///< One per node of goal weight in (0, 1), to its rest place.

@@ -74,6 +74,7 @@ struct LatticeMaterial {
                                          ///< is kept, 0 off, 1 hard (core/volume_preservation.h). Empty: 0
                                          ///< everywhere. Painted like stiffness; the body's largest value sets
                                          ///< the stiffness and each region counts by its value.
+    bool operator==(const LatticeMaterial&) const = default;
 };
 
 /// Name, valid range and unit of each field under a model (core/ranges.h's FieldRange): one table for

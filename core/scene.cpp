@@ -201,9 +201,20 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
             geometry = previous->m_objects[i].geometry;
         else
             geometry = std::make_shared<Geometry>(
-                Geometry{Binding::create(object.lattice, object.mesh->positions, object.mesh->normals), {}, nullptr});
+                Geometry{Binding::create(object.lattice, object.mesh->positions, object.mesh->normals), {}, nullptr, nullptr});
         const bool animated = object.baseAnimation != nullptr;
-        auto model = buildLatticeBody(object.lattice, simulatedMaterial(object), &*object.mesh, &geometry->derived);
+        // An object whose mesh, lattice, material and base animation are those the previous simulation ran keeps
+        // its body and base motion (both immutable): an edit of one object of several rebuilds that one alone.
+        const Runtime* kept = nullptr;
+        if (ranBefore[i]) {
+            const Runtime& before = previous->m_objects[i];
+            const SceneObject& was = *before.source;
+            if (was.material == object.material && was.baseAnimation == object.baseAnimation &&
+                (!animated || was.follow == object.follow))
+                kept = &before;
+        }
+        auto model = kept ? Result<std::shared_ptr<const BodyModel>>(kept->simulator.sharedModel())
+                          : buildLatticeBody(object.lattice, simulatedMaterial(object), &*object.mesh, &geometry->derived);
         if (!model)
             return Status::error(where + model.message());
         if (scene->world.bodyCollisions.enabled && scene->objects.size() > 1 && !object.mesh->triangles.empty() &&
@@ -214,8 +225,16 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
             geometry->restSurface = surface.value();
         }
         std::shared_ptr<BaseMotion> motion;
-        if (animated) {
-            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh->positions, geometry->binding.parameters(),
+        if (kept) {
+            motion = kept->motion;
+        } else if (animated) {
+            if (!geometry->goalFit) {  // depends on mesh and lattice only: kept with the geometry
+                auto fit = GoalFit::create(object.lattice, object.mesh->positions, geometry->binding.parameters());
+                if (!fit)
+                    return Status::error(where + fit.message());
+                geometry->goalFit = std::make_shared<const GoalFit>(std::move(fit.value()));
+            }
+            auto created = BaseMotion::create(object.lattice, *model.value(), object.mesh->positions, geometry->goalFit,
                                               object.baseAnimation, object.material.goalWeight, object.follow);
             if (!created)
                 return Status::error(where + created.message());

@@ -177,6 +177,7 @@ private:
         Binding binding;
         MeshLatticeCache derived;                        ///< Contact samples, volume occupancy.
         std::shared_ptr<const MeshSurface> restSurface;  ///< Its rest mesh, for body contacts (when on).
+        std::shared_ptr<const GoalFit> goalFit;          ///< On a base animation: the lattice's fit of the mesh.
     };
     struct Runtime {
         const SceneObject* source = nullptr;

@@ -82,6 +82,8 @@ public:
     Simulator(std::shared_ptr<const BodyModel> model, const SimulationSettings& settings);
 
     const BodyModel& model() const { return *m_model; }
+    /// The model, to build another Simulator of the same body.
+    const std::shared_ptr<const BodyModel>& sharedModel() const { return m_model; }
     const SimulationSettings& settings() const { return m_settings; }
     const BodyState& state() const { return m_state; }
     /// Simulated time, seconds (step count × dt).

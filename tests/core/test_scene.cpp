@@ -8,6 +8,8 @@
 
 #include <QtTest/QtTest>
 
+#include <numbers>
+
 using namespace softtouch;
 
 namespace {
@@ -35,6 +37,7 @@ private slots:
     void snapshotRestoreReplaysBitExactly();
     void resetReturnsToRest();
     void editsKeepTheBindingAndMoveAsAFreshBuild();
+    void editOfOneObjectRebuildsThatOneAlone();
     void newSceneKeepsItsWobble_data();
     void newSceneKeepsItsWobble();
 };
@@ -145,6 +148,60 @@ void TestScene::editsKeepTheBindingAndMoveAsAFreshBuild() {
     QVERIFY2(rebuilt.ok(), rebuilt.message().c_str());
     QVERIFY(&rebuilt.value().binding(0) != &kept.value().binding(0));
     QCOMPARE(rebuilt.value().simulator(0).state().position.size(), std::size_t(125));
+}
+
+// A paint dab on one object of two rebuilds that object alone: the other keeps its body (the same model, not a
+// copy). The edited one here follows a base animation, whose lattice fit of the mesh depends on mesh and lattice
+// only and is kept too; both move bit for bit as a simulation built from nothing.
+void TestScene::editOfOneObjectRebuildsThatOneAlone() {
+    Scene scene = test::anchoredBallScene();
+    scene.world.bodyCollisions.enabled = false;
+    SceneObject swaying = scene.objects[0];
+    swaying.name = "swaying";
+    auto animation = std::make_shared<BaseAnimation>();
+    animation->rate = 60.0;
+    for (int k = 0; k < 30; ++k) {
+        std::vector<Vec3f> sample = swaying.mesh->positions;
+        const float dx = float(0.05 * std::sin(2.0 * std::numbers::pi * k / 30.0));
+        for (Vec3f& p : sample)
+            p.x() += dx;
+        animation->samples.push_back(std::move(sample));
+    }
+    swaying.baseAnimation = animation;
+    swaying.material.goalWeight.assign(swaying.material.mass.size(), 0.5);
+    scene.objects.push_back(swaying);
+    auto first = SceneSimulation::create(scene);
+    QVERIFY2(first.ok(), first.message().c_str());
+
+    Scene edited = scene;
+    LatticeMaterial& m = edited.objects[1].material;
+    for (std::size_t n = 0; n < m.stiffness.size(); n += 2)
+        m.stiffness[n] *= 3.0;
+    auto kept = SceneSimulation::create(edited, &first.value());
+    auto fresh = SceneSimulation::create(edited);
+    QVERIFY(kept.ok() && fresh.ok());
+    QCOMPARE(kept->simulator(0).sharedModel(), first->simulator(0).sharedModel());  // untouched: kept
+    QVERIFY(kept->simulator(1).sharedModel() != first->simulator(1).sharedModel());  // painted: rebuilt
+    QVERIFY(fresh->simulator(0).sharedModel() != first->simulator(0).sharedModel());
+    for (SceneSimulation* sim : {&kept.value(), &fresh.value()}) {
+        sim->setInteractiveDrags(0, {pullUp(*sim, 0.2)});
+        sim->advanceTo(0.5);
+    }
+    for (std::size_t i = 0; i < 2; ++i) {
+        const BodyState& a = kept->simulator(i).state();
+        const BodyState& b = fresh->simulator(i).state();
+        QVERIFY(a.position != first->simulator(i).state().position);  // it moved
+        for (std::size_t n = 0; n < a.position.size(); ++n)
+            QVERIFY2(a.position[n] == b.position[n] && a.velocity[n] == b.velocity[n],
+                     qPrintable(QString("object %1, node %2").arg(i).arg(n)));
+    }
+    // A world edit keeps both bodies and builds their simulators anew.
+    Scene gravity = edited;
+    gravity.world.gravity = Vec3(0, -9.81, 0);
+    auto again = SceneSimulation::create(gravity, &kept.value());
+    QVERIFY(again.ok());
+    for (std::size_t i = 0; i < 2; ++i)
+        QCOMPARE(again->simulator(i).sharedModel(), kept->simulator(i).sharedModel());
 }
 
 void TestScene::newSceneKeepsItsWobble_data() {
