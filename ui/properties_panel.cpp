@@ -17,7 +17,9 @@
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QPointer>
 #include <QPushButton>
+#include <QThreadPool>
 #include <QSpinBox>
 #include <QVBoxLayout>
 
@@ -593,42 +595,40 @@ Lattice PropertiesPanel::currentLattice() const {
     return m_document->scene().objects[std::size_t(object())].lattice;
 }
 
-void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSettings& settings) {
-    m_solid->clear();  // a comparison describes the material it was made for
-    m_solid->setVisible(false);
-    m_compareSolid->setEnabled(false);  // until the lattice's own modes are shown below
+/// What the properties panel shows of an object's modes, worked out away from the UI thread.
+struct ModesReport {
+    std::vector<VibrationMode> modes;  ///< Empty: none to show, `lines` says why.
+    std::vector<double> clipDamping;   ///< Per mode, the damping ratio the clip will have.
+    QStringList lines;                 ///< The summary under the rows.
+};
+
+namespace {
+
+/// The lowest modes of `o` under `settings` and what the scheme does to them: the eigensolve of up to
+/// kLiveModalUnknowns unknowns and the scheme's figures (XPBD's measured by running it). Touches no widget.
+ModesReport analyseModes(const SceneObject& o, const SimulationSettings& settings) {
+    ModesReport r;
     auto body = buildLatticeBody(o.lattice, simulatedMaterial(o));
-    int freeNodes = 0;
-    if (body) {
-        for (double w : body.value()->inverseMass)
-            freeNodes += w > 0.0;
-    }
-    m_frequency->setEnabled(false);
-    m_dampingRatio->setEnabled(false);
     if (!body) {
-        showModeRows({});
-        m_modes->setText(tr("No modes: %1").arg(QString::fromStdString(body.message())));
-        return;
+        r.lines << QObject::tr("No modes: %1").arg(QString::fromStdString(body.message()));
+        return r;
     }
+    int freeNodes = 0;
+    for (double w : body.value()->inverseMass)
+        freeNodes += w > 0.0;
     if (3 * freeNodes > kLiveModalUnknowns) {
-        showModeRows({});
-        m_modes->setText(tr("This lattice is too fine to analyse on every edit (%1 unknowns): run "
-                            "'softtouch-cli modes' on the saved scene.").arg(3 * freeNodes));
-        return;
+        r.lines << QObject::tr("This lattice is too fine to analyse on every edit (%1 unknowns): run "
+                               "'softtouch-cli modes' on the saved scene.").arg(3 * freeNodes);
+        return r;
     }
     auto modes = objectModes(o, 3);  // with its goal springs when it follows a base animation
     if (!modes || modes->modes.empty()) {
-        showModeRows({});
-        m_modes->setText(modes ? tr("No elastic mode: every node moves rigidly.")
-                               : tr("No modes: %1").arg(QString::fromStdString(modes.message())));
-        return;
+        r.lines << (modes ? QObject::tr("No elastic mode: every node moves rigidly.")
+                          : QObject::tr("No modes: %1").arg(QString::fromStdString(modes.message())));
+        return r;
     }
-    m_frequency->setEnabled(true);
-    m_dampingRatio->setEnabled(true);
-    m_compareSolid->setEnabled(true);
+    r.modes = modes->modes;
     const VibrationMode& lowest = modes->modes.front();
-    setQuietly(m_frequency, lowest.frequencyHz);
-    setQuietly(m_dampingRatio, lowest.dampingRatio);
     // The damping each mode shows in the clip: implicit Euler adds its own to the material's. In closed form
     // per mode at the scheme's step (what schemeAccuracy() gives); XPBD's is measured by running it, so only
     // for the lowest mode.
@@ -636,37 +636,91 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     const double h = measured ? 0.0 : integrationStep(Simulator(body.value(), settings));
     const ModeAccuracy lowestAccuracy =
         measured ? schemeAccuracy(body.value(), settings, lowest) : modeAccuracy(settings.integrator, lowest, h);
-    std::vector<double> clipDamping{lowestAccuracy.dampingRatio};
+    r.clipDamping.push_back(lowestAccuracy.dampingRatio);
     for (std::size_t m = 1; !measured && m < modes->modes.size(); ++m)
-        clipDamping.push_back(modeAccuracy(settings.integrator, modes->modes[m], h).dampingRatio);
-    showModeRows(modes->modes, clipDamping);
-    QStringList lines;
+        r.clipDamping.push_back(modeAccuracy(settings.integrator, modes->modes[m], h).dampingRatio);
     if (modes->rigidModes > 0)
-        lines << tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
-    lines << QString::fromStdString(describeModeAccuracy(settings, lowest, lowestAccuracy));
+        r.lines << QObject::tr("%n rigid mode(s): the body can drift or turn freely.", nullptr, modes->rigidModes);
+    r.lines << QString::fromStdString(describeModeAccuracy(settings, lowest, lowestAccuracy));
     if (modes->rigidModes > 0)  // a free body: whether the scheme slows its spin
         if (const std::string spin = describeSpinKept(body.value(), settings); !spin.empty())
-            lines << QString::fromStdString(spin);
+            r.lines << QString::fromStdString(spin);
     // The solid the springs make (it differs from the painted modulus on flat or long cells), or the one the solid
     // element runs (the painted material's), as `softtouch-cli modes` prints it.
     const bool element = o.material.element == BodyElement::Solid;
     const NetworkElasticity e = element ? materialElasticity(o.lattice, o.material) : networkElasticity(o.lattice, o.material);
     if (e.resistsEveryStrain) {
         auto g = [](double x) { return QString::number(x, 'g', 4); };
-        QString springs = (element ? tr("The solid element acts as: E %1 / %2 / %3 Pa along u / v / w, shear %4 / %5 / %6 Pa")
-                                   : tr("Springs act as: E %1 / %2 / %3 Pa along u / v / w, shear %4 / %5 / %6 Pa"))
+        QString springs = (element ? QObject::tr("The solid element acts as: E %1 / %2 / %3 Pa along u / v / w, shear %4 / %5 / %6 Pa")
+                                   : QObject::tr("Springs act as: E %1 / %2 / %3 Pa along u / v / w, shear %4 / %5 / %6 Pa"))
                               .arg(g(e.youngsModulus.x()), g(e.youngsModulus.y()), g(e.youngsModulus.z()),
                                    g(e.shearModulus.x()), g(e.shearModulus.y()), g(e.shearModulus.z()));
         if (o.material.model == MaterialModel::Continuum)
-            springs += tr(" (painted modulus: %1 Pa)").arg(g(solidMean(o.material.stiffness, o.material)));
-        lines << springs;
+            springs += QObject::tr(" (painted modulus: %1 Pa)").arg(g(solidMean(o.material.stiffness, o.material)));
+        r.lines << springs;
     }
     if (const auto departure = element ? std::nullopt : springDeparture(o.lattice, o.material);
         departure && departure->largest() > kSpringDepartureTolerance)
-        lines << tr("Springs on these cells are not the painted material (%1): the modes are the springs'. Compare "
-                    "with the solid to see how far; the solid element runs the material.")
-                     .arg(QString::fromStdString(departure->describe()));
-    m_modes->setText(lines.join('\n'));
+        r.lines << QObject::tr("Springs on these cells are not the painted material (%1): the modes are the springs'. "
+                               "Compare with the solid to see how far; the solid element runs the material.")
+                       .arg(QString::fromStdString(departure->describe()));
+    return r;
+}
+
+}  // namespace
+
+void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSettings& settings) {
+    m_solid->clear();  // a comparison describes the material it was made for
+    m_solid->setVisible(false);
+    m_compareSolid->setEnabled(false);  // until the lattice's own modes are shown below
+    m_frequency->setEnabled(false);
+    m_dampingRatio->setEnabled(false);
+    // On a worker thread, one analysis at a time: an edit while one runs waits for it, and a stroke's dabs
+    // meanwhile coalesce into the latest. Only the latest edit's result is shown.
+    m_modesWanted = {o, settings};
+    ++m_modesGeneration;
+    m_modes->setProperty("analysing", true);
+    if (!m_modesRunning)
+        startModesAnalysis();
+}
+
+void PropertiesPanel::startModesAnalysis() {
+    auto [object, settings] = std::move(*m_modesWanted);
+    m_modesWanted.reset();
+    m_modesRunning = true;
+    const quint64 generation = m_modesGeneration;
+    QPointer<PropertiesPanel> panel(this);
+    QThreadPool::globalInstance()->start([panel, generation, object = std::move(object), settings] {
+        auto report = std::make_shared<ModesReport>(analyseModes(object, settings));
+        QMetaObject::invokeMethod(
+            qApp, [panel, generation, report] {
+                if (panel)
+                    panel->finishModesAnalysis(generation, *report);
+            },
+            Qt::QueuedConnection);
+    });
+}
+
+void PropertiesPanel::finishModesAnalysis(quint64 generation, const ModesReport& report) {
+    m_modesRunning = false;
+    if (m_modesWanted) {  // edited meanwhile: analyse the latest
+        startModesAnalysis();
+        return;
+    }
+    if (generation != m_modesGeneration)
+        return;
+    m_modes->setProperty("analysing", false);
+    const bool any = !report.modes.empty();
+    m_frequency->setEnabled(any);
+    m_dampingRatio->setEnabled(any);
+    m_compareSolid->setEnabled(any);
+    if (any) {
+        setQuietly(m_frequency, report.modes.front().frequencyHz);
+        setQuietly(m_dampingRatio, report.modes.front().dampingRatio);
+    }
+    showModeRows(report.modes, report.clipDamping);
+    m_modes->setText(report.lines.join('\n'));
+    emit modesShown();
 }
 
 void PropertiesPanel::compareWithSolid() {

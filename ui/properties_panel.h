@@ -21,6 +21,8 @@ class QPushButton;
 namespace softtouch::ui {
 
 /// Properties of the current object, the world and the tools.
+struct ModesReport;
+
 class PropertiesPanel : public QWidget {
     Q_OBJECT
 public:
@@ -29,15 +31,23 @@ public:
     /// Refreshes the live figures (called by the main window's status timer).
     void refreshLive();
 
+signals:
+    /// The modes of the latest edit are shown (their analysis runs off the UI thread; the "modes" label has the
+    /// property "analysing" true until then).
+    void modesShown();
+
 private:
     QWidget* buildSimulation();
     QWidget* buildMaterial();
     QWidget* buildLattice();
     QWidget* buildSelection();
     void refresh();
-    /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one; a mode
-    /// the viewport is showing follows the new shape (or stops when it is gone).
+    /// The lowest modes of object `o` and what `settings`' integrator does to the lowest one, analysed on a
+    /// worker thread and shown when done (modesShown()); a mode the viewport is showing follows the new shape
+    /// (or stops when it is gone).
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
+    void startModesAnalysis();
+    void finishModesAnalysis(quint64 generation, const ModesReport& report);
     /// Shows `modes` in the rows (none: rows hidden).
     /// `clipDamping[m]`: the damping ratio mode m shows in the clip under the scene's integrator (the
     /// material's and the scheme's together); NaN or absent where it was not worked out.
@@ -81,6 +91,9 @@ private:
     std::array<QLabel*, 3> m_modeRows{};   ///< The three lowest modes: frequency and ζ (node + spring).
     std::array<QPushButton*, 3> m_modeShow{}; ///< "Show": animates that mode in the viewport (Viewport::showMode).
     std::vector<VibrationMode> m_analysedModes; ///< The modes the rows show (current object).
+    std::optional<std::pair<SceneObject, SimulationSettings>> m_modesWanted; ///< Edited since the analysis started.
+    quint64 m_modesGeneration = 0;  ///< Counts refreshModes() calls: only the latest one's result is shown.
+    bool m_modesRunning = false;
     QPushButton* m_compareSolid = nullptr;  ///< "Compare with the solid": compareWithSolid().
     QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/solid_modes.h).
     QDoubleSpinBox* m_nodeDamping = nullptr;

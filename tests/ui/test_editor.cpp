@@ -151,6 +151,13 @@ void paintStroke(Viewport* view) {
     QTest::mouseRelease(view, Qt::LeftButton, {}, start + QPoint(120, 0));
 }
 
+/// The properties panel analyses the modes off the UI thread: waits until the latest edit's are shown.
+void waitForModes(MainWindow& w) {
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY(modes);
+    QTRY_VERIFY_WITH_TIMEOUT(!modes->property("analysing").toBool(), 30000);
+}
+
 }  // namespace
 
 class TestEditor : public QObject {
@@ -162,6 +169,7 @@ private slots:
     void opensDefaultScene();
     void clipPreviewFollowsAMaterialEdit();
     void paintStrokeIsOneUndoStep();
+    void modesFollowAStrokeOffTheUiThread();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();
     void fixedColourRangeKeepsOneColourPerValue();
@@ -313,6 +321,37 @@ void TestEditor::opensDefaultScene() {
     QTest::keyClick(&w, Qt::Key_Space);
     QVERIFY(w.simulation()->isPlaying());
     w.simulation()->pause();
+}
+
+// A paint stroke is not held up by the modes: the panel analyses them on a worker thread (the stroke's dabs
+// return before the analysis is done, and coalesce into the latest), and what it shows once the stroke ends is
+// the painted material's lowest mode, as core computes it.
+void TestEditor::modesFollowAStrokeOffTheUiThread() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    auto* modes = w.findChild<QLabel*>("modes");
+    auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
+    QVERIFY(modes && frequency);
+    waitForModes(w);
+    const double before = frequency->value();
+    w.findChild<QAction*>("toolPaint")->trigger();
+    view->brush().field = PaintField::Stiffness;
+    const LatticeMaterial material = w.document()->scene().objects[0].material;
+    view->brush().value = 4.0 * *std::max_element(material.stiffness.begin(), material.stiffness.end());
+    int shown = 0;
+    const QMetaObject::Connection counting =
+        connect(w.properties(), &PropertiesPanel::modesShown, this, [&shown] { ++shown; });
+    const auto stopCounting = qScopeGuard([&] { disconnect(counting); });
+    paintStroke(view);
+    QVERIFY2(modes->property("analysing").toBool(), "the stroke waited for the modes");
+    waitForModes(w);
+    QVERIFY2(shown >= 1 && shown < 6, qPrintable(QString("%1 analyses shown for a stroke of 7 dabs").arg(shown)));
+    const auto expected = objectModes(w.document()->scene().objects[0], 1);
+    QVERIFY2(expected && !expected->modes.empty(), expected.message().c_str());
+    QVERIFY2(std::abs(frequency->value() - expected->modes[0].frequencyHz) < 1e-3 && frequency->value() > before,
+             qPrintable(QString("shown %1 Hz, the material's %2 Hz, before %3 Hz")
+                            .arg(frequency->value()).arg(expected->modes[0].frequencyHz).arg(before)));
+    w.document()->undoStack()->undo();
 }
 
 void TestEditor::paintStrokeIsOneUndoStep() {
@@ -2477,6 +2516,7 @@ void TestEditor::propertiesShowTheBodysModes() {
     auto* modes = w.findChild<QLabel*>("modes");
     auto* mode3 = w.findChild<QLabel*>("mode3");
     QVERIFY(frequency && ratio && modes && mode3);
+    waitForModes(w);
     QVERIFY(frequency->isEnabled());
     QVERIFY2(mode3->text().startsWith("Mode 3: "), qPrintable(mode3->text()));
     const Run cli = runCli({"modes", kDefaultScene});
@@ -2518,6 +2558,7 @@ void TestEditor::propertiesCompareTheLatticeWithTheSolid() {
     auto* solid = w.findChild<QLabel*>("solidModes");
     auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
     QVERIFY(compare && solid && frequency);
+    waitForModes(w);
     QVERIFY(compare->isEnabled());
     QVERIFY(solid->text().isEmpty());
     compare->click();
@@ -2574,6 +2615,7 @@ void TestEditor::elementChoiceRunsTheSolidAndSaysWhatItCannot() {
     QVERIFY(body.value()->element != nullptr);
     const auto shown = analyseModes(*body.value(), 3);
     QVERIFY(shown.ok());
+    waitForModes(w);
     QVERIFY2(modes->text().contains(QString::number(shown->modes[0].frequencyHz, 'f', 3)), qPrintable(modes->text()));
     QVERIFY2(modes->text().contains("The solid element acts as"), qPrintable(modes->text()));
     // The rows and fields name the element's damping for what it is: the solid's viscosity, not springs'.
@@ -2635,6 +2677,7 @@ void TestEditor::modeViewAnimatesTheShapeWithoutEditing() {
     const int undoBefore = w.document()->undoStack()->count();
     const QImage still = view->grabFramebuffer();
 
+    waitForModes(w);
     show1->click();
     QCOMPARE(view->shownMode(), 1);
     QVERIFY(show1->isChecked());
@@ -2690,6 +2733,7 @@ void TestEditor::modeViewAnimatesTheShapeWithoutEditing() {
             stiffTail.stiffness[n] *= 4.0;
     w.document()->undoStack()->push(new MaterialEditCommand(w.document(), 0, fish.material, stiffTail, "stiff tail"));
     QCOMPARE(view->shownMode(), 2);
+    waitForModes(w);  // the view follows once the new modes are analysed
     auto stiffBody = buildLatticeBody(fish.lattice, stiffTail);
     QVERIFY(stiffBody.ok());
     const auto stiffModes = analyseModes(*stiffBody.value(), 3);
@@ -2750,6 +2794,7 @@ void TestEditor::importedMeshStartsOnVerletAndSavesIt() {
     QVERIFY(integrator);
     QCOMPARE(IntegratorKind(integrator->currentData().toInt()), IntegratorKind::Verlet);
     auto* modes = w.findChild<QLabel*>("modes");
+    waitForModes(w);
     QVERIFY2(modes->text().contains("verlet at 240 steps/s"), qPrintable(modes->text()));
     const QString path = m_dir->filePath("imported.softtouch");
     QVERIFY(w.document()->saveAs(path).ok());
@@ -2877,6 +2922,7 @@ void TestEditor::wheelScrollsPropertiesWithoutEditing() {
     QVERIFY(!frequency->hasFocus() && !integrator->hasFocus());
     QUndoStack* undo = w.document()->undoStack();
     const int steps = undo->count();
+    waitForModes(w);
     const double hz = frequency->value();
     const int scheme = integrator->currentIndex();
     // To the widget under the pointer (a spin box's line edit), or to the field itself, where the window system's
