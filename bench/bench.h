@@ -20,7 +20,8 @@ struct BenchOptions {
     std::vector<HapticBenchScene> hapticScenes; ///< Scenes for the haptic section (the app loads the star);
                                                 ///< the million-triangle scene is always added.
     int hapticPriority = 80;  ///< SCHED_FIFO priority the haptic loop asks for; 0: normal scheduling. [0, 99].
-    const Scene* editScene = nullptr;  ///< The scene the "edit" section paints on (the app loads the angelfish).
+    /// The scenes the "edit" section paints on (the app loads the angelfish, and the rigged guppy on an 8x8x8 net).
+    std::vector<const Scene*> editScenes;
 };
 
 /// Runs every benchmark, prints a readable report to `out` as it goes, returns the JSON document.
