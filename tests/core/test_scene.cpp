@@ -28,6 +28,12 @@ double topHeight(const SceneSimulation& sim) {
     return lattice.evaluate(Vec3(0.5, 1.0, 0.5), sim.simulator(0).state().position).y();
 }
 
+/// A paint stroke: every other node three times stiffer.
+void stiffenEveryOtherNode(LatticeMaterial& m) {
+    for (std::size_t n = 0; n < m.stiffness.size(); n += 2)
+        m.stiffness[n] *= 3.0;
+}
+
 }  // namespace
 
 class TestScene : public QObject {
@@ -107,9 +113,7 @@ void TestScene::editsKeepTheBindingAndMoveAsAFreshBuild() {
 
     // A paint stroke: a stiffer half; and a world edit: gravity.
     Scene edited = scene;
-    LatticeMaterial& m = edited.objects[0].material;
-    for (std::size_t n = 0; n < m.stiffness.size(); n += 2)
-        m.stiffness[n] *= 3.0;
+    stiffenEveryOtherNode(edited.objects[0].material);
     edited.world.gravity = Vec3(0, -9.81, 0);
     auto kept = SceneSimulation::create(edited, &first.value());
     auto fresh = SceneSimulation::create(edited);
@@ -174,9 +178,7 @@ void TestScene::editOfOneObjectRebuildsThatOneAlone() {
     QVERIFY2(first.ok(), first.message().c_str());
 
     Scene edited = scene;
-    LatticeMaterial& m = edited.objects[1].material;
-    for (std::size_t n = 0; n < m.stiffness.size(); n += 2)
-        m.stiffness[n] *= 3.0;
+    stiffenEveryOtherNode(edited.objects[1].material);
     auto kept = SceneSimulation::create(edited, &first.value());
     auto fresh = SceneSimulation::create(edited);
     QVERIFY(kept.ok() && fresh.ok());
