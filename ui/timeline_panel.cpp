@@ -263,7 +263,8 @@ void TimelinePanel::togglePlayback() {
         m_playPosition = m_ruler->frame();
         m_playTimer->start();
     }
-    m_play->setText(m_playTimer->isActive() ? tr("⏸") : tr("▶"));
+    // Two heavy bars, not ⏸ (U+23F8), which DejaVu Sans, the font Debian's desktop falls back to, does not have.
+    m_play->setText(m_playTimer->isActive() ? tr("❚❚") : tr("▶"));
 }
 
 void TimelinePanel::advancePlayback(double seconds) {

@@ -2171,6 +2171,14 @@ void TestEditor::clipsRenameDuplicateRetimeDeleteAndPlay() {
     QCOMPARE(ruler->lastFrame(), swim.frames - 1);
     timeline->findChild<QPushButton*>("playClip")->click();
     QVERIFY(timeline->isPlaying());
+    // The transport's glyphs, pause included, are in the buttons' font: none is drawn as an empty box.
+    for (const char* name : {"firstFrame", "stepBack", "playClip", "stepForward"}) {
+        const auto* button = timeline->findChild<QPushButton*>(name);
+        QVERIFY2(button, name);
+        const QFontMetrics metrics(button->font());
+        for (const char32_t c : button->text().toUcs4())
+            QVERIFY2(metrics.inFontUcs4(c), qPrintable(QString("%1: U+%2").arg(name).arg(uint(c), 4, 16, QChar('0'))));
+    }
     timeline->advancePlayback(0.5);
     QCOMPARE(ruler->frame(), int(0.5 * swim.fps));
     const auto shown = w.simulation()->simulation()->simulator(0).state().position;
