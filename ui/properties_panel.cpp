@@ -19,8 +19,8 @@
 #include <QLabel>
 #include <QPointer>
 #include <QPushButton>
-#include <QThreadPool>
 #include <QSpinBox>
+#include <QThreadPool>
 #include <QVBoxLayout>
 
 #include <algorithm>
@@ -678,7 +678,6 @@ void PropertiesPanel::refreshModes(const SceneObject& o, const SimulationSetting
     // On a worker thread, one analysis at a time: an edit while one runs waits for it, and a stroke's dabs
     // meanwhile coalesce into the latest. Only the latest edit's result is shown.
     m_modesWanted = {o, settings};
-    ++m_modesGeneration;
     m_modes->setProperty("analysing", true);
     if (!m_modesRunning)
         startModesAnalysis();
@@ -688,27 +687,24 @@ void PropertiesPanel::startModesAnalysis() {
     auto [object, settings] = std::move(*m_modesWanted);
     m_modesWanted.reset();
     m_modesRunning = true;
-    const quint64 generation = m_modesGeneration;
     QPointer<PropertiesPanel> panel(this);
-    QThreadPool::globalInstance()->start([panel, generation, object = std::move(object), settings] {
+    QThreadPool::globalInstance()->start([panel, object = std::move(object), settings] {
         auto report = std::make_shared<ModesReport>(analyseModes(object, settings));
         QMetaObject::invokeMethod(
-            qApp, [panel, generation, report] {
+            qApp, [panel, report] {
                 if (panel)
-                    panel->finishModesAnalysis(generation, *report);
+                    panel->finishModesAnalysis(*report);
             },
             Qt::QueuedConnection);
     });
 }
 
-void PropertiesPanel::finishModesAnalysis(quint64 generation, const ModesReport& report) {
+void PropertiesPanel::finishModesAnalysis(const ModesReport& report) {
     m_modesRunning = false;
-    if (m_modesWanted) {  // edited meanwhile: analyse the latest
+    if (m_modesWanted) {  // edited meanwhile: this result is stale, analyse the latest
         startModesAnalysis();
         return;
     }
-    if (generation != m_modesGeneration)
-        return;
     m_modes->setProperty("analysing", false);
     const bool any = !report.modes.empty();
     m_frequency->setEnabled(any);

@@ -20,9 +20,9 @@ class QPushButton;
 
 namespace softtouch::ui {
 
-/// Properties of the current object, the world and the tools.
 struct ModesReport;
 
+/// Properties of the current object, the world and the tools.
 class PropertiesPanel : public QWidget {
     Q_OBJECT
 public:
@@ -47,7 +47,7 @@ private:
     /// (or stops when it is gone).
     void refreshModes(const SceneObject& o, const SimulationSettings& settings);
     void startModesAnalysis();
-    void finishModesAnalysis(quint64 generation, const ModesReport& report);
+    void finishModesAnalysis(const ModesReport& report);
     /// Shows `modes` in the rows (none: rows hidden).
     /// `clipDamping[m]`: the damping ratio mode m shows in the clip under the scene's integrator (the
     /// material's and the scheme's together); NaN or absent where it was not worked out.
@@ -91,9 +91,10 @@ private:
     std::array<QLabel*, 3> m_modeRows{};   ///< The three lowest modes: frequency and ζ (node + spring).
     std::array<QPushButton*, 3> m_modeShow{}; ///< "Show": animates that mode in the viewport (Viewport::showMode).
     std::vector<VibrationMode> m_analysedModes; ///< The modes the rows show (current object).
-    std::optional<std::pair<SceneObject, SimulationSettings>> m_modesWanted; ///< Edited since the analysis started.
-    quint64 m_modesGeneration = 0;  ///< Counts refreshModes() calls: only the latest one's result is shown.
-    bool m_modesRunning = false;
+    /// The latest edit's object and settings, until its analysis starts: set while one runs, the running one's
+    /// result is stale and not shown.
+    std::optional<std::pair<SceneObject, SimulationSettings>> m_modesWanted;
+    bool m_modesRunning = false;  ///< An analysis is on the thread pool.
     QPushButton* m_compareSolid = nullptr;  ///< "Compare with the solid": compareWithSolid().
     QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/solid_modes.h).
     QDoubleSpinBox* m_nodeDamping = nullptr;
