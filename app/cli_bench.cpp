@@ -4,8 +4,8 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "bench/bench.h"
-#include "io/atomic_file.h"
 #include "core/lattice_body.h"
+#include "io/atomic_file.h"
 #include "io/project_file.h"
 
 #include <cstdio>

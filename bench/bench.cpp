@@ -23,7 +23,6 @@ namespace {
 
 using nlohmann::json;
 
-
 /// The cartoon controls a bench body may use (all off by default).
 struct CartoonControls {
     StrainLimits limits;

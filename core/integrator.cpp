@@ -1,6 +1,7 @@
 #include "core/integrator.h"
 
 #include <array>
+#include <vector>
 
 namespace softtouch {
 
@@ -48,6 +49,17 @@ std::optional<IntegratorKind> parseIntegratorKind(std::string_view name) {
         if (info.name == name)
             return info.kind;
     return std::nullopt;
+}
+
+std::string integratorNames(bool (*which)(const IntegratorInfo&)) {
+    std::vector<std::string_view> names;
+    for (const IntegratorInfo& info : kIntegrators)
+        if (which(info))
+            names.push_back(info.name);
+    std::string out;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + std::string(names[i]) + "\"");
+    return out;
 }
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind) {

@@ -10,7 +10,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <vector>
 
 namespace softtouch {
 
@@ -57,17 +56,7 @@ std::string_view integratorName(IntegratorKind kind);
 /// Parses a name written by integratorName().
 std::optional<IntegratorKind> parseIntegratorKind(std::string_view name);
 /// The names of the schemes `which` accepts, quoted and joined for a message: "\"verlet\", … or \"xpbd\"".
-template <typename Which>
-std::string integratorNames(Which&& which) {
-    std::vector<std::string_view> names;
-    for (const IntegratorInfo& info : kIntegrators)
-        if (which(info))
-            names.push_back(info.name);
-    std::string out;
-    for (std::size_t i = 0; i < names.size(); ++i)
-        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("\"" + std::string(names[i]) + "\"");
-    return out;
-}
+std::string integratorNames(bool (*which)(const IntegratorInfo&));
 
 /// How an implicit scheme solved its last step's linear system.
 struct LinearSolveStats {

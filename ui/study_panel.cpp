@@ -19,8 +19,8 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace softtouch::ui {

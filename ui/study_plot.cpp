@@ -28,8 +28,7 @@ bool plottable(const StudyRow& row, analysis::StudyError error) {
 namespace {
 
 constexpr auto kKinds = integratorKinds();
-const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40),
-                           QColor(148, 103, 189), QColor(140, 86, 75)};
+const QColor kColours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44), QColor(214, 39, 40)};
 static_assert(std::size(kColours) >= kKinds.size(), "a colour for every integrator");
 const QColor kMarkerColour(200, 0, 160);
 const QColor kLatticeKeyColour(110, 110, 110);
