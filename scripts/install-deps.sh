@@ -3,6 +3,8 @@
 # --editor: only what building and running the editor needs (scripts/run.sh).
 # Runs as root (or through sudo when available).
 set -euo pipefail
+editor_only=false
+[ "${1:-}" = "--editor" ] && editor_only=true
 
 # To build every program and run the editor.
 packages=(
@@ -26,7 +28,7 @@ packages=(
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
 )
 # To test, measure and package as well.
-if [ "${1:-}" != "--editor" ]; then
+if ! $editor_only; then
   packages+=(
     dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
     glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
@@ -46,8 +48,6 @@ for p in "${packages[@]}"; do
 done
 # npm installs three.js for the preview page (web/package.json). Any npm will do (a nodejs package from
 # elsewhere may already bring one), so only a machine without the command gets Debian's.
-editor_only=false
-[ "${1:-}" = "--editor" ] && editor_only=true
 $editor_only || command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ ${#missing[@]} -ne 0 ]; then
   echo "installing: ${missing[*]}"
