@@ -3,7 +3,7 @@
 /// the project's library, or, when none is named, what `bake` plays then (the library's default clip, or
 /// the scene's drivers from frame 0 for the world's frames at its rate).
 
-#include "core/clip.h"
+#include "core/authoring/clip.h"
 
 #include <functional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 /// The truth a speed/accuracy study grades against: the scene's clip run by the solid element (the
-/// Galerkin solid on the lattice's own basis, core/element_body.h) refined in space and in time until
+/// Galerkin solid on the lattice's own basis, core/body/element_body.h) refined in space and in time until
 /// refining further barely moves the clip, with an estimate of how far it still is from the limit.
 ///
 /// Space: Bezier nets of rising degree over each object's own box (4x4x4, 6x6x6, 8x8x8; 8 per axis is the

@@ -1,10 +1,10 @@
 #include "analysis/stability_grid.h"
 
-#include "core/ranges.h"
+#include "core/base/ranges.h"
 
-#include "core/lattice_body.h"
-#include "core/parallel.h"
-#include "core/simulator.h"
+#include "core/base/parallel.h"
+#include "core/body/lattice_body.h"
+#include "core/solver/simulator.h"
 
 #include <algorithm>
 #include <atomic>

@@ -13,8 +13,8 @@
 ///           run peaks no higher than 10x the rest): energy from nowhere that stopped growing, unreported
 ///   Failed  anything else: a non-finite exported frame, or energy growth in a step that said nothing
 ///           that is still growing at the end of the run (or beyond 1e6x its start)
-#include "core/integrator.h"
-#include "core/simulator.h"
+#include "core/solver/integrator.h"
+#include "core/solver/simulator.h"
 
 #include <string>
 #include <string_view>

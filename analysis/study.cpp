@@ -3,10 +3,10 @@
 #include "analysis/clip_frames.h"
 #include "analysis/timer.h"
 #include "analysis/trajectory_error.h"
-#include "core/forces.h"
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
-#include "core/solid_modes.h"
+#include "core/body/forces.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,7 @@
 /// plot; a pick can be written into a project and re-measured as written.
 
 #include "analysis/converged_reference.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 #include <functional>
 #include <memory>
@@ -100,7 +100,7 @@ struct StudyRow {
     double energyDrift = 0.0;          ///< Free vibration, no damping: (E_end − E_0) / E_0.
     double amplitudeLoss = 0.0;        ///< Free vibration: fraction of amplitude lost per period.
     double frequencyError = 0.0;       ///< Free vibration: (f − f_ref) / f_ref, f_ref the same lattice converged.
-    /// The lattice's three lowest modes against the converged solid of its material (core/solid_modes.h):
+    /// The lattice's three lowest modes against the converged solid of its material (core/modes/solid_modes.h):
     /// f_lattice / f_solid − 1 each. Empty when that solid does not converge (point anchors) or cannot be
     /// analysed. Like the model error it belongs to the lattice, but it needs no finest lattice.
     std::vector<double> solidModeError;

@@ -2,7 +2,7 @@
 /// How far a run is from a converged run of the same body: the error every Table 1 row reports beside
 /// its time, so that a contender cannot look fast by being inaccurate.
 
-#include "core/types.h"
+#include "core/base/types.h"
 
 #include <span>
 

@@ -1,20 +1,20 @@
-// softtouch-cli batch: bake and render a clip library described by a manifest (io/batch_plan.h),
+// softtouch-cli batch: bake and render a clip library described by a manifest (io/pipeline/batch_plan.h),
 // locally in parallel or as a Slurm job array. docs/farm.md.
 #include "app/cli_commands.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "io/atomic_file.h"
-#include "io/bake.h"
-#include "io/batch_plan.h"
-#include "io/export_formats.h"
-#include "io/input_file.h"
-#include "io/lattice_cache.h"
-#include "io/mesh_import.h"
-#include "io/preset_file.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
-#include "io/video_encoder.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
+#include "io/export/export_formats.h"
+#include "io/export/lattice_cache.h"
+#include "io/export/vertex_cache.h"
+#include "io/export/video_encoder.h"
+#include "io/files/atomic_file.h"
+#include "io/files/input_file.h"
+#include "io/import/mesh_import.h"
+#include "io/pipeline/bake.h"
+#include "io/pipeline/batch_plan.h"
 #include "render/video_render.h"
 
 #include <algorithm>

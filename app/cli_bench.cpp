@@ -4,9 +4,9 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "bench/bench.h"
-#include "core/lattice_body.h"
-#include "io/atomic_file.h"
-#include "io/project_file.h"
+#include "core/body/lattice_body.h"
+#include "io/documents/project_file.h"
+#include "io/files/atomic_file.h"
 
 #include <cstdio>
 #include <filesystem>

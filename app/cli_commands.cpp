@@ -1,16 +1,16 @@
-#include "app/cli_commands.h"
 #include "app/bundled_paths.h"
+#include "app/cli_commands.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
-#include "core/ranges.h"
+#include "core/base/ranges.h"
 
-#include "io/animation_import.h"
-#include "io/atomic_file.h"
-#include "io/bake.h"
-#include "io/batch_plan.h"
-#include "io/export_formats.h"
-#include "io/mesh_import.h"
-#include "io/project_file.h"
+#include "io/documents/project_file.h"
+#include "io/export/export_formats.h"
+#include "io/files/atomic_file.h"
+#include "io/import/animation_import.h"
+#include "io/import/mesh_import.h"
+#include "io/pipeline/bake.h"
+#include "io/pipeline/batch_plan.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -73,7 +73,7 @@ std::string usageEntry(std::string_view name, std::string_view text) {
     return out + "\n";
 }
 
-/// The bake usage: its formats and their extensions come from the export registry (io/export_formats.h).
+/// The bake usage: its formats and their extensions come from the export registry (io/export/export_formats.h).
 std::string bakeUsage() {
     std::string text = kBakeHead;
     for (const io::ExportFormat& f : io::exportFormats())

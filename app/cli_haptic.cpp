@@ -2,9 +2,9 @@
 #include "app/cli_commands.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
-#include "core/haptic_session.h"
-#include "io/project_file.h"
-#include "io/trajectory_file.h"
+#include "core/haptics/haptic_session.h"
+#include "io/documents/project_file.h"
+#include "io/documents/trajectory_file.h"
 #include "plugins/device_registry.h"
 
 #include <chrono>

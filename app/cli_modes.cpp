@@ -1,16 +1,16 @@
 // `softtouch-cli modes`: the lowest vibration modes of each object of a scene, with what the scene's
-// integrator and step do to them (core/modes.h, core/mode_accuracy.h), and pictures of their shapes
+// integrator and step do to them (core/modes/modes.h, core/modes/mode_accuracy.h), and pictures of their shapes
 // (render/mode_pictures.h). The editor's Properties show the same figures and animate the shapes.
 #include "app/bench_commands.h"
 #include "app/cli_offscreen_gui.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
-#include "core/network_elasticity.h"
-#include "core/solid_modes.h"
-#include "io/project_file.h"
+#include "core/body/network_elasticity.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
+#include "io/documents/project_file.h"
 #include "render/mode_pictures.h"
 
 #include <algorithm>
@@ -40,7 +40,7 @@ Options:
                   element"), the file unchanged: the same scene on springs and on the solid element.
   --reference     Also solve the solid the material describes without the lattice's approximations
                   (Galerkin over a Bernstein basis of degree P with the consistent mass, anchors held
-                  fixed: core/solid_modes.h) and print how far each of the lattice's modes is from it:
+                  fixed: core/modes/solid_modes.h) and print how far each of the lattice's modes is from it:
                   the lattice's own error, which a finer lattice shrinks (docs/lattice.md).
   --reference-degree P
                   Degree of that basis per axis, 2..7 (default 5, within 0.4% of 7 on the bundled

@@ -11,7 +11,7 @@
 /// - a failure of the work itself exits 1 (fail()).
 /// CLI11 stays inside cli_options.cpp: its header is large, and the commands only declare.
 
-#include "core/ranges.h"
+#include "core/base/ranges.h"
 
 #include <functional>
 #include <limits>
@@ -54,7 +54,7 @@ public:
     void texts(std::string option, std::vector<std::string>& into);
     /// A number within `range`.
     void number(std::string option, std::optional<double>& into, NumberRange range);
-    /// A number within a setting's range as core declares it (core/ranges.h), so the option and the project
+    /// A number within a setting's range as core declares it (core/base/ranges.h), so the option and the project
     /// file accept the same values.
     void number(std::string option, std::optional<double>& into, const FieldRange& range) {
         number(std::move(option), into, NumberRange{range.low, range.high, range.whole, range.lowIncluded});

@@ -3,8 +3,8 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "io/preset_file.h"
-#include "io/project_file.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
 
 #include <cstdio>
 

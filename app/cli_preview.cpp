@@ -4,8 +4,8 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "io/atomic_file.h"
-#include "io/clip_preview.h"
+#include "io/files/atomic_file.h"
+#include "io/pipeline/clip_preview.h"
 #include "render/video_render.h"
 
 #include <cmath>

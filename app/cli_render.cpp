@@ -2,10 +2,10 @@
 #include "app/cli_commands.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
-#include "core/ranges.h"
+#include "core/base/ranges.h"
 
-#include "io/project_file.h"
-#include "io/video_encoder.h"
+#include "io/documents/project_file.h"
+#include "io/export/video_encoder.h"
 #include "render/video_render.h"
 
 #include <cstdio>

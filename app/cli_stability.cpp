@@ -6,7 +6,7 @@
 
 #include "analysis/stability_grid.h"
 #include "analysis/timer.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 
 #include <cstdio>
 #include <optional>

@@ -1,12 +1,12 @@
 // softtouch-cli study (run by softtouch-bench): the speed/accuracy trade of a scene, its plot and picks.
+#include "analysis/study.h"
 #include "app/bench_commands.h"
 #include "app/cli_offscreen_gui.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
-#include "analysis/study.h"
-#include "io/atomic_file.h"
-#include "io/project_file.h"
-#include "io/reference_cache.h"
+#include "io/documents/project_file.h"
+#include "io/files/atomic_file.h"
+#include "io/pipeline/reference_cache.h"
 #include "ui/study_plot.h"
 
 #include <algorithm>

@@ -1,12 +1,12 @@
 // `softtouch-cli upgrade`: rewrite a project's lattice-springs materials (values that belong to one
 // lattice) as Continuum materials (values of the solid, the same on every lattice) that keep each
-// body's mass, lowest mode and its damping (core/material_conversion.h), printing what moved.
+// body's mass, lowest mode and its damping (core/modes/material_conversion.h), printing what moved.
 #include "app/cli_commands.h"
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "core/material_conversion.h"
-#include "io/project_file.h"
+#include "core/modes/material_conversion.h"
+#include "io/documents/project_file.h"
 
 #include <cstdio>
 

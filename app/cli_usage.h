@@ -2,7 +2,7 @@
 /// The one-line synopsis of every softtouch-cli subcommand: the top-level help lists them, and every
 /// bad-usage error (exit 2) prints the one of its subcommand, so the two never disagree.
 
-#include "io/export_formats.h"
+#include "io/export/export_formats.h"
 
 #include <array>
 #include <string>
@@ -18,7 +18,7 @@ enum class Program { Cli, Bench };
 struct CommandSynopsis {
     std::string_view command;  ///< The subcommand, as typed.
     std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line; "{formats}" stands for the
-                               ///< export registry's names (io/export_formats.h), see synopsisText().
+                               ///< export registry's names (io/export/export_formats.h), see synopsisText().
     Program program = Program::Cli;
 };
 

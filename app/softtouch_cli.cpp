@@ -4,7 +4,7 @@
 #include "app/cli_commands.h"
 #include "app/cli_support.h"
 #include "app/cli_usage.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 
 #include <unistd.h>
 

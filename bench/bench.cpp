@@ -1,18 +1,18 @@
 #include "bench/bench.h"
 
+#include "analysis/timer.h"
 #include "bench/bullet_peer.h"
 #include "bench/reference_deform.h"
 #include "bench/table1_report.h"
-#include "analysis/timer.h"
-#include "core/material_conversion.h"
-#include "core/binding.h"
-#include "core/lattice_body.h"
-#include "core/mesh_surface.h"
-#include "core/node_change.h"
-#include "core/parallel.h"
-#include "core/primitives.h"
-#include "core/scene.h"
-#include "core/simulator.h"
+#include "core/base/node_change.h"
+#include "core/base/parallel.h"
+#include "core/body/lattice_body.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/mesh_surface.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/material_conversion.h"
+#include "core/scene/scene.h"
+#include "core/solver/simulator.h"
 
 #include <cstdio>
 #include <iomanip>

@@ -5,7 +5,7 @@
 
 #include "bench/haptic_bench.h"
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,9 +1,9 @@
 #include "bench/contenders.h"
 
 #include "analysis/timer.h"
-#include "core/lattice_body.h"
-#include "core/mesh_body.h"
-#include "core/simulator.h"
+#include "core/body/lattice_body.h"
+#include "core/body/mesh_body.h"
+#include "core/solver/simulator.h"
 
 #include <algorithm>
 #include <cassert>

@@ -6,10 +6,10 @@
 /// that runs of the same body can be compared (trajectory_error.h).
 
 #include "bench/scenario.h"
-#include "core/binding.h"
-#include "core/body_model.h"
-#include "core/integrator.h"
-#include "core/lattice.h"
+#include "core/body/body_model.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/lattice.h"
+#include "core/solver/integrator.h"
 
 #include <memory>
 #include <optional>

@@ -1,10 +1,10 @@
 #include "bench/haptic_bench.h"
 
-#include "core/binding.h"
-#include "core/haptic_loop.h"
-#include "core/lattice_body.h"
-#include "core/oriented_box.h"
-#include "core/primitives.h"
+#include "core/body/lattice_body.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/oriented_box.h"
+#include "core/geometry/primitives.h"
+#include "core/haptics/haptic_loop.h"
 
 #include <chrono>
 #include <cmath>

@@ -3,7 +3,7 @@
 /// one, while another thread deforms the mesh from the loop's snapshots at 60 Hz as the editor would.
 /// The loop steps only the lattice, so its rate must not fall with the mesh size.
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,8 +3,8 @@
 /// written the obvious way — basis values stored per vertex (array of structures), one vertex at a
 /// time, no vectorisation (this file is compiled with -fno-tree-vectorize), one thread.
 
-#include "core/lattice.h"
-#include "core/types.h"
+#include "core/base/types.h"
+#include "core/geometry/lattice.h"
 
 #include <span>
 #include <vector>

@@ -1,6 +1,6 @@
 #include "bench/scenario.h"
 
-#include "core/primitives.h"
+#include "core/geometry/primitives.h"
 
 #include <algorithm>
 #include <cassert>

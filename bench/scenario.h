@@ -4,7 +4,7 @@
 /// contender (our lattice, a global mass-spring on every vertex, a local mass-spring around the
 /// drag, Bullet's btSoftBody) simulates it and hands out the mesh positions at the frame rate.
 
-#include "core/mesh.h"
+#include "core/geometry/mesh.h"
 
 #include <algorithm>
 #include <cmath>

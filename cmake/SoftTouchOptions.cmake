@@ -59,9 +59,23 @@ function(softtouch_unity target)
   endif()
 endfunction()
 
-# softtouch_add_library(NAME ALIAS SOURCES ...) keeps each module's CMakeLists to a few lines.
+# softtouch_add_library(NAME [LAYERS layer...] SOURCES ...) keeps each module's CMakeLists to a few lines.
+# LAYERS: the module's subsystem folders, bottom first. A file includes only headers of its own layer and of
+# layers before it; every source must sit in one of them. tests/structure/test_layers checks both against the
+# sources (docs/architecture.md, "Layers").
 function(softtouch_add_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "LAYERS;SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  if(ARG_LAYERS)
+    foreach(source IN LISTS ARG_SOURCES)
+      string(REGEX MATCH "^[a-z_]+/" folder "${source}")
+      string(REGEX REPLACE "/$" "" folder "${folder}")
+      if(NOT folder IN_LIST ARG_LAYERS)
+        message(FATAL_ERROR "${name}: ${source} is not in one of its layers (${ARG_LAYERS})")
+      endif()
+    endforeach()
+    string(JOIN "," layers ${ARG_LAYERS})
+    set_property(GLOBAL APPEND PROPERTY SOFTTOUCH_MODULE_LAYERS "${name}:${layers}")
+  endif()
   add_library(${name} STATIC ${ARG_SOURCES})
   softtouch_unity(${name})
   add_library(softtouch::${name} ALIAS ${name})

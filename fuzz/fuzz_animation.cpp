@@ -1,11 +1,11 @@
 // Fuzz target: an animated import's request, the "animation" object of a project (its keys "take", "start",
-// "end", "loop", "sampleRate" and "goal"; io/project_file.cpp, io/animation_import.h). The input is that
+// "end", "loop", "sampleRate" and "goal"; io/documents/project_file.cpp, io/import/animation_import.h). The input is that
 // object's text, spliced into a small project on the bundled rigged guppy, which is loaded (the mesh imported
 // and sampled in the importer's child). Not baked: the goal springs' stiffness is the simulator's and
 // fuzz_project's to explore (a 1000 Hz goal takes 23 s for two frames under ASan, past the 20 s an input
 // may take), and here every input should spend its time in the importer.
 #include "fuzz/fuzz_input.h"
-#include "io/project_file.h"
+#include "io/documents/project_file.h"
 
 #include <string>
 #include <string_view>

@@ -2,8 +2,8 @@
 // ("star.softtouch", the bundled star-drag). What a plan must never do, whatever the manifest says,
 // aborts: an output or a stamp outside the library, a job id outside [A-Za-z0-9._-].
 #include "fuzz/fuzz_input.h"
-#include "io/batch_plan.h"
-#include "io/input_file.h"
+#include "io/files/input_file.h"
+#include "io/pipeline/batch_plan.h"
 
 #include <algorithm>
 #include <cctype>

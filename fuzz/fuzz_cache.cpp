@@ -2,9 +2,9 @@
 // editor's re-import use, and of the study's reference cache. The first byte picks the reader; for the
 // reference cache the next 16 are the key the file is stored under.
 #include "fuzz/fuzz_input.h"
-#include "io/lattice_cache.h"
-#include "io/reference_cache.h"
-#include "io/vertex_cache.h"
+#include "io/export/lattice_cache.h"
+#include "io/export/vertex_cache.h"
+#include "io/pipeline/reference_cache.h"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
-// Fuzz target: the compressed-GLB reader (io/gltf_meshopt.h), which the preview page's inspection runs on any
+// Fuzz target: the compressed-GLB reader (io/import/gltf_meshopt.h), which the preview page's inspection runs on any
 // .glb it is given, and the packer on whatever that reader accepts.
 #include "fuzz/fuzz_input.h"
-#include "io/gltf_meshopt.h"
+#include "io/import/gltf_meshopt.h"
 
 #include <string_view>
 

@@ -1,7 +1,7 @@
 // Fuzz target: a mesh through SoftTouch's checks and assimp. The first byte picks the format (the
 // importer goes by extension), the rest is the file.
 #include "fuzz/fuzz_input.h"
-#include "io/mesh_import.h"
+#include "io/import/mesh_import.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 1)

@@ -1,7 +1,7 @@
 // Fuzz target: a material or setup preset (*.stpreset) through both readers.
 #include "fuzz/fuzz_input.h"
-#include "io/preset_file.h"
-#include "io/project_file.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace softtouch;

@@ -1,8 +1,8 @@
 // Fuzz target: a project file loaded, and baked for three frames as `softtouch-cli bake` would when it loads;
 // when it does not, through validate's reader too (io::validateFile: project, material and setup presets alike).
 #include "fuzz/fuzz_input.h"
-#include "io/bake.h"
-#include "io/project_file.h"
+#include "io/documents/project_file.h"
+#include "io/pipeline/bake.h"
 
 #include <nlohmann/json.hpp>
 

@@ -4,7 +4,7 @@
 /// them as core InputDevice objects that the haptic loop drives. Failures leave a message in
 /// errorString(). Plugins are registered with softtouch_add_device_plugin() (cmake/).
 
-#include "core/input_device.h"
+#include "core/haptics/input_device.h"
 
 #include <QtPlugin>
 #include <QString>

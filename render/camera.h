@@ -2,7 +2,7 @@
 /// View and projection matrices for the renderer (column-major, OpenGL conventions: the camera looks
 /// down -z in view space, clip space z in [-w, w]).
 
-#include "core/mesh.h"
+#include "core/geometry/mesh.h"
 
 #include <Eigen/Dense>
 

@@ -4,7 +4,7 @@
 /// device (EGL_EXT_platform_device, e.g. NVIDIA's driver). It renders into its own framebuffer object
 /// (RGBA8 colour + 24-bit depth, multisampled and resolved on read).
 
-#include "core/result.h"
+#include "core/base/result.h"
 
 #include <cstdint>
 #include <memory>

@@ -1,7 +1,7 @@
 #pragma once
 /// Compiling and linking GLSL programs with errors that carry the driver's log. Private to render/.
 
-#include "core/result.h"
+#include "core/base/result.h"
 #include "render/gl.h"
 
 #include <string>

@@ -1,7 +1,7 @@
 #include "render/mesh_renderer.h"
 
-#include "core/mesh_surface.h"
-#include "core/primitives.h"
+#include "core/geometry/mesh_surface.h"
+#include "core/geometry/primitives.h"
 
 #include "render/gl.h"
 #include "render/gl_program.h"
@@ -257,7 +257,7 @@ Result<int> MeshRenderer::addObject(const Mesh& mesh, const Lattice& lattice) {
         return Status::error("the lattice has " + std::to_string(nodeCount) + " nodes; this OpenGL allows textures of " +
                              std::to_string(maxTexture) + " texels per side only");
 
-    // Per vertex: (u,v,w) and m = cof(A) n_rest, normalised, both in double first as core/binding.cpp.
+    // Per vertex: (u,v,w) and m = cof(A) n_rest, normalised, both in double first as core/geometry/binding.cpp.
     const OrientedBox& box = lattice.box();
     const Mat3 A = box.parameterJacobian();
     const Mat3 cofactorA = A.determinant() * A.inverse().transpose();

@@ -6,11 +6,11 @@
 ///
 /// Every call except the helpers in camera.h needs the context that initialize() ran in to be current.
 
-#include "core/forces.h"
-#include "core/lattice.h"
-#include "core/mesh.h"
-#include "core/result.h"
-#include "core/scene.h"
+#include "core/base/result.h"
+#include "core/body/forces.h"
+#include "core/geometry/lattice.h"
+#include "core/geometry/mesh.h"
+#include "core/scene/scene.h"
 #include "render/camera.h"
 
 #include <cstdint>
@@ -77,7 +77,7 @@ public:
     /// upload. Ignored (asserted in debug) when the count is wrong.
     void setNodes(int object, std::span<const Vec3> nodes);
     /// Per frame, instead of setNodes(): the object's deformed positions and unit normals computed on the
-    /// CPU (a body on a base animation, whose rig moves the mesh in ways its lattice cannot; core/base_motion.h).
+    /// CPU (a body on a base animation, whose rig moves the mesh in ways its lattice cannot; core/animation/base_motion.h).
     /// From the first call on the object draws these; `nodes` (its lattice as shown) places the overlay.
     void setDeformed(int object, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                      std::span<const Vec3> nodes);

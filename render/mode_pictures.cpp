@@ -1,6 +1,6 @@
 #include "render/mode_pictures.h"
 
-#include "core/lattice_body.h"
+#include "core/body/lattice_body.h"
 #include "render/egl_context.h"
 #include "render/mesh_renderer.h"
 

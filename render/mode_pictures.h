@@ -10,9 +10,9 @@
 /// `softtouch-cli modes SCENE --pictures PREFIX` writes them (docs/lattice.md, "Modes"). Text needs Qt's
 /// raster painter, hence Qt Gui here and not in softtouch::render.
 
-#include "core/modes.h"
-#include "core/result.h"
-#include "core/scene.h"
+#include "core/base/result.h"
+#include "core/modes/modes.h"
+#include "core/scene/scene.h"
 #include "render/camera.h"
 
 #include <QImage>

@@ -4,16 +4,16 @@ namespace softtouch::render::shaders {
 
 const std::string& deformFunction() {
     // Q(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w), P relative to the node centroid (uOrigin) so float
-    // keeps its precision far from the world origin, exactly as core/binding.cpp does.
+    // keeps its precision far from the world origin, exactly as core/geometry/binding.cpp does.
     //
-    // Normals (core/binding.h): with J = dQ/dx_rest = [Qu Qv Qw] A, A = d(u,v,w)/dx constant for the box,
+    // Normals (core/geometry/binding.h): with J = dQ/dx_rest = [Qu Qv Qw] A, A = d(u,v,w)/dx constant for the box,
     //   n' ~ cof(J) n = cof([Qu Qv Qw]) cof(A) n,   cof([Qu Qv Qw]) m = (Qv x Qw) m_u + (Qw x Qu) m_v + (Qu x Qv) m_w,
     // so each vertex carries m = cof(A) n_rest (normalised, computed once on the CPU in double) and the
     // shader needs only the three partial derivatives Qu, Qv, Qw.
     //
     // The basis: one clamped uniform B-spline routine for both kinds (a Bezier axis of n nodes is degree
     // n-1 with no interior knots), de Boor / Cox in the triangular form of The NURBS Book A2.2/A2.3, the
-    // same algorithm as core/axis_basis.cpp. GLSL 3.30 has no arrays of arrays: ndu is flattened 8x8.
+    // same algorithm as core/geometry/axis_basis.cpp. GLSL 3.30 has no arrays of arrays: ndu is flattened 8x8.
     static const std::string source = R"GLSL(
 uniform sampler2D uNodes;
 uniform int uNodeTextureWidth;

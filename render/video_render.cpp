@@ -3,7 +3,7 @@
 #include "render/egl_context.h"
 #include "render/mesh_renderer.h"
 
-#include "io/memory_budget.h"
+#include "io/files/memory_budget.h"
 
 #include <algorithm>
 #include <string>

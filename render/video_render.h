@@ -4,9 +4,9 @@
 /// server (render::EglContext, surfaceless EGL); one frame in memory; nothing published unless every
 /// frame succeeded.
 
-#include "io/frame_source.h"
+#include "io/export/video_encoder.h"
+#include "io/pipeline/frame_source.h"
 #include "render/camera.h"
-#include "io/video_encoder.h"
 
 #include <functional>
 #include <optional>
@@ -18,7 +18,7 @@ namespace softtouch::render {
 /// What to render.
 struct VideoRenderOptions {
     io::VideoSettings video;        ///< Output, format, size, crf; `fps` is taken from the frames played.
-    io::FrameRequest frames;        ///< Clip, frame count and rate (io/frame_source.h).
+    io::FrameRequest frames;        ///< Clip, frame count and rate (io/pipeline/frame_source.h).
     /// Where the camera stands; none: videoCameraPlacement() of the scene's rest bounds (the CLI's and the
     /// preview page's view). The editor passes its viewport's view.
     std::optional<CameraPlacement> camera;

@@ -3,7 +3,7 @@
 solid? (docs/lattice.md, "The lattice's own error").
 
 A cell's springs under a uniform strain store the energy of the solid C = sum over its springs of
-share * coefficient * m m^T (core/network_elasticity.h), m = (n_u^2, n_v^2, n_w^2, ...) of each spring's
+share * coefficient * m m^T (core/body/network_elasticity.h), m = (n_u^2, n_v^2, n_w^2, ...) of each spring's
 direction n. Central springs only reach C11, C22, C33 and C12 = C66, C13 = C55, C23 = C44 (Cauchy), so six
 targets; the calibration has seven knobs, one scale per spring kind and direction (edges along u, v, w;
 face diagonals in uv, uw, vw; body diagonals). For each cell shape this prints the closest non-negative

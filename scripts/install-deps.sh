@@ -16,7 +16,7 @@ packages=(
   libgl1-mesa-dri libegl-mesa0  # Mesa's llvmpipe and EGL surfaceless platform: OpenGL without a GPU or X
   xvfb xauth              # the editor's GUI tests run under a virtual X server
   libeigen3-dev           # core maths
-  libfcl-dev              # distance queries to collider meshes (core/mesh_surface.cpp)
+  libfcl-dev              # distance queries to collider meshes (core/geometry/mesh_surface.cpp)
   libassimp-dev           # mesh import
   nlohmann-json3-dev      # project and preset files
   libcli11-dev            # the command lines of softtouch-cli and softtouch-bench (app/cli_options.cpp)

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "core/lattice_body.h"
-#include "core/modes.h"
-#include "core/primitives.h"
-#include "io/project_file.h"
+#include "core/body/lattice_body.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/modes.h"
+#include "io/documents/project_file.h"

@@ -1,6 +1,6 @@
 #include "ui/autosave.h"
 
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 
 #include <QDir>
 #include <QFile>

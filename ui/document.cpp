@@ -1,7 +1,7 @@
 #include "ui/document.h"
 
-#include "io/animation_import.h"
-#include "io/mesh_import.h"
+#include "io/import/animation_import.h"
+#include "io/import/mesh_import.h"
 #include "ui/edit_commands.h"
 
 #include <QFileInfo>

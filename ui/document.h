@@ -3,9 +3,9 @@
 /// change signals the views listen to. Every change to the scene goes through an undo command
 /// (edit_commands.h) that calls the set*() functions here; views never change the scene directly.
 
-#include "core/scene.h"
-#include "io/animation_import.h"
-#include "io/project_file.h"
+#include "core/scene/scene.h"
+#include "io/documents/project_file.h"
+#include "io/import/animation_import.h"
 
 #include <QObject>
 #include <QString>
@@ -39,14 +39,14 @@ public:
     /// lattice fitted to it, the default Continuum material and the new-scene integrator (Verlet unless
     /// the body is too stiff for it at 240 steps/s), written explicitly when saved.
     Status importMesh(const QString& path);
-    /// Adds an object (one undo step) made from a mesh file with its own animation (io/animation_import.h):
+    /// Adds an object (one undo step) made from a mesh file with its own animation (io/import/animation_import.h):
     /// the take and range of `request` (by default the file's first take, whole, looping, sampled at 120 per
     /// second), on a fitted 4x4x4 Bezier lattice with the default material and goal weight ½ on every node
-    /// (core/base_motion.h). The scene's other objects stay. `report` receives what the import found (take,
+    /// (core/animation/base_motion.h). The scene's other objects stay. `report` receives what the import found (take,
     /// length, vertices, unit).
     Status importAnimatedMesh(const QString& path, const io::AnimationRequest& request = {}, QString* report = nullptr);
 
-    /// Makes `pose` (object i's lattice nodes) its rest shape as one undo step (core/rest_shape.h): the mesh
+    /// Makes `pose` (object i's lattice nodes) its rest shape as one undo step (core/scene/rest_shape.h): the mesh
     /// takes the posed shape, the lattice returns to rest around it (its box grown where the mesh left it),
     /// and the project keeps the edit to replay on load. Fails, changing nothing, for an object on its own
     /// animation or a pose of another node count.
@@ -55,7 +55,7 @@ public:
     /// Adds an object made from a mesh file (one undo step) on a fitted 4x4x4 Bezier lattice with the default
     /// material, as a new scene's (core newScene()), where the file puts it, or beside the scene's objects
     /// along x when it would overlap them (its "position" in the project). Its name is the file's, numbered
-    /// when taken. Takes and keyframe sets gain it at rest (core/clip.h withObjectInserted()).
+    /// when taken. Takes and keyframe sets gain it at rest (core/authoring/clip.h withObjectInserted()).
     Status addMesh(const QString& path);
     /// Adds a copy of object i right after it (one undo step), beside it along x, a fifth of its box apart:
     /// mesh, lattice, material, drivers, rest-shape edits and base animation; no keys of its own.

@@ -1,5 +1,5 @@
 // The document's object edits: add a mesh as a new object, duplicate one, delete one. Each is one undo
-// step over the whole project, and keeps the clip library fitting the scene (core/clip.h: takes and
+// step over the whole project, and keeps the clip library fitting the scene (core/authoring/clip.h: takes and
 // keyframe sets gain or lose the object).
 
 #include "ui/document.h"

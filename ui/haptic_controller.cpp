@@ -1,6 +1,6 @@
 #include "ui/haptic_controller.h"
 
-#include "core/haptic_session.h"
+#include "core/haptics/haptic_session.h"
 #include "plugins/device_registry.h"
 
 namespace softtouch::ui {

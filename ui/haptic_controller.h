@@ -1,10 +1,10 @@
 #pragma once
-/// The editor's side of the haptic loop (core/haptic_loop.h): picks a device plugin, calibrates its
+/// The editor's side of the haptic loop (core/haptics/haptic_loop.h): picks a device plugin, calibrates its
 /// workspace onto the current object's lattice box, runs the 1 kHz loop on its own thread, and shows
 /// the loop's lock-free snapshots in the viewport at screen rate. While a device drives the body the
 /// interactive simulation is paused; stopping the device hands the pose back to it.
 
-#include "core/haptic_loop.h"
+#include "core/haptics/haptic_loop.h"
 #include "ui/simulation_controller.h"
 
 #include <QObject>

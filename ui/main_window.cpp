@@ -1,7 +1,7 @@
 #include "ui/main_window.h"
 
-#include "core/mesh_surface.h"
-#include "io/mesh_import.h"
+#include "core/geometry/mesh_surface.h"
+#include "io/import/mesh_import.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"

@@ -4,7 +4,7 @@
 /// views, tools and the simulation; a status bar with the live figures. Owns the document, its
 /// simulation and its autosave.
 
-#include "io/animation_import.h"
+#include "io/import/animation_import.h"
 #include "ui/autosave.h"
 #include "ui/viewport.h"
 

@@ -1,6 +1,6 @@
 #include "ui/material_thumbnail.h"
 
-#include "core/simulator.h"
+#include "core/solver/simulator.h"
 
 #include <QPainter>
 

@@ -3,7 +3,7 @@
 /// material, held at its left face like a diving board (or by its own anchors), droops under gravity; the thumbnail
 /// draws the lattice at rest (light) and sagged (dark), so a jelly droops and stiff rubber barely moves.
 
-#include "core/lattice_body.h"
+#include "core/body/lattice_body.h"
 
 #include <QImage>
 

@@ -1,15 +1,15 @@
 #pragma once
 /// Animator-facing material controls. Animators think in "how fast does it wobble" and "how quickly
 /// does it settle", not in N/m and N·s/m, so the editor shows the body's lowest vibration modes
-/// (core/modes.h: the whole body with its anchors and voids, not one node on one spring) beside the
+/// (core/modes/modes.h: the whole body with its anchors and voids, not one node on one spring) beside the
 /// raw values. Setting the lowest mode's frequency scales every spring by (f'/f)² — the mode shapes do
 /// not change when K is scaled, so the lowest mode lands on f' exactly — and both damping terms by
 /// f'/f, which keeps every damping ratio. Setting the lowest mode's damping ratio scales both damping
 /// terms by ζ'/ζ. Painted variations are kept either way.
 
-#include "core/lattice_body.h"
-#include "core/scene.h"
-#include "core/modes.h"
+#include "core/body/lattice_body.h"
+#include "core/modes/modes.h"
+#include "core/scene/scene.h"
 
 #include <optional>
 

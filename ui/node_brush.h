@@ -3,7 +3,7 @@
 /// the bulk edits of selected nodes (fill, smooth). Pure functions over the material, so the viewport, the
 /// properties panel and the tests share one implementation.
 
-#include "core/lattice_body.h"
+#include "core/body/lattice_body.h"
 
 #include <Eigen/Core>
 #include <span>
@@ -19,7 +19,7 @@ enum class PaintField {
     Damping,     ///< Spring damping (relative velocity along a spring).
     NodeDamping, ///< Node damping (each node's absolute velocity: the paper's D).
     VolumePreservation, ///< How stiffly the mesh's volume around the node is kept, [0, 1].
-    GoalWeight,  ///< How closely the node follows a base animation, [0, 1] (core/base_motion.h).
+    GoalWeight,  ///< How closely the node follows a base animation, [0, 1] (core/animation/base_motion.h).
 };
 
 /// How a dab's effect fades from its centre to its rim.

@@ -5,7 +5,7 @@
 /// mouse's. This is the transform's arithmetic only (no Qt): the viewport feeds it the mouse, mapped
 /// through its camera, and shows positions().
 
-#include "core/types.h"
+#include "core/base/types.h"
 
 #include <optional>
 #include <string>

@@ -3,7 +3,7 @@
 /// plane and dollies towards the target; plus the projections the tools need (world to pixels,
 /// pixels to a ray).
 
-#include "core/mesh.h"
+#include "core/geometry/mesh.h"
 #include "render/camera.h"
 
 #include <Eigen/Dense>

@@ -5,8 +5,8 @@
 /// resolutions differ) to the current object, each as one undo step; the current material is saved
 /// as a new preset to share.
 
-#include "io/preset_file.h"
-#include "io/project_file.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
 #include "ui/viewport.h"
 
 #include <QWidget>

@@ -4,9 +4,9 @@
 #include "ui/material_tuning.h"
 #include "ui/spin_box.h"
 
-#include "core/mode_accuracy.h"
-#include "core/network_elasticity.h"
-#include "core/solid_modes.h"
+#include "core/body/network_elasticity.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/solid_modes.h"
 
 #include <QApplication>
 #include <QCheckBox>
@@ -250,7 +250,7 @@ QWidget* PropertiesPanel::buildMaterial() {
         });
     }
     form->addRow(tr("Anisotropy"), aniso);
-    // Stretch and squash limits (core/strain_limits.h): each spin box's minimum, just below the limit's
+    // Stretch and squash limits (core/body/strain_limits.h): each spin box's minimum, just below the limit's
     // range, reads "off".
     m_stretchLimit = makeSpinBox(1.0, kMaxStretchLimit, 2, tr(" × rest"), 0.05);
     m_stretchLimit->setObjectName("stretchLimit");

@@ -96,7 +96,7 @@ private:
     std::optional<std::pair<SceneObject, SimulationSettings>> m_modesWanted;
     bool m_modesRunning = false;  ///< An analysis is on the thread pool.
     QPushButton* m_compareSolid = nullptr;  ///< "Compare with the solid": compareWithSolid().
-    QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/solid_modes.h).
+    QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/modes/solid_modes.h).
     QDoubleSpinBox* m_nodeDamping = nullptr;
     QDoubleSpinBox* m_stretchLimit = nullptr;  ///< Longest spring / rest length; its minimum (1.00) reads "off".
     QDoubleSpinBox* m_squashLimit = nullptr;   ///< Shortest spring / rest length; its minimum (0.00) reads "off".

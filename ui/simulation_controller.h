@@ -4,8 +4,8 @@
 /// the explicit stability bound). The scene is rebuilt when the document changes; the running state
 /// is kept when the node count allows, so painting while the fish swims does not restart it.
 
-#include "core/scene.h"
-#include "core/session.h"
+#include "core/authoring/session.h"
+#include "core/scene/scene.h"
 #include "ui/document.h"
 
 #include <QElapsedTimer>

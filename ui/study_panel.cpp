@@ -3,8 +3,8 @@
 #include "ui/edit_commands.h"
 #include "ui/study_chart_view.h"
 
-#include "core/solid_modes.h"
-#include "io/reference_cache.h"
+#include "core/modes/solid_modes.h"
+#include "io/pipeline/reference_cache.h"
 
 #include <QComboBox>
 #include <QDoubleSpinBox>

@@ -2,7 +2,7 @@
 /// Picking a point on a (deformed) triangle mesh under the cursor, so a drag grabs the surface the
 /// user clicked and not only the nearest lattice node.
 
-#include "core/mesh.h"
+#include "core/geometry/mesh.h"
 #include "ui/orbit_camera.h"
 
 #include <optional>

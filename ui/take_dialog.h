@@ -3,7 +3,7 @@
 /// (io::AnimationRequest). A rig often arrives with several takes (swim, turn, idle); the editor used to take
 /// the first, whole and looping.
 
-#include "io/animation_import.h"
+#include "io/import/animation_import.h"
 
 #include <QDialog>
 

@@ -1,6 +1,6 @@
 #include "ui/timeline_panel.h"
 
-#include "io/bake.h"
+#include "io/pipeline/bake.h"
 #include "render/video_render.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
@@ -110,7 +110,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     m_time = new QLabel(tr("Record a take, then scrub it here; make a clip of it and export it."));
     m_time->setWordWrap(true);
     right->addWidget(m_time);
-    m_baseRange = new QLabel;  // the base animations the scene's objects follow (core/base_motion.h)
+    m_baseRange = new QLabel;  // the base animations the scene's objects follow (core/animation/base_motion.h)
     m_baseRange->setObjectName("baseAnimationRange");
     m_baseRange->setWordWrap(true);
     right->addWidget(m_baseRange);

@@ -5,8 +5,8 @@
 /// which also shows the pose keys), rename, duplicate, retime and delete clips (one undo step each), and
 /// export a clip with progress and cancel (the same io::bake the CLI runs).
 
-#include "core/clip.h"
-#include "io/export_formats.h"
+#include "core/authoring/clip.h"
+#include "io/export/export_formats.h"
 #include "render/camera.h"
 #include "ui/simulation_controller.h"
 
@@ -73,7 +73,7 @@ public slots:
     void stepFrame(int delta);
     /// Asks for a file and exports clip `index` (or the drivers when < 0) with a progress dialog.
     void exportClip(int index);
-    /// The export dialog's file types, one per export of the registry (io/export_formats.h), in its order:
+    /// The export dialog's file types, one per export of the registry (io/export/export_formats.h), in its order:
     /// "Point cache (*.pc2)", …; a base-path export (vat, lattice) takes any name.
     static QStringList exportFilters();
     /// Exports without asking (tests, scripts); returns the message shown. The format comes from the

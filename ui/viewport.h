@@ -10,13 +10,13 @@
 /// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it). The mode
 /// view animates one object's lattice in one of its vibration modes, for display only.
 
-#include "core/modes.h"
+#include "core/modes/modes.h"
 #include "render/mesh_renderer.h"
 #include "ui/node_brush.h"
 #include "ui/node_transform.h"
 #include "ui/orbit_camera.h"
-#include "ui/surface_pick.h"
 #include "ui/simulation_controller.h"
+#include "ui/surface_pick.h"
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
@@ -133,7 +133,7 @@ public:
 
     /// The mode view: animates `object`'s lattice in `mode` about its rest pose, nodes at
     /// rest + a(t)·φ with a(t) = A·sin(2π·kModeDisplayHz·t) and A = kModeDisplayFraction of the box's
-    /// largest side (core/modes.h); the mesh follows through the usual lattice map. Display only: the
+    /// largest side (core/modes/modes.h); the mesh follows through the usual lattice map. Display only: the
     /// document, its undo stack and the simulation's state are untouched (playback pauses while the
     /// view shows the body about rest). `index` (1-based) names the mode in
     /// the caption. Showing the same object and index again (the shape after a material edit) keeps

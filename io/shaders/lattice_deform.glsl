@@ -130,7 +130,7 @@ vec3 latticeDeform(vec3 uvw, out vec3 xu, out vec3 xv, out vec3 xw) {
     return x;
 }
 
-// Normals follow the cofactor of the map's Jacobian (core/binding.h): with m = cof(A) n_rest,
+// Normals follow the cofactor of the map's Jacobian (core/geometry/binding.h): with m = cof(A) n_rest,
 // A = d(u,v,w)/dx = diag(1/size) axes^T, cof(J) n = (xv x xw) m_u + (xw x xu) m_v + (xu x xv) m_w.
 // cof(A) = det(A) A^-T = diag(size) axes^T / (size.x size.y size.z); the common factor drops out
 // on normalising.

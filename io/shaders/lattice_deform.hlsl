@@ -122,7 +122,7 @@ float3 latticeDeform(float3 uvw, out float3 xu, out float3 xv, out float3 xw) {
 }
 
 // cof(J) n = (xv x xw) m_u + (xw x xu) m_v + (xu x xv) m_w with m = cof(A) n_rest, which is
-// (axes^T n_rest) * size up to a factor (see lattice_deform.glsl and core/binding.h).
+// (axes^T n_rest) * size up to a factor (see lattice_deform.glsl and core/geometry/binding.h).
 float3 latticeNormal(float3 restNormal, float3 xu, float3 xv, float3 xw) {
     float3 m = mul(transpose(uBoxAxes), restNormal) * uBoxSize;
     return normalize(cross(xv, xw) * m.x + cross(xw, xu) * m.y + cross(xu, xv) * m.z);

@@ -1,5 +1,5 @@
 // The scripted device: replays a trajectory file (docs/formats.md) for tests, demos and CI.
-#include "io/trajectory_file.h"
+#include "io/documents/trajectory_file.h"
 #include "plugins/input_device_plugin.h"
 
 #include <QObject>

@@ -1,8 +1,8 @@
 // The speed/accuracy study measures what it claims: integrator character, convergence, Pareto front.
-#include "analysis/study.h"
 #include "analysis/converged_reference.h"
-#include "core/solid_modes.h"
-#include "io/project_file.h"
+#include "analysis/study.h"
+#include "core/modes/solid_modes.h"
+#include "io/documents/project_file.h"
 
 #include <QtTest>
 #include <sstream>

@@ -1,15 +1,15 @@
 // End to end: run softtouch-cli on the bundled scenes and on bad input, check what it wrote.
-#include "core/lattice_body.h"
-#include "core/scene.h"
-#include "core/modes.h"
-#include "core/solid_modes.h"
-#include "io/mesh_import.h"
-#include "io/export_formats.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
 #include "analysis/clip_frames.h"
 #include "analysis/converged_reference.h"
 #include "app/cli_usage.h"
+#include "core/body/lattice_body.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
+#include "core/scene/scene.h"
+#include "io/documents/project_file.h"
+#include "io/export/export_formats.h"
+#include "io/export/vertex_cache.h"
+#include "io/import/mesh_import.h"
 
 #include "cli_run.h"
 

@@ -1,7 +1,7 @@
 // End to end: `bake --clip` and `preset export|apply` on the bundled fish.
-#include "core/clip.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
+#include "core/authoring/clip.h"
+#include "io/documents/project_file.h"
+#include "io/export/vertex_cache.h"
 
 #include "cli_run.h"
 

@@ -1,9 +1,9 @@
 // End to end: 'softtouch-cli render' writes MP4, GIF and PNG sequences headless (no DISPLAY), and fails
 // cleanly on bad input without touching existing files; 'softtouch-cli modes --pictures' draws the
 // mode shapes headless.
-#include "core/lattice_body.h"
-#include "io/project_file.h"
-#include "io/video_encoder.h"
+#include "core/body/lattice_body.h"
+#include "io/documents/project_file.h"
+#include "io/export/video_encoder.h"
 #include "render/mode_pictures.h"
 
 #include "cli_run.h"

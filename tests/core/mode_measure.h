@@ -2,7 +2,7 @@
 // Measures a mode from baked motion: start a body on one mode shape, simulate, project the motion on
 // that shape and fit the sampled signal (core's fitOscillation, Prony's method).
 
-#include "core/mode_accuracy.h"
+#include "core/modes/mode_accuracy.h"
 
 namespace softtouch::test {
 

@@ -1,8 +1,8 @@
 #pragma once
 // A fixture for physics facts: build a small body, run it N seconds, compare with an analytic answer.
 
-#include "core/lattice_body.h"
-#include "core/simulator.h"
+#include "core/body/lattice_body.h"
+#include "core/solver/simulator.h"
 
 #include <QtTest>
 #include <functional>

@@ -2,8 +2,8 @@
 // real-time thread, where a call into the allocator can block for longer than the period.
 // Counts calls to malloc by interposing it (glibc); under AddressSanitizer, whose runtime owns
 // malloc, the count is not available and the test says so.
-#include "core/lattice_body.h"
-#include "core/simulator.h"
+#include "core/body/lattice_body.h"
+#include "core/solver/simulator.h"
 
 #include <QtTest>
 #include <atomic>

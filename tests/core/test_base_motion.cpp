@@ -1,14 +1,14 @@
-// Secondary motion on a base animation (core/base_motion.h, core/goal_fit.h): the goal fit is exact on
+// Secondary motion on a base animation (core/animation/base_motion.h, core/animation/goal_fit.h): the goal fit is exact on
 // affine motion, goal weight 1 reproduces the base animation, and the lag and overshoot of a body driven by
 // its base match the driven damped oscillator of its lowest mode.
 
 #include "physics_fixture.h"
 
-#include "core/base_motion.h"
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
-#include "core/primitives.h"
-#include "core/scene.h"
+#include "core/animation/base_motion.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "core/scene/scene.h"
 
 #include <QtTest>
 

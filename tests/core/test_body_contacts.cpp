@@ -1,4 +1,4 @@
-// Bodies against bodies (core/body_contacts.h): the lattice map's inverse, and two soft fish-shaped bodies
+// Bodies against bodies (core/body/body_contacts.h): the lattice map's inverse, and two soft fish-shaped bodies
 // thrown at each other with every integrator. They must collide and separate; no sample point of either may
 // end a step inside the other's deformed mesh by more than 1% of the body's size, measured here without the
 // code under test (winding number and triangle distance on the deformed meshes); momentum is kept; and with
@@ -6,10 +6,10 @@
 
 #include "physics_fixture.h"
 
-#include "core/binding.h"
-#include "core/body_contacts.h"
-#include "core/primitives.h"
-#include "core/scene.h"
+#include "core/body/body_contacts.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/primitives.h"
+#include "core/scene/scene.h"
 
 #include <QtTest>
 

@@ -1,5 +1,5 @@
 // Clips: each source evaluates to exactly what it plays; loop closure and the seam measure.
-#include "core/clip.h"
+#include "core/authoring/clip.h"
 #include "test_support.h"
 
 #include <QtTest/QtTest>

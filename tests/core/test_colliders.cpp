@@ -1,15 +1,15 @@
-// Colliders beyond planes (core/colliders.h): the shapes' signed distances, and a ball dropped on a sphere,
+// Colliders beyond planes (core/body/colliders.h): the shapes' signed distances, and a ball dropped on a sphere,
 // a capsule and a box with every integrator: no mesh sample point ends a step inside by more than 1% of the
 // body's size, and it comes to rest.
 
 #include "physics_fixture.h"
 
-#include "core/binding.h"
-#include "core/colliders.h"
-#include "core/mesh_surface.h"
-#include "core/primitives.h"
+#include "core/body/colliders.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/mesh_surface.h"
+#include "core/geometry/primitives.h"
 
-#include "core/ranges.h"
+#include "core/base/ranges.h"
 
 #include <chrono>
 #include <numbers>
@@ -267,7 +267,7 @@ private slots:
         QVERIFY(!noMesh.validate().ok());
     }
 
-    // A collider's mesh is what its sign needs (core/mesh_surface.h): closed and wound outwards, or said to be a
+    // A collider's mesh is what its sign needs (core/geometry/mesh_surface.h): closed and wound outwards, or said to be a
     // one-sided sheet. An open box, a lone plane, a triangle doubled back on itself, an inside-out box, a box
     // with a face turned over and one with a fin are refused, each with its counts (before, every one was
     // accepted, and a body fell through the open ones). Corners split by their normals still join, and a

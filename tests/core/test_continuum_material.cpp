@@ -1,9 +1,9 @@
 // A Continuum material means the same solid on every lattice: its mass is the box's, a uniform stretch
 // measures the Young's modulus that was typed, its painted maps survive a round trip through another
 // resolution, and its lowest vibration modes stay put when the lattice kind or resolution changes.
-#include "core/lattice_body.h"
-#include "core/modes.h"
-#include "core/network_elasticity.h"
+#include "core/body/lattice_body.h"
+#include "core/body/network_elasticity.h"
+#include "core/modes/modes.h"
 
 #include <Eigen/Dense>
 #include <QtTest>

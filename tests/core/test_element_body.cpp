@@ -1,14 +1,14 @@
-// The solid element a body can run instead of springs (core/element_body.h): it is the element the mode study
+// The solid element a body can run instead of springs (core/body/element_body.h): it is the element the mode study
 // measures, its forces are its energy's gradient, rotations cost nothing, the baked motion is the displayed
 // mode, the modes stay within #11's 5% across lattice kinds and resolutions, an undamped body keeps its energy,
 // and what it cannot run is refused with the reason.
-#include "core/element_body.h"
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
-#include "core/primitives.h"
-#include "core/scene.h"
-#include "core/simulator.h"
-#include "core/solid_modes.h"
+#include "core/body/element_body.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
+#include "core/scene/scene.h"
+#include "core/solver/simulator.h"
 #include "mode_measure.h"
 #include "physics_fixture.h"
 

@@ -1,8 +1,8 @@
 // The haptic loop with the scripted (trajectory) device: the drag reaction, the avatar's plane
 // contact, the device clamp, passivity, and bit-exact replay of a threaded session.
-#include "core/haptic_loop.h"
-#include "core/haptic_session.h"
-#include "core/lattice_body.h"
+#include "core/body/lattice_body.h"
+#include "core/haptics/haptic_loop.h"
+#include "core/haptics/haptic_session.h"
 
 #include <QtTest/QtTest>
 

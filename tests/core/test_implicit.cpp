@@ -2,9 +2,9 @@
 // out in full (every node an unknown, pinned rows the identity, drags as dense blocks) and solved
 // directly. The integrator solves the same system matrix-free over the free nodes, by preconditioned
 // conjugate gradients or, far from rest, by its direct fallback; both must give the same step.
-#include "core/forces.h"
-#include "core/integrator.h"
-#include "core/lattice_body.h"
+#include "core/body/forces.h"
+#include "core/body/lattice_body.h"
+#include "core/solver/integrator.h"
 
 #include <QtTest>
 

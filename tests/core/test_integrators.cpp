@@ -1,12 +1,12 @@
-// The integrator table (core/integrator.h, kIntegrators): every list of schemes in the program iterates it, so
+// The integrator table (core/solver/integrator.h, kIntegrators): every list of schemes in the program iterates it, so
 // each row must say what its scheme does. A kind added to the enum without a row does not build (integrator.cpp);
 // a row that says the wrong thing about its scheme fails here.
 
-#include "core/integrator.h"
-#include "core/lattice_body.h"
-#include "core/primitives.h"
-#include "core/scene.h"
-#include "core/simulator.h"
+#include "core/body/lattice_body.h"
+#include "core/geometry/primitives.h"
+#include "core/scene/scene.h"
+#include "core/solver/integrator.h"
+#include "core/solver/simulator.h"
 
 #include <QtTest>
 

@@ -1,5 +1,5 @@
 // Lattice-pose keyframes: editing, Catmull-Rom interpolation, goal springs with follow-through.
-#include "core/keyframes.h"
+#include "core/authoring/keyframes.h"
 #include "test_support.h"
 
 #include <QtTest/QtTest>

@@ -1,6 +1,6 @@
 // Mathematical facts of the Bezier / B-spline map and its binding.
-#include "core/binding.h"
-#include "core/lattice.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/lattice.h"
 #include "test_support.h"
 
 #include <Eigen/Geometry>

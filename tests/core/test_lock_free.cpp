@@ -1,8 +1,8 @@
 // The two lock-free hand-overs of the haptic loop, on their own: the command ring keeps order and
 // never loses or duplicates an item across threads; the triple buffer hands over whole values only,
 // never older than one already seen, and the last one published.
-#include "core/spsc_ring.h"
-#include "core/triple_buffer.h"
+#include "core/base/spsc_ring.h"
+#include "core/base/triple_buffer.h"
 
 #include <QtTest/QtTest>
 

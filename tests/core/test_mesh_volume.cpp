@@ -1,10 +1,10 @@
 // Mass from the mesh: each lattice node's share of a closed mesh's volume (∫_mesh N_i dV), sampled on a
 // grid, against the mesh's exact volume (divergence theorem), the shape's symmetry and a mesh with a
 // hole; and the node masses made from it.
-#include "core/mesh_volume.h"
-#include "core/oriented_box.h"
-#include "core/primitives.h"
-#include "core/volume_preservation.h"
+#include "core/body/volume_preservation.h"
+#include "core/geometry/mesh_volume.h"
+#include "core/geometry/oriented_box.h"
+#include "core/geometry/primitives.h"
 
 #include <QtTest>
 

@@ -1,8 +1,8 @@
 // The animator's numbers against the motion: the modes analyseModes() reports (frequency, damping
 // ratio) are measured on baked free vibrations, and the per-period amplitude modeAccuracy() displays
 // for a scheme and step is measured on the same scheme's motion.
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
 #include "mode_measure.h"
 #include "physics_fixture.h"
 
@@ -44,7 +44,7 @@ std::shared_ptr<const BodyModel> freeCube() {
 class TestModes : public QObject {
     Q_OBJECT
 private slots:
-    // The explicit step bound's λ_max (Lanczos, core/body_model.cpp) is the body's highest mode, ω_max²,
+    // The explicit step bound's λ_max (Lanczos, core/body/body_model.cpp) is the body's highest mode, ω_max²,
     // as the dense eigenvalue solve of the modes finds it: on a bar, a cube, a flat fish-like box with a
     // painted map, a stiffness range of 1e4 and heavy anchors, and a B-spline lattice with void nodes.
     void stepBoundIsTheHighestMode() {

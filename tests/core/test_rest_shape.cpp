@@ -1,7 +1,7 @@
-// Rest-shape edits (core/rest_shape.h): the mesh takes the posed lattice's shape, the lattice returns to rest
+// Rest-shape edits (core/scene/rest_shape.h): the mesh takes the posed lattice's shape, the lattice returns to rest
 // around it, and the body rests there; what cannot be applied is refused with the reason.
 
-#include "core/rest_shape.h"
+#include "core/scene/rest_shape.h"
 #include "test_support.h"
 
 #include <QTest>

@@ -1,9 +1,9 @@
 // SceneSimulation as the editor and replays use it: interactive drags, snapshots, reset; and the
 // settings a new scene starts with.
-#include "core/mode_accuracy.h"
-#include "core/modes.h"
-#include "core/primitives.h"
-#include "core/scene.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "core/scene/scene.h"
 #include "test_support.h"
 
 #include <QtTest/QtTest>
@@ -222,7 +222,7 @@ void TestScene::newSceneKeepsItsWobble_data() {
 }
 
 // A new scene (the editor's Import Mesh) starts on the scheme that keeps its wobble: at its default step
-// the lowest mode keeps >= 99% of what the material alone keeps per period (core/mode_accuracy), where
+// the lowest mode keeps >= 99% of what the material alone keeps per period (core/modes/mode_accuracy), where
 // implicit Euler at the same step keeps visibly less; only a body too stiff for an explicit step falls
 // back to implicit Euler. (test_io_project newProjectKeepsItsWobble does the same on the angelfish mesh.)
 void TestScene::newSceneKeepsItsWobble() {

@@ -1,5 +1,5 @@
 // Sessions: recording interactive drags and replaying them bit for bit.
-#include "core/session.h"
+#include "core/authoring/session.h"
 #include "test_support.h"
 
 #include <QtTest/QtTest>

@@ -1,5 +1,5 @@
-// Rigid skinning decomposition (core/skin_fit.h) on clips whose answer is known.
-#include "core/skin_fit.h"
+// Rigid skinning decomposition (core/fitting/skin_fit.h) on clips whose answer is known.
+#include "core/fitting/skin_fit.h"
 
 #include <QtTest>
 

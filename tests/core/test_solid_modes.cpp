@@ -1,7 +1,7 @@
-// The converged solid a lattice material describes (core/solid_modes.h): the Galerkin reference is
+// The converged solid a lattice material describes (core/modes/solid_modes.h): the Galerkin reference is
 // checked against closed forms and its own convergence, then the spring lattices against it.
-#include "core/modes.h"
-#include "core/solid_modes.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
 
 #include <QtTest>
 

@@ -1,6 +1,6 @@
 // Lattice spring topology (counts, voids, automatic void detection) and the spring force pass.
-#include "core/forces.h"
-#include "core/lattice_body.h"
+#include "core/body/forces.h"
+#include "core/body/lattice_body.h"
 #include "test_support.h"
 
 #include <QtTest>

@@ -1,9 +1,9 @@
-// Stretch and squash limits (core/strain_limits.h): held under a yank by every integrator at the default
+// Stretch and squash limits (core/body/strain_limits.h): held under a yank by every integrator at the default
 // step, never a source of energy, momentum kept.
 
 #include "physics_fixture.h"
 
-#include "core/strain_limits.h"
+#include "core/body/strain_limits.h"
 
 #include <QtTest>
 

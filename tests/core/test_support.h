@@ -1,9 +1,9 @@
 #pragma once
 // Shared helpers of the core tests: small meshes made in code.
 
-#include "core/mesh.h"
-#include "core/primitives.h"
-#include "core/scene.h"
+#include "core/geometry/mesh.h"
+#include "core/geometry/primitives.h"
+#include "core/scene/scene.h"
 
 #include <cmath>
 #include <numbers>

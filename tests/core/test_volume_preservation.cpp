@@ -1,12 +1,12 @@
-// Volume preservation (core/volume_preservation.h): a ball squashed to half its height between two
+// Volume preservation (core/body/volume_preservation.h): a ball squashed to half its height between two
 // planes keeps its mesh's volume when preservation is 1 and loses it when 0, with every integrator; the
 // sampled volume and its gradient against the mesh's exact volume and finite differences.
 
 #include "physics_fixture.h"
 
-#include "core/binding.h"
-#include "core/primitives.h"
-#include "core/volume_preservation.h"
+#include "core/body/volume_preservation.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/primitives.h"
 
 #include <QtTest>
 

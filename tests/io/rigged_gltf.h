@@ -7,7 +7,7 @@
 // Keys are at every 1/24 s over one second, so a bake at 24 fps (or samples at 120/s) land on keys, where
 // the motion is exactly the keyed value whatever the interpolation.
 
-#include "core/types.h"
+#include "core/base/types.h"
 
 #include <tiny_gltf.h>
 

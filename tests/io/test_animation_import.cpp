@@ -1,4 +1,4 @@
-// Animated imports (io/animation_import.h) and bakes on a base animation (core/base_motion.h): keyed
+// Animated imports (io/import/animation_import.h) and bakes on a base animation (core/animation/base_motion.h): keyed
 // transforms, a skinned bar and a blend shape, written as GLB by the test with a known motion, import to
 // that motion; with goal weight 1 everywhere a PC2 bake is the base animation itself; bad requests fail
 // naming the file and what is wrong.
@@ -6,12 +6,12 @@
 #include "collada_box.h"
 #include "rigged_gltf.h"
 
-#include "io/animation_import.h"
-#include "io/bake.h"
-#include "io/frame_source.h"
-#include "io/isolated_import.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
+#include "io/documents/project_file.h"
+#include "io/export/vertex_cache.h"
+#include "io/import/animation_import.h"
+#include "io/import/isolated_import.h"
+#include "io/pipeline/bake.h"
+#include "io/pipeline/frame_source.h"
 
 #include <QTemporaryDir>
 #include <QtTest>

@@ -1,7 +1,7 @@
 // Vertex-cache exporters: the exact bytes of each format, bit-exact round trips, and failures that
 // report the file and the frame and never damage what was there before.
-#include "io/atomic_file.h"
-#include "io/vertex_cache.h"
+#include "io/export/vertex_cache.h"
+#include "io/files/atomic_file.h"
 
 #include <QTemporaryDir>
 #include <QtTest>

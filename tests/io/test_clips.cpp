@@ -1,8 +1,8 @@
 // The clip library in project files (version 2) and the fish swim cycles: seamless loops, sessions
 // and keyframes that survive a save, clear errors on bad clips.
-#include "core/session.h"
-#include "io/bake.h"
-#include "io/project_file.h"
+#include "core/authoring/session.h"
+#include "io/documents/project_file.h"
+#include "io/pipeline/bake.h"
 
 #include <QTemporaryDir>
 #include <QtTest>

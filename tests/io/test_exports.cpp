@@ -1,15 +1,15 @@
 // Round trips of the clip exports (glTF/GLB morph animation, vertex animation textures, lattice
 // cache) against the PC2 of the same bake, and their behaviour on bad input.
 
-#include "io/bake.h"
-#include "io/clip_writer_internal.h"
-#include "io/clip_writer.h"
-#include "io/export_formats.h"
-#include "io/gltf_meshopt.h"
-#include "io/lattice_cache.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
 #include "gltf_read.h"
+#include "io/documents/project_file.h"
+#include "io/export/clip_writer.h"
+#include "io/export/clip_writer_internal.h"
+#include "io/export/export_formats.h"
+#include "io/export/lattice_cache.h"
+#include "io/export/vertex_cache.h"
+#include "io/import/gltf_meshopt.h"
+#include "io/pipeline/bake.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/anim.h>
@@ -21,7 +21,7 @@
 #include <tiny_gltf.h>
 
 #include <QProcess>
-#include "core/morph_basis.h"
+#include "core/fitting/morph_basis.h"
 
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -111,7 +111,7 @@ BakeResult bakeTo(const Scene& scene, std::string_view format, const fs::path& o
     return result.value();
 }
 
-/// One data row per export of the registry (io/export_formats.h), named after it: a new export gets
+/// One data row per export of the registry (io/export/export_formats.h), named after it: a new export gets
 /// the failure tests below without a line here.
 void exportRows() {
     QTest::addColumn<QString>("format");
@@ -120,7 +120,7 @@ void exportRows() {
 }
 
 /// Every B-spline basis function of one axis and its derivative at t, by the textbook Cox-de Boor
-/// recursion over the header's knot vector (dense, 0/0 = 0): independent of core/axis_basis and of
+/// recursion over the header's knot vector (dense, 0/0 = 0): independent of core/geometry/axis_basis and of
 /// the shaders' triangular form. Outside [0,1] the end spans extrapolate, as the engine does.
 struct AxisValues {
     std::vector<double> value;  ///< N_i(t), i < count.
@@ -152,7 +152,7 @@ AxisValues bsplineBasis(const std::vector<double>& knots, int degree, int count,
 }
 
 /// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache, and the unit
-/// normal from the Jacobian's cofactor (core/binding.h) applied to the rest normal.
+/// normal from the Jacobian's cofactor (core/geometry/binding.h) applied to the rest normal.
 std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw,
                                       const Vec3& restNormal) {
     AxisValues axis[3];

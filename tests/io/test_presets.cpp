@@ -1,9 +1,9 @@
 // Setup presets: export an object's setup, apply it to the same mesh (identical scene) and to another
 // fish on another lattice (remapped, valid, simulates); bad presets name the problem.
-#include "core/modes.h"
-#include "io/bake.h"
-#include "io/preset_file.h"
-#include "io/project_file.h"
+#include "core/modes/modes.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
+#include "io/pipeline/bake.h"
 
 #include <QTemporaryDir>
 #include <QtTest>

@@ -1,11 +1,11 @@
 // Project and preset files: loading the samples, saving and reloading, and clear errors on bad input.
-#include "core/mesh_surface.h"
-#include "core/mode_accuracy.h"
-#include "core/ranges.h"
-#include "core/modes.h"
-#include "io/mesh_import.h"
-#include "io/preset_file.h"
-#include "io/project_file.h"
+#include "core/base/ranges.h"
+#include "core/geometry/mesh_surface.h"
+#include "core/modes/mode_accuracy.h"
+#include "core/modes/modes.h"
+#include "io/documents/preset_file.h"
+#include "io/documents/project_file.h"
+#include "io/import/mesh_import.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -263,7 +263,7 @@ void TestProject::solidElementRoundTripsAndRuns() {
 
 // World colliders: each shape with its own keys, saved and read back as written; the body built from a
 // project with a mesh tests contact at mesh surface points.
-// Each setting's range is declared once (core/ranges.h) and read, validated and written by that
+// Each setting's range is declared once (core/base/ranges.h) and read, validated and written by that
 // declaration: at both edges and just beyond them, the reader accepts exactly what core's validate() and
 // FieldRange::contains accept, and a value it accepts is written back under the same key and read again
 // unchanged. (A collider's radius used to be (0, 1e6] in core and [1e-6, 1e6] in the reader.)
@@ -851,7 +851,7 @@ void TestProject::badInputNamesFileFieldAndProblem_data() {
         << "/world/planes/0/normal|zero";
     QTest::newRow("bad driver") << QString::fromStdString(projectText(R"(, "drivers": [{"type": "swim", "frequency": -1}])"))
                                 << "/objects/0/drivers/0/frequency|expected a number";
-    // Rest-shape edits (core/rest_shape.h): the lattice they were made on, with its box, and one node each.
+    // Rest-shape edits (core/scene/rest_shape.h): the lattice they were made on, with its box, and one node each.
     const std::string box = R"("box": {"origin": [-1, -1, -1], "size": [2, 2, 2]})";
     QTest::newRow("rest shape not a list")
         << QString::fromStdString(projectText(R"(, "restShape": {"nodes": []})"))

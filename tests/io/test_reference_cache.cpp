@@ -1,6 +1,6 @@
-// The study's reference cache (io/reference_cache.h): what is stored is what is read back, a damaged or
+// The study's reference cache (io/pipeline/reference_cache.h): what is stored is what is read back, a damaged or
 // foreign file is never trusted, and the key changes with anything the reference depends on.
-#include "io/reference_cache.h"
+#include "io/pipeline/reference_cache.h"
 
 #include <QTemporaryDir>
 #include <QtTest>

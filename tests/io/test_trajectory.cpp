@@ -1,6 +1,6 @@
 // Trajectory files (docs/formats.md): round trip bit for bit, velocities from positions, and bad
 // files rejected with the file, the JSON pointer and what was expected.
-#include "io/trajectory_file.h"
+#include "io/documents/trajectory_file.h"
 
 #include <QtTest/QtTest>
 #include <QTemporaryDir>

@@ -1,5 +1,5 @@
-// io/video_encoder: streaming, atomic video files read back with libavformat.
-#include "io/video_encoder.h"
+// io/export/video_encoder: streaming, atomic video files read back with libavformat.
+#include "io/export/video_encoder.h"
 
 #include <QDir>
 #include <QTemporaryDir>

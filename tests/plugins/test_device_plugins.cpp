@@ -1,8 +1,8 @@
 // The device plugins as the editor loads them: QPluginLoader over the build's plugin folder, found
 // by interface; the null device when nothing is connected; the scripted device driving the loop.
-#include "core/haptic_loop.h"
-#include "core/lattice_body.h"
-#include "io/trajectory_file.h"
+#include "core/body/lattice_body.h"
+#include "core/haptics/haptic_loop.h"
+#include "io/documents/trajectory_file.h"
 #include "plugins/device_registry.h"
 
 #include <QTemporaryDir>

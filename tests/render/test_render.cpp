@@ -1,7 +1,7 @@
 // The renderer's vertex shader against core's Binding, and frames drawn headless through EGL.
-#include "core/binding.h"
-#include "core/lattice.h"
-#include "core/primitives.h"
+#include "core/geometry/binding.h"
+#include "core/geometry/lattice.h"
+#include "core/geometry/primitives.h"
 #include "render/egl_context.h"
 #include "render/mesh_renderer.h"
 

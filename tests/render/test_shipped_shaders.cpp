@@ -2,10 +2,10 @@
 // OpenGL context (EGL), fed from the exported files alone (the lattice cache's .lattice.glb and .bin; the
 // VAT's mesh, EXRs and JSON), their outputs captured by transform feedback and compared with the PC2 and
 // the normals of the same bake.
-#include "io/bake.h"
-#include "io/lattice_cache.h"
-#include "io/project_file.h"
-#include "io/vertex_cache.h"
+#include "io/documents/project_file.h"
+#include "io/export/lattice_cache.h"
+#include "io/export/vertex_cache.h"
+#include "io/pipeline/bake.h"
 #include "render/egl_context.h"
 #include "render/gl.h"
 #include "render/gl_program.h"

@@ -3,13 +3,13 @@
 // projects survive save and reopen, an autosave survives a killed session, a corrupt project gives
 // an error dialog, the speed/accuracy dock measures the open scene and applies its pick, and the
 // viewport draws the fish in shaded and wireframe modes.
-#include "core/mesh_surface.h"
-#include "io/bake.h"
-#include "io/reference_cache.h"
-#include "io/gltf_meshopt.h"
-#include "io/trajectory_file.h"
-#include "io/vertex_cache.h"
-#include "io/video_encoder.h"
+#include "core/geometry/mesh_surface.h"
+#include "io/documents/trajectory_file.h"
+#include "io/export/vertex_cache.h"
+#include "io/export/video_encoder.h"
+#include "io/import/gltf_meshopt.h"
+#include "io/pipeline/bake.h"
+#include "io/pipeline/reference_cache.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"
@@ -60,10 +60,10 @@
 
 #include "../cli/cli_run.h"
 #include "../io/rigged_gltf.h"
-#include "core/modes.h"
-#include "core/solid_modes.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
 #include "ui/material_tuning.h"
-#include "core/primitives.h"
 
 #include <QComboBox>
 #include <QDialog>

@@ -5,7 +5,7 @@
 
 #include "../cli/cli_run.h"
 #include "../io/gltf_read.h"
-#include "io/gltf_meshopt.h"
+#include "io/import/gltf_meshopt.h"
 
 #include <QDir>
 #include <QFile>

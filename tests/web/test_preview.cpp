@@ -4,7 +4,7 @@
 // own render of that frame (softtouch-cli render, the same camera).
 
 #include "../cli/cli_run.h"
-#include "io/clip_preview.h"
+#include "io/pipeline/clip_preview.h"
 
 #include <QDir>
 #include <QImage>

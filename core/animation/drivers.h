@@ -1,0 +1,61 @@
+#pragma once
+/// Drivers move a body without an input device: each turns time into drag springs. Both pull a
+/// material point (lattice parameters u,v,w) towards its rest position plus an offset.
+
+#include "core/base/ranges.h"
+#include "core/body/forces.h"
+#include "core/geometry/lattice.h"
+
+#include <variant>
+#include <vector>
+
+namespace softtouch {
+
+/// One key of a scripted path.
+struct PathKey {
+    double time = 0.0;             ///< Seconds, increasing.
+    Vec3 offset = Vec3::Zero();    ///< Metres from the point's rest position.
+};
+
+/// A point of the object follows a keyed path (Catmull-Rom through the keys; held before the first
+/// key and after the last).
+struct ScriptedDrag {
+    Vec3 point{0.5, 0.5, 0.5};  ///< Material point, lattice parameters in [0,1]^3.
+    std::vector<PathKey> keys;  ///< At least one key.
+    double stiffness = 50.0;    ///< Ks, N/m, (0, 1e9].
+    double damping = 1.0;       ///< Kd, N·s/m, [0, 1e6].
+    double releaseTime = -1.0;  ///< Seconds after which the drag lets go (< 0: never).
+};
+
+/// A sinusoidal sideways pull of a region (a tail), the headless way to make a swim cycle.
+struct SwimDriver {
+    Vec3 point{0.1, 0.5, 0.5};        ///< Material point, lattice parameters in [0,1]^3.
+    Vec3 direction = Vec3::UnitZ();   ///< Unit pull direction, world.
+    double frequencyHz = 1.0;         ///< Beats per second, (0, 100].
+    double amplitude = 0.1;           ///< Metres, [0, 1e3].
+    double phase = 0.0;               ///< Radians.
+    double rampSeconds = 0.0;         ///< Amplitude fades in over this time, seconds, >= 0.
+    double stiffness = 50.0;          ///< Ks, N/m, (0, 1e9].
+    double damping = 1.0;             ///< Kd, N·s/m, [0, 1e6].
+};
+
+/// Any driver.
+using Driver = std::variant<ScriptedDrag, SwimDriver>;
+
+/// A driver's settings as files name them, each range declared once: validateDriver() checks them and
+/// the project reader reads them by these.
+inline constexpr FieldRange kDriverStiffness{"stiffness", "stiffness", 0.0, 1e9, "N/m", false};
+inline constexpr FieldRange kDriverDamping{"damping", "damping", 0.0, 1e6, "N·s/m"};
+inline constexpr FieldRange kDragRelease{"release", "release time", 0.0, 1e9, "s"};  ///< When given (< 0: never).
+inline constexpr FieldRange kSwimFrequency{"frequency", "frequency", 0.0, 100.0, "Hz", false};
+inline constexpr FieldRange kSwimAmplitude{"amplitude", "amplitude", 0.0, 1e3, "m"};
+inline constexpr FieldRange kSwimPhase{"phase", "phase", -1e6, 1e6, "rad"};
+inline constexpr FieldRange kSwimRamp{"ramp", "ramp", 0.0, 1e6, "s"};
+
+/// Checks a driver's fields; the message names the field.
+Status validateDriver(const Driver& driver);
+
+/// The drag spring a driver applies at time t, or nothing (a released scripted drag).
+std::optional<DragSpring> driverDrag(const Driver& driver, const Lattice& lattice, double seconds);
+
+}  // namespace softtouch

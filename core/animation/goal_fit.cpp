@@ -1,0 +1,72 @@
+#include "core/animation/goal_fit.h"
+
+#include <Eigen/SVD>
+
+namespace softtouch {
+
+Result<GoalFit> GoalFit::create(const Lattice& lattice, std::span<const Vec3f> restPositions,
+                                std::span<const Vec3> parameters) {
+    const auto vertices = Eigen::Index(restPositions.size());
+    const auto n = Eigen::Index(lattice.nodeCount());
+    if (vertices == 0 || std::size_t(vertices) != parameters.size())
+        return Status::error("goal fit: the mesh has no vertices bound to the lattice");
+    GoalFit g;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index v = 0; v < vertices; ++v) {
+        const Vec3& u = parameters[std::size_t(v)];
+        const BasisSample a = lattice.axis(0).sample(u.x()), b = lattice.axis(1).sample(u.y()), c = lattice.axis(2).sample(u.z());
+        for (int k = 0; k < c.order; ++k)
+            for (int j = 0; j < b.order; ++j)
+                for (int i = 0; i < a.order; ++i) {
+                    const double w = a.value[std::size_t(i)] * b.value[std::size_t(j)] * c.value[std::size_t(k)];
+                    if (w != 0.0)
+                        entries.emplace_back(v, lattice.index(a.first + i, b.first + j, c.first + k), w);
+                }
+    }
+    g.m_weights.resize(vertices, n);
+    g.m_weights.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(g.m_weights.transpose()) * g.m_weights;
+    g.m_lambda = kGoalFitRidge * normal.diagonal().sum() / double(n);
+    Eigen::SparseMatrix<double> identity(n, n);
+    identity.setIdentity();
+    normal += g.m_lambda * identity;
+    auto factored = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(normal);
+    if (factored->info() != Eigen::Success)
+        return Status::error("goal fit: the lattice's normal matrix could not be factored");
+    g.m_normal = std::move(factored);
+    g.m_restHomogeneous.resize(vertices, 4);
+    for (Eigen::Index v = 0; v < vertices; ++v)
+        g.m_restHomogeneous.row(v) << restPositions[std::size_t(v)].cast<double>().transpose(), 1.0;
+    const Eigen::Matrix4d affine = g.m_restHomogeneous.transpose() * g.m_restHomogeneous;
+    g.m_affine.compute(affine);
+    // A mesh flat along some axis has no unique affine fit: its volume is what says so.
+    if (g.m_affine.info() != Eigen::Success || !(std::abs(g.m_affine.vectorD().minCoeff()) > 1e-12 * affine.trace()))
+        return Status::error("goal fit: the mesh is flat, so no motion of it fixes the lattice around it");
+    g.m_restNodes.resize(n, 4);
+    for (Eigen::Index i = 0; i < n; ++i)
+        g.m_restNodes.row(i) << lattice.restNodes()[std::size_t(i)].transpose(), 1.0;
+    return g;
+}
+
+void GoalFit::fit(std::span<const Vec3f> positions, std::vector<Vec3>& nodes, Mat3& rotation) const {
+    const Eigen::Index vertices = m_weights.rows();
+    Eigen::MatrixX3d p(vertices, 3);
+    for (Eigen::Index v = 0; v < vertices; ++v)
+        p.row(v) = positions[std::size_t(v)].cast<double>().transpose();
+    // The affine fit T (4×3): p ≈ [p_rest 1] T.
+    const Eigen::Matrix<double, 4, 3> t = m_affine.solve(m_restHomogeneous.transpose() * p);
+    const Eigen::MatrixX3d prior = m_restNodes * t;
+    const Eigen::MatrixX3d x = m_normal->solve(Eigen::MatrixX3d(m_weights.transpose() * p) + m_lambda * prior);
+    nodes.resize(std::size_t(x.rows()));
+    for (Eigen::Index i = 0; i < x.rows(); ++i)
+        nodes[std::size_t(i)] = x.row(i).transpose();
+    // Rows of T's linear part map row vectors: the column-vector map is its transpose.
+    const Mat3 linear = t.topRows<3>().transpose();
+    const Eigen::JacobiSVD<Mat3> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Mat3 u = svd.matrixU();
+    if ((u * svd.matrixV().transpose()).determinant() < 0.0)
+        u.col(2) = -u.col(2);
+    rotation = u * svd.matrixV().transpose();
+}
+
+}  // namespace softtouch

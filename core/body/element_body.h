@@ -1,0 +1,125 @@
+#pragma once
+/// The solid element a lattice body can run instead of springs (LatticeMaterial::element,
+/// docs/lattice.md "The solid element"): the Galerkin discretisation of the painted solid on the lattice's
+/// own basis, the element core/modes/solid_modes.h measures (simulatedElement()), made nonlinear so it can rotate.
+///
+/// At each quadrature point q the deformation gradient is F = Σ_i x_i ⊗ ∇N_i (world from the box frame,
+/// ∇N_i the basis gradient at rest in the box frame, per metre). Its energy is that of linear elasticity
+/// in the stretch, Ψ = ½ εᵀ C ε with ε = S − I and S = √(FᵀF) (the Biot strain, so rigid rotations cost
+/// nothing and a small strain is linear elasticity's), C the painted modulus times the springs' elasticity
+/// per unit of it (the solid the springs would make on a uniform cell). Its exact gradient is P = 2 F Y,
+/// S Y + Y S = σ = C ε, solved in S's eigenbasis. Viscosity adds the rotated Kelvin-Voigt stress R η C
+/// sym(Rᵀ Ḟ), which only dissipates. Node damping is ∫ γ ρ N_i N_j on absolute velocities.
+///
+/// The mass is the consistent ∫ ρ N_i N_j: a lumped one collapses this element's spectrum (docs/lattice.md),
+/// so every step solves with its Cholesky factor over the free nodes (built once: it never changes).
+
+#include "core/base/result.h"
+#include "core/base/types.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <array>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace softtouch {
+
+class Lattice;
+struct LatticeMaterial;
+
+/// One axis of a tensor-product quadrature rule: the basis and its slope (per metre) at each point, one row per
+/// point, one column per node along the axis.
+struct ElementAxisRule {
+    Eigen::MatrixXd value;
+    Eigen::MatrixXd slope;
+};
+
+/// A tensor-product quadrature rule over the lattice box: per axis its points, and per point (u fastest) its
+/// weight × volume × the painted modulus and viscosity there. The deformation gradient at every point is three
+/// one-axis contractions of the node positions (sum factorisation): for a 4x4x4 Bezier lattice about a tenth of
+/// the work of summing each point's 64 nodes, and a 64th for 8x8x8.
+struct ElementRule {
+    std::array<ElementAxisRule, 3> axes;
+    std::vector<double> stiffness;  ///< Pa·m³ per point.
+    std::vector<double> viscosity;  ///< Pa·s·m³ per point.
+    std::size_t pointCount() const { return stiffness.size(); }
+};
+
+/// A lattice body's solid element, immutable once built (shared by every simulator of the body).
+struct ElementBody {
+    Eigen::Matrix<double, 6, 6> elasticity = Eigen::Matrix<double, 6, 6>::Zero(); ///< C per unit modulus, box frame.
+    Mat3 frame = Mat3::Identity();            ///< The box's axes (columns): the rest rotation at every point.
+    std::array<int, 3> counts{};              ///< Nodes per axis (node index i + n_u (j + n_v k)).
+    std::vector<ElementRule> rules;           ///< The reduced rule (1 − share) and the exact one (share).
+    Eigen::MatrixXd mass;                     ///< ∫ρ N_i N_j over every node, kg.
+    Eigen::MatrixXd nodeDamping;              ///< ∫γρ N_i N_j over every node, N·s/m.
+    std::vector<int> slot;                    ///< Each node's row among the free nodes; -1 when held.
+    std::vector<std::uint32_t> freeNodes;     ///< Free nodes in slot order.
+    Eigen::LLT<Eigen::MatrixXd> massFactor;   ///< Of the free nodes' block of `mass`.
+    /// L⁻¹ of massFactor (M = L Lᵀ over the free nodes): a pull w on the nodes moves them as wᵀ M⁻¹ w = |L⁻¹ w|²,
+    /// which the step bound of a drag needs. A consistent mass's inverse reaches light wiggles of the control net,
+    /// many times what the nodes' ∫ρ N_i say.
+    Eigen::MatrixXd inverseFactor;
+    bool viscous = false;                     ///< Some point has viscosity.
+    bool nodeDamped = false;                  ///< Some node has node damping.
+    double maxNodeDampingRate = 0.0;          ///< Largest painted node damping rate γ, 1/s (the step bound's).
+    double maxDampingRatio = 0.0;             ///< Largest painted viscosity over modulus, s (the step bound's c/k).
+
+    std::size_t nodeCount() const { return slot.size(); }
+};
+
+/// The element of a Continuum material on its lattice (simulatedElement(): degree Gauss points a span,
+/// with kElementExactShare of the exactly integrated stiffness). `held` flags the nodes that do not move
+/// (pinned and heavy anchors). Fails, saying why, for a material that is not Continuum or has void nodes.
+Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& lattice, const LatticeMaterial& material,
+                                                            std::span<const std::uint8_t> held);
+
+/// Adds the elastic force −∂Ψ/∂x_i (and, as asked, the viscous and the node damping forces) to `force` on
+/// the free nodes. With `dampingOut` (one entry per node, zeroed first) it also receives the damping forces
+/// alone, for the energy account's dissipation. Its scratch is the calling thread's: it allocates on a thread's
+/// first call only.
+void addElementForces(const ElementBody& body, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                      std::span<Vec3> force, bool viscous, bool nodeDamping, std::span<Vec3> dampingOut = {});
+/// The rotation of each quadrature point's deformation at `position` (rule by rule, points in order): what
+/// addElementTangent() turns the material's stiffness by.
+void elementRotations(const ElementBody& body, std::span<const Vec3> position, std::vector<Mat3>& rotations);
+/// y += Σ_q (a E_q + b η_q) Bᵀ R_q C R_qᵀ B p on the free nodes: the corotated stiffness (a) and viscosity (b)
+/// at the state `rotations` were taken from, applied to the node field p (held nodes' p ignored). Implicit
+/// Euler's system product, with a = h² and b = h. The stress's own change under rotation (geometric stiffness)
+/// is left out: the matrix stays positive definite, and at rest it is exactly the linearisation.
+void addElementTangent(const ElementBody& body, const std::vector<Mat3>& rotations, double a, double b,
+                       std::span<const Vec3> p, std::span<Vec3> y);
+
+/// The elastic energy Σ_q w_q ½ εᵀ C ε, J.
+double elementEnergy(const ElementBody& body, std::span<const Vec3> position);
+/// aᵀ M b over the free nodes, kg·m² for displacements: ½ vᵀMv is the kinetic energy.
+double elementMassProduct(const ElementBody& body, std::span<const Vec3> a, std::span<const Vec3> b);
+/// out_i += scale Σ_j m_ij in_j on the free rows i, over every column j, for one of the element's node matrices
+/// (`mass` or `nodeDamping`): a consistent mass or damping times a node field.
+void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix, double scale,
+                           std::span<const Vec3> in, std::span<Vec3> out);
+/// wᵀ M⁻¹ w for a pull spread over the free nodes by `share(visit)`, which calls visit(node, weight) for each:
+/// 1/kg. `work` is the caller's (the free node count), so a step allocates nothing once it has its size.
+template <typename Shares>
+double elementPullInverseMass(const ElementBody& body, Shares&& shares, Eigen::VectorXd& work) {
+    work.setZero(body.inverseFactor.rows());
+    shares([&](std::uint32_t node, double weight) { work += weight * body.inverseFactor.col(body.slot[node]); });
+    return work.squaredNorm();
+}
+/// A node matrix's block over the free nodes, acting on each component alike: 3 × free square, laid out as
+/// elementRestStiffness().
+Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix);
+/// a = M⁻¹ f over the free nodes (written to `acceleration` at the free nodes only). `work` is the
+/// caller's scratch (3 × free nodes), so a step allocates nothing once it has its size.
+void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std::span<Vec3> acceleration,
+                      Eigen::MatrixXd& work);
+/// The stiffness at rest over the free nodes (3 × free square, unknown 3 s + c for slot s, component c): the
+/// linearisation of addElementForces, as modes and step bounds need it.
+Eigen::MatrixXd elementRestStiffness(const ElementBody& body);
+/// The viscous damping matrix at rest over the free nodes, laid out as elementRestStiffness().
+Eigen::MatrixXd elementRestViscosity(const ElementBody& body);
+
+}  // namespace softtouch

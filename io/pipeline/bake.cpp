@@ -1,0 +1,216 @@
+#include "io/pipeline/bake.h"
+
+#include "core/base/node_change.h"
+
+#include "io/export/vertex_cache.h"
+#include "io/files/atomic_file.h"
+#include "io/pipeline/frame_source.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace softtouch::io {
+
+namespace {
+
+/// A target may be absent or a regular file (replaced); anything else (a folder, a device such as
+/// /dev/full, a FIFO) is refused, because a rename would replace it or fail half-way.
+Status checkOutputTarget(const std::filesystem::path& target) {
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(target, ec);
+    if (ec || !std::filesystem::exists(status) || std::filesystem::is_regular_file(status))
+        return Status::success();
+    const char* kind = std::filesystem::is_directory(status) ? "a folder"
+                       : std::filesystem::is_symlink(status) ? "a symbolic link"
+                                                              : "not a regular file (a device, FIFO or socket)";
+    return Status::error("cannot write '" + target.string() + "': it exists and is " + kind + "; nothing was written");
+}
+
+}  // namespace
+
+Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
+    BakeResult result;
+    FrameRequest request;
+    request.clips = options.clips;
+    request.clip = options.clip;
+    request.frames = options.frames;
+    request.fps = options.fps;
+    auto created = FrameSource::create(scene, request, &result.warnings);
+    if (!created)
+        return Status::error(created.message());
+    FrameSource& source = created.value();
+    const SceneSimulation& sim = source.simulation();
+    const int frames = source.frameCount();
+    result.clip = source.clipName();
+    result.seam = source.seam();
+
+    // The objects written: all, or those named.
+    std::vector<bool> written(sim.objectCount(), options.objects.empty());
+    for (const std::string& name : options.objects) {
+        bool found = false;
+        for (std::size_t i = 0; i < sim.objectCount(); ++i)
+            if (sim.object(i).name == name)
+                found = written[i] = true;
+        if (!found) {
+            std::string names;
+            for (std::size_t i = 0; i < sim.objectCount(); ++i)
+                names += (i ? ", '" : "'") + sim.object(i).name + "'";
+            return Status::error("the scene has no object named '" + name + "' (it has " + names + ")");
+        }
+    }
+
+    // The rest mesh of the objects written, concatenated in scene order: the cache's vertex order.
+    ClipSetup setup;
+    Mesh& rest = setup.restMesh;
+    for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+        if (!written[i])
+            continue;
+        const SceneObject& object = sim.object(i);
+        const Mesh& m = object.mesh;
+        const auto base = std::uint32_t(rest.positions.size());
+        ClipObject clipObject{object.name, base, std::uint32_t(m.positions.size()),
+                              std::uint32_t(rest.triangles.size()), std::uint32_t(m.triangles.size()), object.lattice};
+        setup.objects.push_back(std::move(clipObject));
+        rest.positions.insert(rest.positions.end(), m.positions.begin(), m.positions.end());
+        if (!m.normals.empty())
+            rest.normals.insert(rest.normals.end(), m.normals.begin(), m.normals.end());
+        for (const auto& t : m.triangles)
+            rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        if (options.objectGroups)  // the OBJ writers name each object's faces after it
+            rest.parts.push_back({object.name, base, std::uint32_t(m.positions.size())});
+    }
+    if (rest.normals.size() != rest.positions.size())
+        rest.computeNormals();
+
+    const ExportFormat& format = *options.format;
+    result.files = exportFiles(format, options.output, std::size_t(frames));
+    result.cache = result.files.front();
+    result.restMesh = restMeshPath(options.output, format);
+    result.points = rest.positions.size();
+    // Every target is checked before anything is written: publishing is a rename per file, and a rename
+    // that fails half-way (onto a folder) would leave the files published before it replaced.
+    if (options.output.filename().empty() || options.output.stem().empty())
+        return Status::error("--out '" + options.output.string() + "' names a folder, not a file: add a file name");
+    std::vector<std::filesystem::path> targets = result.files;
+    targets.push_back(result.restMesh);
+    for (const std::filesystem::path& target : targets)
+        if (Status s = checkOutputTarget(target); !s)
+            return s;
+    // Temporaries a killed run left (kill -9, a power cut) are swept in one pass over each folder: this
+    // run's targets, and for a format of one file per frame every frame of the same name, so that a
+    // re-run with fewer frames sweeps the frames beyond its own too.
+    std::map<std::filesystem::path, std::set<std::string>> targetNames;
+    for (const std::filesystem::path& target : targets)
+        targetNames[target.parent_path()].insert(target.filename().string());
+    const bool sequence = exportFiles(format, options.output, 2).size() == 2;  // a file per frame: the OBJ sequence
+    for (const auto& [folder, names] : targetNames)
+        removeStaleTemporaries(folder, [&, &names = names](const std::string& name) {
+            return names.count(name) != 0 || (sequence && isObjSequenceFrameName(options.output, name));
+        });
+
+    auto writer = format.makeWriter(options.output, options.exportOptions);
+    if (writer->needsNodes())
+        for (std::size_t i = 0; i < sim.objectCount(); ++i)
+            if (written[i] && sim.followsBaseAnimation(i))
+                return Status::error("object '" + sim.object(i).name + "' moves with its own base animation, which its "
+                                     "lattice cannot carry (the cache holds lattice nodes only, and a rig bends the "
+                                     "mesh in ways the lattice cannot follow); export it as pc2, mdd, obj, glTF, skin, "
+                                     "pca or vat");
+    setup.info.pointCount = rest.positions.size();
+    setup.info.frameCount = std::size_t(frames);
+    setup.info.fps = source.fps();
+    setup.loops = source.loopLength() > 0 && frames % source.loopLength() == 0;
+    if (Status s = writer->begin(options.output, setup); !s)
+        return s;
+
+    // One frame in memory: positions, normals when the writer wants them, node positions borrowed
+    // from the frame source.
+    std::vector<Vec3f> positions(rest.positions.size());
+    std::vector<Vec3f> normals(writer->needsNormals() ? rest.positions.size() : 0);
+    FrameData frame;
+    frame.positions = positions;
+    frame.normals = normals;
+    // An object whose nodes did not move keeps last frame's mesh (a sleeping body costs nothing).
+    std::vector<NodeChangeTracker> moved(sim.objectCount());
+    result.objects = int(std::count(written.begin(), written.end(), true));
+    for (int f = 0; f < frames; ++f) {
+        source.seek(f, &result.warnings);
+        if (const std::string& refusal = source.simulation().refusal(); !refusal.empty()) {
+            writer->abort();
+            return Status::error(refusal + "; nothing was written");
+        }
+        std::size_t offset = 0;
+        for (std::size_t i = 0; i < sim.objectCount(); ++i) {
+            if (!written[i])
+                continue;
+            const std::size_t n = sim.object(i).mesh->positions.size();
+            const std::span<Vec3f> objectNormals =
+                normals.empty() ? std::span<Vec3f>() : std::span<Vec3f>(normals).subspan(offset, n);
+            if (moved[i].changed(source.nodes(i)) || sim.followsBaseAnimation(i)) {
+                source.evaluate(i, std::span<Vec3f>(positions).subspan(offset, n), objectNormals, options.threads);
+                ++result.meshEvaluations;
+            }
+            offset += n;
+        }
+        frame.nodes.clear();
+        if (writer->needsNodes()) {
+            for (std::size_t i = 0; i < sim.objectCount(); ++i)
+                if (written[i])
+                    frame.nodes.push_back(source.nodes(i));
+        }
+        if (Status s = writer->writeFrame(frame); !s) {
+            writer->abort();
+            return s;
+        }
+        if (options.progress && !options.progress(f + 1, frames)) {
+            writer->abort();
+            return Status::cancelled("the bake was cancelled; nothing was written");
+        }
+    }
+    // The rest mesh first: a cache is never published without the mesh it matches.
+    if (Status s = writeObj(result.restMesh, rest, {}, {}, options.objectGroups); !s) {
+        writer->abort();
+        return s;
+    }
+    if (Status s = writer->finish(); !s)
+        return s;
+    // The exporter's first: the CLI shows only the first few.
+    result.warnings.insert(result.warnings.begin(), writer->warnings().begin(), writer->warnings().end());
+    result.notes = writer->notes();
+    result.frames = frames;
+    return result;
+}
+
+std::filesystem::path perObjectPath(const std::filesystem::path& output, const std::string& name) {
+    std::string safe = name.empty() ? std::string("object") : name;
+    for (char& c : safe)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
+            c = '_';
+    std::filesystem::path out = output;
+    out.replace_filename(output.stem().string() + "-" + safe + output.extension().string());
+    return out;
+}
+
+Result<std::vector<BakeResult>> bakeEachObject(const Scene& scene, const BakeOptions& options) {
+    std::vector<BakeResult> results;
+    std::set<std::filesystem::path> outputs;
+    for (const SceneObject& o : scene.objects)
+        if (!outputs.insert(perObjectPath(options.output, o.name)).second)
+            return Status::error("two objects would both write " + perObjectPath(options.output, o.name).string() +
+                                 ": rename one");
+    for (const SceneObject& o : scene.objects) {
+        BakeOptions one = options;
+        one.objects = {o.name};
+        one.output = perObjectPath(options.output, o.name);
+        auto baked = bake(scene, one);
+        if (!baked)
+            return Status::error("object '" + o.name + "': " + baked.message());
+        results.push_back(std::move(baked.value()));
+    }
+    return results;
+}
+
+}  // namespace softtouch::io
