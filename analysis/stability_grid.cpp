@@ -443,7 +443,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << list(masses, " kg") << "; *c* " << list(dampings, " N·s/m") << ".\n"
        << "- **Time step**: 0.1x, 1x and 10x of the cell's explicit bound, and 1/24 s. The bound is\n"
        << "  `Simulator::stableStep` with `stabilitySafety = 1` for that body and drag: 2/ω (√(1+ζ²) − ζ) with\n"
-       << "  ω² the largest eigenvalue of M⁻¹K (springs plus drag) and ζ its damping ratio (docs/lattice.md).\n"
+       << "  ω² the largest eigenvalue of M⁻¹K (springs plus drag) and ζ its damping ratio (docs/design/lattice.md).\n"
        << "  Steps above 0.1 s (the settings' limit) are clamped to 0.1 s. Steps below the project file's\n"
        << "  1e-5 s limit are run as they are (the Simulator itself accepts any dt in (0, 0.1]), so \"0.1x bound\" always\n"
        << "  means a tenth of the bound.\n"
@@ -458,7 +458,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std
        << "  damping is ≥ 0, so the exact motion never gains energy.\n"
        << "- **Energy drift**: (Ẽ_end − E₀)/E₀ after the run, Ẽ the energy the scheme itself conserves: E for\n"
        << "  implicit Euler and XPBD, the modified energy E + (h/2) vᵀf for the explicit schemes (h their last\n"
-       << "  substep; E swings by tens of percent around it near the bound, docs/lattice.md). Undamped, the\n"
+       << "  substep; E swings by tens of percent around it near the bound, docs/design/lattice.md). Undamped, the\n"
        << "  exact motion keeps E₀, so the drift of an undamped run is all numerical. Runs the guard rolled back\n"
        << "  or refused are left out of the drift figures: their substep, and with it Ẽ, changed on the way;\n"
        << "  so are the released runs, whose E loses the drag's potential when it lets go.\n\n";

@@ -1,7 +1,7 @@
 #pragma once
 /// Stability at the extremes: one small dragged lattice run over a grid of stiffness, anchor mass
 /// ratio, node mass, damping and time step, for every integrator, and each run classified by what
-/// the simulator's guards did. `softtouch-cli stability` writes the result to docs/stability.md;
+/// the simulator's guards did. `softtouch-cli stability` writes the result to docs/measurements/stability.md;
 /// tests/bench/test_stability_grid.cpp asserts on the quick grid.
 ///
 ///   Stable  every exported frame finite, no problem reported, explicit schemes not substepped, and
@@ -89,7 +89,7 @@ std::string_view outcomeName(StabilityCell::Outcome outcome);
 /// Counts of the cells of one integrator.
 OutcomeCounts countOutcomes(const std::vector<StabilityCell>& cells, IntegratorKind integrator);
 
-/// The docs page (docs/stability.md): method, what each class means, counts per integrator, one
+/// The docs page (docs/measurements/stability.md): method, what each class means, counts per integrator, one
 /// compact table per integrator, every Failed cell, and `command`, the command that produced it.
 std::string stabilityMarkdown(const std::vector<StabilityCell>& cells, const std::string& command);
 

@@ -25,7 +25,7 @@ int runBench(const std::vector<std::string>& args) {
                       "Lattice step cost per integrator, deformation throughput against a plain scalar kernel,\n"
                       "the paper's Table 1 redone (lattice vs global and local mass-spring vs Bullet btSoftBody),\n"
                       "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
-                      "  --json FILE   also write the results as JSON (keys: docs/benchmarks.md)\n"
+                      "  --json FILE   also write the results as JSON (keys: docs/measurements/benchmarks.md)\n"
                       "  --quick       small sizes only (seconds, not minutes)\n"
                       "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, lattice_step_us_8x8x8, features, deform, table1, edit, haptic\n"
                       "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"

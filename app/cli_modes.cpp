@@ -28,20 +28,20 @@ damping ratio (split into node damping on absolute velocity and spring damping o
 and what the scene's integrator at its time step does to each mode: the damping ratio the clip shows (the
 material's and the integrator's together: implicit Euler adds its own), the amplitude kept per period
 against what the material alone keeps, and the frequency error. Anchors and voids are as in the scene; the
-analysis is linear, so it describes small wobbles (docs/lattice.md). Last, the solid the springs make:
+analysis is linear, so it describes small wobbles (docs/design/lattice.md). Last, the solid the springs make:
 Young's modulus along each box axis and the shear moduli under a uniform strain, beside the painted
-modulus (they differ on flat or long cells: docs/lattice.md, "What solid the springs make").
+modulus (they differ on flat or long cells: docs/design/lattice.md, "What solid the springs make").
 
 Options:
   --count N       Modes per object, 1..20 (default 3).
   --object NAME   Only this object.
   --element springs|solid
-                  Analyse every object as if its material said this element (docs/lattice.md, "The solid
+                  Analyse every object as if its material said this element (docs/design/lattice.md, "The solid
                   element"), the file unchanged: the same scene on springs and on the solid element.
   --reference     Also solve the solid the material describes without the lattice's approximations
                   (Galerkin over a Bernstein basis of degree P with the consistent mass, anchors held
                   fixed: core/modes/solid_modes.h) and print how far each of the lattice's modes is from it:
-                  the lattice's own error, which a finer lattice shrinks (docs/lattice.md).
+                  the lattice's own error, which a finer lattice shrinks (docs/design/lattice.md).
   --reference-degree P
                   Degree of that basis per axis, 2..7 (default 5, within 0.4% of 7 on the bundled
                   scenes; 3 on a 4x4x4 Bezier lattice is the textbook element on the same net). The
@@ -65,7 +65,7 @@ void printReference(const SceneObject& object, const SolidComparison& c) {
     const SolidModes& solid = c.solid;
     if (!solid.converged()) {
         std::printf("  no converged solid: from Bernstein degree %d to %d a mode moves by %.1f%%. A solid held at points "
-                    "or along lines is not held in the limit; anchor whole faces for a reference (docs/lattice.md)\n",
+                    "or along lines is not held in the limit; anchor whole faces for a reference (docs/design/lattice.md)\n",
                     solid.degree - 1, solid.degree, 100.0 * solid.spread);
         return;
     }

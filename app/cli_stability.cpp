@@ -25,7 +25,7 @@ a minute and a half on two cores.
 
 Options:
   --out FILE.md   Also write the report (method, classes, tables, every failed run), atomically.
-                  docs/stability.md is this report for the full grid.
+                  docs/measurements/stability.md is this report for the full grid.
   --quick         The small grid the tests use (seconds).
 
 Exit status: 0 when the grid ran (failed runs are reported, not an error), 1 when FILE.md cannot be

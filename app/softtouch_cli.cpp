@@ -70,7 +70,7 @@ Commands:
   haptic     Run the 1 kHz haptic loop on SCENE's first object with a device plugin (docs/haptics.md).
   batch      Bake and render a clip library (scenes x presets x clips x formats) from a manifest, skipping
              what is up to date, locally or as a Slurm job array (docs/farm.md). 'softtouch-cli batch --help'.
-  stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/stability.md).
+  stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/measurements/stability.md).
 
 bench, study, stability and modes run in softtouch-bench, installed beside this program: it alone links
 the benchmarks' peers (Bullet) and Qt's painter for plots and pictures; this program starts it for them.

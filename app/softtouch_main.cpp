@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
                        autosaveSeconds, noRecovery, toolOption, windowSize, selectOption, keysOption, clipOption,
                        clickOption});
     // parse(), not process(): process() exits with status 1 on an unknown option or a missing value, where
-    // every SoftTouch program exits 2 on bad usage (docs/reliability.md).
+    // every SoftTouch program exits 2 on bad usage (docs/design/reliability.md).
     if (!parser.parse(QCoreApplication::arguments())) {
         std::fprintf(stderr, "softtouch: error: %s\nTry 'softtouch --help'.\n", qPrintable(parser.errorText()));
         return 2;

@@ -219,7 +219,7 @@ json bodyContactCosts(double minSeconds, std::ostream& out) {
             box.origin = centre - 1.1 * radii;
             box.size = 2.2 * radii;
             o.lattice = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, box).value();
-            // The support stiff enough to carry the body (at 60 N/m it folded under it: docs/lattice.md).
+            // The support stiff enough to carry the body (at 60 N/m it folded under it: docs/design/lattice.md).
             o.material = uniformMaterial(o.lattice, 0.01, k == 0 ? 3000.0 : 60.0, 0.05);
             if (k == 0)
                 for (int n = 0; n < o.lattice.nodeCount(); ++n)

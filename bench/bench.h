@@ -1,7 +1,7 @@
 #pragma once
 /// `softtouch-cli bench`: the speed figures of SoftTouch, each beside its baseline from the same run
 /// (these machines are shared and noisy, so only same-run ratios are comparable across runs).
-/// JSON keys: docs/benchmarks.md.
+/// JSON keys: docs/measurements/benchmarks.md.
 
 #include "bench/haptic_bench.h"
 

@@ -5,7 +5,7 @@
 ///  1. Equal response. Every contender's stiffness is scaled (equal_response.h) until the dragged
 ///     vertex reaches the same static displacement under the same pull: a stated fraction of the
 ///     mesh's bounding-box diagonal (Table1Options::targetFraction; why that and not the lattice's own
-///     displacement: docs/performance.md).
+///     displacement: docs/measurements/performance.md).
 ///  2. Each peer at its best. The mass-springs run implicit Euler (at the scenario's step) and XPBD
 ///     with 1, 2, 4, … substeps up to the first as accurate as implicit Euler (within 25%, or within
 ///     0.2% of the diagonal); the cheaper of the two at that accuracy is the peer's time (where no count

@@ -118,7 +118,7 @@ json table1Section(bool quick, std::ostream& out) {
                   "\nTable 1 at equal response: one second of dragging (dt 1/240 s, mesh at 60 Hz, one thread).\n"
                   "  Every body's stiffness is scaled until its dragged vertex, held, settles %.0f%% of the diagonal\n"
                   "  from rest. Seconds per simulated second; error = RMS against the same body's converged run,\n"
-                  "  %% of the diagonal%s. docs/performance.md says why.\n",
+                  "  %% of the diagonal%s. docs/measurements/performance.md says why.\n",
                   100.0 * options.targetFraction, quick ? "" : " (*: stopped at the time budget, time extrapolated)");
     out << header;
     json rows = json::array();

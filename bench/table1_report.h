@@ -1,6 +1,6 @@
 #pragma once
 /// The Table 1 section of `softtouch-cli bench`: every size measured (table1.h), printed as it goes,
-/// and its JSON ("table1" rows; keys: docs/benchmarks.md).
+/// and its JSON ("table1" rows; keys: docs/measurements/benchmarks.md).
 
 #include "bench/table1.h"
 

@@ -34,7 +34,7 @@ endif()
 
 # softtouch_arithmetic_ub_checks(TARGET): under the sanitizers, TARGET keeps AddressSanitizer and
 # UndefinedBehaviorSanitizer's arithmetic checks (overflow, shifts, division, bool and enum values,
-# unreachable code) without its pointer checks: core's numerics and the test drivers (docs/reliability.md,
+# unreachable code) without its pointer checks: core's numerics and the test drivers (docs/design/reliability.md,
 # "What CI spends its 40 minutes on").
 function(softtouch_arithmetic_ub_checks target)
   set_target_properties(${target} PROPERTIES SOFTTOUCH_ARITHMETIC_UB_CHECKS ON)
@@ -50,7 +50,7 @@ endif()
 
 # softtouch_unity(TARGET): with SOFTTOUCH_UNITY, TARGET's sources compile in batches of 8, each batch one
 # translation unit, so the headers they share (Eigen, Qt, the standard library) are parsed and their
-# templates instantiated once per batch instead of once per file (docs/reliability.md, "What CI spends its
+# templates instantiated once per batch instead of once per file (docs/design/reliability.md, "What CI spends its
 # 40 minutes on"). For modules of several sources: each test suite is one source and stays as it is. A
 # file-local name (anonymous namespace, static) must then be unique across its module.
 function(softtouch_unity target)
@@ -62,7 +62,7 @@ endfunction()
 # softtouch_add_library(NAME [LAYERS layer...] SOURCES ...) keeps each module's CMakeLists to a few lines.
 # LAYERS: the module's subsystem folders, bottom first. A file includes only headers of its own layer and of
 # layers before it; every source must sit in one of them. tests/structure/test_layers checks both against the
-# sources (docs/architecture.md, "Layers").
+# sources (docs/design/architecture.md, "Layers").
 function(softtouch_add_library name)
   cmake_parse_arguments(ARG "" "" "LAYERS;SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
   if(ARG_LAYERS)

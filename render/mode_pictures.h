@@ -7,7 +7,7 @@
 /// mode's main motion and the usual 3/4 view: a fish's sideways tail swing shows its outline and its
 /// motion at cos 45° each (modeCamera()).
 ///
-/// `softtouch-cli modes SCENE --pictures PREFIX` writes them (docs/lattice.md, "Modes"). Text needs Qt's
+/// `softtouch-cli modes SCENE --pictures PREFIX` writes them (docs/design/lattice.md, "Modes"). Text needs Qt's
 /// raster painter, hence Qt Gui here and not in softtouch::render.
 
 #include "core/base/result.h"

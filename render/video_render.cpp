@@ -21,7 +21,7 @@ CameraPlacement videoCameraPlacement(const Bounds& restBounds, float aspect) {
 namespace {
 
 /// Bytes a render holds at its peak, from `/usr/bin/time` on the guppy at 1024², 2048² and 4096²
-/// (docs/reliability.md, "Limits"): the program and Mesa ~200 MB; per pixel ~44 bytes for the 4x
+/// (docs/design/reliability.md, "Limits"): the program and Mesa ~200 MB; per pixel ~44 bytes for the 4x
 /// multisampled colour and depth, the resolve and the read-back; for MP4, x264 (preset medium) ~20
 /// more, and ~3.6 for each frame it holds for its look-ahead and B-frames (up to ~50).
 std::uint64_t renderMemoryBytes(const io::VideoSettings& settings, int frames) {

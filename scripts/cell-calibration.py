@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Can a per-cell calibration of the spring kinds make a cell of another shape reproduce the cubic cell's
-solid? (docs/lattice.md, "The lattice's own error").
+solid? (docs/design/lattice.md, "The lattice's own error").
 
 A cell's springs under a uniform strain store the energy of the solid C = sum over its springs of
 share * coefficient * m m^T (core/body/network_elasticity.h), m = (n_u^2, n_v^2, n_w^2, ...) of each spring's

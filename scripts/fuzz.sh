@@ -4,7 +4,7 @@
 # A crash, a sanitizer report, an input slower than 20 s or an allocation over 2 GB fails the run and
 # leaves the input in build-fuzz/findings/<target>/: fix the cause, then copy the input into
 # tests/fuzz/<target>/ so ctest replays it in every build (fuzz_replay.<target>).
-# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 45; docs/reliability.md has the long run)
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 45; docs/design/reliability.md has the long run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-45}"

@@ -30,7 +30,7 @@ shot "$out/guide-wireframe.png" --mode wireframe --seconds 1.5 "$scene"
 # 5. The speed/accuracy dock after measuring the open scene (its own settings marked on the plot).
 shot "$out/guide-study.png" --dock study --measure-study "$scene"
 # 6. A vibration mode shown on the body (Properties' Show beside mode 1), seen from above, at its
-#    largest displacement; and the three lowest modes drawn headless (docs/lattice.md, "Modes").
+#    largest displacement; and the three lowest modes drawn headless (docs/design/lattice.md, "Modes").
 shot "$out/guide-modes.png" --show-mode 1 --camera 20,-55 "$scene"
 ./build/bin/softtouch-cli modes "$scene" --pictures "$out/modes-angelfish" --size 480x300 >/dev/null
 # 7. The exported swim cycle, rendered headless: first frame of the PNG sequence.

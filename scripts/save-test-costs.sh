@@ -2,7 +2,7 @@
 # Writes tests/test_costs.txt from the timings ctest kept in build/ and build-asan/ (run both suites first).
 # Each line: a ctest entry that took 2 s or more in either suite, then its seconds under the sanitizers and in
 # release ("-": not run there). tests/CMakeLists.txt gives each its COST, so a fresh build's ctest, which has no
-# timings of its own yet, starts the longest entries first (docs/reliability.md, "What CI spends its 40 minutes on").
+# timings of its own yet, starts the longest entries first (docs/design/reliability.md, "What CI spends its 40 minutes on").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 asan=build-asan/Testing/Temporary/CTestCostData.txt

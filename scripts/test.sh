@@ -12,7 +12,7 @@ if [ "${1:-}" = "--with-asan" ]; then
   step "sanitizer build" bash scripts/build.sh asan
   # intercept_tls_get_addr=0: LeakSanitizer's thread scan (GCC 12's libasan) crashes now and then ("Tracer
   # caught signal 11") walking the dynamic TLS of Mesa's dlopen'ed driver in a headless render; a batch of
-  # two renders at once failed 4 runs in 6 with it on, none in 4 with it off (docs/reliability.md).
+  # two renders at once failed 4 runs in 6 with it on, none in 4 with it off (docs/design/reliability.md).
   ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 \
     step "sanitizer suite" ctest --preset asan -j "$(nproc)"
 fi

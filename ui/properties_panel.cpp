@@ -61,7 +61,7 @@ QWidget* PropertiesPanel::buildSimulation() {
     m_integrator->setObjectName("integrator");
     for (const IntegratorInfo& scheme : kIntegrators)
         m_integrator->addItem(QString::fromUtf8(scheme.label.data(), qsizetype(scheme.label.size())), int(scheme.kind));
-    m_integrator->setToolTip(tr("Speed against accuracy: docs/study.md measures each scheme."));
+    m_integrator->setToolTip(tr("Speed against accuracy: docs/measurements/study.md measures each scheme."));
     form->addRow(tr("Integrator"), m_integrator);
     m_stepsPerSecond = makeSpinBox(10, 100000, 0, tr(" steps/s"), 10);
     m_stepsPerSecond->setToolTip(tr("Fixed time step as steps per simulated second. Explicit schemes substep "

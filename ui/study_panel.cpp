@@ -352,7 +352,7 @@ void StudyPanel::showPointer(int row) {
     }
     const analysis::StudyRow& r = m_study.rows[std::size_t(row)];
     const QString blocker = rowBlocker(row);
-    // The lattice against the solid it stands for (docs/lattice.md), where that solid converges.
+    // The lattice against the solid it stands for (docs/design/lattice.md), where that solid converges.
     const QString solid = r.solidModeError.empty()
                               ? QString()
                               : tr(" Its lattice's modes are %1 from the solid.")

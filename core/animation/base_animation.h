@@ -3,7 +3,7 @@
 /// shapes): the soft body adds its secondary motion on top of it (core/animation/base_motion.h).
 ///
 /// Whatever the rig, what the lattice needs is where every vertex is at a time, so io/ evaluates the rig
-/// once at a fixed rate over the chosen range and core keeps the vertex positions (docs/lattice.md,
+/// once at a fixed rate over the chosen range and core keeps the vertex positions (docs/design/lattice.md,
 /// "Secondary motion on a base animation"). Between samples positions follow a centripetal-free
 /// (uniform) Catmull-Rom curve, so velocities and accelerations are continuous; a looping take wraps.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// Secondary motion on a base animation: the fish swims as its rig says, and the lattice adds the lag,
-/// overshoot and settle of a soft body on top (docs/lattice.md, "Secondary motion on a base animation").
+/// overshoot and settle of a soft body on top (docs/design/lattice.md, "Secondary motion on a base animation").
 ///
 /// Each step the base animation's mesh is fitted by a lattice pose, the goal G(t) (core/animation/goal_fit.h), and
 /// the body simulates its deviation from that goal in the goal's frame: a lattice body at its rest shape

@@ -7,7 +7,7 @@
 /// where Y is the rest lattice moved by the affine map that best fits P (least squares over the vertices,
 /// [p_rest 1] → p). Nodes the mesh barely reaches (air around a fish) follow that affine motion instead of
 /// drifting, and the control net does not overshoot a bend it cannot follow: λ is kGoalFitRidge times the
-/// mean diagonal of BᵀB. On the rigged guppy's swim (docs/lattice.md, "Secondary motion on a base
+/// mean diagonal of BᵀB. On the rigged guppy's swim (docs/design/lattice.md, "Secondary motion on a base
 /// animation") a millionth let nodes swing 6.5 m for a 7 cm RMS motion (180 m/s² of spurious inertia) with a
 /// residual of 3.1 mm; a hundredth keeps them within 0.44 m (9.3 m/s², what the tail's 1 Hz swing of 0.2 m
 /// has) for a residual of 4.2 mm. The basis

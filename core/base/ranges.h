@@ -1,6 +1,6 @@
 #pragma once
 /// The accepted range of every setting that decides how much work a run is, in one place: core's
-/// validate(), the project reader and the CLI all check against these, and docs/reliability.md lists
+/// validate(), the project reader and the CLI all check against these, and docs/design/reliability.md lists
 /// them. Together they bound the work of any accepted input by what it asks for: a frame is at most
 /// 1/kMinFps simulated seconds, a second at most 1/kMinDt steps, and a clip starts at most
 /// kMaxClipStart seconds in.

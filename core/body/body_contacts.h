@@ -1,5 +1,5 @@
 #pragma once
-/// Bodies against bodies: two fish that meet push each other apart (docs/lattice.md, "Bodies against bodies").
+/// Bodies against bodies: two fish that meet push each other apart (docs/design/lattice.md, "Bodies against bodies").
 ///
 /// A body's deformed mesh is its lattice map X applied to its rest mesh, so a world point p lies inside
 /// body B exactly when X_B⁻¹(p) lies inside B's rest mesh (while the map does not fold). The pass therefore

@@ -1,7 +1,7 @@
 #pragma once
 /// Colliders beyond planes: spheres, capsules, boxes and static meshes (rocks, the tank's furniture, a stick), tested at
 /// points of the mesh's surface carried by the lattice, so a fin touches the rock rather than the lattice
-/// box (docs/lattice.md, "Colliders").
+/// box (docs/design/lattice.md, "Colliders").
 
 #include "core/base/result.h"
 #include "core/base/types.h"

@@ -1,6 +1,6 @@
 #pragma once
 /// The solid element a lattice body can run instead of springs (LatticeMaterial::element,
-/// docs/lattice.md "The solid element"): the Galerkin discretisation of the painted solid on the lattice's
+/// docs/design/lattice.md "The solid element"): the Galerkin discretisation of the painted solid on the lattice's
 /// own basis, the element core/modes/solid_modes.h measures (simulatedElement()), made nonlinear so it can rotate.
 ///
 /// At each quadrature point q the deformation gradient is F = Σ_i x_i ⊗ ∇N_i (world from the box frame,
@@ -11,7 +11,7 @@
 /// S Y + Y S = σ = C ε, solved in S's eigenbasis. Viscosity adds the rotated Kelvin-Voigt stress R η C
 /// sym(Rᵀ Ḟ), which only dissipates. Node damping is ∫ γ ρ N_i N_j on absolute velocities.
 ///
-/// The mass is the consistent ∫ ρ N_i N_j: a lumped one collapses this element's spectrum (docs/lattice.md),
+/// The mass is the consistent ∫ ρ N_i N_j: a lumped one collapses this element's spectrum (docs/design/lattice.md),
 /// so every step solves with its Cholesky factor over the free nodes (built once: it never changes).
 
 #include "core/base/result.h"

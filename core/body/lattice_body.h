@@ -7,7 +7,7 @@
 ///    4 body diagonals (0-7, 1-6, 2-5, 3-4)      | 2-----|-3
 /// Shared edges and faces are created once, so  |/      |/
 /// a 4x4x4 lattice has 144 + 216 + 108 = 468.   0-------1
-/// (The paper's 504 counts 180 edge springs; a 4x4x4 grid has only 144 unique edges: docs/lattice.md.)
+/// (The paper's 504 counts 180 edge springs; a 4x4x4 grid has only 144 unique edges: docs/design/lattice.md.)
 
 #include "core/base/ranges.h"
 #include "core/body/body_model.h"
@@ -29,11 +29,11 @@ enum class MaterialModel : std::uint8_t {
     /// A solid filling the lattice box whose values do not depend on the lattice: density kg/m³,
     /// Young's modulus Pa, viscosity Pa·s, node damping rate 1/s. buildLatticeBody() turns them into
     /// node masses (density × the node's share of the box), node damping (rate × node mass) and springs
-    /// (docs/lattice.md, "Material").
+    /// (docs/design/lattice.md, "Material").
     Continuum,
 };
 
-/// What a body simulates its material with (docs/lattice.md, "The solid element").
+/// What a body simulates its material with (docs/design/lattice.md, "The solid element").
 enum class BodyElement : std::uint8_t {
     Springs, ///< The paper's damped springs between neighbouring nodes, one mass per node.
     /// The Galerkin solid element on the lattice's own basis with its consistent mass (core/body/element_body.h):
@@ -47,7 +47,7 @@ const char* bodyElementName(BodyElement element);
 
 /// Per-node painted values and global material settings of a lattice body. The units of mass,
 /// stiffness, damping and nodeDamping depend on `model`; ranges are those of materialRanges(model).
-/// The two damping terms (docs/lattice.md, "Two damping terms"): `damping` acts on the relative
+/// The two damping terms (docs/design/lattice.md, "Two damping terms"): `damping` acts on the relative
 /// velocity along each spring, `nodeDamping` on each node's absolute velocity (the paper's D).
 struct LatticeMaterial {
     MaterialModel model = MaterialModel::LatticeSprings; ///< What the values below mean.

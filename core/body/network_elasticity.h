@@ -7,7 +7,7 @@
 /// n_v n_w, n_u n_w, n_u n_v) in the box frame and V the box volume. Central springs obey Cauchy's
 /// relations (C_12 = C_66, …), so the solid has Poisson's ratio 1/4 at best and is isotropic only by
 /// accident of cell shape: on cubic cells the Continuum material's C is the cubic solid whose Young's
-/// modulus along each axis is the painted one (docs/lattice.md, "Material"); on flat cells (a fish's
+/// modulus along each axis is the painted one (docs/design/lattice.md, "Material"); on flat cells (a fish's
 /// box) the same springs make a stiff in-plane, soft-in-shear solid. This is what the body does, so
 /// it is what the editor and `softtouch-cli modes` show beside the painted value.
 

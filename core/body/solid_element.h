@@ -49,7 +49,7 @@ enum class SolidMass {
 /// A Galerkin element over the box: a tensor-product basis per axis (Bernstein or clamped B-spline), how its
 /// mass is carried and how its stiffness is integrated. The reference is the Bernstein basis of high degree
 /// with everything exact; on a lattice's own basis it is the element a lattice would simulate if it were not
-/// springs (docs/lattice.md, "Could another element on the same net do it?").
+/// springs (docs/design/lattice.md, "Could another element on the same net do it?").
 struct SolidElement {
     std::array<AxisBasis, 3> axes;
     SolidMass mass = SolidMass::Consistent;
@@ -74,7 +74,7 @@ SolidElement latticeElement(const Lattice& lattice);
 /// The share of the exactly integrated stiffness in the element a body simulates (simulatedElement()). Reduced
 /// integration alone leaves a Bezier lattice deformations that cost no energy; with 0.2 of the exact stiffness
 /// blended in they rise above a free cube's third mode on a 4x4x4 net, and 0.3 leaves a margin; the fish's three
-/// lowest modes stay within 0.6% of the converged solid (within 3.0% fully integrated; docs/lattice.md).
+/// lowest modes stay within 0.6% of the converged solid (within 3.0% fully integrated; docs/design/lattice.md).
 inline constexpr double kElementExactShare = 0.3;
 
 /// The element a body with LatticeMaterial::element = Solid runs (core/body/element_body.h): the lattice's own basis,

@@ -1,7 +1,7 @@
 #pragma once
 /// Stretch and squash limits: the animator's "no spring longer than 1.5x its rest length", held as a
 /// constraint after every substep of every integrator (X. Provot, "Deformation constraints in a
-/// mass-spring model to describe rigid cloth behavior", Graphics Interface 1995). docs/lattice.md,
+/// mass-spring model to describe rigid cloth behavior", Graphics Interface 1995). docs/design/lattice.md,
 /// "Stretch and squash limits".
 
 #include "core/base/result.h"

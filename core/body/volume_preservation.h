@@ -1,5 +1,5 @@
 #pragma once
-/// Volume preservation: a squashed cartoon body bulges instead of losing volume (docs/lattice.md,
+/// Volume preservation: a squashed cartoon body bulges instead of losing volume (docs/design/lattice.md,
 /// "Volume preservation").
 ///
 /// The kept quantity is the volume of the mesh as the lattice map carries it: by the change of variables

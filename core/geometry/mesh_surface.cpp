@@ -102,7 +102,7 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
     if (mesh.positions.empty() || mesh.triangles.empty())
         return Status::error(what + " has no triangles");
     const std::size_t n = mesh.triangles.size();
-    // Before anything is built: FCL's hierarchy and the pseudonormals grow with the triangles (docs/reliability.md).
+    // Before anything is built: FCL's hierarchy and the pseudonormals grow with the triangles (docs/design/reliability.md).
     if (collider && n > ranges::kMaxColliderTriangles)
         return Status::error(what + " has " + std::to_string(n) + " triangles, more than the " +
                              std::to_string(ranges::kMaxColliderTriangles) +
@@ -209,7 +209,7 @@ Result<std::shared_ptr<const MeshSurface>> MeshSurface::create(Mesh mesh, std::s
     for (const Vec3f& p : mesh.positions)
         s->m_radius = std::max(s->m_radius, (p.cast<double>() - centre).norm());
     // Behind a one-sided sheet, inside reaches as deep as the sheet is wide: a body that went through it within
-    // a step is pushed back out in front, however fast it came (docs/lattice.md, "Mesh colliders").
+    // a step is pushed back out in front, however fast it came (docs/design/lattice.md, "Mesh colliders").
     s->m_backDepth = sides == SurfaceSides::OneSided ? diagonal : 0.0;
 
     // Pseudonormals on the welded vertices: the face normal, the sum over an edge's faces, the angle-weighted

@@ -42,7 +42,7 @@ Result<MeshVolumeShares> meshVolumeShares(const Lattice& lattice, const Mesh& me
 /// Least mass a node gets from meshMassPerNode(), as a fraction of the mean over non-void nodes. Nodes
 /// outside the mesh carry the map but no material; the paper found light "air" nodes unstable and hard to
 /// calm, and an explicit step's bound falls as √(m_min): at a tenth of the mean it is at most ~3x
-/// shorter than with the mass spread evenly (docs/lattice.md, "Mass from the mesh").
+/// shorter than with the mass spread evenly (docs/design/lattice.md, "Mass from the mesh").
 inline constexpr double kMeshMassFloor = 0.1;
 
 /// Node masses (kg) that spread `totalMass` by each non-void node's share of the mesh's volume, none

@@ -69,7 +69,7 @@ inline constexpr double kSpringDepartureTolerance = 0.05;
 /// How far a Continuum material's springs on a lattice are from the material they stand for: each constant of
 /// networkElasticity() against materialElasticity(), springs / material - 1. On a cubic cell they are the
 /// material; on flat or long cells central springs cannot be (shear across the thin side would need springs of
-/// negative stiffness, docs/lattice.md).
+/// negative stiffness, docs/design/lattice.md).
 struct SpringDeparture {
     std::array<double, 6> relative{};  ///< E_u, E_v, E_w, G_vw, G_uw, G_uv.
     double largest() const;            ///< The largest |relative|.

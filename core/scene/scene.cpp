@@ -278,7 +278,7 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
             drag.targetVelocity = rotation.transpose() * drag.targetVelocity;
         }
         // The body is the deviation from the base animation, in the base's frame: world planes and colliders
-        // do not apply to it (docs/lattice.md, "Secondary motion on a base animation").
+        // do not apply to it (docs/design/lattice.md, "Secondary motion on a base animation").
         f.planes.clear();
         f.colliders.clear();
         motion->addForces(seconds, m_scene->world.simulation.dt, m_objects[i].simulator.model(), f);

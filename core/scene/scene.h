@@ -65,7 +65,7 @@ Bounds restBounds(const Scene& scene);
 /// (very stiff or very light for its size) starts on implicit Euler instead, which is stable at any step.
 inline constexpr int kNewSceneMaxSubsteps = 32;
 
-/// The simulation settings a newly created scene starts with (docs/lattice.md, "The integrator of a new
+/// The simulation settings a newly created scene starts with (docs/design/lattice.md, "The integrator of a new
 /// scene"): Verlet at 240 steps/s, which substeps below its stability bound and so keeps the material's
 /// own decay per period (≥ 99% of it; implicit Euler at the same step keeps 92% of the angelfish's), unless
 /// some object's body would need more than kNewSceneMaxSubsteps substeps per step: then implicit Euler.

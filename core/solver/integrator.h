@@ -67,7 +67,7 @@ struct LinearSolveStats {
 /// Energy that crossed the body's boundary during one step(), measured by the explicit schemes (and XPBD) for
 /// the Simulator's energy account. Each force g that is not a spring's elastic pull is held over the
 /// substep and does the work h g·(v + v')/2 on the body: the exact change of the scheme's modified
-/// energy E + (h/2) vᵀf for linear springs (docs/lattice.md, "The energy guard").
+/// energy E + (h/2) vᵀf for linear springs (docs/design/lattice.md, "The energy guard").
 struct StepWork {
     double external = 0.0;   ///< J, the drags' work on the body (drivers are drags), either sign.
     double dissipated = 0.0; ///< J, what node damping and spring damping took out; >= 0 below the bound.

@@ -5,7 +5,7 @@
 /// state and take finer substeps from then on, a non-finite result is rolled back the same way and
 /// reported with its cause, and a body at rest sleeps (costs nothing) until something changes.
 ///
-/// The energy account (explicit schemes and XPBD; docs/lattice.md, "The energy guard"): the scheme's modified
+/// The energy account (explicit schemes and XPBD; docs/design/lattice.md, "The energy guard"): the scheme's modified
 /// energy H̃ = kinetic + spring + gravity + (h/2) vᵀf may change only by what crossed the body's
 /// boundary since the account started: the drags' work (drivers are drags), minus what node and spring
 /// damping dissipated, plus what plane contacts changed (each measured per substep, exactly for linear

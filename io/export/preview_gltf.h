@@ -1,7 +1,7 @@
 #pragma once
 /// The preview's glTF reader (`softtouch-cli preview`, io/pipeline/clip_preview.h). A clip given to the preview may
 /// come from anyone, and the page it makes is shared, so the reader holds the glTF to two rules
-/// (docs/reliability.md, "The preview page"):
+/// (docs/design/reliability.md, "The preview page"):
 ///  - every file the glTF names (a buffer's or an image's URI) is a regular file inside the glTF's own folder
 ///    or a folder below it; nothing else is read, and so nothing else is embedded in the page;
 ///  - the glTF is one three.js's GLTFLoader plays: what it indexes exists, its data lies inside its buffers,

@@ -1,5 +1,5 @@
 #pragma once
-/// What SoftTouch agrees to read, checked before anything is allocated (docs/reliability.md, "Limits").
+/// What SoftTouch agrees to read, checked before anything is allocated (docs/design/reliability.md, "Limits").
 /// Every file a reader opens goes through `checkInputFile` first: only regular files (a FIFO would block
 /// forever, /dev/zero never ends), none larger than the reader's limit.
 
@@ -36,7 +36,7 @@ bool hasControlCharacter(std::string_view text);
 std::string shownName(std::string text);
 
 /// Whether `path` lies below `folder` (not `folder` itself), both absolute and normalised (lexically or
-/// canonically): where a file a shared input names must stay (docs/reliability.md, "Confinement").
+/// canonically): where a file a shared input names must stay (docs/design/reliability.md, "Confinement").
 bool liesInside(const std::filesystem::path& path, const std::filesystem::path& folder);
 
 /// Ok when `path` names a regular file of at most `maxBytes` bytes; otherwise what is wrong, worded to

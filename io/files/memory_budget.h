@@ -1,7 +1,7 @@
 #pragma once
 /// How much memory this process may still take, so that work sized by its input (a video frame of
 /// 8192x8192) is refused with a reason before it is allocated, instead of dying half-way in an
-/// allocator or a driver (docs/reliability.md, "Limits").
+/// allocator or a driver (docs/design/reliability.md, "Limits").
 
 #include "core/base/result.h"
 

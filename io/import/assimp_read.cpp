@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 /// assimp's file access, held to the mesh's own folder: the files a mesh names beside it (an OBJ's
 /// mtllib, a glTF's buffers, whatever else its format lets it name) are read only from that folder and below, and
 /// only when they are regular files. Otherwise a shared mesh could name ../../home/x/.ssh/id_rsa or
-/// /dev/zero as a buffer, and its bytes would become geometry in a bake (docs/reliability.md,
+/// /dev/zero as a buffer, and its bytes would become geometry in a bake (docs/design/reliability.md,
 /// "Confinement"). What is refused is kept, for the message when the read then fails.
 class ConfinedIOSystem : public Assimp::DefaultIOSystem {
 public:

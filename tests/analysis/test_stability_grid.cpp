@@ -1,5 +1,5 @@
 // Stability at the extremes: the quick grid of analysis/stability_grid.h, asserted cell by cell. The full
-// grid is docs/stability.md (softtouch-cli stability --out docs/stability.md).
+// grid is docs/measurements/stability.md (softtouch-cli stability --out docs/measurements/stability.md).
 #include "analysis/stability_grid.h"
 
 #include <QtTest>

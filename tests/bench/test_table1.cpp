@@ -1,6 +1,6 @@
 // Table 1 at equal response (bench/table1.h): the calibration brings every contender to the same static
 // displacement, and every run reports a finite error against its own converged run. Timings are
-// measured but never asserted (they are too noisy; docs/performance.md compares them).
+// measured but never asserted (they are too noisy; docs/measurements/performance.md compares them).
 #include "bench/bullet_peer.h"
 #include "bench/equal_response.h"
 #include "bench/table1.h"

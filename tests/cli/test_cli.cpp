@@ -605,7 +605,7 @@ void TestCli::studyPicksHoldWhenRebaked_data() {
     QTest::addColumn<QList<double>>("targets");
     QTest::addColumn<int>("certified");  // how many of them the --quick reference must certify
     // The angelfish and the guppy: their 6x6x6 solid is itself further from the limit than a tenth of 1-5%
-    // (docs/study.md), so every target is refused. The demekin's reference certifies down to 0.2%.
+    // (docs/measurements/study.md), so every target is refused. The demekin's reference certifies down to 0.2%.
     QTest::newRow("angelfish") << "angelfish-swim" << QList<double>{0.01, 0.02, 0.05} << 0;
     QTest::newRow("guppy") << "guppy-swim" << QList<double>{0.01, 0.02, 0.05} << 0;
     QTest::newRow("demekin") << "demekin-swim" << QList<double>{0.002, 0.004, 0.01} << 2;
@@ -708,7 +708,7 @@ void TestCli::badInputFailsCleanly_data() {
     QTest::addColumn<QString>("text");
     QTest::addColumn<QStringList>("extra");
     QTest::addColumn<QString>("expected");
-    QTest::addColumn<int>("exitCode");  // 1: the input is wrong; 2: the command line is (docs/reliability.md)
+    QTest::addColumn<int>("exitCode");  // 1: the input is wrong; 2: the command line is (docs/design/reliability.md)
     const QString mesh = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj");
     const QString good = R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": ")" + mesh + R"("%1}]%2})";
     const QString onMesh = R"({"format": "softtouch-project", "version": 1, "objects": [{"mesh": "%1"}]})";

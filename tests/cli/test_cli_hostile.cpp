@@ -1,4 +1,4 @@
-// Hostile and careless inputs to the pipeline (docs/reliability.md, "Confinement"): batch names that
+// Hostile and careless inputs to the pipeline (docs/design/reliability.md, "Confinement"): batch names that
 // would write outside the library, a manifest name that would inject a command into the Slurm script,
 // jobs that outlive their batch, temporaries of a killed bake, a video too large for the memory at
 // hand, JSON that asks for gigabytes, inputs validate passed and bake refused, and the editor's usage

@@ -292,7 +292,7 @@ private slots:
     }
 
     // The anchored flat body keeps its wobble (lowest mode) on every Bezier resolution within 0.1% and on
-    // cubic B-splines within 3%; higher modes and a free cube move more (docs/lattice.md lists them):
+    // cubic B-splines within 3%; higher modes and a free cube move more (docs/design/lattice.md lists them):
     // control-net springs are not a converging discretisation of a solid.
     void lowestModeStaysAcrossLattices() {
         const auto reference = lowestModes({LatticeKind::Bezier, {4, 4, 4}}, flatBox(), 1000.0, 2e4, pinnedAtTail);

@@ -202,7 +202,7 @@ private slots:
     // cube held at u = 0, the fish's box at u = 1, each held on a whole face, the same region on every lattice)
     // on Bezier 4/6/8, 8x4x4 and B-spline 6/8, 10x4x4: the element's three lowest modes within 5% of the
     // converged solid's and its static sag (the centre of mass under gravity) within 2%. The springs' rows
-    // beside them, with how far their cells' solid is from the material (docs/lattice.md quotes the table).
+    // beside them, with how far their cells' solid is from the material (docs/design/lattice.md quotes the table).
     void materialSurvivesRefinementOfAnyAxis() {
         struct Body {
             const char* name;

@@ -143,7 +143,7 @@ private slots:
                 QVERIFY2(compared, compared.message().c_str());
                 const auto departure = springDeparture(lattice, material);
                 QVERIFY(departure);
-                // The table docs/lattice.md quotes ("The lattice's own error").
+                // The table docs/design/lattice.md quotes ("The lattice's own error").
                 qInfo("%s Bezier %dx%dx%d springs: %.4f / %.4f / %.4f Hz; converged solid %.4f / %.4f / %.4f Hz; error %s; "
                       "cells %s", fish ? "fish" : "cube", nodes, nodes, nodes, compared->latticeHz[0], compared->latticeHz[1],
                       compared->latticeHz[2], solid->frequencyHz[0], solid->frequencyHz[1], solid->frequencyHz[2],
@@ -165,7 +165,7 @@ private slots:
         }
     }
 
-    /// A free 0.5 m cube, the same continuum on Bezier 4, 6, 8 and B-spline 6, 8 (printed: docs/lattice.md
+    /// A free 0.5 m cube, the same continuum on Bezier 4, 6, 8 and B-spline 6, 8 (printed: docs/design/lattice.md
     /// quotes the rows). Every lattice is measured against one solid, the painted material's, whatever its
     /// cells (a B-spline's uneven end cells are its own error); Bezier lattices approach it from below,
     /// closer as they are refined.
@@ -242,7 +242,7 @@ private slots:
     /// Could another element on the lattice's own control points meet the solid where the springs do not?
     /// The Galerkin element of the lattice's basis (core::latticeElement) on the fish's box (pinned on its
     /// last plane, the anchors carried to every lattice by extent) and the free cube, three ways (printed:
-    /// docs/lattice.md quotes the rows):
+    /// docs/design/lattice.md quotes the rows):
     /// - with the consistent mass it is within 7% of the solid on every lattice (within 0.2% from 6 nodes up,
     ///   B-spline too), and above it wherever its space lies inside the reference's (Rayleigh-Ritz);
     /// - with one mass per node (the row sums, what the lattice's integrators need) control-net wiggles that

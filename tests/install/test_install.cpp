@@ -84,7 +84,11 @@ void TestInstall::installedBuildRunsOnItsOwn() {
     const QString cli = prefix + "/bin/softtouch-cli", share = prefix + "/share/softtouch";
     QVERIFY(QFile::exists(cli) && QFile::exists(prefix + "/bin/softtouch") && QFile::exists(prefix + "/bin/softtouch-bench"));
     QVERIFY(QFile::exists(share + "/shaders/lattice_deform.glsl"));
-    QVERIFY(QFile::exists(prefix + "/share/doc/softtouch/docs/farm.md"));
+    // The user's docs, and only those: the design and the measurements stay in the source tree.
+    const QString docs = prefix + "/share/doc/softtouch/docs";
+    for (const char* page : {"user-guide.md", "formats.md", "project-format.md", "farm.md"})
+        QVERIFY2(QFile::exists(docs + "/" + page), page);
+    QVERIFY(!QFileInfo::exists(docs + "/design") && !QFileInfo::exists(docs + "/measurements"));
     // A working folder outside both trees.
     QDir(dir.path()).mkdir("work");
     const QString work = dir.filePath("work");

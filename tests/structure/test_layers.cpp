@@ -1,4 +1,4 @@
-// The layer check of docs/architecture.md ("Layers"): core/ and io/ are split into subsystem folders, declared
+// The layer check of docs/design/architecture.md ("Layers"): core/ and io/ are split into subsystem folders, declared
 // bottom first in each module's CMakeLists (softtouch_add_library's LAYERS). A file includes headers of its own
 // layer and of the layers before it only, every file sits in a declared layer, and core includes nothing from
 // another module, Qt, OpenGL or a file-format library. The rules run on the real tree and, so that the check
