@@ -1,7 +1,7 @@
 #pragma once
 /// Presets (*.stpreset): a material preset (scalar values that apply to any lattice) and a setup preset
 /// (an object's lattice, painted maps, drivers and drivers clips). Versioned JSON read through JsonValue,
-/// written atomically. Schema: docs/project-format.md, "Presets".
+/// written atomically. Schema: docs/project-format.md, "Preset, version 3".
 
 #include "io/documents/project_file.h"
 
