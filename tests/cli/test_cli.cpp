@@ -11,7 +11,7 @@
 #include "io/export/vertex_cache.h"
 #include "io/import/mesh_import.h"
 
-#include "cli_run.h"
+#include "helpers/cli_run.h"
 
 #include <QCryptographicHash>
 #include <QDataStream>

@@ -1,7 +1,8 @@
 // softtouch-cli batch end to end: a library of 2 fish x 2 material presets x 2 formats planned, built,
 // skipped when up to date, partly rebuilt when one preset changes, reproduced byte for byte, finished
 // after a kill, and failing one job without touching its final name.
-#include "cli_run.h"
+#include "helpers/cli_run.h"
+#include "helpers/tree_contents.h"
 
 #include <QCryptographicHash>
 #include <QDir>
@@ -22,19 +23,6 @@ using namespace softtouch::test;
 namespace {
 
 const QString kPresets = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/");
-
-/// Every file under `root` (stamps included) by relative path, with a hash of its bytes.
-QMap<QString, QByteArray> contents(const QString& root) {
-    QMap<QString, QByteArray> files;
-    QDirIterator it(root, QDir::Files | QDir::Hidden, QDirIterator::Subdirectories);
-    while (it.hasNext()) {
-        const QString path = it.next();
-        QFile f(path);
-        if (f.open(QIODevice::ReadOnly))
-            files[QDir(root).relativeFilePath(path)] = QCryptographicHash::hash(f.readAll(), QCryptographicHash::Sha256);
-    }
-    return files;
-}
 
 /// A manifest in `dir` over the shipped angelfish and guppy, the two presets copied into `dir` (so a
 /// test can edit one), the swim clip and `formats`.
@@ -91,7 +79,7 @@ void TestCliBatch::planRunSkipAndRebuildWhatChanged() {
     QVERIFY2(second.out.contains("8 jobs: 0 ran, 8 up to date, 0 failed"), qPrintable(second.out));
 
     // Stiffer rubber: its four jobs run again and change; jelly's four are left as they are.
-    const auto before = contents(library);
+    const auto before = treeContents(library);
     QFile rubber(dir.filePath("rubber.stpreset"));
     QVERIFY(rubber.open(QIODevice::ReadOnly));
     QByteArray text = rubber.readAll();
@@ -105,7 +93,7 @@ void TestCliBatch::planRunSkipAndRebuildWhatChanged() {
     QCOMPARE(replan.out.count(" to-run "), 4);
     const Run third = runCli({"batch", "run", manifest, "--jobs", "2"});
     QVERIFY2(third.exitCode == 0 && third.out.contains("8 jobs: 4 ran, 4 up to date, 0 failed"), qPrintable(third.out + third.err));
-    const auto after = contents(library);
+    const auto after = treeContents(library);
     for (auto it = before.begin(); it != before.end(); ++it) {
         const bool rubberFile = it.key().contains("/rubber/") || it.key().contains(".rubber.");
         if (rubberFile && it.key().endsWith(".pc2"))
@@ -120,7 +108,7 @@ void TestCliBatch::libraryIsReproducibleByteForByte() {
     const QString manifest = writeManifest(dir);
     QVERIFY(runCli({"batch", "run", manifest, "--library", dir.filePath("a"), "--jobs", "2"}).exitCode == 0);
     QVERIFY(runCli({"batch", "run", manifest, "--library", dir.filePath("b"), "--jobs", "1"}).exitCode == 0);
-    const auto a = contents(dir.filePath("a")), b = contents(dir.filePath("b"));
+    const auto a = treeContents(dir.filePath("a")), b = treeContents(dir.filePath("b"));
     QCOMPARE(a.size(), 8 * 2 + 8);  // each job: its cache and rest OBJ; and a stamp per job
     QVERIFY(a == b);
 }
@@ -150,7 +138,7 @@ void TestCliBatch::killedHalfwayFinishesOnRerun() {
     QVERIFY2(rerun.out.contains(QString("%1 up to date").arg(finished)), qPrintable(rerun.out));
     QVERIFY(runCli({"batch", "check", manifest, "--library", dir.filePath("killed")}).exitCode == 0);
     // Nothing corrupt and nothing left over: the same files, byte for byte, as the uninterrupted library.
-    const auto clean = contents(dir.filePath("clean")), killed = contents(dir.filePath("killed"));
+    const auto clean = treeContents(dir.filePath("clean")), killed = treeContents(dir.filePath("killed"));
     QStringList extra = killed.keys(), missing = clean.keys();
     for (const QString& k : clean.keys())
         extra.removeAll(k);
@@ -242,7 +230,7 @@ void TestCliBatch::slurmScriptRunsEveryJobOfTheArray() {
     QVERIFY(collect.waitForFinished(120000));
     QVERIFY2(collect.exitCode() == 0, collect.readAllStandardError().constData());
     QVERIFY(runCli({"batch", "run", manifest, "--library", dir.filePath("local")}).exitCode == 0);
-    QVERIFY(contents(dir.filePath("farmed")) == contents(dir.filePath("local")));
+    QVERIFY(treeContents(dir.filePath("farmed")) == treeContents(dir.filePath("local")));
     // Once done, a new script has nothing to run.
     const Run again = runCli({"batch", "slurm", manifest, "--out", farm, "--library", dir.filePath("farmed")});
     QVERIFY2(again.out.contains("every one of the 8 jobs is up to date"), qPrintable(again.out));

@@ -3,7 +3,7 @@
 #include "io/documents/project_file.h"
 #include "io/export/vertex_cache.h"
 
-#include "cli_run.h"
+#include "helpers/cli_run.h"
 
 #include <QDir>
 #include <QFile>

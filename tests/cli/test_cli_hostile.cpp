@@ -3,7 +3,7 @@
 // jobs that outlive their batch, temporaries of a killed bake, a video too large for the memory at
 // hand, JSON that asks for gigabytes, inputs validate passed and bake refused, and the editor's usage
 // errors. The last test runs each hostile input under strace in a sandbox and lists every path touched.
-#include "cli_run.h"
+#include "helpers/cli_run.h"
 
 #include <QDir>
 #include <QDirIterator>

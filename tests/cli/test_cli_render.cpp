@@ -6,7 +6,7 @@
 #include "io/export/video_encoder.h"
 #include "render/mode_pictures.h"
 
-#include "cli_run.h"
+#include "helpers/cli_run.h"
 
 #include <QDir>
 #include <QImage>

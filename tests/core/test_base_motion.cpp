@@ -2,7 +2,7 @@
 // affine motion, goal weight 1 reproduces the base animation, and the lag and overshoot of a body driven by
 // its base match the driven damped oscillator of its lowest mode.
 
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include "core/animation/base_motion.h"
 #include "core/geometry/primitives.h"

@@ -4,7 +4,7 @@
 // code under test (winding number and triangle distance on the deformed meshes); momentum is kept; and with
 // body collisions off the same throw passes one through the other (so the check can fail).
 
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include "core/body/body_contacts.h"
 #include "core/geometry/binding.h"

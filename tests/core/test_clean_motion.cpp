@@ -1,7 +1,7 @@
 // Clean motion in a clip, on every integrator: a rollback of the energy guard never shows as a jump,
 // and a frame between two steps is the state at its own time, not the step before it.
 #include "core/authoring/clip.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest/QtTest>
 

@@ -1,6 +1,6 @@
 // Clips: each source evaluates to exactly what it plays; loop closure and the seam measure.
 #include "core/authoring/clip.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest/QtTest>
 #include <numbers>

@@ -2,7 +2,7 @@
 // a capsule and a box with every integrator: no mesh sample point ends a step inside by more than 1% of the
 // body's size, and it comes to rest.
 
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include "core/body/colliders.h"
 #include "core/geometry/binding.h"

@@ -9,8 +9,8 @@
 #include "core/modes/solid_modes.h"
 #include "core/scene/scene.h"
 #include "core/solver/simulator.h"
-#include "mode_measure.h"
-#include "physics_fixture.h"
+#include "helpers/mode_measure.h"
+#include "helpers/physics_fixture.h"
 
 #include <QtTest>
 

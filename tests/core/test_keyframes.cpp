@@ -1,6 +1,6 @@
 // Lattice-pose keyframes: editing, Catmull-Rom interpolation, goal springs with follow-through.
 #include "core/authoring/keyframes.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest/QtTest>
 

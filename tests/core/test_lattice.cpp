@@ -1,7 +1,7 @@
 // Mathematical facts of the Bezier / B-spline map and its binding.
 #include "core/geometry/binding.h"
 #include "core/geometry/lattice.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <Eigen/Geometry>
 #include <QtTest>

@@ -3,8 +3,8 @@
 // for a scheme and step is measured on the same scheme's motion.
 #include "core/modes/mode_accuracy.h"
 #include "core/modes/modes.h"
-#include "mode_measure.h"
-#include "physics_fixture.h"
+#include "helpers/mode_measure.h"
+#include "helpers/physics_fixture.h"
 
 #include <QtTest>
 

@@ -1,5 +1,5 @@
 // Physical facts, per integrator: each test simulates and compares with an analytic answer.
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include <numbers>
 

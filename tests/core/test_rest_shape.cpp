@@ -2,7 +2,7 @@
 // around it, and the body rests there; what cannot be applied is refused with the reason.
 
 #include "core/scene/rest_shape.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QTest>
 

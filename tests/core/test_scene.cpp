@@ -4,7 +4,7 @@
 #include "core/modes/mode_accuracy.h"
 #include "core/modes/modes.h"
 #include "core/scene/scene.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest/QtTest>
 

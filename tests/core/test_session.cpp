@@ -1,6 +1,6 @@
 // Sessions: recording interactive drags and replaying them bit for bit.
 #include "core/authoring/session.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest/QtTest>
 

@@ -1,7 +1,7 @@
 // Lattice spring topology (counts, voids, automatic void detection) and the spring force pass.
 #include "core/body/forces.h"
 #include "core/body/lattice_body.h"
-#include "test_support.h"
+#include "helpers/test_support.h"
 
 #include <QtTest>
 #include <set>

@@ -1,5 +1,5 @@
 // Guards at the extremes: stiff springs, tiny masses, big steps, injected NaN, sleeping.
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 using namespace softtouch;
 using namespace softtouch::test;

@@ -1,7 +1,7 @@
 // Stretch and squash limits (core/body/strain_limits.h): held under a yank by every integrator at the default
 // step, never a source of energy, momentum kept.
 
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include "core/body/strain_limits.h"
 

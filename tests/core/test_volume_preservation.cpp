@@ -2,7 +2,7 @@
 // planes keeps its mesh's volume when preservation is 1 and loses it when 0, with every integrator; the
 // sampled volume and its gradient against the mesh's exact volume and finite differences.
 
-#include "physics_fixture.h"
+#include "helpers/physics_fixture.h"
 
 #include "core/body/volume_preservation.h"
 #include "core/geometry/binding.h"

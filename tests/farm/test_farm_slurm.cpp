@@ -3,7 +3,8 @@
 // submitted with sbatch, and its library compared byte for byte with a local `batch run`. Where the
 // daemons cannot start (not root, packages missing) the test says why and skips; on this project's
 // machines it runs (scripts/install-deps.sh installs slurm-wlm and munge).
-#include "../cli/cli_run.h"
+#include "helpers/cli_run.h"
+#include "helpers/tree_contents.h"
 
 #include <QCryptographicHash>
 #include <QDir>
@@ -25,18 +26,6 @@ using namespace softtouch::test;
 namespace {
 
 const QString kPresets = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/");
-
-QMap<QString, QByteArray> contents(const QString& root) {
-    QMap<QString, QByteArray> files;
-    QDirIterator it(root, QDir::Files | QDir::Hidden, QDirIterator::Subdirectories);
-    while (it.hasNext()) {
-        const QString path = it.next();
-        QFile f(path);
-        if (f.open(QIODevice::ReadOnly))
-            files[QDir(root).relativeFilePath(path)] = QCryptographicHash::hash(f.readAll(), QCryptographicHash::Sha256);
-    }
-    return files;
-}
 
 struct Output {
     int exitCode = -1;
@@ -197,7 +186,7 @@ void TestFarmSlurm::jobArrayBuildsTheLibraryALocalRunBuilds() {
     clock.restart();
     QVERIFY(runCli({"batch", "run", manifest, "--library", dir.filePath("local"), "--jobs", "2"}).exitCode == 0);
     const qint64 localMs = clock.elapsed();
-    const auto farmed = contents(dir.filePath("farmed")), local = contents(dir.filePath("local"));
+    const auto farmed = treeContents(dir.filePath("farmed")), local = treeContents(dir.filePath("local"));
     QCOMPARE(farmed.size(), 24);
     QVERIFY(farmed == local);
     qInfo("cluster up in %.1f s; 8-task array done in %.1f s; the same library locally (--jobs 2) in %.1f s",

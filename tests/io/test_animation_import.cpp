@@ -3,8 +3,8 @@
 // that motion; with goal weight 1 everywhere a PC2 bake is the base animation itself; bad requests fail
 // naming the file and what is wrong.
 
-#include "collada_box.h"
-#include "rigged_gltf.h"
+#include "helpers/collada_box.h"
+#include "helpers/rigged_gltf.h"
 
 #include "io/documents/project_file.h"
 #include "io/export/vertex_cache.h"

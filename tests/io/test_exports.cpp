@@ -1,7 +1,7 @@
 // Round trips of the clip exports (glTF/GLB morph animation, vertex animation textures, lattice
 // cache) against the PC2 of the same bake, and their behaviour on bad input.
 
-#include "gltf_read.h"
+#include "helpers/gltf_read.h"
 #include "io/documents/project_file.h"
 #include "io/export/clip_writer.h"
 #include "io/export/clip_writer_internal.h"

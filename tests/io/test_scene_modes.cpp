@@ -1,6 +1,6 @@
 // The bundled anchored angelfish: the modes `softtouch-cli modes` and the editor show against its
 // baked free vibration, with every integrator at a fine step.
-#include "../core/mode_measure.h"
+#include "helpers/mode_measure.h"
 #include "core/modes/modes.h"
 #include "io/documents/project_file.h"
 

@@ -10,7 +10,7 @@
 #include "render/gl.h"
 #include "render/gl_program.h"
 
-#include "../io/gltf_read.h"
+#include "helpers/gltf_read.h"
 
 #include <ImfRgbaFile.h>
 #include <nlohmann/json.hpp>

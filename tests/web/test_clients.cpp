@@ -4,7 +4,7 @@
 // be the error the bake printed: the exporter's claim is checked against what a user's player shows. Packed
 // files (EXT_meshopt_compression) play in three.js; Blender 3.4 refuses them, saying so (docs/formats.md).
 
-#include "../cli/cli_run.h"
+#include "helpers/cli_run.h"
 
 #include <QJsonDocument>
 #include <QJsonObject>

@@ -3,8 +3,8 @@
 // the validator must accept what SoftTouch ships. Compressed files are judged after expandGlb(): the
 // validator cannot decode EXT_meshopt_compression, so it would check nothing inside them.
 
-#include "../cli/cli_run.h"
-#include "../io/gltf_read.h"
+#include "helpers/cli_run.h"
+#include "helpers/gltf_read.h"
 #include "io/import/gltf_meshopt.h"
 
 #include <QDir>

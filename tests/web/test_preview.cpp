@@ -3,7 +3,7 @@
 // clip, opened as a page at a frame, read back from the page's canvas, and compared with the project's
 // own render of that frame (softtouch-cli render, the same camera).
 
-#include "../cli/cli_run.h"
+#include "helpers/cli_run.h"
 #include "io/pipeline/clip_preview.h"
 
 #include <QDir>

@@ -1,0 +1,429 @@
+// The editor driven through its real widgets (under Xvfb). Takes, keys and clips: record, scrub, key poses,
+// retime, export and render.
+#include "editor_fixture.h"
+
+// Render video draws from the viewport's view when asked (the animator framed it), from the CLI's ¾ view
+// otherwise, whatever the viewport shows.
+void TestEditor::renderVideoFollowsTheViewportsView() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    QVERIFY(!w.document()->project().clips.clips.empty());
+    const auto firstFrame = [&](const QString& name, std::optional<render::CameraPlacement> camera) {
+        const QString folder = m_dir->filePath(name) + "/";
+        const Status s = w.timeline()->renderClipTo(0, folder, 160, 90, camera);
+        if (!s)
+            qFatal("%s", s.message().c_str());
+        return QImage(folder + "frame_0000.png").convertToFormat(QImage::Format_RGB32);
+    };
+    /// Centre of the orange pixels (the fish on the grey background), in pixels.
+    const auto fishCentre = [](const QImage& image) {
+        double x = 0, y = 0, n = 0;
+        for (int j = 0; j < image.height(); ++j)
+            for (int i = 0; i < image.width(); ++i) {
+                const QColor c = image.pixelColor(i, j);
+                if (c.red() > c.blue() + 60) {
+                    x += i;
+                    y += j;
+                    n += 1;
+                }
+            }
+        return n > 0 ? QPointF(x / n, y / n) : QPointF(-1, -1);
+    };
+    view->viewTop();
+    const QImage top = firstFrame("top", view->camera().placement());
+    const QImage defaultA = firstFrame("defaultA", std::nullopt);
+    view->viewFront();
+    view->camera().pan(0.3 * view->width(), 0, view->height());  // the fish off-centre, as an animator may frame it
+    const render::CameraPlacement framed = view->camera().placement();
+    const QImage front = firstFrame("front", framed);
+    const QImage defaultB = firstFrame("defaultB", std::nullopt);
+    QVERIFY(!top.isNull() && !front.isNull());
+    QCOMPARE(defaultA, defaultB);  // the ¾ view ignores the viewport
+    QVERIFY(top != front);
+    // The fish lands where the viewport's camera projects it.
+    const Bounds bounds = w.document()->scene().objects[0].mesh->bounds();
+    const Eigen::Vector3f centre = (0.5 * (bounds.min + bounds.max)).cast<float>();
+    const render::Camera camera = render::cameraFor(framed, 160.0f / 90.0f);
+    const Eigen::Vector4f clip = camera.projection * camera.view * Eigen::Vector4f(centre.x(), centre.y(), centre.z(), 1.0f);
+    const QPointF expected(80.0 * (1.0 + clip.x() / clip.w()), 45.0 * (1.0 - clip.y() / clip.w()));
+    const QPointF found = fishCentre(front);
+    QVERIFY2((found - expected).manhattanLength() < 16.0,
+             qPrintable(QString("fish at (%1, %2), projected centre (%3, %4)").arg(found.x()).arg(found.y()).arg(expected.x()).arg(expected.y())));
+    QVERIFY2((fishCentre(defaultA) - expected).manhattanLength() > 16.0, "the ¾ view should not frame it the same way");
+    view->frameAll();
+
+    // The dialog asks for the size and the camera first, this view offered first.
+    QStringList cameras;
+    QString size;
+    QTimer::singleShot(200, [&] {
+        if (auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget())) {
+            auto* choice = dialog->findChild<QComboBox*>("renderCamera");
+            for (int i = 0; choice && i < choice->count(); ++i)
+                cameras << choice->itemText(i);
+            if (auto* sizes = dialog->findChild<QComboBox*>("renderSize"))
+                size = sizes->currentText();
+            dialog->reject();
+        }
+    });
+    w.timeline()->renderClip(0);
+    QCOMPARE(cameras.size(), 2);
+    QVERIFY2(cameras.front().startsWith("This view"), qPrintable(cameras.join("; ")));
+    QCOMPARE(size, QString("960 × 540"));
+}
+
+void TestEditor::recordedTakeScrubsAndExports() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    QWidget* cue = w.viewport()->findChild<QWidget*>("recordingCue");
+    QVERIFY(cue && !cue->isVisible());
+    sim->startRecording();
+    sim->pause();
+    sim->advance(0.5);
+    const BodyState atHalf = sim->simulation()->simulator(0).state();
+    sim->advance(0.5);
+    // While recording, the viewport wears a red frame with "● REC" (red pixels at its edge).
+    QVERIFY(cue->isVisible());
+    QCOMPARE(cue->size(), w.viewport()->size());
+    const QImage frame = cue->grab().toImage();
+    const QColor edge = frame.pixelColor(frame.width() / 2, 1);
+    QVERIFY2(edge.red() > 180 && edge.green() < 80, qPrintable(edge.name()));
+    QVERIFY(sim->stopRecording().has_value());
+    QVERIFY(!cue->isVisible());
+    QCOMPARE(w.timeline()->takeCount(), 1);  // the take is in the project (undoable, saved with it)
+    QVERIFY(w.document()->isModified());
+    // Scrubbing to 0.5 s replays the take and shows exactly the state recorded there.
+    w.timeline()->scrubTo(0, int(0.5 * w.timeline()->fps()));
+    QVERIFY(sim->simulation()->simulator(0).state().position == atHalf.position);
+    // A looping clip of the take, exported as a point cache the CLI's reader accepts.
+    const std::size_t clipsBefore = w.document()->project().clips.clips.size();
+    QVERIFY(w.timeline()->makeClip(0, true));
+    QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore + 1);
+    const int clip = int(clipsBefore);
+    // The dialogs start beside the project, named after it and the clip.
+    const QString suggested = w.timeline()->suggestedOutputPath(clip, "pc2");
+    QCOMPARE(QFileInfo(suggested).absolutePath(), QFileInfo(w.document()->filePath()).absolutePath());
+    QCOMPARE(QFileInfo(suggested).fileName(), QFileInfo(w.document()->filePath()).completeBaseName() + "-" +
+                                                  QString::fromStdString(w.document()->project().clips.clips[std::size_t(clip)].name) + ".pc2");
+    const QString pc2 = m_dir->filePath("take.pc2");
+    const Status exported = w.timeline()->exportClipTo(clip, pc2);
+    QVERIFY2(exported.ok(), exported.message().c_str());
+    QVERIFY2(w.timeline()->statusText().contains("rest mesh take.obj"), qPrintable(w.timeline()->statusText()));
+    // The same clip as bones for a game engine (the dialog's "skinned" file type): a GLB with a skin, and
+    // the status line says how close it is.
+    // The dialog offers every export of the registry, in its order, each once.
+    const QStringList filters = TimelinePanel::exportFilters();
+    QCOMPARE(std::size_t(filters.size()), io::exportFormats().size());
+    QCOMPARE(filters.front(), QString("Point cache (*.pc2)"));
+    QVERIFY2(filters.contains("glTF binary, skinned: bones for game engines (*.glb *.gltf)"), qPrintable(filters.join("; ")));
+    QVERIFY2(filters.contains("Lattice cache (base name) (*)"), qPrintable(filters.join("; ")));
+    QCOMPARE(QSet<QString>(filters.begin(), filters.end()).size(), filters.size());
+    const QString glb = m_dir->filePath("take-skin.glb");
+    const Status skin = w.timeline()->exportClipTo(clip, glb, *io::findExportFormat("skin"));
+    QVERIFY2(skin.ok(), skin.message().c_str());
+    QFile glbFile(glb);
+    QVERIFY(glbFile.open(QIODevice::ReadOnly));
+    QVERIFY(glbFile.readAll().contains("\"skins\""));
+    QVERIFY2(w.timeline()->statusText().contains("rigid bones"), qPrintable(w.timeline()->statusText()));
+    // Packed for shipping (the export options' "Pack for shipping"): under half the size, and the
+    // status line says how large it is against a PC2. A PC2 cannot be packed, and says so.
+    const QString packedGlb = m_dir->filePath("take-skin-packed.glb");
+    ExportChoices packed;
+    packed.compress = true;
+    const Status packedSkin = w.timeline()->exportClipTo(clip, packedGlb, *io::findExportFormat("skin"), packed);
+    QVERIFY2(packedSkin.ok(), packedSkin.message().c_str());
+    QFile packedFile(packedGlb);
+    QVERIFY(packedFile.open(QIODevice::ReadOnly));
+    QVERIFY(io::usesMeshoptCompression(packedFile.readAll().toStdString()));
+    QVERIFY2(QFileInfo(packedGlb).size() * 2 < QFileInfo(glb).size(), qPrintable(QString::number(QFileInfo(packedGlb).size())));
+    QVERIFY2(w.timeline()->statusText().contains("of a PC2"), qPrintable(w.timeline()->statusText()));
+    const Status packedPc2 = w.timeline()->exportClipTo(clip, m_dir->filePath("packed.pc2"), *io::findExportFormat("pc2"), packed);
+    QVERIFY(!packedPc2.ok());
+    QVERIFY2(packedPc2.message().find("--compress") != std::string::npos, packedPc2.message().c_str());
+    auto cache = io::readPc2(pc2.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache->frames.size()), w.document()->project().clips.clips[std::size_t(clip)].frames);
+    QCOMPARE(cache->info.pointCount, w.document()->scene().objects[0].mesh->positions.size());
+    // The same clip rendered as a video from the editor (headless EGL beside the viewport's context).
+    const QString mp4 = m_dir->filePath("take.mp4");
+    const Status rendered = w.timeline()->renderClipTo(clip, mp4, 160, 96);
+    QVERIFY2(rendered.ok(), rendered.message().c_str());
+    auto probe = io::probeVideo(mp4.toStdString());
+    QVERIFY2(probe.ok(), probe.message().c_str());
+    QCOMPARE(probe->frames, w.document()->project().clips.clips[std::size_t(clip)].frames);
+    QCOMPARE(probe->width, 160);
+    // The viewport still draws afterwards.
+    QVERIFY(!w.viewport()->grabFramebuffer().isNull());
+    QVERIFY(w.viewport()->renderProblem().isEmpty());
+    // Undo removes the clip, then the take.
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.document()->project().clips.clips.size(), clipsBefore);
+    w.document()->undoStack()->undo();
+    QCOMPARE(w.timeline()->takeCount(), 0);
+}
+
+void TestEditor::exportDialogsPackAGlbForShipping() {
+    // The whole way a person goes: Export…, the file dialog (the skinned GLB type and a name), then Export
+    // Options' "Pack for shipping". Each modal dialog is answered as it opens, as a person would.
+    MainWindow& w = *m_window;
+    auto* clips = w.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(clips && clips->count() > 0);
+    clips->setCurrentRow(0);
+    QPushButton* exportButton = nullptr;
+    for (QPushButton* b : w.timeline()->findChildren<QPushButton*>())
+        if (b->text() == QString("Export…"))
+            exportButton = b;
+    QVERIFY(exportButton);
+    const QString glb = m_dir->filePath("shipped.glb");
+    QString skinFilter;
+    for (const QString& f : TimelinePanel::exportFilters())
+        if (f.contains("skin", Qt::CaseInsensitive))
+            skinFilter = f;
+    QVERIFY(!skinFilter.isEmpty());
+    bool answeredFile = false, answeredOptions = false;
+    QTimer answer;
+    connect(&answer, &QTimer::timeout, this, [&] {
+        QWidget* modal = QApplication::activeModalWidget();
+        if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
+            answeredFile = true;
+            files->selectNameFilter(skinFilter);
+            files->selectFile(glb);
+            static_cast<QDialog*>(files)->accept();  // QFileDialog::accept, through its public base
+        } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
+            if (auto* pack = options->findChild<QCheckBox*>("exportCompress")) {
+                answeredOptions = true;
+                pack->setChecked(true);
+                options->accept();
+            }
+        }
+    });
+    answer.start(50);
+    exportButton->click();
+    answer.stop();
+    QVERIFY(answeredFile);
+    QVERIFY(answeredOptions);
+    QVERIFY(QFile::exists(glb));
+    QVERIFY2(io::fileUsesMeshoptCompression(glb.toStdString()), "the file is not packed");
+}
+
+void TestEditor::keyframesFromPosesMakeAClip() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    sim->setDriversEnabled(false);
+    // Key the rest pose at 0 s, pull the tail, key that pose at 1 s.
+    QVERIFY(keys->keyPose(0.0));
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    Grab grab;
+    grab.drag.support = lattice.weights(Vec3(0.1, 0.5, 0.5));
+    grab.drag.target = lattice.evaluate(Vec3(0.1, 0.5, 0.5), lattice.restNodes()) + Vec3(0, 0.3, 0);
+    grab.drag.stiffness = 200;
+    sim->setGrab(0, grab);
+    sim->advance(1.0);
+    const std::vector<Vec3> pulled = sim->simulation()->simulator(0).state().position;
+    QVERIFY(keys->keyPose(1.0));
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].nodes.size(), std::size_t(lattice.nodeCount()));
+    // Previewing a key shows its pose.
+    sim->setGrab(0, std::nullopt);
+    keys->showKey(1);
+    const std::vector<Vec3>& shown = sim->simulation()->simulator(0).state().position;
+    for (std::size_t n = 0; n < shown.size(); ++n)
+        QVERIFY((shown[n] - pulled[n]).norm() < 1e-9);
+    // Move, copy and delete are single undo steps.
+    QVERIFY(keys->moveKey(1, 2.0, false));
+    QCOMPARE(keys->keys()[1].seconds, 2.0);
+    QVERIFY(keys->moveKey(1, 3.0, true));
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    QVERIFY(keys->deleteKey(2));
+    w.document()->undoStack()->undo();
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    w.document()->undoStack()->undo();
+    w.document()->undoStack()->undo();
+    QCOMPARE(keys->keys()[1].seconds, 1.0);
+    // A keyed clip plays the keys: its last frame is the pulled pose.
+    QVERIFY(keys->makeClip(false));
+    const ClipLibrary& library = w.document()->project().clips;
+    const Clip& clip = library.clips.back();
+    QCOMPARE(clip.source, ClipSource::Keyframes);
+    auto frames = evaluateClip(w.document()->scene(), library, clip);
+    QVERIFY2(frames.ok(), frames.message().c_str());
+    const auto& last = frames->nodes.back()[0];
+    for (std::size_t n = 0; n < last.size(); ++n)
+        QVERIFY((last[n] - pulled[n]).norm() < 1e-6);
+    // As goals, the simulated body follows the keys with physics (a valid clip that evaluates).
+    QVERIFY(keys->makeClip(true));
+    auto goalFrames = evaluateClip(w.document()->scene(), w.document()->project().clips, w.document()->project().clips.clips.back());
+    QVERIFY2(goalFrames.ok(), goalFrames.message().c_str());
+}
+
+// The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
+// copies it, a click and Delete removes it; each is one undo step of the keys panel.
+void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    FrameRuler* ruler = w.timeline()->ruler();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    QVERIFY(keys->keyPose(0.0));
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    std::vector<Vec3> pose = lattice.restNodes();
+    pose[0] += Vec3(0, 0.05, 0);
+    QVERIFY(sim->setObjectPose(0, pose));
+    QVERIFY(keys->keyPose(1.0));
+    QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+    const double fps = ruler->fps();
+    QVERIFY(ruler->lastFrame() >= int(1.5 * fps));
+    const int undo0 = undo->index();
+    const auto drag = [&](QPointF from, int toFrame, Qt::KeyboardModifiers modifiers) {
+        const QPoint a = from.toPoint(), b(int(std::lround(ruler->xOfFrame(toFrame))), a.y());
+        QTest::mousePress(ruler, Qt::LeftButton, modifiers, a);
+        QTest::mouseMove(ruler, (a + b) / 2);
+        QTest::mouseMove(ruler, b);
+        QTest::mouseRelease(ruler, Qt::LeftButton, modifiers, b);
+    };
+    // Drag the 1 s key to 1.5 s: one undo step, the keyed pose kept.
+    drag(ruler->keyPoint(1), int(std::lround(1.5 * fps)), {});
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].seconds, std::lround(1.5 * fps) / fps);
+    QCOMPARE(ruler->keys()[1], keys->keys()[1].seconds);
+    QCOMPARE(undo->index(), undo0 + 1);
+    // Ctrl+drag copies the first key to half a second.
+    drag(ruler->keyPoint(0), int(std::lround(0.5 * fps)), Qt::ControlModifier);
+    QCOMPARE(keys->keys().size(), std::size_t(3));
+    QCOMPARE(keys->keys()[0].seconds, 0.0);
+    QCOMPARE(keys->keys()[1].seconds, std::lround(0.5 * fps) / fps);
+    QCOMPARE(undo->index(), undo0 + 2);
+    // Click a tick and press Delete.
+    QTest::mouseClick(ruler, Qt::LeftButton, {}, ruler->keyPoint(1).toPoint());
+    QCOMPARE(ruler->selectedKey(), 1);
+    QTest::keyClick(ruler, Qt::Key_Delete);
+    QCOMPARE(keys->keys().size(), std::size_t(2));
+    QCOMPARE(keys->keys()[1].seconds, std::lround(1.5 * fps) / fps);
+    QCOMPARE(undo->index(), undo0 + 3);
+    // A click on the ruler away from the ticks moves no key.
+    QTest::mouseClick(ruler, Qt::LeftButton, {}, QPoint(int(ruler->xOfFrame(3)), 30));
+    QCOMPARE(undo->index(), undo0 + 3);
+    while (undo->index() > undo0)
+        undo->undo();
+    QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+}
+
+// A take's in/out range, trimmed by dragging its ends on the ruler, is what "Clip from take" cuts: the clip
+// starts at the in frame and its exported cache holds out - in frames, the first one the take's state at in.
+void TestEditor::trimmedTakeClipExportsItsRange() {
+    MainWindow& w = *m_window;
+    SimulationController* sim = w.simulation();
+    FrameRuler* ruler = w.timeline()->ruler();
+    sim->startRecording();
+    sim->pause();
+    sim->advance(1.0);
+    QVERIFY(sim->stopRecording().has_value());
+    auto* takes = w.timeline()->findChild<QListWidget*>("takes");
+    takes->setCurrentRow(0);
+    const double fps = w.timeline()->fps();
+    const int last = ruler->lastFrame();
+    QCOMPARE(last, int(std::floor(1.0 * fps + 1e-9)));
+    QCOMPARE(ruler->inOut(), std::optional(std::pair(0, last)));
+    const auto dragHandle = [&](int from, int to) {
+        const QPoint a(int(std::lround(ruler->xOfFrame(from))), 29), b(int(std::lround(ruler->xOfFrame(to))), 29);
+        QTest::mousePress(ruler, Qt::LeftButton, {}, a);
+        QTest::mouseMove(ruler, b);
+        QTest::mouseRelease(ruler, Qt::LeftButton, {}, b);
+    };
+    dragHandle(0, 6);
+    dragHandle(last, last - 6);
+    QCOMPARE(ruler->inOut(), std::optional(std::pair(6, last - 6)));
+    const std::size_t before = w.document()->project().clips.clips.size();
+    QPushButton* cut = nullptr;
+    for (auto* b : w.timeline()->findChildren<QPushButton*>())
+        if (b->text() == "Clip from take")
+            cut = b;
+    QVERIFY(cut);
+    cut->click();
+    QCOMPARE(w.document()->project().clips.clips.size(), before + 1);
+    const Clip clip = w.document()->project().clips.clips.back();
+    QCOMPARE(clip.frames, last - 12);
+    QCOMPARE(clip.startSeconds, 6.0 / fps);
+    // Back on the take, the clip cut from it is a range on the ruler.
+    takes->setCurrentRow(0);
+    QCOMPARE(ruler->ranges().size(), std::size_t(1));
+    QCOMPARE(ruler->ranges()[0].label, QString::fromStdString(clip.name));
+    QCOMPARE(ruler->ranges()[0].fromSeconds, clip.startSeconds);
+    QCOMPARE(ruler->ranges()[0].toSeconds, clip.startSeconds + clip.seconds());
+    // Exported: out - in frames, the first the take's state at the in frame, shown by the take's scrub.
+    const QString pc2 = m_dir->filePath("trimmed.pc2");
+    const Status exported = w.timeline()->exportClipTo(int(before), pc2);
+    QVERIFY2(exported.ok(), exported.message().c_str());
+    auto cache = io::readPc2(pc2.toStdString());
+    QVERIFY2(cache.ok(), cache.message().c_str());
+    QCOMPARE(int(cache->frames.size()), last - 12);
+    w.timeline()->scrubTo(0, 6);
+    const std::vector<Vec3f> atIn = w.viewport()->deformedPositions(0);
+    QVERIFY2(maxDistance(cache->frames.front(), atIn) < 1e-5, qPrintable(QString::number(maxDistance(cache->frames.front(), atIn))));
+}
+
+// Clips from the timeline's list: rename (a taken name is refused), duplicate, retime to another frame rate
+// over the same seconds, delete with the Delete key, each one undo step; the transport plays the selected
+// clip in a loop and steps frames.
+void TestEditor::clipsRenameDuplicateRetimeDeleteAndPlay() {
+    MainWindow& w = *m_window;
+    TimelinePanel* timeline = w.timeline();
+    QUndoStack* undo = w.document()->undoStack();
+    const auto clips = [&] { return w.document()->project().clips.clips; };
+    auto* list = timeline->findChild<QListWidget*>("clips");
+    QVERIFY(!clips().empty());
+    const Clip swim = clips().front();
+    const int undo0 = undo->index();
+    QVERIFY(timeline->renameClip(0, "cruise"));
+    QCOMPARE(clips().front().name, std::string("cruise"));
+    QVERIFY(timeline->duplicateClip(0));
+    QCOMPARE(clips()[1].name, std::string("cruise copy"));
+    QVERIFY(!timeline->renameClip(1, "cruise"));  // taken
+    QVERIFY2(timeline->statusText().contains("already a clip named"), qPrintable(timeline->statusText()));
+    QVERIFY(!timeline->renameClip(1, "  "));
+    QVERIFY(timeline->retimeClip(1, 2.0 * swim.fps));
+    QCOMPARE(clips()[1].fps, 2.0 * swim.fps);
+    QCOMPARE(clips()[1].frames, 2 * swim.frames);
+    QCOMPARE(clips()[1].seconds(), swim.seconds());
+    QCOMPARE(clips()[1].blendFrames, 2 * swim.blendFrames);
+    QCOMPARE(undo->index(), undo0 + 3);
+    list->setCurrentRow(1);
+    list->setFocus();
+    QTest::keyClick(list, Qt::Key_Delete);
+    QCOMPARE(clips().size(), std::size_t(1));
+    QCOMPARE(undo->index(), undo0 + 4);
+
+    // Play: the selected clip advances at its rate and wraps in a loop; the steps move one frame.
+    list->setCurrentRow(0);
+    FrameRuler* ruler = timeline->ruler();
+    QCOMPARE(ruler->lastFrame(), swim.frames - 1);
+    timeline->findChild<QPushButton*>("playClip")->click();
+    QVERIFY(timeline->isPlaying());
+    // The transport's glyphs, pause included, are in the buttons' font: none is drawn as an empty box.
+    for (const char* name : {"firstFrame", "stepBack", "playClip", "stepForward"}) {
+        const auto* button = timeline->findChild<QPushButton*>(name);
+        QVERIFY2(button, name);
+        const QFontMetrics metrics(button->font());
+        for (const char32_t c : button->text().toUcs4())
+            QVERIFY2(metrics.inFontUcs4(c), qPrintable(QString("%1: U+%2").arg(name).arg(uint(c), 4, 16, QChar('0'))));
+    }
+    timeline->advancePlayback(0.5);
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps));
+    const auto shown = w.simulation()->simulation()->simulator(0).state().position;
+    QVERIFY(shown == evaluateClip(w.document()->scene(), w.document()->project().clips, clips()[0]).value().nodes[std::size_t(ruler->frame())][0]);
+    timeline->advancePlayback(swim.seconds());  // once round: the same frame again
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps));
+    timeline->findChild<QPushButton*>("playClip")->click();
+    QVERIFY(!timeline->isPlaying());
+    timeline->findChild<QPushButton*>("stepForward")->click();
+    QCOMPARE(ruler->frame(), int(0.5 * swim.fps) + 1);
+    timeline->findChild<QPushButton*>("firstFrame")->click();
+    timeline->findChild<QPushButton*>("stepBack")->click();
+    QCOMPARE(ruler->frame(), swim.frames - 1);  // looping: back from the first frame is the last
+
+    while (undo->index() > undo0)
+        undo->undo();
+    QCOMPARE(clips().size(), std::size_t(1));
+    QCOMPARE(clips().front().name, swim.name);
+}
