@@ -96,9 +96,9 @@ std::optional<QPointF> EditorScript::drag(const QCommandLineParser& parser) cons
     if (!parser.isSet(m_drag))
         return std::nullopt;
     const QStringList d = parser.value(m_drag).split(',');
-    bool xRead = false, yRead = false;
     if (d.size() != 2)
         return std::nullopt;
+    bool xRead = false, yRead = false;
     const double dx = d[0].toDouble(&xRead), dy = d[1].toDouble(&yRead);
     if (!xRead || !yRead || std::abs(dx) > 1e5 || std::abs(dy) > 1e5)
         return std::nullopt;

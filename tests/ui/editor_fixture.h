@@ -2,6 +2,11 @@
 // What every editor suite shares: the window each test opens on the default scene, and the helpers that
 // drive it. The editor's tests are one program (test_editor), one file per feature (tests/ui/test_editor_*.cpp).
 #include "core/geometry/mesh_surface.h"
+#include "core/geometry/primitives.h"
+#include "core/modes/modes.h"
+#include "core/modes/solid_modes.h"
+#include "helpers/cli_run.h"
+#include "helpers/rigged_gltf.h"
 #include "io/documents/trajectory_file.h"
 #include "io/export/vertex_cache.h"
 #include "io/export/video_encoder.h"
@@ -13,6 +18,7 @@
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
 #include "ui/main_window.h"
+#include "ui/material_tuning.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
 #include "ui/study_chart_view.h"
@@ -22,54 +28,46 @@
 #include "ui/tool_options_bar.h"
 
 #include <QAbstractButton>
-#include <QAction>
-#include <QCheckBox>
-#include <QListWidget>
-#include <QApplication>
-#include <QScrollArea>
-#include <QScrollBar>
-#include <QWheelEvent>
 #include <QAbstractSpinBox>
-#include <QSlider>
-#include <QStackedWidget>
-#include <QLineEdit>
+#include <QAction>
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDialog>
 #include <QDir>
-#include <QFileDialog>
-#include <QFileInfo>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
+#include <QRegularExpression>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
+#include <QSlider>
+#include <QStackedWidget>
 #include <QStandardItemModel>
 #include <QStandardPaths>
+#include <QStatusBar>
 #include <QSurfaceFormat>
 #include <QTabletEvent>
 #include <QTemporaryDir>
-#include <QStatusBar>
 #include <QTimer>
+#include <QTreeWidget>
+#include <QWheelEvent>
 #include <QtTest/QtTest>
 
 #include <Eigen/Geometry>
 
 #include <memory>
 #include <numbers>
-
-#include "helpers/cli_run.h"
-#include "helpers/rigged_gltf.h"
-#include "core/geometry/primitives.h"
-#include "core/modes/modes.h"
-#include "core/modes/solid_modes.h"
-#include "ui/material_tuning.h"
-
-#include <QComboBox>
-#include <QDialog>
-#include <QDockWidget>
-#include <QDoubleSpinBox>
-#include <QLabel>
-#include <QRegularExpression>
-#include <QTreeWidget>
 
 using namespace softtouch;
 using namespace softtouch::test;
