@@ -5,13 +5,11 @@
 # leaves the input in build-fuzz/findings/<target>/: fix the cause, then copy the input into
 # tests/fuzz/<target>/ so ctest replays it in every build (fuzz_replay.<target>).
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 45; docs/design/reliability.md has the long run)
-#        scripts/fuzz.sh --build-only            (builds the targets; .ci/run does so in the background)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-45}"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
-[ "$seconds" = "--build-only" ] && exit 0
 # One target per core at a time: each still gets a whole core for SECONDS (nine targets on two cores: five
 # rounds of SECONDS instead of nine).
 fuzz_one() {

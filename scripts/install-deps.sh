@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages SoftTouch needs to build and test, only those missing.
 # --editor: only what building and running the editor needs (scripts/run.sh).
+# --build:  what configuring and building every program and suite needs (the editor's, and Bullet, which
+#           the bench finds at configure time).
+# --test:   the rest, which only running the suites needs (scripts/test.sh installs it while it builds).
 # Runs as root (or through sudo when available).
 set -euo pipefail
-editor_only=false
-[ "${1:-}" = "--editor" ] && editor_only=true
+part="${1:-all}"
+case "$part" in
+  --editor|--build|--test|all) ;;
+  *) echo "usage: scripts/install-deps.sh [--editor|--build|--test]" >&2; exit 2 ;;
+esac
 
 # To build every program and run the editor.
 packages=(
@@ -27,20 +33,27 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video export (MP4/H.264, GIF, PNG)
   libsdl2-dev             # sdl2 input-device plugin (joysticks, gamepads, force effects)
 )
+# To build the benchmarks with their peer: configuring finds Bullet or leaves it out.
+build_extra=(
+  libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
+)
 # To test, measure and package as well.
-if ! $editor_only; then
-  packages+=(
+test_packages=(
     dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
     glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
-    libbullet-dev           # benchmark peer only (btSoftBody in 'softtouch-cli bench')
     clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
     slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
     strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
     chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
     blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/)
     python3-numpy           # Blender's glTF importer needs it (a Recommends of blender)
-  )
-fi
+)
+case "$part" in
+  --editor) ;;
+  --build) packages+=("${build_extra[@]}") ;;
+  --test) packages=("${test_packages[@]}") ;;
+  all) packages+=("${build_extra[@]}" "${test_packages[@]}") ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
@@ -48,7 +61,7 @@ for p in "${packages[@]}"; do
 done
 # npm installs three.js for the preview page (web/package.json). Any npm will do (a nodejs package from
 # elsewhere may already bring one), so only a machine without the command gets Debian's.
-$editor_only || command -v npm >/dev/null 2>&1 || missing+=(npm)
+case "$part" in --test|all) command -v npm >/dev/null 2>&1 || missing+=(npm) ;; esac
 if [ ${#missing[@]} -ne 0 ]; then
   echo "installing: ${missing[*]}"
   as_root=()
@@ -60,7 +73,7 @@ fi
 
 # three.js for the preview page and the Khronos glTF validator for the tests, at the versions
 # web/package-lock.json pins, from npm's registry, into web/node_modules. Not for the editor alone.
-$editor_only && exit 0
+case "$part" in --editor|--build) exit 0 ;; esac
 cd "$(dirname "$0")/../web"
 pinned() { sed -n "s/^ *\"$1\": \"\(.*\)\",\{0,1\}$/\1/p" package.json; }
 installed() { sed -n 's/^ *"version": "\(.*\)",\{0,1\}$/\1/p' "node_modules/$1/package.json" 2>/dev/null || true; }

@@ -14,18 +14,18 @@ step() {
   return "$status"
 }
 
-# background NAME COMMAND...: starts COMMAND now at the lowest CPU priority (nice 19), its output kept in a
-# log. It runs on what the steps in front leave idle (a build's serial links, a suite's single-threaded
-# tests and waits on child processes) and takes about 1.5% of a core from them otherwise.
-# `finish NAME` then waits for it as a step and prints the end of its log if it failed. A script that uses
-# these calls `stop_background` on exit, so that a failed step leaves no build running.
+# background NAME COMMAND...: starts COMMAND now, beside the steps that follow, its output kept in a log:
+# for work that waits on something other than the cores (scripts/test.sh downloads and unpacks the test
+# packages while the release build compiles). `finish NAME` then waits for it as a step and prints the end
+# of its log if it failed. A script that uses these calls `stop_background` on exit, so that a failed step
+# leaves nothing running.
 declare -A softtouch_background_pid=() softtouch_background_log=()
 background() {
   local name="$1"
   shift
   local log
   log="$(mktemp)"
-  nice -n 19 "$@" >"$log" 2>&1 &
+  "$@" >"$log" 2>&1 &
   softtouch_background_pid[$name]=$!
   softtouch_background_log[$name]=$log
 }

@@ -1,21 +1,20 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds with warnings as errors, and runs every test through ctest.
-# --with-asan also builds and runs the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer; that
-# build starts with the release build, in the background at the lowest priority, so it uses the cores the
-# release build and suite leave idle (scripts/step.sh).
+# --with-asan also builds and runs the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer.
+# What only the suites need (Chromium, Blender, Slurm, ...) is downloaded and installed while the release
+# build compiles: on a fresh machine the download waits on the network, not on the cores.
 # Each step's wall time goes to stderr (scripts/step.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/step.sh
 trap stop_background EXIT
-with_asan=false
-[ "${1:-}" = "--with-asan" ] && with_asan=true
-step "install" bash scripts/install-deps.sh
-$with_asan && background "sanitizer build (the part left after the release suite)" bash scripts/build.sh asan
+step "install, to build" bash scripts/install-deps.sh --build
+background "install, to test (what was left after the release build)" bash scripts/install-deps.sh --test
 step "release build" bash scripts/build.sh release
+finish "install, to test (what was left after the release build)"
 step "release suite" ctest --preset release -j "$(nproc)"
-if $with_asan; then
-  finish "sanitizer build (the part left after the release suite)"
+if [ "${1:-}" = "--with-asan" ]; then
+  step "sanitizer build" bash scripts/build.sh asan
   # intercept_tls_get_addr=0: LeakSanitizer's thread scan (GCC 12's libasan) crashes now and then ("Tracer
   # caught signal 11") walking the dynamic TLS of Mesa's dlopen'ed driver in a headless render; a batch of
   # two renders at once failed 4 runs in 6 with it on, none in 4 with it off (docs/design/reliability.md).
