@@ -110,23 +110,11 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     const double timeChange = reference.levels[1].change;
     reference.frames = std::move(previous);
 
-    // Space: the rest of a geometric series of the changes, or the last change when they do not shrink.
-    if (spaceChanges.empty()) {
-        reference.spaceConverging = false;
-        reference.spaceUncertainty = std::numeric_limits<double>::infinity();  // one net: nothing says how far
-    } else if (spaceChanges.size() == 1) {
-        reference.spaceConverging = false;
-        reference.spaceUncertainty = spaceChanges.back();
-    } else {
-        const double d1 = spaceChanges[spaceChanges.size() - 2], d2 = spaceChanges.back();
-        const double r = d1 > 0.0 ? d2 / d1 : 1.0;
-        reference.spaceConverging = r < 1.0;
-        reference.spaceUncertainty = reference.spaceConverging ? d2 * r / (1.0 - r) : d2;
-    }
-    // Time: Verlet is second order, so the run at the full step is 4/3 of the change off (e(dt) = C dt²,
-    // e(dt/2) = e(dt)/4, change = 3/4 e(dt)).
-    reference.timeUncertainty = timeChange * 4.0 / 3.0;
-    reference.uncertainty = reference.spaceUncertainty + reference.timeUncertainty;
+    const RefinementUncertainty uncertainty = refinementUncertainty(spaceChanges, timeChange);
+    reference.spaceConverging = uncertainty.spaceConverging;
+    reference.spaceUncertainty = uncertainty.space;
+    reference.timeUncertainty = uncertainty.time;
+    reference.uncertainty = uncertainty.total;
     reference.description = "solid element on " + std::to_string(options.nodes.back()) + "x" +
                             std::to_string(options.nodes.back()) + "x" + std::to_string(options.nodes.back()) +
                             " bezier, verlet, dt " + stepName(reference.dt) + " s";
@@ -135,6 +123,28 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
         << (reference.spaceConverging ? "" : ", the changes do not shrink: the last change, no estimate below it")
         << ", step " << reference.timeUncertainty << ")\n";
     return reference;
+}
+
+RefinementUncertainty refinementUncertainty(std::span<const double> spaceChanges, double timeChange) {
+    RefinementUncertainty u;
+    // Space: the rest of a geometric series of the changes, or the last change when they do not shrink.
+    if (spaceChanges.empty()) {
+        u.spaceConverging = false;
+        u.space = std::numeric_limits<double>::infinity();  // one net: nothing says how far
+    } else if (spaceChanges.size() == 1) {
+        u.spaceConverging = false;
+        u.space = spaceChanges.back();
+    } else {
+        const double d1 = spaceChanges[spaceChanges.size() - 2], d2 = spaceChanges.back();
+        const double r = d1 > 0.0 ? d2 / d1 : 1.0;
+        u.spaceConverging = r < 1.0;
+        u.space = u.spaceConverging ? d2 * r / (1.0 - r) : d2;
+    }
+    // Time: Verlet is second order, so the run at the full step is 4/3 of the change off (e(dt) = C dt²,
+    // e(dt/2) = e(dt)/4, change = 3/4 e(dt)).
+    u.time = timeChange * 4.0 / 3.0;
+    u.total = u.space + u.time;
+    return u;
 }
 
 double certifiedFrom(const ConvergedReference& reference) {

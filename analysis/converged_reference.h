@@ -23,6 +23,7 @@
 
 #include <functional>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,17 @@ Result<Scene> solidOnBezier(const Scene& scene, int nodes);
 /// limits, volume preservation) or the clip cannot be played on other lattices (a take or keys on the nodes).
 Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibrary& library, const Clip& clip,
                                               const ReferenceOptions& options, std::ostream& log);
+
+/// How far the finest run of a refinement still is from the limit (the estimates above), relative to the
+/// diagonal. `spaceChanges`: each net's change from the one before, coarsest first (none: infinite, nothing
+/// says how far). `timeChange`: Verlet at half the step against the full step on one net.
+struct RefinementUncertainty {
+    double space = 0.0;
+    double time = 0.0;
+    double total = 0.0;
+    bool spaceConverging = true;  ///< The changes shrank (else `space` is the last change, no estimate below it).
+};
+RefinementUncertainty refinementUncertainty(std::span<const double> spaceChanges, double timeChange);
 
 /// The smallest target `reference` certifies: ten times its uncertainty (a tenth of the target is what the
 /// reference may be off by); infinite when it has no finite uncertainty.

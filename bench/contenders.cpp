@@ -11,22 +11,57 @@
 namespace softtouch::bench {
 namespace {
 
-std::shared_ptr<const BodyModel> latticeModel(const InteractionScenario& s, const Lattice& lattice, double scale) {
-    LatticeMaterial material = uniformMaterial(lattice, s.totalMass / lattice.nodeCount(), scale * s.stiffness, s.damping);
-    // Each held vertex pins the lattice node that moves it most.
+/// Each held vertex pins the lattice node that moves it most.
+void pinAnchors(const InteractionScenario& s, const Lattice& lattice, LatticeMaterial& material) {
     for (std::uint32_t a : s.anchors) {
         const auto weights = lattice.weights(lattice.box().toParameters(s.mesh.positions[a].cast<double>()));
         const auto strongest = std::max_element(weights.begin(), weights.end(),
                                                 [](const NodeWeight& x, const NodeWeight& y) { return x.weight < y.weight; });
         material.anchor[strongest->node] = AnchorMode::Pinned;
     }
+}
+
+std::shared_ptr<const BodyModel> latticeModel(const InteractionScenario& s, const Lattice& lattice, double scale) {
+    LatticeMaterial material =
+        uniformMaterial(lattice, s.totalMass / lattice.nodeCount(), scale * s.stiffness, scale * s.damping);
+    pinAnchors(s, lattice, material);
+    return buildLatticeBody(lattice, material).value();
+}
+
+/// The solid element filling the lattice's box: the body's mass spread evenly over the box, the modulus of
+/// `scale`, and viscosity / modulus = damping / stiffness. Held by the whole face of the box behind the held
+/// vertices (the face of smallest x, makeScenario()'s anchors), which is the same hold on every net: pinning
+/// the nodes that move the held vertices most would hold a patch that shrinks as the net is refined, and a
+/// finer solid would turn about it ever more freely.
+std::shared_ptr<const BodyModel> solidModel(const InteractionScenario& s, const Lattice& lattice, double scale) {
+    const Vec3 size = lattice.box().size;
+    const double modulus = scale * kSolidModulusPerStiffness * s.stiffness / (size.sum() / 3.0);
+    LatticeMaterial material =
+        uniformMaterial(lattice, s.totalMass / size.prod(), modulus, modulus * s.damping / s.stiffness);
+    material.model = MaterialModel::Continuum;
+    material.element = BodyElement::Solid;
+    const Vec3 held = lattice.box().toParameters(s.mesh.positions[s.anchors.front()].cast<double>());
+    const int axis = [&] {  // the box axis along which the held vertices lie at one end
+        int a = 0;
+        for (int i = 1; i < 3; ++i)
+            a = std::abs(held[i] - 0.5) > std::abs(held[a] - 0.5) ? i : a;
+        return a;
+    }();
+    const int end = held[axis] < 0.5 ? 0 : lattice.count(axis) - 1;
+    for (int k = 0; k < lattice.count(2); ++k)
+        for (int j = 0; j < lattice.count(1); ++j)
+            for (int i = 0; i < lattice.count(0); ++i) {
+                const int index[3] = {i, j, k};
+                if (index[axis] == end)
+                    material.anchor[std::size_t(lattice.index(i, j, k))] = AnchorMode::Pinned;
+            }
     return buildLatticeBody(lattice, material).value();
 }
 
 std::shared_ptr<const BodyModel> meshModel(const InteractionScenario& s, bool local, double scale) {
     MeshBodySettings settings;
     settings.stiffness = scale * s.stiffness;
-    settings.damping = s.damping;
+    settings.damping = scale * s.damping;
     settings.totalMass = s.totalMass;
     settings.anchors = s.anchors;
     if (local) {
@@ -50,16 +85,21 @@ std::string_view contenderName(Contender contender) {
     case Contender::Global: return "global";
     case Contender::Local: return "local";
     case Contender::Bullet: return "bullet";
+    case Contender::Solid: return "solid";
     }
     return "?";
 }
 
-OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiffnessScale) {
+OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiffnessScale, int solidNodes) {
     assert(contender != Contender::Bullet && stiffnessScale > 0.0);
     const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
-    if (contender == Contender::Lattice) {
-        const Lattice lattice = Lattice::create({}, fitBox(s.mesh.positions).value()).value();
-        m_model = latticeModel(s, lattice, stiffnessScale);
+    if (contender == Contender::Lattice || contender == Contender::Solid) {
+        const LatticeShape shape = contender == Contender::Solid
+                                       ? LatticeShape{LatticeKind::Bezier, {solidNodes, solidNodes, solidNodes}}
+                                       : LatticeShape{};
+        const Lattice lattice = Lattice::create(shape, fitBox(s.mesh.positions).value()).value();
+        m_model = contender == Contender::Solid ? solidModel(s, lattice, stiffnessScale)
+                                                : latticeModel(s, lattice, stiffnessScale);
         m_binding.emplace(Binding::create(lattice, s.mesh.positions, s.mesh.normals));
         m_dragSupport = lattice.weights(lattice.box().toParameters(restPoint));
     } else {

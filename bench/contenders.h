@@ -1,9 +1,15 @@
 #pragma once
 /// The contenders of the paper's Table 1 that run on our simulator, each on the same
 /// InteractionScenario: the lattice (ours), the global mass-spring and the local one. Bullet, the
-/// fourth, is in bullet_peer.h. A contender is built for one stiffness (the calibration's scale,
+/// fourth, is in bullet_peer.h; the solid they are all graded against is built here too
+/// (solid_reference.h). A contender is built for one stiffness (the calibration's scale,
 /// equal_response.h) and run with one solver setting; a run hands out the mesh at every frame so
-/// that runs of the same body can be compared (trajectory_error.h).
+/// that runs can be compared (trajectory_error.h).
+///
+/// One material for all: the scale multiplies every spring's stiffness and its damping alike, so every
+/// body has the scenario's relaxation time damping / stiffness (0.9 / 80 s), and the solid has it as
+/// viscosity / Young's modulus. Equal response then means the same pull moves the same point equally far
+/// at rest, and the motion on the way there is damped alike.
 
 #include "bench/scenario.h"
 #include "core/body/body_model.h"
@@ -26,9 +32,12 @@ enum class Contender : std::uint8_t {
     Local,   ///< The same, but only the vertices within scenario.localRadius of the drag move (the paper's
              ///< "local mass-spring", its reference 32); the rest of the mesh is pinned.
     Bullet,  ///< Bullet's btSoftBody (bullet_peer.h).
+    /// Not a contender but their common reference: the solid element on an n x n x n Bezier net over the
+    /// lattice's box, a continuum (solid_reference.h).
+    Solid,
 };
 
-/// Stable name for reports and JSON ("lattice", "global", "local", "bullet").
+/// Stable name for reports and JSON ("lattice", "global", "local", "bullet", "solid").
 std::string_view contenderName(Contender contender);
 
 /// How a contender is run.
@@ -62,8 +71,10 @@ bool allFinite(std::span<const Vec3f> positions);
 /// lattice, binding, building the springs) happens here, once, and is never timed.
 class OurBody {
 public:
-    /// `stiffnessScale` multiplies scenario.stiffness on every spring (> 0). `contender` is not Bullet.
-    OurBody(const InteractionScenario& scenario, Contender contender, double stiffnessScale);
+    /// `stiffnessScale` multiplies scenario.stiffness and scenario.damping on every spring (> 0); for the
+    /// solid, kSolidModulus and its viscosity. `contender` is not Bullet. `solidNodes`: the solid's nodes per
+    /// axis (Bezier, [2, 8]).
+    OurBody(const InteractionScenario& scenario, Contender contender, double stiffnessScale, int solidNodes = 8);
 
     const BodyModel& model() const { return *m_model; }
     std::shared_ptr<const BodyModel> sharedModel() const { return m_model; }
@@ -81,6 +92,11 @@ private:
     std::optional<Binding> m_binding;  ///< Lattice only.
     std::vector<NodeWeight> m_dragSupport;
 };
+
+/// The solid's Young's modulus at stiffness scale 1, per N/m of scenario.stiffness and per metre of the
+/// box's mean edge: a spring k across a cell of edge h is about the solid E = k / h of that cell, and a
+/// 4x4x4 net has h = edge / 3. Only the calibration's first guess depends on it.
+inline constexpr double kSolidModulusPerStiffness = 3.0;
 
 /// Runs the scenario on `body` with `setting` (timed: the steps and the mesh at every frame). With a
 /// `budgetSeconds` > 0 the run stops at the first frame after that much wall time (for a solver too

@@ -8,6 +8,11 @@
 
 namespace softtouch::bench {
 
+/// How closely, and in how many settles at most, Table 1 brings every body to the common displacement
+/// (relative; equal response is asked for within 5%).
+inline constexpr double kEqualResponseTolerance = 0.01;
+inline constexpr int kEqualResponseEvaluations = 8;
+
 /// One evaluation of the calibration.
 struct CalibrationStep {
     double scale = 0.0;        ///< Stiffness scale tried.

@@ -2,18 +2,19 @@
 
 #include "bench/bullet_peer.h"
 #include "bench/static_response.h"
+#include "bench/surface_transfer.h"
+#include "analysis/timer.h"
 #include "analysis/trajectory_error.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 namespace softtouch::bench {
 namespace {
 
-constexpr double kCalibrationTolerance = 0.01;  ///< Relative; equal response is asked for within 5%.
-constexpr int kCalibrationEvaluations = 8;
 /// Below this error (fraction of the diagonal: 2.6 mm on these 1.3 m meshes) two runs look the same on
 /// screen, so XPBD need not be more accurate than this even where implicit Euler is.
 constexpr double kAccuracyFloor = 0.002;
@@ -50,8 +51,10 @@ double prefixError(const ContenderRun& run, const ContenderRun& reference, int f
 /// One contender's runs and their shared facts.
 class RunRecorder {
 public:
-    RunRecorder(Table1Size& size, Contender contender, const ContenderRun& reference, double scale, double displacement)
-        : m_size(size), m_contender(contender), m_reference(reference), m_scale(scale), m_displacement(displacement) {}
+    RunRecorder(Table1Size& size, Contender contender, const ContenderRun& reference, const std::vector<Vec3f>& solid,
+                double scale, double displacement)
+        : m_size(size), m_contender(contender), m_reference(reference), m_solid(solid), m_scale(scale),
+          m_displacement(displacement) {}
 
     Table1Run& add(const ContenderRun& run, std::string solver, int iterations, std::string role) {
         Table1Run row;
@@ -65,7 +68,11 @@ public:
         row.error = prefixError(run, m_reference, run.framesRun, m_size.vertices, m_size.diagonal);
         row.finite = run.finite;
         row.role = std::move(role);
+        const bool whole = !run.stopped() && run.finite;
+        row.solidError = whole ? analysis::trajectoryError(run.frames, m_solid, m_size.diagonal)
+                               : std::numeric_limits<double>::quiet_NaN();
         m_size.runs.push_back(row);
+        m_size.runFrames.push_back(whole ? run.frames : std::vector<Vec3f>{});
         return m_size.runs.back();
     }
 
@@ -73,6 +80,7 @@ private:
     Table1Size& m_size;
     Contender m_contender;
     const ContenderRun& m_reference;
+    const std::vector<Vec3f>& m_solid;
     double m_scale, m_displacement;
 };
 
@@ -83,15 +91,15 @@ Calibration calibrateOurs(const InteractionScenario& s, Contender c, double targ
         const StaticResponse r = settleOurs(s, body, &equilibrium);
         return CalibrationStep{scale, r.displacement, r.steps};
     };
-    return calibrate(settle, target, s.dragOffset.norm(), first, kCalibrationTolerance, kCalibrationEvaluations);
+    return calibrate(settle, target, s.dragOffset.norm(), first, kEqualResponseTolerance, kEqualResponseEvaluations);
 }
 
-void lattice(const InteractionScenario& s, Table1Size& size, const Table1Size* previous) {
+void lattice(const InteractionScenario& s, Table1Size& size, const Table1Size* previous, const std::vector<Vec3f>& solid) {
     Table1Contender about{Contender::Lattice, calibrateOurs(s, Contender::Lattice, size.target, firstScale(previous, Contender::Lattice)),
                           "verlet dt/4", 0.0, true, 0, {}};
     const OurBody body(s, Contender::Lattice, about.calibration.scale);
     const ContenderRun reference = runContender(s, body, kVerletReference);
-    RunRecorder record(size, Contender::Lattice, reference, about.calibration.scale, about.calibration.displacement);
+    RunRecorder record(size, Contender::Lattice, reference, solid, about.calibration.scale, about.calibration.displacement);
     record.add(runContender(s, body, {IntegratorKind::ImplicitEuler, 1, 1}), "implicit-euler", 1, "paper").best = true;
     record.add(runContender(s, body, {IntegratorKind::Xpbd, 8, 1}), "xpbd", 8, "other");
     record.add(runContender(s, body, {IntegratorKind::Verlet, 1, 1}), "verlet", 1, "other");
@@ -104,14 +112,14 @@ void lattice(const InteractionScenario& s, Table1Size& size, const Table1Size* p
 /// is its time, marked as not matched: a peer's time is never overstated, so the lattice's ratio is then
 /// a lower bound.
 void massSpring(const InteractionScenario& s, Contender c, Table1Size& size, const Table1Size* previous,
-                const Table1Options& options) {
+                const Table1Options& options, const std::vector<Vec3f>& solid) {
     Table1Contender about{c, calibrateOurs(s, c, size.target, firstScale(previous, c)), "", 0.0, false, 0, {}};
     const OurBody body(s, c, about.calibration.scale);
     const SolverSetting referenceSetting =
         c == Contender::Global ? SolverSetting{IntegratorKind::Xpbd, kGlobalReferenceSubsteps, 1} : kVerletReference;
     about.reference = c == Contender::Global ? "xpbd x" + std::to_string(kGlobalReferenceSubsteps) : "verlet dt/4";
     const ContenderRun reference = runContender(s, body, referenceSetting);
-    RunRecorder record(size, c, reference, about.calibration.scale, about.calibration.displacement);
+    RunRecorder record(size, c, reference, solid, about.calibration.scale, about.calibration.displacement);
 
     const double budget = c == Contender::Global ? options.implicitBudgetSeconds : 0.0;
     const ContenderRun implicitRun = runContender(s, body, {IntegratorKind::ImplicitEuler, 1, 1}, budget);
@@ -139,7 +147,7 @@ void massSpring(const InteractionScenario& s, Contender c, Table1Size& size, con
 
 /// Bullet: the iteration count its static displacement converges at, calibrated there; also its default
 /// of one iteration at the same stiffness.
-void bullet(const InteractionScenario& s, Table1Size& size, const Table1Size* previous) {
+void bullet(const InteractionScenario& s, Table1Size& size, const Table1Size* previous, const std::vector<Vec3f>& solid) {
     Table1Contender about{Contender::Bullet, {}, "", 0.0, true, 0, {}};
     std::map<std::pair<int, double>, CalibrationStep> settled;  // (iterations, scale) -> result
     const auto settle = [&](int iterations, double scale) {
@@ -174,7 +182,7 @@ void bullet(const InteractionScenario& s, Table1Size& size, const Table1Size* pr
     }
     const int n = about.bulletIterations;
     about.calibration = calibrate([&](double scale) { return settle(n, scale); }, size.target, s.dragOffset.norm(), first,
-                                  kCalibrationTolerance, kCalibrationEvaluations);
+                                  kEqualResponseTolerance, kEqualResponseEvaluations);
     const double scale = about.calibration.scale;
     const int referenceIterations = kBulletReferenceFactor * n;
     about.reference = "bullet x" + std::to_string(referenceIterations);
@@ -183,10 +191,96 @@ void bullet(const InteractionScenario& s, Table1Size& size, const Table1Size* pr
     const std::optional<ContenderRun> defaultRun = runBullet(s, {scale, 1});
     if (!reference || !converged || !defaultRun)
         return;
-    RunRecorder record(size, Contender::Bullet, *reference, scale, about.calibration.displacement);
+    RunRecorder record(size, Contender::Bullet, *reference, solid, scale, about.calibration.displacement);
     record.add(*converged, "bullet", n, "converged").best = true;
     record.add(*defaultRun, "bullet", 1, "default").displacement = settle(1, scale).displacement;
     size.contenders.push_back(std::move(about));
+}
+
+IntegratorKind integratorOf(const std::string& solver) {
+    if (solver == "xpbd")
+        return IntegratorKind::Xpbd;
+    if (solver == "verlet")
+        return IntegratorKind::Verlet;
+    return IntegratorKind::ImplicitEuler;
+}
+
+/// Every run of this size, and every whole run of the mesh bodies on the smaller sizes carried onto this mesh,
+/// against the solid.
+void grade(Table1Size& size, std::span<const Table1Size> smaller, const std::vector<Vec3f>& solid) {
+    for (const Table1Run& r : size.runs) {
+        if (std::isfinite(r.solidError))
+            size.graded.push_back({r.contender, size.triangles, r.solver, r.iterations, r.scale, r.seconds, 0.0, r.solidError});
+    }
+    for (const Table1Size& coarse : smaller) {
+        const SurfaceTransfer carry(coarse.mesh, size.mesh.positions);
+        for (std::size_t i = 0; i < coarse.runs.size(); ++i) {
+            // The lattice deforms the user's mesh whatever its size, so only the mesh bodies, which simulate
+            // the mesh itself, may run a coarser one.
+            if (coarse.runFrames[i].empty() || coarse.runs[i].contender == Contender::Lattice)
+                continue;
+            const Table1Run& r = coarse.runs[i];
+            analysis::Stopwatch watch;
+            const std::vector<Vec3f> frames = carry.apply(coarse.runFrames[i], coarse.mesh.positions);
+            const double carrying = watch.seconds();
+            size.graded.push_back({r.contender, coarse.triangles, r.solver, r.iterations, r.scale, r.seconds + carrying,
+                                   carrying, analysis::trajectoryError(frames, solid, size.diagonal)});
+        }
+    }
+}
+
+/// The time of one graded setting, run again on its own mesh (its carrying added).
+double retime(const Table1Graded& g) {
+    const InteractionScenario s = makeScenario(makeEllipsoid(g.triangles));
+    if (g.contender == Contender::Bullet) {
+        const std::optional<ContenderRun> run = runBullet(s, {g.scale, g.iterations});
+        return run ? run->scenarioSeconds() + g.carrying : std::numeric_limits<double>::infinity();
+    }
+    const OurBody body(s, g.contender, g.scale);
+    return runContender(s, body, {integratorOf(g.solver), g.iterations, 1}).seconds + g.carrying;
+}
+
+/// Each contender's cheapest graded run at least as close to the solid as the lattice's paper row (its most
+/// accurate when none is), timed best of `timings`.
+void pick(Table1Size& size, int timings) {
+    const Table1Run* paper = size.find(Contender::Lattice, "paper");
+    size.accuracyGoal = paper ? paper->solidError : 0.0;
+    for (const Table1Contender& c : size.contenders) {
+        const Table1Graded* cheapest = nullptr;
+        const Table1Graded* closest = nullptr;
+        for (const Table1Graded& g : size.graded) {
+            if (g.contender != c.contender)
+                continue;
+            if (g.solidError <= size.accuracyGoal && (!cheapest || g.seconds < cheapest->seconds))
+                cheapest = &g;
+            if (!closest || g.solidError < closest->solidError)
+                closest = &g;
+        }
+        if (!closest)
+            continue;
+        Table1Pick p;
+        p.reached = cheapest != nullptr;
+        p.run = p.reached ? *cheapest : *closest;
+        p.fastest = p.slowest = p.run.seconds;
+        for (int i = 1; i < timings; ++i) {
+            const double t = retime(p.run);
+            p.fastest = std::min(p.fastest, t);
+            p.slowest = std::max(p.slowest, t);
+        }
+        size.picks.push_back(p);
+    }
+}
+
+/// The runs the equal-response table shows (each contender's best, Bullet's default) timed best of `timings`:
+/// run again and the fastest kept. A stopped run keeps its extrapolation.
+void retimeBest(Table1Size& size, int timings) {
+    for (Table1Run& r : size.runs) {
+        if ((!r.best && r.role != "default") || r.stopped)
+            continue;
+        const Table1Graded setting{r.contender, size.triangles, r.solver, r.iterations, r.scale, r.seconds, 0.0, r.solidError};
+        for (int i = 1; i < timings; ++i)
+            r.seconds = std::min(r.seconds, retime(setting));
+    }
 }
 
 void logCalibration(const Table1Contender& c, std::ostream& log) {
@@ -230,6 +324,14 @@ const Table1Run* Table1Size::find(Contender contender, const std::string& role) 
     return nullptr;
 }
 
+const Table1Pick* Table1Size::pick(Contender contender) const {
+    for (const Table1Pick& p : picks) {
+        if (p.run.contender == contender)
+            return &p;
+    }
+    return nullptr;
+}
+
 const Table1Contender* Table1Size::about(Contender contender) const {
     for (const Table1Contender& c : contenders) {
         if (c.contender == contender)
@@ -238,27 +340,41 @@ const Table1Contender* Table1Size::about(Contender contender) const {
     return nullptr;
 }
 
-Table1Size measureTable1Size(int triangles, const Table1Options& options, const Table1Size* previous, std::ostream& log) {
+Table1Size measureTable1Size(int triangles, const Table1Options& options, std::span<const Table1Size> smaller,
+                             std::ostream& log) {
     const InteractionScenario s = makeScenario(makeEllipsoid(triangles));
+    const Table1Size* previous = smaller.empty() ? nullptr : &smaller.back();
     Table1Size size;
     size.triangles = triangles;
     size.vertices = s.mesh.positions.size();
     size.diagonal = s.mesh.bounds().diagonal();
     size.target = options.targetFraction * size.diagonal;
+    size.mesh = s.mesh;
     char line[120];
-    std::snprintf(line, sizeof line, "  %d triangles: target %.4f m; calibration:\n", triangles, size.target);
+    std::snprintf(line, sizeof line, "  %d triangles: target %.4f m; the common reference:\n", triangles, size.target);
     log << line << std::flush;
-    lattice(s, size, previous);
+    const double firstSolid = previous && previous->referenceCalibration.scale > 0.0 ? previous->referenceCalibration.scale : 1.0;
+    SolidReference reference = solidReference(s, size.target, firstSolid, options.reference, log);
+    size.referenceCalibration = reference.calibration;
+    size.referenceModulus = reference.modulus;
+    size.referenceDescription = reference.description;
+    size.referenceUncertainty = reference.uncertainty;
+    size.referenceLevels = reference.levels;
+    log << "    calibration:\n" << std::flush;
+    lattice(s, size, previous, reference.frames);
     logCalibration(size.contenders.back(), log);
-    massSpring(s, Contender::Global, size, previous, options);
+    massSpring(s, Contender::Global, size, previous, options, reference.frames);
     logCalibration(size.contenders.back(), log);
-    massSpring(s, Contender::Local, size, previous, options);
+    massSpring(s, Contender::Local, size, previous, options, reference.frames);
     logCalibration(size.contenders.back(), log);
     if (options.bullet && bulletAvailable()) {
-        bullet(s, size, previous);
+        bullet(s, size, previous, reference.frames);
         if (size.about(Contender::Bullet))
             logCalibration(size.contenders.back(), log);
     }
+    grade(size, smaller, reference.frames);
+    pick(size, options.timings);
+    retimeBest(size, options.timings);
     return size;
 }
 

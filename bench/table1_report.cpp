@@ -1,6 +1,8 @@
 #include "bench/table1_report.h"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace softtouch::bench {
 namespace {
@@ -16,16 +18,48 @@ constexpr double kImplicitBudgetSeconds = 90.0;
 
 json orNull(const Table1Run* run) { return run ? json(run->seconds) : json(nullptr); }
 
+json nanToNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+std::string setting(const Table1Graded& g) {
+    std::string text = g.solver;
+    if (g.solver == "xpbd" || g.solver == "bullet")
+        text += " x" + std::to_string(g.iterations);
+    return text + " on " + std::to_string(g.triangles);
+}
+
+void printPicks(const Table1Size& size, std::ostream& out) {
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "    common reference: %s, E %.4g Pa (static %.4f m); %.3g%% of the diagonal from the limit\n"
+                  "    at equal accuracy (as close to the solid as the lattice's paper row, %.3f%%; best of the timings):\n",
+                  size.referenceDescription.c_str(), size.referenceModulus, size.referenceCalibration.displacement,
+                  100.0 * size.referenceUncertainty.total, 100.0 * size.accuracyGoal);
+    out << line;
+    const Table1Pick* lattice = size.pick(Contender::Lattice);
+    for (const Table1Pick& p : size.picks) {
+        std::snprintf(line, sizeof line, "      %-8s %-26s %9.4f s (to %.4f)  %7.3f%%  %s", std::string(contenderName(p.run.contender)).c_str(),
+                      setting(p.run).c_str(), p.fastest, p.slowest, 100.0 * p.run.solidError,
+                      p.reached ? "" : "never as close: its closest");
+        out << line;
+        if (p.reached && lattice && p.run.contender != Contender::Lattice) {
+            std::snprintf(line, sizeof line, "  %.1fx the lattice", p.fastest / lattice->fastest);
+            out << line;
+        }
+        out << "\n";
+    }
+    out << std::flush;
+}
+
 void printSize(const Table1Size& size, std::ostream& out) {
     char line[240];
-    out << "    contender  solver            iter     scale  static_m   seconds  error_%  \n";
+    out << "    contender  solver            iter     scale  static_m   seconds  error_%  solid_%\n";
     for (const Table1Run& r : size.runs) {
         if (r.role == "ladder")
             continue;  // in the JSON; the table shows what was compared
-        std::snprintf(line, sizeof line, "    %-9s  %-16s %5d  %8.4g  %8.4f  %8.4f%s %7.3f  %s%s\n",
+        std::snprintf(line, sizeof line, "    %-9s  %-16s %5d  %8.4g  %8.4f  %8.4f%s %7.3f  %7.3f  %s%s\n",
                       std::string(contenderName(r.contender)).c_str(), r.solver.c_str(), r.iterations, r.scale,
-                      r.displacement, r.seconds, r.stopped ? "*" : " ", 100.0 * r.error, r.role.c_str(),
-                      r.best ? ", best" : "");
+                      r.displacement, r.seconds, r.stopped ? "*" : " ", 100.0 * r.error, 100.0 * r.solidError,
+                      r.role.c_str(), r.best ? ", best" : "");
         out << line;
     }
     const Table1Run* lattice = size.best(Contender::Lattice);
@@ -45,6 +79,7 @@ void printSize(const Table1Size& size, std::ostream& out) {
         out << line;
     }
     out << "\n" << std::flush;
+    printPicks(size, out);
 }
 
 }  // namespace
@@ -81,7 +116,7 @@ json table1Json(const Table1Size& size, const Table1Options& options) {
         runs.push_back({{"contender", contenderName(r.contender)}, {"solver", r.solver}, {"iterations", r.iterations},
                         {"seconds", r.seconds}, {"extrapolated", r.stopped}, {"scale", r.scale},
                         {"displacement_m", r.displacement}, {"error", r.error}, {"finite", r.finite},
-                        {"role", r.role}, {"best", r.best}});
+                        {"role", r.role}, {"best", r.best}, {"solid_error", nanToNull(r.solidError)}});
     }
     json row = {{"triangles", size.triangles}, {"vertices", size.vertices}, {"diagonal_m", size.diagonal},
                 {"target_m", size.target}, {"target_fraction", options.targetFraction}, {"contenders", contenders},
@@ -104,6 +139,35 @@ json table1Json(const Table1Size& size, const Table1Options& options) {
     if (bulletDefault && lattice)
         ratios["bullet_default"] = bulletDefault->seconds / lattice->seconds;
     row["ratios"] = ratios;
+
+    json levels = json::array();
+    for (const analysis::ReferenceLevel& level : size.referenceLevels)
+        levels.push_back({{"what", level.what}, {"seconds", level.seconds}, {"change", nanToNull(level.change)}});
+    row["reference"] = {{"description", size.referenceDescription},
+                        {"modulus_pa", size.referenceModulus},
+                        {"scale", size.referenceCalibration.scale},
+                        {"displacement_m", size.referenceCalibration.displacement},
+                        {"calibrated", size.referenceCalibration.converged},
+                        {"uncertainty", size.referenceUncertainty.total},
+                        {"space_uncertainty", size.referenceUncertainty.space},
+                        {"time_uncertainty", size.referenceUncertainty.time},
+                        {"space_converging", size.referenceUncertainty.spaceConverging},
+                        {"levels", levels}};
+    row["accuracy_goal"] = size.accuracyGoal;
+    json picks = json::object();
+    json equalAccuracy = json::object();
+    const Table1Pick* latticePick = size.pick(Contender::Lattice);
+    for (const Table1Pick& p : size.picks) {
+        const std::string name(contenderName(p.run.contender));
+        picks[name] = {{"triangles", p.run.triangles}, {"solver", p.run.solver},   {"iterations", p.run.iterations},
+                       {"seconds", p.fastest},         {"slowest_s", p.slowest},   {"carrying_s", p.run.carrying},
+                       {"solid_error", p.run.solidError}, {"reached", p.reached}};
+        if (p.run.contender != Contender::Lattice && latticePick)
+            equalAccuracy[name] = p.reached ? json(p.fastest / latticePick->fastest) : json(nullptr);
+    }
+    row["picks"] = picks;
+    row["equal_accuracy_ratios"] = equalAccuracy;
+    row["graded"] = size.graded.size();
     return row;
 }
 
@@ -113,18 +177,19 @@ json table1Section(bool quick, std::ostream& out) {
         sizes = {208, 832, 2160};
     Table1Options options;
     options.implicitBudgetSeconds = quick ? 0.0 : kImplicitBudgetSeconds;
-    char header[400];
+    char header[600];
     std::snprintf(header, sizeof header,
                   "\nTable 1 at equal response: one second of dragging (dt 1/240 s, mesh at 60 Hz, one thread).\n"
-                  "  Every body's stiffness is scaled until its dragged vertex, held, settles %.0f%% of the diagonal\n"
-                  "  from rest. Seconds per simulated second; error = RMS against the same body's converged run,\n"
-                  "  %% of the diagonal%s. docs/measurements/performance.md says why.\n",
+                  "  Every body's stiffness and damping are scaled until its dragged vertex, held, settles %.0f%% of the\n"
+                  "  diagonal from rest. Seconds per simulated second; error = RMS against the same body's converged\n"
+                  "  run, solid = RMS against the common reference (the converged solid), %% of the diagonal%s.\n"
+                  "  docs/measurements/performance.md says why.\n",
                   100.0 * options.targetFraction, quick ? "" : " (*: stopped at the time budget, time extrapolated)");
     out << header;
     json rows = json::array();
     std::vector<Table1Size> done;
     for (int triangles : sizes) {
-        done.push_back(measureTable1Size(triangles, options, done.empty() ? nullptr : &done.back(), out));
+        done.push_back(measureTable1Size(triangles, options, done, out));
         printSize(done.back(), out);
         rows.push_back(table1Json(done.back(), options));
     }
@@ -151,6 +216,28 @@ json table1Section(bool quick, std::ostream& out) {
                       lattice && global ? global->seconds / lattice->seconds : 0.0,
                       lattice && bullet ? bullet->seconds / lattice->seconds : 0.0);
         out << line;
+    }
+    out << "\n  At equal accuracy: each contender's cheapest run at least as close to the converged solid as the\n"
+           "  lattice's paper row (goal), on any mesh size up to the row's; ratio to the lattice's, or its closest\n"
+           "  distance where no run gets that close.\n"
+           "  triangles  solid_unc_%  goal_%   lattice_s  global                 local                  bullet\n";
+    for (const Table1Size& size : done) {
+        const Table1Pick* lattice = size.pick(Contender::Lattice);
+        char line[300];
+        std::snprintf(line, sizeof line, "  %9d  %11.3f  %6.3f  %9.4f", size.triangles, 100.0 * size.referenceUncertainty.total,
+                      100.0 * size.accuracyGoal, lattice ? lattice->fastest : 0.0);
+        out << line;
+        for (Contender c : {Contender::Global, Contender::Local, Contender::Bullet}) {
+            const Table1Pick* p = size.pick(c);
+            if (!p)
+                std::snprintf(line, sizeof line, "  %-21s", "n/a");
+            else if (p->reached && lattice)
+                std::snprintf(line, sizeof line, "  %-21s", (std::to_string(p->fastest / lattice->fastest).substr(0, 6) + "x").c_str());
+            else
+                std::snprintf(line, sizeof line, "  never (closest %.2f%%)", 100.0 * p->run.solidError);
+            out << line;
+        }
+        out << "\n";
     }
     out << std::flush;
     return rows;
