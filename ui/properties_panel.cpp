@@ -688,7 +688,7 @@ void PropertiesPanel::startModesAnalysis() {
     m_modesWanted.reset();
     m_modesRunning = true;
     QPointer<PropertiesPanel> panel(this);
-    QThreadPool::globalInstance()->start([panel, object = std::move(object), settings] {
+    QThreadPool::globalInstance()->start([panel, object = std::move(object), settings = settings] {
         auto report = std::make_shared<ModesReport>(analyseModes(object, settings));
         QMetaObject::invokeMethod(
             qApp, [panel, report] {

@@ -168,7 +168,7 @@ private slots:
                 QCOMPARE(visible[integratorLegendName(k, size)], 1);
             for (const auto& [lattice, used] : shapes) {
                 const auto first = std::find_if(result.rows.begin(), result.rows.end(),
-                                                [&](const analysis::StudyRow& r) { return r.resolution == lattice; });
+                                                [&, wanted = lattice](const analysis::StudyRow& r) { return r.resolution == wanted; });
                 const QString label = latticeLegendName(*first, size);
                 QCOMPARE(visible[label], 1);
                 for (QLegendMarker* m : chart.legend()->markers())
