@@ -72,12 +72,7 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
             return Status::error("the converged solid (" + level.what + "): " + frames.message());
         level.change = previous.positions.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                   : worstDistance(objectDistances(frames.value(), previous, diagonals));
-        char line[200];
-        std::snprintf(line, sizeof line, "  %-44s %7.1f s", level.what.c_str(), level.seconds);
-        log << line;
-        if (std::isfinite(level.change))
-            log << "  moves the clip " << level.change << " of the diagonal (RMS)";
-        log << "\n" << std::flush;
+        logReferenceLevel(level, log);
         reference.levels.push_back(level);
         return frames;
     };
@@ -123,6 +118,15 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
         << (reference.spaceConverging ? "" : ", the changes do not shrink: the last change, no estimate below it")
         << ", step " << reference.timeUncertainty << ")\n";
     return reference;
+}
+
+void logReferenceLevel(const ReferenceLevel& level, std::ostream& log) {
+    char line[200];
+    std::snprintf(line, sizeof line, "  %-44s %7.2f s", level.what.c_str(), level.seconds);
+    log << line;
+    if (std::isfinite(level.change))
+        log << "  moves the mesh " << level.change << " of the diagonal (RMS)";
+    log << "\n" << std::flush;
 }
 
 RefinementUncertainty refinementUncertainty(std::span<const double> spaceChanges, double timeChange) {

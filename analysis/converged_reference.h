@@ -36,6 +36,10 @@ struct ReferenceLevel {
     double seconds = 0.0;     ///< Wall time the rung took.
 };
 
+/// One line for `level` in a refinement's log: what it ran, its time and, after the first, how far it moved
+/// the mesh from the rung before.
+void logReferenceLevel(const ReferenceLevel& level, std::ostream& log);
+
 /// The converged solid's clip.
 struct ConvergedReference {
     ClipMeshFrames frames;              ///< The finest rung's mesh frames: the reference.

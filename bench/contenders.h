@@ -13,6 +13,7 @@
 
 #include "bench/scenario.h"
 #include "core/body/body_model.h"
+#include "core/body/forces.h"
 #include "core/geometry/binding.h"
 #include "core/geometry/lattice.h"
 #include "core/solver/integrator.h"
@@ -80,6 +81,10 @@ public:
     std::shared_ptr<const BodyModel> sharedModel() const { return m_model; }
     /// Weights of the dragged material point over the nodes (the drag spring's support).
     const std::vector<NodeWeight>& dragSupport() const { return m_dragSupport; }
+    /// A mass-spring on the mesh (global or local), not a lattice.
+    bool isMeshBody() const { return !m_binding; }
+    /// The scenario's drag spring on the dragged point, its target at the point's rest position.
+    DragSpring dragSpring(const InteractionScenario& scenario) const;
     /// Where the dragged vertex is for these node positions (its mesh position: the FFD is linear in the
     /// nodes, so it is the drag support's weighted sum for the lattice too).
     Vec3 dragVertex(const std::vector<Vec3>& nodes) const;

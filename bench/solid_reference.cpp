@@ -30,10 +30,7 @@ StaticResponse settleSolid(const InteractionScenario& s, double scale, int nodes
     settings.sleep = false;
     Simulator sim(body.sharedModel(), settings);
     const Vec3 rest = s.mesh.positions[s.dragVertex].cast<double>();
-    DragSpring drag;
-    drag.support = body.dragSupport();
-    drag.stiffness = s.dragStiffness;
-    drag.damping = s.dragDamping;
+    DragSpring drag = body.dragSpring(s);
     drag.target = rest + s.dragOffset;
     ExternalForces forces;
     forces.drags.assign(1, drag);
@@ -90,11 +87,8 @@ SolidReference solidReference(const InteractionScenario& s, double target, doubl
         level.seconds = run.seconds;
         level.change = previous.empty() ? std::numeric_limits<double>::quiet_NaN()
                                         : analysis::trajectoryError(run.frames, previous, diagonal);
-        std::snprintf(line, sizeof line, "      %-40s %7.2f s", level.what.c_str(), level.seconds);
-        log << line;
-        if (std::isfinite(level.change))
-            log << "  moves the mesh " << level.change << " of the diagonal (RMS)";
-        log << "\n" << std::flush;
+        log << "    ";
+        analysis::logReferenceLevel(level, log);
         reference.levels.push_back(level);
         previous = std::move(run.frames);
     };

@@ -34,7 +34,4 @@ private:
     std::vector<Vec3f> m_targetRest;
 };
 
-/// The point of triangle (a, b, c) nearest `p`, as barycentric weights of a, b, c (each >= 0, summing to 1).
-std::array<double, 3> nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
 }  // namespace softtouch::bench

@@ -79,10 +79,7 @@ def main(path):
             if not p:
                 cells.append("n/a")
                 continue
-            where = f"{p['solver'].replace('implicit-euler', 'IE').replace('xpbd', 'XPBD').replace('bullet', 'Bullet')}"
-            if p["solver"] in ("xpbd", "bullet"):
-                where += f" x{p['iterations']}"
-            where += f" on {p['triangles']:,}"
+            where = f"{solver(p)} on {p['triangles']:,}"
             ratio = row["equal_accuracy_ratios"].get(c)
             verdict = f"{ratio:.1f}x the lattice" if p["reached"] and ratio is not None else "never as close"
             cells.append(f"{verdict}: {where}, {seconds(p['seconds'])} s, {pct(p['solid_error'])}")

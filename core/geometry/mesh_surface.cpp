@@ -13,10 +13,7 @@
 
 namespace softtouch {
 
-namespace {
-
-/// The point of triangle (a, b, c) nearest p, as barycentric weights (Ericson, "Real-Time Collision
-/// Detection", 5.1.5): exact, where FCL's own nearest points come from an iterative solver with a tolerance.
+// Ericson, "Real-Time Collision Detection", 5.1.5: the Voronoi region of p among the triangle's features.
 std::array<double, 3> nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
@@ -49,6 +46,8 @@ std::array<double, 3> nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3
     const double v = vb * denominator, w = vc * denominator;
     return {1.0 - v - w, v, w};
 }
+
+namespace {
 
 /// Each vertex's first vertex at the same position (equal floats: -0 and +0 are one place). Edges and
 /// pseudonormals are keyed by it, so triangles that meet at split corners (an OBJ's flat-shaded corners, a UV

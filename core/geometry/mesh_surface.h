@@ -19,6 +19,7 @@
 #include "core/base/types.h"
 #include "core/geometry/mesh.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -52,6 +53,10 @@ struct MeshTopology {
     /// Every edge joins exactly two triangles, wound the same way round.
     bool closed() const { return openEdges == 0 && nonManifoldEdges == 0 && flippedEdges == 0; }
 };
+
+/// The point of triangle (a, b, c) nearest `p`, as barycentric weights of a, b, c (each >= 0, summing to 1):
+/// exact, where FCL's own nearest points come from an iterative solver with a tolerance.
+std::array<double, 3> nearestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 /// An immutable triangle surface with signed distance queries. Built once (a rock: milliseconds).
 class MeshSurface {

@@ -7,6 +7,7 @@
 #include "bench/bullet_peer.h"
 #include "bench/equal_response.h"
 #include "bench/surface_transfer.h"
+#include "core/geometry/mesh_surface.h"
 #include "bench/table1.h"
 #include "bench/table1_report.h"
 #include "analysis/trajectory_error.h"
