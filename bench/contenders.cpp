@@ -35,19 +35,13 @@ std::shared_ptr<const BodyModel> latticeModel(const InteractionScenario& s, cons
 /// finer solid would turn about it ever more freely.
 std::shared_ptr<const BodyModel> solidModel(const InteractionScenario& s, const Lattice& lattice, double scale) {
     const Vec3 size = lattice.box().size;
-    const double modulus = scale * kSolidModulusPerStiffness * s.stiffness / (size.sum() / 3.0);
-    LatticeMaterial material =
-        uniformMaterial(lattice, s.totalMass / size.prod(), modulus, modulus * s.damping / s.stiffness);
-    material.model = MaterialModel::Continuum;
+    const SolidMaterial solid = solidMaterial(s, size, scale);
+    LatticeMaterial material = continuumMaterial(lattice, s.totalMass / size.prod(), solid.modulus, solid.viscosity);
     material.element = BodyElement::Solid;
     const Vec3 held = lattice.box().toParameters(s.mesh.positions[s.anchors.front()].cast<double>());
-    const int axis = [&] {  // the box axis along which the held vertices lie at one end
-        int a = 0;
-        for (int i = 1; i < 3; ++i)
-            a = std::abs(held[i] - 0.5) > std::abs(held[a] - 0.5) ? i : a;
-        return a;
-    }();
-    const int end = held[axis] < 0.5 ? 0 : lattice.count(axis) - 1;
+    Eigen::Index axis = 0;  // the box axis along which the held vertices lie at one end
+    (held.array() - 0.5).abs().maxCoeff(&axis);
+    const int end = held[axis] < 0.5 ? 0 : lattice.count(int(axis)) - 1;
     for (int k = 0; k < lattice.count(2); ++k)
         for (int j = 0; j < lattice.count(1); ++j)
             for (int i = 0; i < lattice.count(0); ++i) {
@@ -74,6 +68,11 @@ std::shared_ptr<const BodyModel> meshModel(const InteractionScenario& s, bool lo
 }
 
 }  // namespace
+
+SolidMaterial solidMaterial(const InteractionScenario& s, const Vec3& boxSize, double scale) {
+    const double modulus = scale * kSolidModulusPerStiffness * s.stiffness / (boxSize.sum() / 3.0);
+    return {modulus, modulus * s.damping / s.stiffness};
+}
 
 bool allFinite(std::span<const Vec3f> positions) {
     return std::all_of(positions.begin(), positions.end(), [](const Vec3f& p) { return p.allFinite(); });

@@ -103,6 +103,14 @@ private:
 /// 4x4x4 net has h = edge / 3. Only the calibration's first guess depends on it.
 inline constexpr double kSolidModulusPerStiffness = 3.0;
 
+/// The solid's material at a stiffness scale, in a box of edges `boxSize`: Young's modulus (Pa) and the
+/// viscosity (Pa·s) of the scenario's relaxation time, damping / stiffness.
+struct SolidMaterial {
+    double modulus = 0.0;
+    double viscosity = 0.0;
+};
+SolidMaterial solidMaterial(const InteractionScenario& scenario, const Vec3& boxSize, double scale);
+
 /// Runs the scenario on `body` with `setting` (timed: the steps and the mesh at every frame). With a
 /// `budgetSeconds` > 0 the run stops at the first frame after that much wall time (for a solver too
 /// slow to finish within the bench's time; ContenderRun::scenarioSeconds() extrapolates).

@@ -60,14 +60,11 @@ SolidReference solidReference(const InteractionScenario& s, double target, doubl
         },
         target, s.dragOffset.norm(), firstScale, kEqualResponseTolerance, kEqualResponseEvaluations);
     const double scale = reference.calibration.scale;
-    // The modulus and viscosity contenders.h gives the solid at this scale.
-    const Vec3 box = fitBox(s.mesh.positions).value().size;
-    reference.modulus = scale * kSolidModulusPerStiffness * s.stiffness / (box.sum() / 3.0);
-    reference.viscosity = reference.modulus * s.damping / s.stiffness;
+    reference.material = solidMaterial(s, fitBox(s.mesh.positions).value().size, scale);
     const double diagonal = s.mesh.bounds().diagonal();
     char line[240];
     std::snprintf(line, sizeof line, "    solid    E %.4g Pa, viscosity %.4g Pa*s -> static %.4f m, %s in %zu settles (",
-                  reference.modulus, reference.viscosity, reference.calibration.displacement,
+                  reference.material.modulus, reference.material.viscosity, reference.calibration.displacement,
                   reference.calibration.converged ? "converged" : "NOT converged", reference.calibration.steps.size());
     log << line;
     for (std::size_t i = 0; i < reference.calibration.steps.size(); ++i) {

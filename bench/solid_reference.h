@@ -24,8 +24,7 @@ namespace softtouch::bench {
 
 struct SolidReference {
     Calibration calibration;                      ///< The modulus's scale (contenders.h) on the finest net.
-    double modulus = 0.0;                         ///< Young's modulus, Pa.
-    double viscosity = 0.0;                       ///< Pa·s.
+    SolidMaterial material;                       ///< At the calibrated scale.
     std::vector<Vec3f> frames;                    ///< The mesh at every frame of the finest run.
     std::vector<analysis::ReferenceLevel> levels; ///< Every run, the time check first.
     analysis::RefinementUncertainty uncertainty;  ///< Of `frames`, fraction of the diagonal (RMS).

@@ -117,11 +117,7 @@ struct Table1Size {
     std::vector<Table1Run> runs;
     Mesh mesh;                                   ///< The ellipsoid (rest), for the larger sizes' carrying.
     std::vector<std::vector<Vec3f>> runFrames;   ///< Each run's mesh frames (runs[i]); empty for a stopped run.
-    Calibration referenceCalibration;            ///< The solid's, to the same target.
-    double referenceModulus = 0.0;               ///< Pa.
-    std::string referenceDescription;
-    analysis::RefinementUncertainty referenceUncertainty;
-    std::vector<analysis::ReferenceLevel> referenceLevels;
+    SolidReference reference;                    ///< The common reference, calibrated to the same target.
     double accuracyGoal = 0.0;                   ///< The lattice's paper row's distance from the solid.
     std::vector<Table1Graded> graded;            ///< Every run graded, this size's first.
     std::vector<Table1Pick> picks;               ///< One per contender, in kContenders' order.

@@ -32,8 +32,8 @@ void printPicks(const Table1Size& size, std::ostream& out) {
     std::snprintf(line, sizeof line,
                   "    common reference: %s, E %.4g Pa (static %.4f m); %.3g%% of the diagonal from the limit\n"
                   "    at equal accuracy (as close to the solid as the lattice's paper row, %.3f%%; best of the timings):\n",
-                  size.referenceDescription.c_str(), size.referenceModulus, size.referenceCalibration.displacement,
-                  100.0 * size.referenceUncertainty.total, 100.0 * size.accuracyGoal);
+                  size.reference.description.c_str(), size.reference.material.modulus, size.reference.calibration.displacement,
+                  100.0 * size.reference.uncertainty.total, 100.0 * size.accuracyGoal);
     out << line;
     const Table1Pick* lattice = size.pick(Contender::Lattice);
     for (const Table1Pick& p : size.picks) {
@@ -141,17 +141,17 @@ json table1Json(const Table1Size& size, const Table1Options& options) {
     row["ratios"] = ratios;
 
     json levels = json::array();
-    for (const analysis::ReferenceLevel& level : size.referenceLevels)
+    for (const analysis::ReferenceLevel& level : size.reference.levels)
         levels.push_back({{"what", level.what}, {"seconds", level.seconds}, {"change", nanToNull(level.change)}});
-    row["reference"] = {{"description", size.referenceDescription},
-                        {"modulus_pa", size.referenceModulus},
-                        {"scale", size.referenceCalibration.scale},
-                        {"displacement_m", size.referenceCalibration.displacement},
-                        {"calibrated", size.referenceCalibration.converged},
-                        {"uncertainty", size.referenceUncertainty.total},
-                        {"space_uncertainty", size.referenceUncertainty.space},
-                        {"time_uncertainty", size.referenceUncertainty.time},
-                        {"space_converging", size.referenceUncertainty.spaceConverging},
+    row["reference"] = {{"description", size.reference.description},
+                        {"modulus_pa", size.reference.material.modulus},
+                        {"scale", size.reference.calibration.scale},
+                        {"displacement_m", size.reference.calibration.displacement},
+                        {"calibrated", size.reference.calibration.converged},
+                        {"uncertainty", size.reference.uncertainty.total},
+                        {"space_uncertainty", size.reference.uncertainty.space},
+                        {"time_uncertainty", size.reference.uncertainty.time},
+                        {"space_converging", size.reference.uncertainty.spaceConverging},
                         {"levels", levels}};
     row["accuracy_goal"] = size.accuracyGoal;
     json picks = json::object();
@@ -224,7 +224,7 @@ json table1Section(bool quick, std::ostream& out) {
     for (const Table1Size& size : done) {
         const Table1Pick* lattice = size.pick(Contender::Lattice);
         char line[300];
-        std::snprintf(line, sizeof line, "  %9d  %11.3f  %6.3f  %9.4f", size.triangles, 100.0 * size.referenceUncertainty.total,
+        std::snprintf(line, sizeof line, "  %9d  %11.3f  %6.3f  %9.4f", size.triangles, 100.0 * size.reference.uncertainty.total,
                       100.0 * size.accuracyGoal, lattice ? lattice->fastest : 0.0);
         out << line;
         for (Contender c : {Contender::Global, Contender::Local, Contender::Bullet}) {
@@ -232,7 +232,7 @@ json table1Section(bool quick, std::ostream& out) {
             if (!p)
                 std::snprintf(line, sizeof line, "  %-21s", "n/a");
             else if (p->reached && lattice)
-                std::snprintf(line, sizeof line, "  %-21s", (std::to_string(p->fastest / lattice->fastest).substr(0, 6) + "x").c_str());
+                std::snprintf(line, sizeof line, "  %-20.1fx", p->fastest / lattice->fastest);
             else
                 std::snprintf(line, sizeof line, "  never (closest %.2f%%)", 100.0 * p->run.solidError);
             out << line;
