@@ -9,12 +9,16 @@
 #include "core/modes/solid_modes.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace softtouch::analysis {
 namespace {
@@ -278,103 +282,194 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         std::none_of(settings.begin(), settings.end(), [&](const StudySetting& s) { return sameSetting(s, current); }))
         settings.push_back(current);
 
-    // The truth: the converged solid (made here, or given by a study of the same scene and clip before).
-    // Its runs are the longest of the study; they report the first fifth of the progress.
-    if (options.given) {
-        result.reference = options.given;
-    } else {
-        ReferenceOptions made = options.reference;
-        if (options.progress)
-            made.progress = [&](double fraction) { return options.progress(0.2 * fraction); };
-        auto reference = convergedReference(scene, library, clip.value(), made, log);
-        if (!reference) {
-            result.failure = reference.message();
-            return result;
-        }
-        if (reference->cancelled) {
+    // The truth: the converged solid, given by a study of the same scene and clip before, or made here on a thread
+    // of its own beside the grid. It needs nothing the grid makes, and on two cores the grid's timed runs are not
+    // slowed by it (docs/measurements/study.md, "Cost"), so a first study takes the longer of the two rather than
+    // their sum. Rows played before it is ready are graded once it is.
+    std::mutex progressMutex;
+    double referenceDone = options.given ? 1.0 : 0.0, gridDone = 0.0;
+    std::atomic<bool> stopped = false;  // cancelled by the caller, or the reference failed: both threads stop
+    auto report = [&](double& part, double fraction) {  // from either thread; false once stopped
+        std::lock_guard lock(progressMutex);
+        part = fraction;
+        if (!stopped && options.progress && !options.progress(options.given ? gridDone : 0.5 * (referenceDone + gridDone))) {
+            stopped = true;
             result.cancelled = true;
-            return result;
         }
-        result.reference = std::make_shared<const ConvergedReference>(std::move(reference.value()));
+        return !stopped.load();
+    };
+    std::ostringstream referenceLog;
+    std::optional<Result<ConvergedReference>> made;
+    std::atomic<bool> referenceReady = options.given != nullptr;
+    std::jthread maker;
+    if (!options.given) {
+        maker = std::jthread([&] {
+            ReferenceOptions ladder = options.reference;
+            ladder.progress = [&](double fraction) { return report(referenceDone, fraction); };
+            try {
+                made.emplace(convergedReference(scene, library, clip.value(), ladder, referenceLog));
+            } catch (const std::exception& e) {  // out of memory on a huge net: a failure, not a crash
+                made.emplace(Status::error(std::string("the converged solid could not be made: ") + e.what()));
+            }
+            referenceReady = true;
+        });
     }
-    const ClipMeshFrames& reference = result.reference->frames;
     const std::vector<double> diagonals = meshDiagonals(scene);
-    auto rest = restFrames(scene, clip.value());
-    if (!rest) {
-        result.failure = rest.message();
-        return result;
-    }
-    result.restError = worstDistance(objectDistances(rest.value(), reference, diagonals));
-    for (std::size_t i = 0; i < diagonals.size(); ++i)
-        result.motionAmplitude = std::max(result.motionAmplitude,
-                                          trajectoryDistance(rest->positions[i], reference.positions[i], diagonals[i]).max);
-    log << "clip '" << result.clip.name << "': " << result.clip.seconds() << " s from " << result.clip.startSeconds << " s at " << result.clip.fps
-        << " fps, " << result.objects.size() << (result.objects.size() == 1 ? " object" : " objects")
-        << "; the mesh moves up to " << result.motionAmplitude << " of its diagonal; doing nothing (the bodies at rest) scores "
-        << result.restError << " (RMS, worst object)\n";
-    if (options.target) {
-        if (std::string refusal = refusalOfTarget(result, *options.target); !refusal.empty()) {
-            char target[32];
-            std::snprintf(target, sizeof target, "%g", *options.target);
-            result.failure = std::string("target ") + target + " refused: " + refusal;
-            return result;
+    // The reference in hand: the baselines against it, logged, and a target checked. False when there is none (it
+    // failed, was cancelled, or refuses the target), with `result` saying why.
+    bool haveReference = false;
+    auto receiveReference = [&]() -> bool {
+        if (maker.joinable())
+            maker.join();
+        if (options.given) {
+            result.reference = options.given;
+        } else {
+            log << referenceLog.str();
+            if (!*made) {
+                result.failure = made->message();
+                return false;
+            }
+            if ((*made)->cancelled) {  // the caller cancelled before it was done
+                result.cancelled = true;
+                return false;
+            }
+            result.reference = std::make_shared<const ConvergedReference>(std::move(made->value()));
         }
-    }
+        const ClipMeshFrames& reference = result.reference->frames;
+        auto rest = restFrames(scene, clip.value());
+        if (!rest) {
+            result.failure = rest.message();
+            return false;
+        }
+        result.restError = worstDistance(objectDistances(rest.value(), reference, diagonals));
+        for (std::size_t i = 0; i < diagonals.size(); ++i)
+            result.motionAmplitude = std::max(result.motionAmplitude,
+                                              trajectoryDistance(rest->positions[i], reference.positions[i], diagonals[i]).max);
+        log << "clip '" << result.clip.name << "': " << result.clip.seconds() << " s from " << result.clip.startSeconds << " s at "
+            << result.clip.fps << " fps, " << result.objects.size() << (result.objects.size() == 1 ? " object" : " objects")
+            << "; the mesh moves up to " << result.motionAmplitude << " of its diagonal; doing nothing (the bodies at rest) scores "
+            << result.restError << " (RMS, worst object)\n";
+        if (options.target) {
+            if (std::string refusal = refusalOfTarget(result, *options.target); !refusal.empty()) {
+                char target[32];
+                std::snprintf(target, sizeof target, "%g", *options.target);
+                result.failure = std::string("target ") + target + " refused: " + refusal;
+                return false;
+            }
+        }
+        return true;
+    };
+    if (options.given && !receiveReference())
+        return result;
 
     const double freeSeconds = options.quick ? 2.0 : 3.0;  // several periods of the lowest lateral mode
     // Per lattice: converged in time (the reference of the integration error and of the frequency), and
     // its model error. Even exact integration trades amplitude between modes, so amplitude loss is
     // measured against the converged free vibration.
     struct LatticeRuns {
+        std::string name;  ///< studyModelName()
         Scene scene;  ///< Every object on the lattice; the scene's own integrator and step.
         ClipRun converged;
-        double modelError = 0.0;
+        std::optional<double> modelError;  ///< Once graded against the reference.
         std::optional<FreeBody> freeBody;  ///< The first object undamped, and its lowest mode.
         FreeRun free;
         std::vector<double> solidModeError;
     };
-    std::vector<std::pair<std::string, std::shared_ptr<LatticeRuns>>> lattices;  // by studyModelName()
+    std::vector<std::shared_ptr<LatticeRuns>> lattices;
     std::vector<std::string> refused;
+    std::ostringstream held;  // what the grid says before the reference's lines are in the log
     auto runsFor = [&](const LatticeShape& shape, BodyElement element) -> std::shared_ptr<LatticeRuns> {
         const std::string name = studyModelName(shape, element);
-        for (auto& [s, runs] : lattices)
-            if (s == name)
+        for (auto& runs : lattices)
+            if (runs->name == name)
                 return runs;
         if (std::find(refused.begin(), refused.end(), name) != refused.end())
             return nullptr;
         auto moved = withSetting(scene, {scene.world.simulation.integrator, scene.world.simulation.dt, shape, element});
         if (!moved) {
-            log << "  " << name << ": not measured: " << moved.message() << "\n";
+            (haveReference ? static_cast<std::ostream&>(log) : held) << "  " << name << ": not measured: " << moved.message() << "\n";
             refused.push_back(name);
             return nullptr;
         }
         auto runs = std::make_shared<LatticeRuns>();
+        runs->name = name;
         runs->scene = std::move(moved.value());
         runs->converged = runClip(convergedInTime(runs->scene, result.convergedDt), library, clip.value());
-        runs->modelError = worstDistance(objectDistances(runs->converged.frames, reference, diagonals));
         const SceneObject& first = runs->scene.objects.front();
         runs->freeBody = freeBody(first);
         runs->free = runFree(runs->freeBody, IntegratorKind::Verlet, result.convergedDt, freeSeconds);
         if (auto compared = compareWithSolid(first.lattice, first.material))
             runs->solidModeError = compared->error;  // empty unless the solid converged
-        lattices.emplace_back(name, runs);
-        log << "  " << name << ": model error " << runs->modelError << " (RMS / diagonal)";
-        if (!runs->solidModeError.empty())
-            log << "; modes against the solid " << describeModeErrors(runs->solidModeError);
-        log << "\n";
+        lattices.push_back(runs);
         return runs;
     };
 
-    for (std::size_t i = 0; i < settings.size(); ++i) {
-        if (options.progress && !options.progress(0.2 + 0.8 * double(i) / double(settings.size()))) {
-            result.cancelled = true;
-            break;
+    // A row played, waiting for the reference to be graded (its clip's frames kept until then).
+    struct Played {
+        StudyRow row;
+        ClipMeshFrames frames;
+        std::shared_ptr<LatticeRuns> runs;
+    };
+    auto grade = [&](Played& played) {
+        const ClipMeshFrames& reference = result.reference->frames;
+        LatticeRuns& runs = *played.runs;
+        if (!runs.modelError) {
+            runs.modelError = worstDistance(objectDistances(runs.converged.frames, reference, diagonals));
+            log << "  " << runs.name << ": model error " << *runs.modelError << " (RMS / diagonal)";
+            if (!runs.solidModeError.empty())
+                log << "; modes against the solid " << describeModeErrors(runs.solidModeError);
+            log << "\n";
         }
+        StudyRow& row = played.row;
+        row.objectErrors = objectDistances(played.frames, reference, diagonals);
+        row.finite = row.finite && std::all_of(row.objectErrors.begin(), row.objectErrors.end(),
+                                               [](double e) { return std::isfinite(e); });
+        row.rmsError = worstDistance(row.objectErrors);
+        for (std::size_t o = 0; o < diagonals.size() && row.finite; ++o)
+            row.maxError = std::max(row.maxError, trajectoryDistance(played.frames.positions[o], reference.positions[o], diagonals[o]).max);
+        row.modelError = *runs.modelError;
+        result.rows.push_back(row);
+        char line[260];
+        std::snprintf(line, sizeof line,
+                      "  %-20s %-17s dt 1/%-4d  cost %9.2e s/s (+%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
+                      "energy %+8.1e  loss/period %6.3f  freq %+7.3f%s\n",
+                      row.resolution.c_str(), std::string(integratorName(row.integrator)).c_str(), int(std::lround(1 / row.dt)),
+                      row.costPerSecond, 100.0 * row.costSpread, row.rmsError, row.timeError, row.modelError, row.energyDrift,
+                      row.amplitudeLoss, row.frequencyError, row.current ? "  (the scene's own)" : "");
+        log << line << std::flush;
+    };
+    std::vector<Played> waiting;
+    // Takes the reference once it is ready (or, with `wait`, waits for it) and grades the rows that waited. False
+    // when the study ends there (no reference).
+    auto gradeWaiting = [&](bool wait) -> bool {
+        if (!haveReference && (wait || referenceReady)) {
+            if (!receiveReference()) {
+                stopped = true;
+                waiting.clear();
+                return false;
+            }
+            haveReference = true;
+            log << held.str();
+        }
+        if (haveReference) {
+            for (Played& played : waiting)
+                grade(played);
+            waiting.clear();
+        }
+        return true;
+    };
+    haveReference = options.given != nullptr;
+
+    for (std::size_t i = 0; i < settings.size(); ++i) {
+        if (!report(gridDone, double(i) / double(settings.size())) || !gradeWaiting(false))
+            break;
         const StudySetting& setting = settings[i];
         const auto runs = runsFor(setting.lattice, setting.element);
         if (!runs)
             continue;
-        StudyRow row;
+        Played played;
+        played.runs = runs;
+        StudyRow& row = played.row;
         row.integrator = setting.integrator;
         row.dt = setting.dt;
         row.lattice = setting.lattice;
@@ -385,9 +480,9 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         Scene run = runs->scene;
         run.world.simulation.integrator = setting.integrator;
         run.world.simulation.dt = setting.dt;
-        const ClipRun played = runClip(run, library, clip.value());
+        ClipRun clipRun = runClip(run, library, clip.value());
         // The cost the user pays for the clip: the fastest of the repeats (noise only ever adds time).
-        double fastest = played.seconds, slowest = played.seconds;
+        double fastest = clipRun.seconds, slowest = clipRun.seconds;
         for (int r = 1; r < repeats; ++r) {
             const double seconds = runClip(run, library, clip.value()).seconds;
             fastest = std::min(fastest, seconds);
@@ -395,14 +490,8 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         }
         row.costPerSecond = fastest / result.clip.seconds();
         row.costSpread = fastest > 0.0 ? (slowest - fastest) / fastest : 0.0;
-        row.objectErrors = objectDistances(played.frames, reference, diagonals);
-        row.finite = played.finite && std::all_of(row.objectErrors.begin(), row.objectErrors.end(),
-                                                  [](double e) { return std::isfinite(e); });
-        row.rmsError = worstDistance(row.objectErrors);
-        for (std::size_t o = 0; o < diagonals.size() && row.finite; ++o)
-            row.maxError = std::max(row.maxError, trajectoryDistance(played.frames.positions[o], reference.positions[o], diagonals[o]).max);
-        row.timeError = worstDistance(objectDistances(played.frames, runs->converged.frames, diagonals));
-        row.modelError = runs->modelError;
+        row.finite = clipRun.finite;
+        row.timeError = worstDistance(objectDistances(clipRun.frames, runs->converged.frames, diagonals));
         row.solidModeError = runs->solidModeError;
         const FreeRun free = runFree(runs->freeBody, setting.integrator, setting.dt, freeSeconds);
         row.energyDrift = free.energyDrift;
@@ -410,16 +499,14 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         row.amplitudeLoss = both ? 1.0 - free.keptPerPeriod / runs->free.keptPerPeriod : 1.0;  // 1: no swing left
         row.frequencyError = both ? free.frequency / runs->free.frequency - 1.0
                                   : std::numeric_limits<double>::quiet_NaN();  // no oscillation seen
-        result.rows.push_back(row);
-        char line[260];
-        std::snprintf(line, sizeof line,
-                      "  %-20s %-17s dt 1/%-4d  cost %9.2e s/s (+%3.0f%%)  error %8.2e (time %8.2e, model %8.2e)  "
-                      "energy %+8.1e  loss/period %6.3f  freq %+7.3f%s\n",
-                      row.resolution.c_str(), std::string(integratorName(row.integrator)).c_str(), int(std::lround(1 / row.dt)),
-                      row.costPerSecond, 100.0 * row.costSpread, row.rmsError, row.timeError, row.modelError, row.energyDrift,
-                      row.amplitudeLoss, row.frequencyError, row.current ? "  (the scene's own)" : "");
-        log << line << std::flush;
+        played.frames = std::move(clipRun.frames);
+        waiting.push_back(std::move(played));
+        if (haveReference)
+            gradeWaiting(false);
     }
+    // The grid is done (or stopped): the reference's end, and the rows still waiting for it.
+    if (!result.failure.empty() || !gradeWaiting(true))
+        return result;
     if (options.progress && !result.cancelled)
         options.progress(1.0);
     markPareto(result);

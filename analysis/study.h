@@ -76,7 +76,9 @@ struct StudyOptions {
     /// The error target the study is run for, if any: when the reference cannot certify it (refusalOfTarget),
     /// the study stops before the grid and says why in `failure`.
     std::optional<double> target;
-    /// Called between runs with the fraction done; returning false cancels (the result then says so).
+    /// Called between runs with the fraction done; returning false cancels (the result then says so). While the
+    /// study makes its reference, that runs on a second thread and calls this too: never two calls at once, but
+    /// not always from the caller's thread.
     std::function<bool(double)> progress;
 };
 

@@ -4,6 +4,7 @@
 #include "core/modes/solid_modes.h"
 #include "io/documents/project_file.h"
 
+#include <atomic>
 #include <QtTest>
 #include <sstream>
 
@@ -26,6 +27,8 @@ private slots:
     void everyObjectOfAPairIsMeasuredWithItsCollisions();
     void aCancelStopsTheReferenceWithinARung();
     void aPickRemeasuredAsAppliedKeepsItsError();
+    void aReferenceMadeBesideTheGridGradesAsOneGiven();
+    void aCancelStopsBothTheReferenceAndTheGrid();
     void theScenesOwnSettingIsMeasured();
     void latticesAreMeasuredAgainstTheSolid();
     void theSolidElementIsAChoice();
@@ -284,6 +287,67 @@ void TestStudy::aCancelStopsTheReferenceWithinARung() {
     QVERIFY(reference->frames.positions.empty());
     for (std::size_t i = 1; i < asked.size(); ++i)
         QVERIFY(asked[i] > asked[i - 1] && asked[i] < 1.0 / 3.0);  // within the first of three runs, advancing
+}
+
+void TestStudy::aReferenceMadeBesideTheGridGradesAsOneGiven() {
+    // The reference is made on a thread of its own while the grid plays; rows played before it was ready are
+    // graded once it is. Given that same reference (a second study of the scene), every row, in the same order,
+    // has the same errors: waiting changed nothing but when they were computed.
+    StudyOptions options;
+    options.quick = true;
+    options.repeats = 1;
+    options.clip = "first second";
+    options.lattices = {{LatticeKind::Bezier, {3, 3, 3}}, {LatticeKind::Bezier, {4, 4, 4}}};
+    options.integrators = {IntegratorKind::Verlet};
+    options.elements = {BodyElement::Springs};
+    options.given = m_result.reference;
+    std::ostringstream log;
+    const StudyResult given = runStudy(m_scene, m_clips, options, log);
+    QVERIFY2(given.failure.empty(), given.failure.c_str());
+    int compared = 0;
+    for (const StudyRow& a : given.rows) {
+        const auto b = std::find_if(m_result.rows.begin(), m_result.rows.end(), [&](const StudyRow& r) {
+            return sameSetting(r.setting(), a.setting());
+        });
+        QVERIFY(b != m_result.rows.end());
+        QCOMPARE(a.rmsError, b->rmsError);
+        QCOMPARE(a.maxError, b->maxError);
+        QCOMPARE(a.modelError, b->modelError);
+        QCOMPARE(a.timeError, b->timeError);
+        ++compared;
+    }
+    QCOMPARE(compared, 3 * 2 + 1);  // Verlet x steps x lattices on springs, and the scene's own setting
+    QCOMPARE(given.restError, m_result.restError);
+    // The made study's rows come in the grid's order, each lattice's springs before its solid element.
+    for (std::size_t i = 1; i < m_result.rows.size(); ++i)
+        QVERIFY(m_result.rows[i - 1].element <= m_result.rows[i].element);
+}
+
+void TestStudy::aCancelStopsBothTheReferenceAndTheGrid() {
+    // Cancel while the reference is still being made beside the grid: both threads stop at their next frame or
+    // run, the caller is not asked again once it refused, and nothing is graded against half a reference.
+    StudyOptions options;
+    options.quick = true;
+    options.repeats = 1;
+    options.clip = "first second";
+    options.lattices = {{LatticeKind::Bezier, {3, 3, 3}}};
+    options.reference.nodes = {3, 4, 6};
+    std::atomic<int> asked = 0, askedAfter = 0;
+    std::atomic<bool> refused = false;
+    options.progress = [&](double) {
+        if (refused)
+            ++askedAfter;
+        ++asked;
+        if (asked == 20)
+            refused = true;
+        return !refused.load();
+    };
+    std::ostringstream log;
+    const StudyResult result = runStudy(m_scene, m_clips, options, log);
+    QVERIFY(result.cancelled);
+    QCOMPARE(askedAfter.load(), 0);
+    QVERIFY(!result.reference);  // the 6x6x6 rung alone is hundreds of frames: it never finished
+    QVERIFY(result.rows.empty());
 }
 
 void TestStudy::aPickRemeasuredAsAppliedKeepsItsError() {
