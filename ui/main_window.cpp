@@ -131,6 +131,7 @@ void MainWindow::buildDocks() {
     m_timeline = new TimelinePanel(m_document, m_simulation);
     m_timeline->setViewCamera([this] { return m_viewport->camera().placement(); });
     m_timeline->setCurrentObjectSource([this] { return m_viewport->currentObject(); });
+    m_study->setClipSource([this] { return m_timeline->exportedClipName(); });
     auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
     timelineDock->setMaximumHeight(220);
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);

@@ -174,10 +174,17 @@ void StudyPanel::measure() {
     m_remeasuring = false;
     m_progress->setRange(0, 0);  // busy until the reference runs are done and the grid starts
     m_progress->setFormat(tr("Measuring… %p%"));
-    startWorker([this, project = m_document->project()] {
+    // The clip Export… would write (the one selected in the timeline) when the study can play it on other lattices.
+    std::string clipName = m_clipSource ? m_clipSource() : std::string();
+    const auto& library = m_document->project().clips.clips;
+    const auto named = std::find_if(library.begin(), library.end(), [&](const Clip& c) { return c.name == clipName; });
+    if (named == library.end() || named->source != ClipSource::Drivers)
+        clipName.clear();
+    startWorker([this, project = m_document->project(), clipName] {
         const Scene& scene = project.scene;
         const ClipLibrary& clips = project.clips;
         analysis::StudyOptions options;
+        options.clip = clipName;
         options.quick = true;
         options.error = analysis::StudyError::Total;  // the plot's axis; picks follow the dock's choice
         options.reference = analysis::quickReference();  // its larger uncertainty is shown and enforced
@@ -186,7 +193,7 @@ void StudyPanel::measure() {
         // is kept, and then kept for the next measurement.
         const std::filesystem::path folder = io::referenceCacheFolder();
         const analysis::ReferenceOptions ladders[] = {analysis::ReferenceOptions{}, analysis::quickReference()};
-        const io::KeptReference kept = io::findKeptReference(folder, project, {}, ladders);
+        const io::KeptReference kept = io::findKeptReference(folder, project, clipName, ladders);
         options.given = kept.reference;
         options.progress = [this](double fraction) {
             post([this, fraction] {

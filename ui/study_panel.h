@@ -51,6 +51,10 @@ public:
     bool isOutOfDate() const { return hasStudy() && m_edits != m_studyEdits; }
     /// The scene's errors re-measured after the last pick was applied, against the study's reference.
     std::optional<analysis::Remeasured> remeasured() const { return m_remeasured; }
+    /// Where the clip to measure comes from: the name of the clip Export… would write now ("" for the drivers),
+    /// asked when a measurement starts. Without it, or when the clip plays a take or keys (which no other lattice
+    /// can play), the dock measures what a bake plays by default.
+    void setClipSource(std::function<std::string()> clip) { m_clipSource = std::move(clip); }
 
 public slots:
     /// Measures a copy of the scene on a worker thread ("Measure this scene"); emits finished().
@@ -96,6 +100,7 @@ private:
     void showPointer(int row);
 
     Document* m_document;
+    std::function<std::string()> m_clipSource;  ///< See setClipSource().
     analysis::StudyResult m_study;
     std::thread m_worker;
     std::atomic<bool> m_cancel{false};  ///< Read by the worker's progress callback.

@@ -229,6 +229,12 @@ void TimelinePanel::showRanges() {
     m_ruler->setRanges(std::move(ranges));
 }
 
+std::string TimelinePanel::exportedClipName() const {
+    const int row = m_clips->currentRow();
+    const auto& clips = m_document->project().clips.clips;
+    return row >= 0 && std::size_t(row) < clips.size() ? clips[std::size_t(row)].name : std::string();
+}
+
 void TimelinePanel::selectClip(int row) {
     if (row < 0)
         return;

@@ -85,6 +85,8 @@ public slots:
     Status exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportChoices& choices);
     /// The object "only the current object" exports (the main window passes the viewport's).
     void setCurrentObjectSource(std::function<int()> current) { m_currentObject = std::move(current); }
+    /// The name of the clip Export… writes now: the selected clip's, or "" (the drivers) when none is selected.
+    std::string exportedClipName() const;
     /// Where the export and render dialogs start: beside the project (else the home folder), named after
     /// the project and the clip ("angelfish-swim-swim.pc2"), with extension `suffix`.
     QString suggestedOutputPath(int index, const QString& suffix) const;

@@ -99,6 +99,24 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(!apply->isEnabled());
     QVERIFY2(check->text().contains("Measure this scene first"), qPrintable(check->text()));
 
+    // The clip measured is the one Export… writes: the clip selected in the timeline (here the drivers' last 1.5 s,
+    // which a game would ship without the start from rest).
+    {
+        ClipLibrary clips = w.document()->project().clips;
+        Clip late;
+        late.name = "after the start";
+        late.startSeconds = 0.5;
+        late.frames = 36;
+        late.fps = 24.0;
+        clips.clips.push_back(late);
+        w.document()->setClips(clips);
+        auto* clipList = w.timeline()->findChild<QListWidget*>("clips");
+        QVERIFY(clipList && clipList->count() == int(clips.clips.size()));
+        QListWidgetItem* item = clipList->item(clipList->count() - 1);
+        QTest::mouseClick(clipList->viewport(), Qt::LeftButton, {}, clipList->visualItemRect(item).center());
+        QCOMPARE(clipList->currentItem(), item);
+    }
+
     QSignalSpy done(study, &StudyPanel::finished);
     QElapsedTimer clock;
     clock.start();
@@ -110,6 +128,9 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     QVERIFY(study->hasStudy());
     QVERIFY(!study->isMeasuring());
     QVERIFY(!study->study().cancelled);
+    QCOMPARE(QString::fromStdString(study->study().clip.name), QString("after the start"));
+    QCOMPARE(study->study().clip.startSeconds, 0.5);
+    QCOMPARE(study->study().reference->frames.frames, 36);
     auto* chart = study->findChild<StudyChartView*>("studyPlot");
     QVERIFY(chart != nullptr && chart->studyChart()->hasPoints());
     QCOMPARE(static_cast<QStackedWidget*>(chart->parentWidget())->currentWidget(), chart);
@@ -119,7 +140,7 @@ void TestEditor::studyDockMeasuresTheOpenSceneAndAppliesAPick() {
     // The reference is kept by content, as `softtouch-cli study` keeps it; a full study's reference of the same
     // scene and clip, when one is kept, is measured against instead (it certifies lower targets).
     {
-        const auto clip = analysis::clipToPlay(scene, w.document()->project().clips, {});
+        const auto clip = analysis::clipToPlay(scene, w.document()->project().clips, "after the start");
         QVERIFY(clip);
         const auto quickKey = io::referenceKey(w.document()->project(), clip.value(), analysis::quickReference());
         const auto fullKey = io::referenceKey(w.document()->project(), clip.value(), analysis::ReferenceOptions{});
