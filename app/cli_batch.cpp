@@ -41,9 +41,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kBatchUsage = R"(Usage: softtouch-cli batch plan|run|slurm|check MANIFEST.stbatch [options]
-
-A clip library as a manifest (docs/farm.md): scenes x material presets x clips x formats, one job per
+constexpr const char* kBatchAbout = R"(A clip library as a manifest (docs/farm.md): scenes x material presets x clips x formats, one job per
 output, each with a stable id and a hash of everything it reads; a job whose stamp holds its current
 hash is up to date and skipped.
 
@@ -56,13 +54,7 @@ hash is up to date and skipped.
                                 manifest's resources, a log per task in DIR/logs/), DIR/jobs.txt and
                                 DIR/collect.sh (checks the library once the array is done).
   check MANIFEST                Every job's outputs exist, match its stamp and read back.
-
-Options:
-  --library DIR Where the library goes (default: the manifest's outputRoot, else library/ beside it).
-  --force       Run jobs even when up to date (run), list every job (slurm).
-  --quiet       No progress line (plan, run).
 )";
-
 
 /// Set in a job's environment by the local batch that started it: that batch's pid.
 constexpr const char* kBatchParentVariable = "SOFTTOUCH_BATCH_PARENT";
@@ -382,23 +374,19 @@ int runBatch(const std::vector<std::string>& args) {
     std::string action, manifestPath, jobId, outDir, library;
     std::optional<double> parallel;
     bool force = false, quiet = false;
-    CommandLine line("batch", kBatchUsage);
-    line.positional("ACTION", action);
-    line.positional("MANIFEST", manifestPath);
-    line.text("--job", jobId);
-    line.number("--jobs", parallel, {1, 256, true});
-    line.text("--out", outDir);
-    line.text("--library", library);
-    line.flag("--force", force);
-    line.flag("--quiet", quiet);
+    CommandLine line("batch", kBatchAbout);
+    line.positional("ACTION", action, {"plan|run|slurm|check", "", true});
+    line.positional("MANIFEST", manifestPath, "The library's manifest (*.stbatch).");
+    line.number("--jobs", parallel, {1, 256, true}, {"N", "run: jobs at a time (default: the cores)."});
+    line.text("--job", jobId, {"ID", "run: exactly this job."});
+    line.text("--out", outDir, {"DIR", "slurm: where the job array's script, job list and collect script go."});
+    line.text("--library", library, {"DIR", "Where the library goes (default: the manifest's outputRoot, else library/ beside it)."});
+    line.flag("--force", force, "Run jobs even when up to date (run), list every job (slurm).");
+    line.flag("--quiet", quiet, "No progress line (plan, run).");
     if (const auto exit = line.parse(args))
         return *exit;
-    if (action.empty())
-        return line.usage("batch needs plan, run, slurm or check and a MANIFEST");
     if (action != "plan" && action != "run" && action != "slurm" && action != "check")
         return line.usage("unknown batch action '" + action + "' (expected plan, run, slurm or check)");
-    if (manifestPath.empty())
-        return line.usage("batch " + action + " needs a MANIFEST");
     if (action == "slurm" && outDir.empty())
         return line.usage("batch slurm needs --out DIR");
     if ((!jobId.empty() || parallel) && action != "run")

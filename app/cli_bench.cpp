@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <algorithm>
 #include <set>
+#include <vector>
 
 namespace softtouch::cli {
 
@@ -21,31 +23,30 @@ int runBench(const std::vector<std::string>& args) {
     std::string jsonPath;
     std::filesystem::path hapticScene;
     std::optional<double> priority;
-    CommandLine line("bench", std::string("Usage: softtouch-cli bench [--json FILE] [--quick] [--only KEY] [--haptic-scene FILE]\n\n"
-                      "Lattice step cost per integrator, deformation throughput against a plain scalar kernel,\n"
-                      "the paper's Table 1 redone (lattice vs global and local mass-spring vs Bullet btSoftBody),\n"
-                      "and the cost of unused features. Every figure comes with its baseline from the same run.\n"
-                      "  --json FILE   also write the results as JSON (keys: docs/measurements/benchmarks.md)\n"
-                      "  --quick       small sizes only (seconds, not minutes)\n"
-                      "  --only KEY    one section: lattice_step_us, lattice_step_us_8x4x4, lattice_step_us_8x8x8, features, deform, table1, edit, haptic\n"
-                      "  --haptic-scene FILE  scene whose first object the haptic loop runs on, besides a generated\n"
-                      "                1,000,000-triangle one (default presets/scenes/star-drag.softtouch)\n"
-                      "  --haptic-priority N  SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)"));
-    line.flag("--quick", options.quick);
-    line.value("--only", [&options](const std::string& v) {
-        static const std::set<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "lattice_step_us_8x8x8", "features",
-                                                       "deform", "table1", "edit", "haptic"};
-        if (!sections.count(v))
-            return "expects one of lattice_step_us, lattice_step_us_8x4x4, lattice_step_us_8x8x8, features, deform, table1, edit, haptic, got '" + v + "'";
+    CommandLine line("bench", R"(Lattice step cost per integrator, deformation throughput against a plain scalar kernel,
+the paper's Table 1 redone (lattice vs global and local mass-spring vs Bullet btSoftBody),
+and the cost of unused features. Every figure comes with its baseline from the same run.
+)");
+    line.text("--json", jsonPath, {"FILE", "Also write the results as JSON (keys: docs/measurements/benchmarks.md)."});
+    line.flag("--quick", options.quick, "Small sizes only (seconds, not minutes).");
+    static const std::vector<std::string> sections = {"lattice_step_us", "lattice_step_us_8x4x4", "lattice_step_us_8x8x8",
+                                                      "features", "deform", "table1", "edit", "haptic"};
+    std::string sectionNames;
+    for (const std::string& section : sections)
+        sectionNames += (sectionNames.empty() ? "" : ", ") + section;
+    line.value("--only", [&options, sectionNames](const std::string& v) {
+        if (std::find(sections.begin(), sections.end(), v) == sections.end())
+            return "expects one of " + sectionNames + ", got '" + v + "'";
         options.only = v;
         return std::string();
-    });
-    line.number("--haptic-priority", priority, {0, 99, true});
+    }, {"KEY", "One section: " + sectionNames + "."});
     line.value("--haptic-scene", [&hapticScene](const std::string& v) {
         hapticScene = v;
         return std::string();
-    });
-    line.text("--json", jsonPath);
+    }, {"FILE", "Scene whose first object the haptic loop runs on, besides a generated 1,000,000-triangle one "
+                "(default presets/scenes/star-drag.softtouch)."});
+    line.number("--haptic-priority", priority, {0, 99, true},
+                {"N", "SCHED_FIFO priority the haptic loop asks for (default 80; 0: normal)."});
     if (const auto exit = line.parse(args))
         return *exit;
     if (priority)

@@ -20,68 +20,18 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kBakeHead = R"(Usage: softtouch-cli bake SCENE --out FILE [options]
-
-Bake a clip of SCENE (--clip NAME; without it the scene's default clip, or when it has none its
+/// What bake does, and its formats with their extensions from the export registry (io/export/export_formats.h).
+std::string bakeAbout() {
+    std::string text = R"(Bake a clip of SCENE (--clip NAME; without it the scene's default clip, or when it has none its
 drivers simulated from rest, frame i at i/fps s) into a vertex cache.
 The rest mesh the cache matches is written beside it as FILE with extension .obj (for an OBJ
 sequence, FILE itself; frames go to NAME_0000.obj, NAME_0001.obj, ...).
 
 Formats (docs/formats.md):
 )";
-
-constexpr const char* kBakeOptions = R"(  --clip NAME       A clip of the scene's clip library (its frames, fps, loop closure).
-  --frames N        Frames to write (default: the clip's or the scene's length; a loop clip cycles).
-  --fps F           Frames per second (default: the scene's clip rate; a clip keeps its own).
-  --threads N       Deformation threads (default: all).
-  --object NAME     Only this object's mesh in the cache (again for more; the scene is still simulated whole).
-  --each-object     One cache per object: FILE's name + "-OBJECT" (swim.pc2 -> swim-angelfish.pc2, ...).
-  --groups          OBJ files (the rest mesh, an OBJ sequence's frames) name each object's faces with a
-                    "g OBJECT" line, so a DCC imports one part per object.
-  --error E         pca: each frame's RMS vertex error, skin: the clip's RMS vertex error, at most E
-                    times the rest mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005).
-  --bones K         skin: exactly K bones (1..256) instead of the fewest within --error.
-  --targets K       pca: at most K morph targets, the mean included (2..256, default 33).
-  --compress        glb, pca, skin (a .glb path): pack the file for shipping with
-                    EXT_meshopt_compression (three.js, Babylon.js, Unity glTFast read it; assimp,
-                    Blender, Godot do not): positions stay bit-exact, normals become 16-bit
-                    octahedral vectors, morph targets keep 16-bit mantissas, skin weights 8 bits.
-                    Prints the size against PC2.
-  --quiet           No progress output.
-)";
-
-/// "  name              text…" with the text wrapped at 100 columns under itself.
-std::string usageEntry(std::string_view name, std::string_view text) {
-    constexpr std::size_t kIndent = 20, kWidth = 100;
-    std::string out = "  " + std::string(name);
-    out.resize(kIndent, ' ');
-    std::size_t column = kIndent;
-    while (!text.empty()) {
-        const std::size_t space = text.find(' ');
-        const std::string_view word = text.substr(0, space);
-        if (column > kIndent && column + 1 + word.size() > kWidth) {
-            out += "\n" + std::string(kIndent, ' ');
-            column = kIndent;
-        } else if (column > kIndent) {
-            out += ' ';
-            ++column;
-        }
-        out += word;
-        column += word.size();
-        text = space == std::string_view::npos ? std::string_view() : text.substr(space + 1);
-    }
-    return out + "\n";
-}
-
-/// The bake usage: its formats and their extensions come from the export registry (io/export/export_formats.h).
-std::string bakeUsage() {
-    std::string text = kBakeHead;
     for (const io::ExportFormat& f : io::exportFormats())
-        text += usageEntry(f.name, f.help);
-    text += "\nOptions:\n";
-    text += usageEntry("--out FILE", "Output (required). Format from the extension: " + io::exportExtensions() + ".");
-    text += usageEntry("--format NAME", io::exportFormatNames(" | ", " | ") + " (overrides the extension).");
-    return text + kBakeOptions;
+        text += helpEntry(f.name, f.help);
+    return text;
 }
 
 }  // namespace
@@ -92,32 +42,39 @@ int runBake(const std::vector<std::string>& args) {
     std::optional<double> frames, fps, threads, error, targets, bones;
     std::vector<std::string> objects;
     bool quiet = false, eachObject = false, groups = false, compress = false;
-    CommandLine line("bake", bakeUsage());
-    line.positional("SCENE", scenePath);
-    line.text("--out", outPath);
+    CommandLine line("bake", bakeAbout());
+    line.positional("SCENE", scenePath, "The project to simulate (*.softtouch).");
+    line.text("--out", outPath, {"FILE", "Output. Format from the extension: " + io::exportExtensions() + ".", true});
     line.value("--format", [&format](const std::string& name) {
         format = io::findExportFormat(name);
         return format ? std::string() : "expects " + io::exportFormatNames() + ", got '" + name + "'";
-    });
-    line.text("--clip", clipName);
-    line.texts("--object", objects);
-    line.number("--frames", frames, ranges::kFrames);
-    line.number("--fps", fps, ranges::kFps);
-    line.number("--threads", threads, {0, 1024, true});
+    }, {io::exportFormatNames("|", "|"), "The format, instead of the one the extension names."});
+    line.text("--clip", clipName, {"NAME", "A clip of the scene's clip library (its frames, fps, loop closure)."});
+    line.number("--frames", frames, ranges::kFrames,
+                {"N", "Frames to write (default: the clip's or the scene's length; a loop clip cycles)."});
+    line.number("--fps", fps, ranges::kFps, {"F", "Frames per second (default: the scene's clip rate; a clip keeps its own)."});
     // The export's own ranges (they depend on the format) are io::exportOptions' to check.
-    line.number("--error", error, NumberRange{});
-    line.number("--targets", targets, NumberRange{});
-    line.number("--bones", bones, NumberRange{});
-    line.flag("--compress", compress);
-    line.flag("--quiet", quiet);
-    line.flag("--each-object", eachObject);
-    line.flag("--groups", groups);
+    line.number("--error", error, NumberRange{},
+                {"E", "pca: each frame's RMS vertex error, skin: the clip's RMS vertex error, at most E times the rest "
+                      "mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005)."});
+    line.number("--targets", targets, NumberRange{}, {"K", "pca: at most K morph targets, the mean included (2..256, default 33)."});
+    line.number("--bones", bones, NumberRange{}, {"K", "skin: exactly K bones (1..256) instead of the fewest within --error."});
+    line.flag("--compress", compress,
+              "glb, pca, skin (a .glb path): pack the file for shipping with EXT_meshopt_compression (three.js, "
+              "Babylon.js, Unity glTFast read it; assimp, Blender, Godot do not): positions stay bit-exact, normals "
+              "become 16-bit octahedral vectors, morph targets keep 16-bit mantissas, skin weights 8 bits. Prints the "
+              "size against PC2.");
+    line.texts("--object", objects,
+               {"NAME", "Only this object's mesh in the cache (again for more; the scene is still simulated whole)."});
+    line.flag("--each-object", eachObject,
+              "One cache per object: FILE's name + \"-OBJECT\" (swim.pc2 -> swim-angelfish.pc2, ...).");
+    line.flag("--groups", groups,
+              "OBJ files (the rest mesh, an OBJ sequence's frames) name each object's faces with a \"g OBJECT\" line, "
+              "so a DCC imports one part per object.");
+    line.number("--threads", threads, {0, 1024, true}, {"N", "Deformation threads (default: all)."});
+    line.flag("--quiet", quiet, "No progress output.");
     if (const auto exit = line.parse(args))
         return *exit;
-    if (scenePath.empty())
-        return line.usage("bake needs a SCENE file");
-    if (outPath.empty())
-        return line.usage("bake needs --out FILE");
     if (!format)
         format = io::exportFormatForPath(outPath);
     if (!format)
@@ -234,21 +191,18 @@ std::string describeMeshFile(const std::string& file, std::string& summary) {
 
 int runValidate(const std::vector<std::string>& args) {
     std::vector<std::string> files;
-    CommandLine line("validate", "Usage: softtouch-cli validate FILE...\n\n"
-                                 "Check *.softtouch projects, *.stpreset presets, *.sttraj device trajectories (the\n"
-                                 "referenced meshes and presets too) and *.stbatch batch manifests (planned as batch\n"
-                                 "would) and print every problem found, one per line, each naming the file, the JSON\n"
-                                 "pointer and what was expected. Any other FILE is read as a\n"
-                                 "mesh (OBJ, FBX, glTF/GLB, PLY, STL, DAE, ...): its vertices and triangles and the takes\n"
-                                 "of its animation, the names a project's animation.take uses. Exit status 0 when every\n"
-                                 "file is valid, 1 otherwise, 2 on bad usage (put -- before a file whose name starts\n"
-                                 "with '-').\n");
-    line.positionals("FILE", files);
+    CommandLine line("validate", R"(Check *.softtouch projects, *.stpreset presets, *.sttraj device trajectories (the
+referenced meshes and presets too) and *.stbatch batch manifests (planned as batch would) and print every
+problem found, one per line, each naming the file, the JSON pointer and what was expected. Any other FILE
+is read as a mesh (OBJ, FBX, glTF/GLB, PLY, STL, DAE, ...): its vertices and triangles and the takes of its
+animation, the names a project's animation.take uses.
+)",
+                     "Exit status 0 when every file is valid, 1 otherwise, 2 on bad usage (put -- before a file whose\n"
+                     "name starts with '-').");
+    line.positionals("FILE", files, "");
     line.setUnknownOptionNote(" (validate takes files; write ./NAME or put -- before a file whose name starts with '-')");
     if (const auto exit = line.parse(args))
         return *exit;
-    if (files.empty())
-        return line.usage("validate needs at least one FILE");
     int bad = 0;
     for (const std::string& file : files) {
         if (std::filesystem::path(file).extension() == ".stbatch") {  // a batch manifest, planned as batch would

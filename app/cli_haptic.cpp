@@ -17,21 +17,9 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kHelp = R"(Usage: softtouch-cli haptic SCENE [options]
-
-Runs the 1 kHz haptic loop (docs/haptics.md) on the first object of SCENE with an input device from
+constexpr const char* kHapticAbout = R"(Runs the 1 kHz haptic loop (docs/haptics.md) on the first object of SCENE with an input device from
 the plugins: grabs a material point at the start and lets the device pull it, then prints the loop's
 rate and jitter, the largest force sent and a hash of the final lattice state.
-  --device NAME        plugin to use: null, scripted, sdl2, openhaptics (default: the first connected
-                       device, else null)
-  --device-arg ARG     the device's argument (the scripted device's trajectory file, *.sttraj)
-  --plugins DIR        plugin folder (default: $SOFTTOUCH_PLUGIN_PATH, else <bin>/../lib/softtouch/devices)
-  --seconds S          how long to run (default 2)
-  --grab U,V,W         material point grabbed, lattice parameters in [0,1] (default 0.5,1,0.5)
-  --identity           use device coordinates as scene coordinates (default: fit the device
-                       workspace onto the lattice box)
-  --manual             run the ticks on the manual clock, as fast as possible and deterministic
-  --record FILE        save every device sample of the session as a trajectory file
 )";
 
 /// FNV-1a over the bytes of the positions and velocities: equal hashes mean bit-identical states.
@@ -53,13 +41,14 @@ int runHaptic(const std::vector<std::string>& args) {
     std::optional<double> seconds;
     Vec3 grab(0.5, 1.0, 0.5);
     bool manual = false, identity = false;
-    CommandLine line("haptic", kHelp);
-    line.positional("SCENE", scenePath);
-    line.text("--device", deviceName);
-    line.text("--device-arg", deviceArg);
-    line.text("--plugins", pluginDir);
-    line.text("--record", recordPath);
-    line.number("--seconds", seconds, {0, 3600, false, false});
+    CommandLine line("haptic", kHapticAbout);
+    line.positional("SCENE", scenePath, "The project (*.softtouch).");
+    line.text("--device", deviceName,
+              {"NAME", "Plugin to use: null, scripted, sdl2, openhaptics (default: the first connected device, else null)."});
+    line.text("--device-arg", deviceArg, {"ARG", "The device's argument (the scripted device's trajectory file, *.sttraj)."});
+    line.text("--plugins", pluginDir,
+              {"DIR", "Plugin folder (default: $SOFTTOUCH_PLUGIN_PATH, else <bin>/../lib/softtouch/devices)."});
+    line.number("--seconds", seconds, {0, 3600, false, false}, {"S", "How long to run (default 2)."});
     line.value("--grab", [&grab](const std::string& text) {
         Vec3 uvw;
         std::size_t start = 0;
@@ -73,13 +62,13 @@ int runHaptic(const std::vector<std::string>& args) {
         }
         grab = uvw;
         return std::string();
-    });
-    line.flag("--manual", manual);
-    line.flag("--identity", identity);
+    }, {"U,V,W", "Material point grabbed, lattice parameters in [0,1] (default 0.5,1,0.5)."});
+    line.flag("--identity", identity,
+              "Use device coordinates as scene coordinates (default: fit the device workspace onto the lattice box).");
+    line.flag("--manual", manual, "Run the ticks on the manual clock, as fast as possible and deterministic.");
+    line.text("--record", recordPath, {"FILE", "Save every device sample of the session as a trajectory file."});
     if (const auto exit = line.parse(args))
         return *exit;
-    if (scenePath.empty())
-        return line.usage("haptic needs a SCENE file");
     const double duration = seconds.value_or(2.0);
 
     auto project = io::loadProject(scenePath);

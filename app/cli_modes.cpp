@@ -20,10 +20,7 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kModesUsage = R"(Usage: softtouch-cli modes SCENE [--count N] [--object NAME] [--element springs|solid]
-                            [--reference [--reference-degree P]] [--pictures PREFIX [--size WxH] [--amplitude F]]
-
-Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
+constexpr const char* kModesAbout = R"(Print the lowest vibration modes of each object of SCENE about its rest state: natural frequency,
 damping ratio (split into node damping on absolute velocity and spring damping on relative velocity),
 and what the scene's integrator at its time step does to each mode: the damping ratio the clip shows (the
 material's and the integrator's together: implicit Euler adds its own), the amplitude kept per period
@@ -31,32 +28,6 @@ against what the material alone keeps, and the frequency error. Anchors and void
 analysis is linear, so it describes small wobbles (docs/design/lattice.md). Last, the solid the springs make:
 Young's modulus along each box axis and the shear moduli under a uniform strain, beside the painted
 modulus (they differ on flat or long cells: docs/design/lattice.md, "What solid the springs make").
-
-Options:
-  --count N       Modes per object, 1..20 (default 3).
-  --object NAME   Only this object.
-  --element springs|solid
-                  Analyse every object as if its material said this element (docs/design/lattice.md, "The solid
-                  element"), the file unchanged: the same scene on springs and on the solid element.
-  --reference     Also solve the solid the material describes without the lattice's approximations
-                  (Galerkin over a Bernstein basis of degree P with the consistent mass, anchors held
-                  fixed: core/modes/solid_modes.h) and print how far each of the lattice's modes is from it:
-                  the lattice's own error, which a finer lattice shrinks (docs/design/lattice.md).
-  --reference-degree P
-                  Degree of that basis per axis, 2..7 (default 5, within 0.4% of 7 on the bundled
-                  scenes; 3 on a 4x4x4 Bezier lattice is the textbook element on the same net). The
-                  solid is solved at P-1 too: when a mode moves by more than 2% it is not converged
-                  (anchors at points or along lines never are) and no error is printed.
-  --pictures PREFIX
-                  Also draw each mode of the object (the first, or --object) headless on the GPU (EGL,
-                  no X server): the mesh deformed by +A x shape over a grey ghost of the rest pose, with
-                  the lattice (springs coloured by strain, anchors black), seen across the motion.
-                  Writes PREFIX-1.png ... PREFIX-N.png and PREFIX-modes.png, all side by side.
-  --size WxH      Size of each picture in pixels (default 640x400; 16..8192).
-  --amplitude F   A as a fraction of the lattice box's largest side (default 0.12, as the editor's
-                  mode view; 0 draws the rest pose), [0, 1].
-
-Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad usage.
 )";
 
 /// The converged solid's modes beside the lattice's, and the lattice's error on each. Goal springs toward a
@@ -88,21 +59,35 @@ int runModes(const std::vector<std::string>& args) {
     std::pair<int, int> size{pictureOptions.width, pictureOptions.height};
     std::optional<double> count, amplitude, referenceDegree;
     bool reference = false;
-    CommandLine line("modes", kModesUsage);
-    line.positional("SCENE", scenePath);
-    line.number("--count", count, {1, 20, true});
-    line.text("--object", objectName);
+    CommandLine line("modes", kModesAbout, "Exit status: 0 on success, 1 when SCENE cannot be loaded or analysed, 2 on bad usage.");
+    line.positional("SCENE", scenePath, "The project to analyse (*.softtouch).");
+    line.number("--count", count, {1, 20, true}, {"N", "Modes per object, 1..20 (default 3)."});
+    line.text("--object", objectName, {"NAME", "Only this object."});
     std::string elementName;
-    line.text("--element", elementName);
-    line.flag("--reference", reference);
-    line.number("--reference-degree", referenceDegree, {2, double(kMaxSolidDegree), true});
-    line.text("--pictures", picturePrefix);
-    line.value("--size", sizeReader(size));
-    line.number("--amplitude", amplitude, {0, 1});
+    line.text("--element", elementName,
+              {"springs|solid", "Analyse every object as if its material said this element (docs/design/lattice.md, "
+                                "\"The solid element\"), the file unchanged: the same scene on springs and on the solid element."});
+    line.flag("--reference", reference,
+              "Also solve the solid the material describes without the lattice's approximations (Galerkin over a "
+              "Bernstein basis of degree P with the consistent mass, anchors held fixed: core/modes/solid_modes.h) and "
+              "print how far each of the lattice's modes is from it: the lattice's own error, which a finer lattice "
+              "shrinks (docs/design/lattice.md).");
+    line.number("--reference-degree", referenceDegree, {2, double(kMaxSolidDegree), true},
+                {"P", "Degree of that basis per axis, 2..7 (default 5, within 0.4% of 7 on the bundled scenes; 3 on a "
+                      "4x4x4 Bezier lattice is the textbook element on the same net). The solid is solved at P-1 too: "
+                      "when a mode moves by more than 2% it is not converged (anchors at points or along lines never "
+                      "are) and no error is printed."});
+    line.text("--pictures", picturePrefix,
+              {"PREFIX", "Also draw each mode of the object (the first, or --object) headless on the GPU (EGL, no X "
+                         "server): the mesh deformed by +A x shape over a grey ghost of the rest pose, with the lattice "
+                         "(springs coloured by strain, anchors black), seen across the motion. Writes PREFIX-1.png ... "
+                         "PREFIX-N.png and PREFIX-modes.png, all side by side."});
+    line.value("--size", sizeReader(size), {"WxH", "Size of each picture in pixels (default 640x400; 16..8192)."});
+    line.number("--amplitude", amplitude, {0, 1},
+                {"F", "A as a fraction of the lattice box's largest side (default 0.12, as the editor's mode view; 0 "
+                      "draws the rest pose), [0, 1]."});
     if (const auto exit = line.parse(args))
         return *exit;
-    if (scenePath.empty())
-        return line.usage("modes needs a SCENE");
     pictureOptions.width = size.first;
     pictureOptions.height = size.second;
     pictureOptions.amplitudeFraction = amplitude.value_or(pictureOptions.amplitudeFraction);

@@ -30,70 +30,149 @@ CommandLine::Reader sizeReader(std::pair<int, int>& into) {
     };
 }
 
-CommandLine::CommandLine(std::string command, std::string help) : m_command(std::move(command)), m_help(std::move(help)) {}
+CommandLine::CommandLine(std::string command, std::string about, std::string after)
+    : m_command(std::move(command)), m_about(std::move(about)), m_after(std::move(after)) {}
 
-CommandLine::Declared& CommandLine::declare(Declared::Kind kind, std::string name) {
+CommandLine::Declared& CommandLine::declare(Declared::Kind kind, std::string name, Shown shown) {
     Declared& d = m_declared.emplace_back();
     d.kind = kind;
     d.name = std::move(name);
+    d.shown = std::move(shown);
     return d;
 }
 
-void CommandLine::positional(std::string name, std::string& into) {
-    declare(Declared::Kind::Positional, std::move(name)).text = &into;
+void CommandLine::positional(std::string name, std::string& into, std::string help, bool optional) {
+    declare(Declared::Kind::Positional, std::move(name), {"", std::move(help), !optional}).text = &into;
 }
 
-void CommandLine::positionals(std::string name, std::vector<std::string>& into) {
-    declare(Declared::Kind::Positionals, std::move(name)).texts = &into;
+void CommandLine::positional(std::string name, std::string& into, Shown shown) {
+    declare(Declared::Kind::Positional, std::move(name), std::move(shown)).text = &into;
 }
 
-void CommandLine::flag(std::string option, bool& into) {
-    declare(Declared::Kind::Flag, std::move(option)).flag = &into;
+void CommandLine::positionals(std::string name, std::vector<std::string>& into, std::string help, bool optional) {
+    declare(Declared::Kind::Positionals, std::move(name), {"", std::move(help), !optional}).texts = &into;
 }
 
-void CommandLine::text(std::string option, std::string& into) {
+void CommandLine::flag(std::string option, bool& into, std::string help) {
+    declare(Declared::Kind::Flag, std::move(option), {"", std::move(help), false}).flag = &into;
+}
+
+void CommandLine::text(std::string option, std::string& into, Shown shown) {
     value(std::move(option), [&into](const std::string& v) {
         into = v;
         return std::string();
-    });
+    }, std::move(shown));
 }
 
-void CommandLine::text(std::string option, std::optional<std::string>& into) {
+void CommandLine::text(std::string option, std::optional<std::string>& into, Shown shown) {
     value(std::move(option), [&into](const std::string& v) {
         into = v;
         return std::string();
-    });
+    }, std::move(shown));
 }
 
-void CommandLine::texts(std::string option, std::vector<std::string>& into) {
-    declare(Declared::Kind::Values, std::move(option)).texts = &into;
+void CommandLine::texts(std::string option, std::vector<std::string>& into, Shown shown) {
+    declare(Declared::Kind::Values, std::move(option), std::move(shown)).texts = &into;
 }
 
-void CommandLine::number(std::string option, std::optional<double>& into, NumberRange range) {
+void CommandLine::number(std::string option, std::optional<double>& into, NumberRange range, Shown shown) {
     value(std::move(option), [&into, range](const std::string& v) {
         double n = 0.0;
         std::string problem = readNumber(v, range, n);
         if (problem.empty())
             into = n;
         return problem;
-    });
+    }, std::move(shown));
 }
 
-void CommandLine::value(std::string option, Reader read) {
-    declare(Declared::Kind::Value, std::move(option)).read = std::move(read);
+void CommandLine::value(std::string option, Reader read, Shown shown) {
+    declare(Declared::Kind::Value, std::move(option), std::move(shown)).read = std::move(read);
 }
 
-int CommandLine::usage(const std::string& problem) const { return usageError(problem, m_command); }
+std::string CommandLine::named(const Declared& d) {
+    if (d.kind == Declared::Kind::Positionals)
+        return d.name + "...";
+    if (d.kind == Declared::Kind::Positional)
+        return d.shown.value.empty() ? d.name : d.shown.value;
+    return d.shown.value.empty() ? d.name : d.name + " " + d.shown.value;
+}
+
+std::string CommandLine::synopsis() const {
+    std::string line = m_command;
+    for (const Declared& d : m_declared)
+        line += " " + (d.shown.required ? named(d) : "[" + named(d) + "]");
+    return line;
+}
+
+std::string helpEntry(std::string_view name, std::string_view text) {
+    constexpr std::size_t kIndent = 20, kWidth = 100;
+    std::string out = "  " + std::string(name);
+    if (text.empty())
+        return out + "\n";
+    if (out.size() + 1 > kIndent)
+        out += "\n" + std::string(kIndent, ' ');  // a long name: the text starts under the others' texts
+    else
+        out.resize(kIndent, ' ');
+    std::size_t column = kIndent;
+    bool first = true;
+    while (!text.empty()) {
+        const std::size_t space = text.find(' ');
+        const std::string_view word = text.substr(0, space);
+        if (!first && column + 1 + word.size() > kWidth) {
+            out += "\n" + std::string(kIndent, ' ');
+            column = kIndent;
+        } else if (!first) {
+            out += ' ';
+            ++column;
+        }
+        out += word;
+        column += word.size();
+        first = false;
+        text = space == std::string_view::npos ? std::string_view() : text.substr(space + 1);
+    }
+    return out + "\n";
+}
+
+std::string CommandLine::help() const {
+    // The usage line wrapped under the command, as a long one reads in a terminal.
+    std::string text = "Usage: softtouch-cli " + m_command;
+    const std::string indent(std::string("Usage: softtouch-cli ").size() + m_command.size() + 1, ' ');
+    std::size_t column = text.size();
+    for (const Declared& d : m_declared) {
+        const std::string word = d.shown.required ? named(d) : "[" + named(d) + "]";
+        if (column + 1 + word.size() > 110) {
+            text += "\n" + indent.substr(1);
+            column = indent.size() - 1;
+        }
+        text += " " + word;
+        column += 1 + word.size();
+    }
+    text += "\n\n" + m_about;
+    if (!m_about.empty() && m_about.back() != '\n')
+        text += "\n";
+    bool any = false;
+    for (const Declared& d : m_declared) {
+        if (d.shown.help.empty())
+            continue;
+        if (!any)
+            text += "\nArguments and options:\n";
+        any = true;
+        text += helpEntry(named(d), d.shown.help);
+    }
+    if (!m_after.empty())
+        text += "\n" + m_after + (m_after.back() == '\n' ? "" : "\n");
+    return text;
+}
+
+int CommandLine::usage(const std::string& problem) const { return usageError(problem, synopsis(), m_command); }
 
 std::optional<int> CommandLine::parse(const std::vector<std::string>& args) {
     // Help wins over everything else on the line, as it did before there was a parser.
     if (std::any_of(args.begin(), args.end(), [](const std::string& a) { return a == "--help" || a == "-h"; })) {
-        std::fputs(m_help.c_str(), stdout);
-        if (!m_help.empty() && m_help.back() != '\n')
-            std::fputc('\n', stdout);
+        std::fputs(help().c_str(), stdout);
         return 0;
     }
-    CLI::App app(m_help, m_command);
+    CLI::App app(m_about, m_command);
     app.set_help_flag();     // ours, above
     app.allow_extras();      // reported below, in our words
     // Values are read after the whole line is parsed, in the order the options were declared.
@@ -157,6 +236,14 @@ std::optional<int> CommandLine::parse(const std::vector<std::string>& args) {
                     return usage(d->name + ": " + problem);
             break;
         }
+    }
+    // What the usage line shows without brackets must be there ("bake needs --out FILE").
+    for (const auto& [d, words] : given) {
+        const bool missing = d->kind == Declared::Kind::Positional ? d->text->empty()
+                           : d->kind == Declared::Kind::Flag       ? false
+                                                                   : words.empty();
+        if (d->shown.required && missing)
+            return usage(m_command + " needs " + (d->kind == Declared::Kind::Positionals ? "at least one " + d->name : named(*d)));
     }
     return std::nullopt;
 }

@@ -11,7 +11,7 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kPresetUsage = R"(Usage:
+constexpr const char* kPresetAbout = R"(The two forms:
   softtouch-cli preset export SCENE --out P.stpreset [--object NAME] [--name TEXT] [--description TEXT]
   softtouch-cli preset apply P.stpreset SCENE --out NEW.softtouch [--object NAME]
 
@@ -23,7 +23,6 @@ apply   Puts a setup preset onto one object of SCENE and writes the result as a 
         to the nearest node in lattice parameters (and rescaled so the body stays the same material).
         The result is validated before anything is written.
 )";
-
 
 /// Index of the object named `name` (empty: the first).
 Result<std::size_t> findObject(const io::Project& project, const std::string& name) {
@@ -45,21 +44,17 @@ int runPreset(const std::vector<std::string>& args) {
     std::vector<std::string> positional;
     std::string out, objectName;
     std::optional<std::string> name, description;
-    CommandLine line("preset", kPresetUsage);
-    line.positional("ACTION", action);
-    line.positionals("FILE", positional);
-    line.text("--out", out);
-    line.text("--object", objectName);
-    line.text("--name", name);
-    line.text("--description", description);
+    CommandLine line("preset", kPresetAbout);
+    line.positional("ACTION", action, {"export|apply", "", true});
+    line.positionals("FILE", positional, "export: SCENE; apply: P.stpreset SCENE.");
+    line.text("--out", out, {"FILE", "The preset (export) or the new project (apply).", true});
+    line.text("--object", objectName, {"NAME", "The object (default: the first)."});
+    line.text("--name", name, {"TEXT", "export: the preset's name (default: the object's)."});
+    line.text("--description", description, {"TEXT", "export: the preset's description."});
     if (const auto exit = line.parse(args))
         return *exit;
-    if (action.empty())
-        return line.usage("preset needs 'export' or 'apply'");
     if (action != "export" && action != "apply")
         return line.usage("unknown preset action '" + action + "' (expected export or apply)");
-    if (out.empty())
-        return line.usage("preset " + action + " needs --out FILE");
 
     if (action == "export") {
         if (positional.size() != 1)

@@ -18,28 +18,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPreviewUsage = R"(Usage: softtouch-cli preview CLIP --out DIR [options]
-
-Write DIR/index.html, one self-contained page that plays an exported clip in a web browser with
+constexpr const char* kPreviewAbout = R"(Write DIR/index.html, one self-contained page that plays an exported clip in a web browser with
 three.js, the way a game engine plays it: skinned and morph glTF through three.js's own loader,
 skinning and morph targets; vertex animation textures and lattice caches through SoftTouch's shipped
 engine shaders (io/shaders/) in WebGL 2. Open it from disk; no server is needed. The camera starts
 where 'softtouch-cli render' puts it (drag to orbit; Reset view goes back), with play, pause, a frame
 slider and the keys Space, Left, Right and Home.
+)";
 
-CLIP is what 'bake' wrote: a .glb/.gltf of --format skin, pca, glb or gltf; a VAT's .vat.json (or its
-base path); a lattice cache's .lattice.bin (or its base path). The page carries every file the clip
-names, so those files (a glTF's buffers and images, a VAT's textures, a lattice cache's mesh) must be
-regular files in the clip's folder or a folder below it (a link must lead there too); and a glTF
-three.js cannot play (data outside its buffers, nodes in a cycle, a required extension the page
-cannot decode) is refused with the reason.
-
-Options:
-  --out DIR         Folder for index.html (required; created if missing).
-  --size WxH        The picture size the camera is framed for (default 960x540, as render's).
-  --quiet           No summary line.
-
-The page's address takes options after '#': frame=N shows frame N and stops, size=WxH draws at that
+constexpr const char* kPreviewAfter = R"(The page's address takes options after '#': frame=N shows frame N and stops, size=WxH draws at that
 size, matte draws a white silhouette on black, readback writes the canvas as a PNG into the page
 (tests use these).
 )";
@@ -52,17 +39,19 @@ int runPreview(const std::vector<std::string>& args) {
     std::string clipPath, outDir;
     std::pair<int, int> size{960, 540};
     bool quiet = false;
-    CommandLine line("preview", kPreviewUsage);
-    line.positional("CLIP", clipPath);
-    line.text("--out", outDir);
-    line.value("--size", sizeReader(size));
-    line.flag("--quiet", quiet);
+    CommandLine line("preview", kPreviewAbout, kPreviewAfter);
+    line.positional("CLIP", clipPath,
+                    "What 'bake' wrote: a .glb/.gltf of --format skin, pca, glb or gltf; a VAT's .vat.json (or its base "
+                    "path); a lattice cache's .lattice.bin (or its base path). The page carries every file the clip "
+                    "names, so those files (a glTF's buffers and images, a VAT's textures, a lattice cache's mesh) must "
+                    "be regular files in the clip's folder or a folder below it (a link must lead there too); and a "
+                    "glTF three.js cannot play (data outside its buffers, nodes in a cycle, a required extension the "
+                    "page cannot decode) is refused with the reason.");
+    line.text("--out", outDir, {"DIR", "Folder for index.html (created if missing).", true});
+    line.value("--size", sizeReader(size), {"WxH", "The picture size the camera is framed for (default 960x540, as render's)."});
+    line.flag("--quiet", quiet, "No summary line.");
     if (const auto exit = line.parse(args))
         return *exit;
-    if (clipPath.empty())
-        return line.usage("preview needs a CLIP file");
-    if (outDir.empty())
-        return line.usage("preview needs --out DIR");
 
     auto clip = io::inspectPreviewClip(clipPath);
     if (!clip)

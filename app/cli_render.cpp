@@ -14,22 +14,11 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kRenderUsage = R"(Usage: softtouch-cli render SCENE --out FILE.mp4|FILE.gif|DIR/ [options]
-
-Simulate SCENE from its rest state (frame i at i/fps s, as bake does) and draw every frame with the
+constexpr const char* kRenderAbout = R"(Simulate SCENE from its rest state (frame i at i/fps s, as bake does) and draw every frame with the
 GPU renderer in a headless EGL context (no X server needed; Mesa's llvmpipe when there is no GPU),
 from a 3/4 view framing the scene's rest bounds. Output by --out: .mp4 (H.264, yuv420p; MPEG-4
 Part 2 with a warning when libx264 is missing), .gif (256 colours, looping), or a directory
 (ending in '/' or existing) of frame_0000.png, ... . Nothing is replaced unless the render succeeds.
-
-Options:
-  --out PATH        Output (required).
-  --size WxH        Frame size in pixels (default 960x540; 16..8192; even for MP4).
-  --clip NAME       A clip of the scene's clip library (default: its default clip, else the drivers).
-  --fps F           Frames per second (default: the clip's or the scene's rate; at most 240).
-  --frames N        Frames to render (default: the clip's or the scene's length; a loop clip cycles).
-  --crf N           H.264 quality, 0..51, lower is better (default 20).
-  --quiet           No progress output.
 )";
 
 }  // namespace
@@ -39,21 +28,18 @@ int runRender(const std::vector<std::string>& args) {
     std::pair<int, int> size{960, 540};
     std::optional<double> frames, fps, crf;
     bool quiet = false;
-    CommandLine line("render", kRenderUsage);
-    line.positional("SCENE", scenePath);
-    line.text("--out", outPath);
-    line.value("--size", sizeReader(size));
-    line.text("--clip", clipName);
-    line.number("--frames", frames, ranges::kFrames);
-    line.number("--fps", fps, {ranges::kMinFps, 240});
-    line.number("--crf", crf, {0, 51, true});
-    line.flag("--quiet", quiet);
+    CommandLine line("render", kRenderAbout);
+    line.positional("SCENE", scenePath, "The project to simulate (*.softtouch).");
+    line.text("--out", outPath, {"FILE.mp4|FILE.gif|DIR/", "The video, or a folder for PNG frames.", true});
+    line.value("--size", sizeReader(size), {"WxH", "Frame size in pixels (default 960x540; 16..8192; even for MP4)."});
+    line.text("--clip", clipName, {"NAME", "A clip of the scene's clip library (default: its default clip, else the drivers)."});
+    line.number("--fps", fps, {ranges::kMinFps, 240}, {"F", "Frames per second (default: the clip's or the scene's rate; at most 240)."});
+    line.number("--frames", frames, ranges::kFrames,
+                {"N", "Frames to render (default: the clip's or the scene's length; a loop clip cycles)."});
+    line.number("--crf", crf, {0, 51, true}, {"N", "H.264 quality, 0..51, lower is better (default 20)."});
+    line.flag("--quiet", quiet, "No progress output.");
     if (const auto exit = line.parse(args))
         return *exit;
-    if (scenePath.empty())
-        return line.usage("render needs a SCENE file");
-    if (outPath.empty())
-        return line.usage("render needs --out FILE.mp4, FILE.gif or DIR/");
     const auto format = io::videoFormatFromPath(outPath);
     if (!format)
         return line.usage("cannot tell the video format from '" + outPath + "'; use .mp4, .gif or a directory ending in '/'");

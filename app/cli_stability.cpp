@@ -14,21 +14,14 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kStabilityUsage = R"(Usage: softtouch-cli stability [--out FILE.md] [--quick]
-
-Run every integrator on a small dragged lattice over a grid of stiffness (1e-2 .. 1e7 N/m), anchor mass
+constexpr const char* kStabilityAbout = R"(Run every integrator on a small dragged lattice over a grid of stiffness (1e-2 .. 1e7 N/m), anchor mass
 ratio (1 .. 1e6), node mass (1e-6 .. 1e3 kg), damping (0 .. 1e3 N·s/m; undamped bodies also from a 5%
-deformation) and time step (0.1x, 1x, 10x the
-explicit bound, 1/24 s), and classify each run: stable, bounded, caught (the guard substepped, refused or rolled
-back, and said so) or failed. Prints the counts per integrator; the full grid takes about
-a minute and a half on two cores.
+deformation) and time step (0.1x, 1x, 10x the explicit bound, 1/24 s), and classify each run: stable,
+bounded, caught (the guard substepped, refused or rolled back, and said so) or failed. Prints the counts
+per integrator; the full grid takes about a minute and a half on two cores.
+)";
 
-Options:
-  --out FILE.md   Also write the report (method, classes, tables, every failed run), atomically.
-                  docs/measurements/stability.md is this report for the full grid.
-  --quick         The small grid the tests use (seconds).
-
-Exit status: 0 when the grid ran (failed runs are reported, not an error), 1 when FILE.md cannot be
+constexpr const char* kStabilityAfter = R"(Exit status: 0 when the grid ran (failed runs are reported, not an error), 1 when FILE.md cannot be
 written, 2 on bad usage.
 )";
 
@@ -37,9 +30,11 @@ written, 2 on bad usage.
 int runStability(const std::vector<std::string>& args) {
     analysis::StabilityGridOptions options;
     std::string outPath;
-    CommandLine line("stability", kStabilityUsage);
-    line.flag("--quick", options.quick);
-    line.text("--out", outPath);
+    CommandLine line("stability", kStabilityAbout, kStabilityAfter);
+    line.text("--out", outPath,
+              {"FILE.md", "Also write the report (method, classes, tables, every failed run), atomically. "
+                          "docs/measurements/stability.md is this report for the full grid."});
+    line.flag("--quick", options.quick, "The small grid the tests use (seconds).");
     if (const auto exit = line.parse(args))
         return *exit;
 

@@ -38,37 +38,20 @@ int runStudy(const std::vector<std::string>& args) {
     std::string scenePath, outDir, applyPath;
     std::optional<double> target, repeats;
     analysis::StudyOptions options;
-    CommandLine line("study", std::string("Usage: softtouch-cli study SCENE [--clip NAME] [--out DIR] [--quick] [--error KIND]\n"
-                      "                           [--repeats N] [--target ERROR [--apply OUT.softtouch]]\n\n"
-                      "For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3, 6^3, 8^3 Bezier; 6^3, 8^3\n"
-                      "B-spline) on springs, and implicit Euler x dt x the lattices of at most 216 nodes on the solid\n"
-                      "element (64 with --quick), every object on that lattice, the clip played as bake exports it: its\n"
-                      "cost (wall time of physics and mesh deformation per second of clip, fastest of the repeats) and the\n"
-                      "mesh's error against the converged solid (the solid element on 4^3, 6^3, 8^3 Bezier nets at\n"
-                      "1/4000 s, then 1/8000 s; its estimated distance from the limit is printed): total, integration\n"
-                      "(against the same lattice converged in time) and model (that converged run against the solid), RMS\n"
-                      "relative to the mesh's bounding-box diagonal, the worst object's; energy drift, amplitude lost per\n"
-                      "period and frequency error in free vibration.\n"
-                      "  --clip NAME     the clip to measure (default: what bake plays, the default clip or the drivers)\n"
-                      "  --out DIR       write DIR/study.csv, DIR/study.md and DIR/study.png (error against cost, Pareto front)\n"
-                      "  --quick         fewer steps and lattices (3 x 3), the same clip, a coarser reference (3^3, 4^3, 6^3)\n"
-                      "  --reference-nets N,N,...  the reference's Bezier nets, nodes per axis, coarsest first (default\n"
-                      "                  4,6,8; the last is the reference, the others say how far it is from the limit)\n"
-                      "  --error KIND    the error the Pareto front and --target use: total (default), integration, model\n"
-                      "  --repeats N     timed runs per setting, the cost is the fastest (default 5)\n"
-                      "  --lattices L    the lattices instead of the grid's: e.g. bezier2,bezier4,bspline10 (n^3 nodes)\n"
-                      "  --integrators I the integrators instead of all four: e.g. verlet,xpbd\n"
-                      "  --steps S       the steps per second instead of the grid's: e.g. 24,240\n"
-                      "  --elements E    springs, solid or springs,solid (default); with --lattices or --integrators the\n"
-                      "                  solid element runs those (XPBD aside)\n"
-                      "  --target ERROR  print the cheapest setting whose error is at most ERROR (e.g. 0.01); refused, with\n"
-                      "                  nothing written, when doing nothing meets it or the reference cannot certify it\n"
-                      "  --apply OUT     write SCENE with that setting (integrator, dt; every object moved to its lattice and\n"
-                      "                  element, material carried over) to OUT, read it back and re-measure it as written"));
-    line.positional("SCENE", scenePath);
-    line.flag("--quick", options.quick);
-    line.text("--out", outDir);
-    line.text("--clip", options.clip);
+    CommandLine line("study", R"(For every integrator x dt (1/1000 .. 1/24 s) x lattice (2^3, 3^3, 4^3, 6^3, 8^3 Bezier; 6^3, 8^3
+B-spline) on springs, and implicit Euler x dt x the lattices of at most 216 nodes on the solid
+element (64 with --quick), every object on that lattice, the clip played as bake exports it: its
+cost (wall time of physics and mesh deformation per second of clip, fastest of the repeats) and the
+mesh's error against the converged solid (the solid element on 4^3, 6^3, 8^3 Bezier nets at
+1/4000 s, then 1/8000 s; its estimated distance from the limit is printed): total, integration
+(against the same lattice converged in time) and model (that converged run against the solid), RMS
+relative to the mesh's bounding-box diagonal, the worst object's; energy drift, amplitude lost per
+period and frequency error in free vibration.
+)");
+    line.positional("SCENE", scenePath, "The project to measure (*.softtouch).");
+    line.flag("--quick", options.quick, "Fewer steps and lattices (3 x 3), the same clip, a coarser reference (3^3, 4^3, 6^3).");
+    line.text("--out", outDir, {"DIR", "Write DIR/study.csv, DIR/study.md and DIR/study.png (error against cost, Pareto front)."});
+    line.text("--clip", options.clip, {"NAME", "The clip to measure (default: what bake plays, the default clip or the drivers)."});
     std::vector<int> referenceNets;
     line.value("--reference-nets", [&referenceNets](const std::string& v) {
         referenceNets.clear();
@@ -79,17 +62,16 @@ int runStudy(const std::vector<std::string>& args) {
             referenceNets.push_back(int(n));
         }
         return std::string();
-    });
-    line.text("--apply", applyPath);
-    line.number("--target", target, {0, std::numeric_limits<double>::infinity(), false, false});
-    line.number("--repeats", repeats, {1, 100, true});
+    }, {"N,N,...", "The reference's Bezier nets, nodes per axis, coarsest first (default 4,6,8; the last is the "
+                   "reference, the others say how far it is from the limit)."});
+    line.number("--repeats", repeats, {1, 100, true}, {"N", "Timed runs per setting, the cost is the fastest (default 5)."});
     line.value("--error", [&options](const std::string& v) {
         const auto kind = analysis::parseStudyError(v);
         if (!kind)
             return "expects total, integration or model, got '" + v + "'";
         options.error = *kind;
         return std::string();
-    });
+    }, {"total|integration|model", "The error the Pareto front and --target use (default total)."});
     line.value("--lattices", [&options](const std::string& v) {
         for (const std::string& item : commaSeparated(v)) {
             const bool bezier = item.rfind("bezier", 0) == 0, bspline = item.rfind("bspline", 0) == 0;
@@ -101,7 +83,7 @@ int runStudy(const std::vector<std::string>& args) {
             options.lattices.push_back(shape);
         }
         return std::string();
-    });
+    }, {"L", "The lattices instead of the grid's: e.g. bezier2,bezier4,bspline10 (n^3 nodes)."});
     line.value("--integrators", [&options](const std::string& v) {
         for (const std::string& item : commaSeparated(v)) {
             const auto kind = parseIntegratorKind(item);
@@ -110,7 +92,7 @@ int runStudy(const std::vector<std::string>& args) {
             options.integrators.push_back(*kind);
         }
         return std::string();
-    });
+    }, {"I", "The integrators instead of all four: e.g. verlet,xpbd."});
     line.value("--steps", [&options](const std::string& v) {
         for (const std::string& item : commaSeparated(v)) {
             double rate = 0.0;
@@ -119,7 +101,7 @@ int runStudy(const std::vector<std::string>& args) {
             options.steps.push_back(1.0 / rate);
         }
         return std::string();
-    });
+    }, {"S", "The steps per second instead of the grid's: e.g. 24,240."});
     line.value("--elements", [&options](const std::string& v) {
         for (const std::string& item : commaSeparated(v)) {
             if (item != "springs" && item != "solid")
@@ -129,13 +111,18 @@ int runStudy(const std::vector<std::string>& args) {
                 options.elements.push_back(element);
         }
         return std::string();
-    });
+    }, {"E", "springs, solid or springs,solid (default); with --lattices or --integrators the solid element runs "
+             "those (XPBD aside)."});
+    line.number("--target", target, {0, std::numeric_limits<double>::infinity(), false, false},
+                {"ERROR", "Print the cheapest setting whose error is at most ERROR (e.g. 0.01); refused, with nothing "
+                          "written, when doing nothing meets it or the reference cannot certify it."});
+    line.text("--apply", applyPath,
+              {"OUT.softtouch", "With --target: write SCENE with that setting (integrator, dt; every object moved to its "
+                                "lattice and element, material carried over) to OUT, read it back and re-measure it as written."});
     if (const auto exit = line.parse(args))
         return *exit;
     if (repeats)
         options.repeats = int(*repeats);
-    if (scenePath.empty())
-        return line.usage("study needs a SCENE file");
     if (!applyPath.empty() && !target)
         return line.usage("--apply needs --target: it writes the pick for that target");
     auto project = io::loadProject(scenePath);

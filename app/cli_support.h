@@ -20,11 +20,10 @@ inline int fail(const std::string& message) {
     return 1;
 }
 
-/// Prints a usage problem, the command's usage line and where its help is, and returns exit status 2
-/// (bad usage). `command` empty: the top-level help.
-inline int usageError(const std::string& message, const std::string& command = {}) {
+/// Prints a usage problem, the command's usage line (`synopsis`, what follows "softtouch-cli ") and where its help
+/// is, and returns exit status 2 (bad usage). `command` empty: the top-level help.
+inline int usageError(const std::string& message, const std::string& synopsis = {}, const std::string& command = {}) {
     std::fprintf(stderr, "softtouch-cli: %s\n", message.c_str());
-    const std::string synopsis = synopsisOf(command);
     if (!synopsis.empty())
         std::fprintf(stderr, "Usage: softtouch-cli %s\n", synopsis.c_str());
     std::fprintf(stderr, "See 'softtouch-cli %s--help'.\n", command.empty() ? "" : (command + " ").c_str());

@@ -13,28 +13,22 @@
 namespace softtouch::cli {
 namespace {
 
-constexpr const char* kUpgradeUsage = R"(Usage: softtouch-cli upgrade SCENE --out NEW.softtouch
-
-Rewrite every lattice-springs material of SCENE (kg per node, N/m and N·s/m per spring: the meaning
+constexpr const char* kUpgradeAbout = R"(Rewrite every lattice-springs material of SCENE (kg per node, N/m and N·s/m per spring: the meaning
 of projects before version 3) as a continuum material (density kg/m³, Young's modulus Pa,
 viscosity Pa·s, node damping rate 1/s) whose values no longer depend on the lattice. Painted maps
 keep their ratios; each body keeps its total mass, its lowest mode's frequency and that mode's
 damping ratios. Higher modes move: the table printed shows by how much. SCENE is not modified.
-
-Exit status: 0 on success, 1 when SCENE cannot be loaded, converted or written, 2 on bad usage.
 )";
 
 }  // namespace
 
 int runUpgrade(const std::vector<std::string>& args) {
     std::string scenePath, outPath;
-    CommandLine line("upgrade", kUpgradeUsage);
-    line.positional("SCENE", scenePath);
-    line.text("--out", outPath);
+    CommandLine line("upgrade", kUpgradeAbout, "Exit status: 0 on success, 1 when SCENE cannot be loaded, converted or written, 2 on bad usage.");
+    line.positional("SCENE", scenePath, "The project to upgrade (*.softtouch).");
+    line.text("--out", outPath, {"NEW.softtouch", "Where the upgraded project goes.", true});
     if (const auto exit = line.parse(args))
         return *exit;
-    if (scenePath.empty() || outPath.empty())
-        return line.usage("upgrade needs a SCENE and --out NEW.softtouch");
     auto project = io::loadProject(scenePath);
     if (!project)
         return fail(project.message());

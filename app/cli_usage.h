@@ -1,11 +1,9 @@
 #pragma once
-/// The one-line synopsis of every softtouch-cli subcommand: the top-level help lists them, and every
-/// bad-usage error (exit 2) prints the one of its subcommand, so the two never disagree.
-
-#include "io/export/export_formats.h"
+/// The subcommands of softtouch-cli: which program runs each and what it is for, in a line. The top-level
+/// help lists them; each command's usage line and options come from its own declarations (app/cli_options.h),
+/// printed by `softtouch-cli COMMAND --help` and by every usage error of that command.
 
 #include <array>
-#include <string>
 #include <string_view>
 
 namespace softtouch::cli {
@@ -15,51 +13,43 @@ namespace softtouch::cli {
 /// beside it, for them, so every command is typed as `softtouch-cli COMMAND`.
 enum class Program { Cli, Bench };
 
-struct CommandSynopsis {
+struct CommandSummary {
     std::string_view command;  ///< The subcommand, as typed.
-    std::string_view synopsis; ///< What follows "softtouch-cli " in its usage line; "{formats}" stands for the
-                               ///< export registry's names (io/export/export_formats.h), see synopsisText().
+    std::string_view summary;  ///< What it does, for the top-level help.
     Program program = Program::Cli;
 };
 
-inline constexpr std::array<CommandSynopsis, 12> kSynopses{{
-    {"bake", "bake SCENE --out FILE [--clip NAME] [--frames N] [--fps F] [--format {formats}] [--error E] [--targets K | --bones K] [--compress] [--object NAME | --each-object] [--groups] [--threads N]"},
-    {"render", "render SCENE --out FILE.mp4|FILE.gif|DIR/ [--clip NAME] [--size WxH] [--fps F] [--frames N] [--crf N]"},
-    {"preview", "preview CLIP --out DIR [--size WxH]"},
-    {"validate", "validate FILE..."},
-    {"modes", "modes SCENE [--count N] [--object NAME] [--pictures PREFIX [--size WxH] [--amplitude F]]", Program::Bench},
-    {"upgrade", "upgrade SCENE --out NEW.softtouch"},
-    {"preset", "preset export SCENE --out P.stpreset | preset apply P.stpreset SCENE --out NEW.softtouch"},
-    {"bench", "bench [--json FILE] [--quick] [--only KEY]", Program::Bench},
-    {"study", "study SCENE [--out DIR] [--quick] [--error KIND] [--target ERROR [--apply OUT]]", Program::Bench},
-    {"stability", "stability [--out FILE.md] [--quick]", Program::Bench},
-    {"batch", "batch plan|run|slurm|check MANIFEST.stbatch [--library DIR] [--jobs N | --job ID] [--out DIR] [--force]"},
-    {"haptic", "haptic SCENE [--device NAME] [--device-arg ARG] [--seconds S] [--manual] [--record FILE]"},
+inline constexpr std::array<CommandSummary, 12> kCommands{{
+    {"bake", "Simulate a scene (*.softtouch) and write a clip in one of the export formats (vertex caches, glTF, "
+             "vertex animation textures, lattice caches), with the rest mesh it matches beside it."},
+    {"render", "Simulate a scene and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU (EGL; no X "
+               "server needed)."},
+    {"preview", "Write a web page that plays an exported clip (skin, morphs, VAT or lattice cache) with three.js, as a "
+                "game would."},
+    {"validate", "Check project (*.softtouch), preset (*.stpreset), trajectory (*.sttraj) and batch manifest (*.stbatch) "
+                 "files and print every problem found; of a mesh file, its vertices, triangles and animation takes."},
+    {"modes", "The lowest vibration modes of each object (frequency, damping ratio, shape) and what the scene's "
+              "integrator and step do to them; --pictures draws the shapes headless.", Program::Bench},
+    {"upgrade", "Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on every lattice, "
+                "keeping mass, lowest mode and damping."},
+    {"preset", "Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset, and apply one to "
+               "another scene, remapped when the lattices differ."},
+    {"bench", "Measure step cost, deformation throughput, the haptic loop and the paper's Table 1 against peers.",
+     Program::Bench},
+    {"study", "The speed/accuracy trade: integrator x step x lattice x element against a converged solid, with the "
+              "cheapest setting for an error target.", Program::Bench},
+    {"stability", "Classify a grid of extreme stiffness, mass, damping and step per integrator.", Program::Bench},
+    {"batch", "Bake and render a clip library (scenes x presets x clips x formats) from a manifest, skipping what is up "
+              "to date, locally or as a Slurm job array (docs/farm.md)."},
+    {"haptic", "Run the 1 kHz haptic loop on a scene's first object with a device plugin (docs/haptics.md)."},
 }};
 
 /// The entry of `command`, or nullptr when there is none.
-inline const CommandSynopsis* findCommand(std::string_view command) {
-    for (const CommandSynopsis& s : kSynopses)
-        if (s.command == command)
-            return &s;
+inline const CommandSummary* findCommand(std::string_view command) {
+    for (const CommandSummary& c : kCommands)
+        if (c.command == command)
+            return &c;
     return nullptr;
-}
-
-/// A synopsis as printed: "{formats}" replaced by "pc2|mdd|…|lattice".
-inline std::string synopsisText(std::string_view synopsis) {
-    std::string text(synopsis);
-    constexpr std::string_view kFormats = "{formats}";
-    if (const std::size_t at = text.find(kFormats); at != std::string::npos)
-        text.replace(at, kFormats.size(), io::exportFormatNames("|", "|"));
-    return text;
-}
-
-/// The synopsis of `command` as printed, or empty when there is none.
-inline std::string synopsisOf(std::string_view command) {
-    for (const CommandSynopsis& s : kSynopses)
-        if (s.command == command)
-            return synopsisText(s.synopsis);
-    return {};
 }
 
 }  // namespace softtouch::cli

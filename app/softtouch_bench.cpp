@@ -4,6 +4,7 @@
 // documented as `softtouch-cli COMMAND`; run on its own it takes the same command lines.
 #include "app/bench_commands.h"
 #include "app/cli_support.h"
+#include "app/cli_options.h"
 #include "app/cli_usage.h"
 
 #include <cstdio>
@@ -24,11 +25,11 @@ constexpr std::pair<std::string_view, Run> kRuns[] = {
 
 void printUsage(std::FILE* to) {
     std::fputs("softtouch-bench — SoftTouch's measurements: benchmarks, the speed/accuracy study, the stability grid and\n"
-               "vibration modes. Usually started by softtouch-cli, which takes the same command lines.\n\nUsage:\n",
+               "vibration modes. Usually started by softtouch-cli, which takes the same command lines.\n\nCommands:\n",
                to);
-    for (const auto& [name, run] : kRuns) {
-        std::fprintf(to, "  softtouch-cli %s\n", softtouch::cli::synopsisOf(name).c_str());
-    }
+    for (const auto& [name, run] : kRuns)
+        if (const auto* c = softtouch::cli::findCommand(name))
+            std::fputs(softtouch::cli::helpEntry(c->command, c->summary).c_str(), to);
     std::fputs("\n'softtouch-cli COMMAND --help' for each command. Exit status: 0 on success, 1 on failure (one-line reason\n"
                "on stderr), 2 on bad usage (the reason and the command's usage line).\n",
                to);

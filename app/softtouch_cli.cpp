@@ -2,6 +2,7 @@
 // only. It links no Qt Gui and no benchmark peer, so a farm node needs neither: the measurements run in
 // softtouch-bench, which it starts in its place (app/cli_usage.h says which commands are whose).
 #include "app/cli_commands.h"
+#include "app/cli_options.h"
 #include "app/cli_support.h"
 #include "app/cli_usage.h"
 #include "io/files/atomic_file.h"
@@ -47,30 +48,8 @@ int runInBenchProgram(char** argv) {
 
 constexpr const char* kTitle = "softtouch-cli — headless SoftTouch: simulate soft-body lattices and export vertex caches\n";
 
-constexpr const char* kCommands = R"(  softtouch-cli --help | --version
-
-Commands:
-  bake       Simulate SCENE (*.softtouch) from rest and write a vertex cache, plus the rest mesh (OBJ)
-             it matches beside it. 'softtouch-cli bake --help' for details.
-  render     Simulate SCENE and write a video (MP4/H.264, GIF or PNG frames) drawn headless on the GPU
-             (EGL; no X server needed). 'softtouch-cli render --help' for details.
-  preview    Write a web page that plays an exported clip (skin, morphs, VAT or lattice cache) with
-             three.js, as a game would. 'softtouch-cli preview --help'.
-  modes      The lowest vibration modes of each object (frequency, damping ratio, shape) and what the
-             scene's integrator and step do to them; --pictures draws the shapes headless.
-             'softtouch-cli modes --help'.
-  upgrade    Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on
-             every lattice, keeping mass, lowest mode and damping. 'softtouch-cli upgrade --help'.
-  validate   Check project (*.softtouch), preset (*.stpreset), trajectory (*.sttraj) and batch manifest (*.stbatch)
-             files; print every problem found. A mesh file: its vertices, triangles and the takes of its animation.
-  preset     Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset and apply
-             one to another scene, remapped when the lattices differ. 'softtouch-cli preset --help'.
-  bench      Measure step cost, deformation throughput and the paper's Table 1 against peers.
-  study      The speed/accuracy trade: integrator x dt x lattice resolution against a converged reference.
-  haptic     Run the 1 kHz haptic loop on SCENE's first object with a device plugin (docs/haptics.md).
-  batch      Bake and render a clip library (scenes x presets x clips x formats) from a manifest, skipping
-             what is up to date, locally or as a Slurm job array (docs/farm.md). 'softtouch-cli batch --help'.
-  stability  Classify a grid of extreme stiffness, mass, damping and dt per integrator (docs/measurements/stability.md).
+constexpr const char* kAfter = R"(
+'softtouch-cli COMMAND --help' shows a command's usage line and every option.
 
 bench, study, stability and modes run in softtouch-bench, installed beside this program: it alone links
 the benchmarks' peers (Bullet) and Qt's painter for plots and pictures; this program starts it for them.
@@ -79,12 +58,13 @@ Exit status: 0 on success, 1 on failure (one-line reason on stderr), 2 on bad us
 the command's usage line).
 )";
 
-/// The help: title, every command's usage line (app/cli_usage.h, shared with the usage errors), commands.
+/// The help: title, how to call, every command with what it is for (app/cli_usage.h).
 void printUsage(std::FILE* to) {
-    std::fprintf(to, "%s\nUsage:\n", kTitle);
-    for (const softtouch::cli::CommandSynopsis& s : softtouch::cli::kSynopses)
-        std::fprintf(to, "  softtouch-cli %s\n", softtouch::cli::synopsisText(s.synopsis).c_str());
-    std::fputs(kCommands, to);
+    std::fprintf(to, "%s\nUsage: softtouch-cli COMMAND ARGUMENTS [OPTIONS]\n       softtouch-cli --help | --version\n\nCommands:\n",
+                 kTitle);
+    for (const softtouch::cli::CommandSummary& c : softtouch::cli::kCommands)
+        std::fputs(softtouch::cli::helpEntry(c.command, c.summary).c_str(), to);
+    std::fputs(kAfter, to);
 }
 
 }  // namespace
