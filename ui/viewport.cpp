@@ -2,6 +2,7 @@
 
 #include "ui/edit_commands.h"
 #include "ui/surface_pick.h"
+#include "ui/viewport_tools.h"
 
 #include <QKeyEvent>
 #include <QLabel>
@@ -130,7 +131,7 @@ private:
 };
 
 Viewport::Viewport(Document* document, SimulationController* simulation, QWidget* parent)
-    : QOpenGLWidget(parent), m_document(document), m_simulation(simulation) {
+    : QOpenGLWidget(parent), m_document(document), m_simulation(simulation), m_activeTool(makeViewportTool(m_tool, *this)) {
     setFocusPolicy(Qt::StrongFocus);
     setMouseTracking(true);
     setMinimumSize(320, 240);
@@ -303,10 +304,9 @@ void Viewport::paintGL() {
         painter.drawText(rect().adjusted(20, 20, -20, -20), Qt::AlignCenter | Qt::TextWordWrap,
                          !m_renderProblem.isEmpty() ? m_renderProblem : m_simulation->problem());
     }
-    if (m_gesture == Gesture::Box) {
+    if (m_gesture == Gesture::Tool) {
         QPainter painter(this);
-        painter.setPen(QPen(QColor(255, 220, 80), 1, Qt::DashLine));
-        painter.drawRect(QRectF(m_pressPos, m_lastPos).normalized());
+        m_activeTool->draw(painter);
     }
     m_poseOverlay->update();  // the gizmo follows the camera and the selection (it draws nothing outside the pose tool)
     const double ms = double(timer.nsecsElapsed()) * 1e-6;
@@ -509,9 +509,8 @@ Viewport::Gesture Viewport::navigationFor(const QMouseEvent* event) const {
 }
 
 void Viewport::mousePressEvent(QMouseEvent* event) {
-    m_pressPos = m_lastPos = event->position();
-    m_pressModifiers = event->modifiers();
-    if (m_transform && m_gesture != Gesture::Gizmo) {  // G/R/S under way: a click applies, a right-click cancels
+    m_lastPos = event->position();
+    if (m_transform && m_gesture != Gesture::Tool) {  // G/R/S under way: a click applies, a right-click cancels
         if (event->button() == Qt::LeftButton)
             applyTransform();
         else if (event->button() == Qt::RightButton)
@@ -521,45 +520,17 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     m_gesture = navigationFor(event);
     if (m_gesture != Gesture::None || event->button() != Qt::LeftButton)
         return;
-    switch (m_tool) {
-    case Tool::Drag: beginDrag(event->position(), event->modifiers()); break;
-    case Tool::Paint:
-        m_gesture = Gesture::Paint;
-        m_strokeKey = m_nextStrokeKey++;
-        paintDab(event->position());
-        break;
-    case Tool::Anchor:
-    case Tool::Void:
-    case Tool::Select: m_gesture = Gesture::Box; break;
-    case Tool::Pose:
-        // On the gizmo: move, scale or turn along or about that axis while the button is held; elsewhere: select.
-        if (const auto part = gizmoPartAt(event->position()); part && beginTransform(part->first, event->position())) {
-            m_transform->toggleAxis(part->second);
-            updateTransform(event->position());
-            m_gesture = Gesture::Gizmo;
-        } else {
-            m_gesture = Gesture::Box;
-        }
-        break;
-    case Tool::Lattice:
-        m_gesture = Gesture::Place;
-        m_strokeKey = m_nextStrokeKey++;
-        break;
-    case Tool::Collider:
-        setCurrentCollider(colliderAt(event->position()));
-        if (m_collider >= 0) {
-            m_gesture = Gesture::MoveCollider;
-            m_strokeKey = m_nextStrokeKey++;
-        }
-        break;
-    }
+    if (m_activeTool->press(event->position(), event->modifiers()))
+        m_gesture = Gesture::Tool;
+    update();
 }
 
 void Viewport::mouseMoveEvent(QMouseEvent* event) {
     const QPointF pos = event->position();
-    const QPointF delta = pos - m_lastPos;
+    const QPointF from = m_lastPos;
+    const QPointF delta = pos - from;
     m_lastPos = pos;
-    if (m_transform && (m_gesture == Gesture::None || m_gesture == Gesture::Gizmo)) {
+    if (m_transform && m_gesture == Gesture::None) {  // a transform the keyboard started follows the cursor
         updateTransform(pos);
         return;
     }
@@ -567,12 +538,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     case Gesture::Orbit: m_camera.orbit(delta.x(), delta.y()); break;
     case Gesture::Pan: m_camera.pan(delta.x(), delta.y(), height()); break;
     case Gesture::Dolly: m_camera.dolly(std::exp(0.005 * (delta.y() - delta.x()))); break;
-    case Gesture::Drag: moveDrag(pos); break;
-    case Gesture::Paint: paintDab(pos); break;
-    case Gesture::Place: placeLattice(pos - delta, pos); break;
-    case Gesture::MoveCollider: moveCollider(pos - delta, pos); break;
-    case Gesture::Box: break;
-    case Gesture::Gizmo:
+    case Gesture::Tool: m_activeTool->move(from, pos); break;
     case Gesture::None: return;
     }
     update();
@@ -582,34 +548,10 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
     if (event->button() != Qt::LeftButton && m_gesture != Gesture::Orbit && m_gesture != Gesture::Pan &&
         m_gesture != Gesture::Dolly)
         return;
-    if (m_gesture == Gesture::Drag && m_dragSlot == 0)
-        m_simulation->setGrab(0, std::nullopt);  // release: the body swings free
-    if (m_gesture == Gesture::Gizmo)
-        applyTransform();
-    if (m_gesture == Gesture::Box) {
-        const bool click = (event->position() - m_pressPos).manhattanLength() < 4.0;
-        std::vector<int> nodes;
-        if (click) {
-            if (int n = nodeAt(event->position()); n >= 0)
-                nodes.push_back(n);
-        } else {
-            nodes = nodesInRect(QRectF(m_pressPos, event->position()).normalized());
-        }
-        // A click on no node of the current object, on another object's surface, picks that object instead.
-        if (click && nodes.empty() && (m_tool == Tool::Select || m_tool == Tool::Pose))
-            if (const int object = objectAt(event->position()); object >= 0 && object != m_object) {
-                setCurrentObject(object);
-                m_gesture = Gesture::None;
-                update();
-                return;
-            }
-        applyNodeTool(nodes, click ? false : bool(m_pressModifiers & Qt::ControlModifier));
-        if (click && nodes.empty() && (m_tool == Tool::Select || m_tool == Tool::Pose))
-            setSelection({});
-    }
+    const Gesture ended = m_gesture;
     m_gesture = Gesture::None;
-    m_dragSlot = -1;
-    m_strokeKey = -1;
+    if (ended == Gesture::Tool)
+        m_activeTool->release(event->position());
     m_pressure = 1.0;
     m_tiltDepth = 0.0;
     update();
@@ -627,10 +569,8 @@ void Viewport::tabletEvent(QTabletEvent* event) {
     // tools as for a mouse.
     m_pressure = std::clamp(double(event->pressure()), 0.05, 1.0);
     m_tiltDepth = std::clamp(double(event->yTilt()) / 60.0, -1.0, 1.0);
-    if (auto g = m_simulation->grab(0); g && m_dragSlot == 0) {
-        g->drag.stiffness = m_drag.stiffness * m_pressure;
-        m_simulation->setGrab(0, g);
-    }
+    if (m_gesture == Gesture::Tool)
+        m_activeTool->pressureChanged();
     event->ignore();
 }
 
@@ -659,104 +599,6 @@ void Viewport::mouseDoubleClickEvent(QMouseEvent* event) {
         if (const int object = objectAt(event->position()); object >= 0 && object != m_object)
             setCurrentObject(object);
     QOpenGLWidget::mouseDoubleClickEvent(event);
-}
-
-void Viewport::beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers) {
-    const SceneSimulation* sim = m_simulation->simulation();
-    if (!sim)
-        return;
-    const int slot = (modifiers & Qt::ControlModifier) ? 1 : 0;
-    std::optional<SurfaceHit> best;
-    const int bestObject = objectAt(pos, &best);
-    if (!best) {
-        if (slot == 1)
-            m_simulation->setGrab(1, std::nullopt);  // Ctrl+click on empty space lets the held hand go
-        emit hint(tr("Nothing under the cursor to drag."));
-        return;
-    }
-    // The material point under the cursor: barycentric mix of the triangle's rest parameters.
-    const SceneObject& object = sim->object(std::size_t(bestObject));
-    const auto& tri = object.mesh->triangles[best->triangle];
-    Vec3 uvw = Vec3::Zero();
-    for (int k = 0; k < 3; ++k)
-        uvw += best->barycentric[k] * object.lattice.box().toParameters(object.mesh->positions[tri[std::size_t(k)]].cast<double>());
-    Grab grab;
-    grab.object = bestObject;
-    grab.drag.support = object.lattice.weights(uvw.cwiseMax(0.0).cwiseMin(1.0));
-    grab.drag.target = best->point;
-    grab.drag.stiffness = m_drag.stiffness * m_pressure;
-    grab.drag.damping = m_drag.damping;
-    // Pull from where the lattice point is now, so grabbing does not jolt the body.
-    Vec3 point, velocity;
-    dragPointState(grab.drag, sim->simulator(std::size_t(bestObject)).state().position,
-                   sim->simulator(std::size_t(bestObject)).state().velocity, point, velocity);
-    m_grabOffset = best->point - point;
-    grab.drag.target = point;
-    m_dragDepthPoint = best->point;
-    m_simulation->setGrab(slot, grab);
-    m_dragSlot = slot;
-    m_gesture = Gesture::Drag;
-    if (!m_simulation->isPlaying())
-        m_simulation->play();
-    emit hint(slot == 1 ? tr("Second hand: holds after release; Ctrl+click empty space to let go.")
-                        : tr("Dragging: release to let the body swing free."));
-}
-
-void Viewport::moveDrag(const QPointF& pos) {
-    auto grab = m_simulation->grab(m_dragSlot);
-    if (!grab)
-        return;
-    const Vec3 cursor = m_camera.pointOnViewPlane(pos.x(), pos.y(), width(), height(), m_dragDepthPoint);
-    const double diagonal = m_simulation->simulation()->object(std::size_t(grab->object)).mesh->bounds().diagonal();
-    grab->drag.target = cursor - m_grabOffset + m_camera.forward() * (m_tiltDepth * m_drag.tiltDepth * diagonal);
-    grab->drag.stiffness = m_drag.stiffness * m_pressure;
-    m_simulation->setGrab(m_dragSlot, grab);
-}
-
-void Viewport::paintDab(const QPointF& pos) {
-    const Scene& scene = m_document->scene();
-    if (std::size_t(m_object) >= scene.objects.size())
-        return;
-    LatticeMaterial before = scene.objects[std::size_t(m_object)].material;
-    LatticeMaterial after = before;
-    BrushSettings brush = m_brush;
-    brush.strength = std::clamp(brush.strength * m_pressure, 0.0, 1.0);
-    if (!applyDab(after, nodeScreenPositions(m_object), Eigen::Vector2d(pos.x(), pos.y()), brush))
-        return;
-    const QString name = tr("Paint %1").arg(QString::fromUtf8(fieldName(m_brush.field, after.model)));
-    m_document->undoStack()->push(
-        new MaterialEditCommand(m_document, m_object, std::move(before), std::move(after), name, m_strokeKey));
-}
-
-void Viewport::placeLattice(const QPointF& from, const QPointF& to) {
-    const Scene& scene = m_document->scene();
-    if (std::size_t(m_object) >= scene.objects.size())
-        return;
-    const SceneObject& o = scene.objects[std::size_t(m_object)];
-    const OrientedBox& box = o.lattice.box();
-    const Vec3 centre = box.toWorld(Vec3::Constant(0.5));
-    OrientedBox next = box;
-    if (m_pressModifiers & Qt::ShiftModifier) {
-        // Scale about the centre: up grows, down shrinks.
-        const double factor = std::exp(-0.005 * (to.y() - from.y()));
-        next.size = box.size * factor;
-        next.origin = centre - next.axes * (0.5 * next.size);
-    } else if (m_pressModifiers & Qt::ControlModifier) {
-        // Turn about the vertical through the centre.
-        const Mat3 turn = Eigen::AngleAxisd(0.01 * (to.x() - from.x()), Vec3::UnitY()).toRotationMatrix();
-        next.axes = turn * box.axes;
-        next.origin = centre - next.axes * (0.5 * box.size);
-    } else {
-        // Move in the view plane at the box centre's depth, so the box follows the cursor.
-        const Vec3 a = m_camera.pointOnViewPlane(from.x(), from.y(), width(), height(), centre);
-        const Vec3 b = m_camera.pointOnViewPlane(to.x(), to.y(), width(), height(), centre);
-        next.origin = box.origin + (b - a);
-    }
-    auto lattice = Lattice::create(o.lattice.shape(), next);
-    if (!lattice)
-        return;
-    m_document->undoStack()->push(new LatticeEditCommand(m_document, m_object, o.lattice, o.material, lattice.value(),
-                                                         o.material, tr("Place lattice"), m_strokeKey));
 }
 
 int Viewport::colliderAt(const QPointF& pos) const {
@@ -789,32 +631,6 @@ void Viewport::setCurrentCollider(int index) {
                       .arg(index + 1));
 }
 
-void Viewport::moveCollider(const QPointF& from, const QPointF& to) {
-    const WorldSettings& before = m_document->scene().world;
-    if (m_collider < 0 || std::size_t(m_collider) >= before.colliders.size())
-        return;
-    WorldSettings after = before;
-    Collider& c = after.colliders[std::size_t(m_collider)];
-    if (m_pressModifiers & Qt::ShiftModifier) {
-        // Scale about its centre: up grows, down shrinks (each shape's own sizes, by the same factor).
-        const double factor = std::exp(-0.005 * (to.y() - from.y()));
-        c.radius *= factor;
-        c.halfLength *= factor;
-        c.halfExtents *= factor;
-        c.scale *= factor;
-    } else {
-        // Move in the view plane at its centre's depth, so it follows the cursor.
-        const Vec3 a = m_camera.pointOnViewPlane(from.x(), from.y(), width(), height(), c.centre);
-        const Vec3 b = m_camera.pointOnViewPlane(to.x(), to.y(), width(), height(), c.centre);
-        c.centre += b - a;
-    }
-    if (!c.validate().ok())
-        return;  // scaled past a limit: keep the last good size
-    m_document->undoStack()->push(new WorldEditCommand(m_document, before, after,
-                                                       (m_pressModifiers & Qt::ShiftModifier) ? tr("Scale collider") : tr("Move collider"),
-                                                       m_strokeKey));
-}
-
 void Viewport::deleteCollider() {
     const WorldSettings& before = m_document->scene().world;
     if (m_collider < 0 || std::size_t(m_collider) >= before.colliders.size())
@@ -825,47 +641,15 @@ void Viewport::deleteCollider() {
     m_document->undoStack()->push(new WorldEditCommand(m_document, before, after, tr("Delete collider")));
 }
 
-void Viewport::applyNodeTool(const std::vector<int>& nodes, bool clear) {
-    if (m_tool == Tool::Select || m_tool == Tool::Pose) {
-        std::set<int> selection = (m_pressModifiers & Qt::ShiftModifier) ? m_selection : std::set<int>{};
-        selection.insert(nodes.begin(), nodes.end());
-        setSelection(selection);
-        return;
-    }
-    if (nodes.empty() || std::size_t(m_object) >= m_document->scene().objects.size())
-        return;
-    LatticeMaterial before = m_document->scene().objects[std::size_t(m_object)].material;
-    LatticeMaterial after = before;
-    const bool toggle = nodes.size() == 1 && !clear;
-    QString text;
-    for (int n : nodes) {
-        const auto i = std::size_t(n);
-        if (m_tool == Tool::Anchor) {
-            const bool set = toggle ? after.anchor[i] != m_anchorMode : !clear;
-            after.anchor[i] = set ? m_anchorMode : AnchorMode::Free;
-            text = set ? (m_anchorMode == AnchorMode::Heavy ? tr("Set heavy anchor") : tr("Set pinned anchor"))
-                       : tr("Clear anchor");
-        } else {
-            const bool set = toggle ? !after.isVoid[i] : !clear;
-            after.isVoid[i] = set ? 1 : 0;
-            text = set ? tr("Set void") : tr("Clear void");
-        }
-    }
-    if (nodes.size() > 1)
-        text += tr(" (%n nodes)", nullptr, int(nodes.size()));
-    // A lattice with every node void or every node pinned cannot be built; refuse rather than break it.
-    if (auto model = buildLatticeBody(m_document->scene().objects[std::size_t(m_object)].lattice, after); !model) {
-        emit hint(tr("Not applied: %1").arg(QString::fromStdString(model.message())));
-        return;
-    }
-    m_document->undoStack()->push(new MaterialEditCommand(m_document, m_object, std::move(before), std::move(after), text));
-}
-
 void Viewport::setTool(Tool tool) {
     if (tool == m_tool)
         return;
     cancelTransform();
+    if (m_gesture == Gesture::Tool)  // the old tool's gesture ends with it, unapplied
+        m_activeTool->cancel();
+    m_gesture = Gesture::None;
     m_tool = tool;
+    m_activeTool = makeViewportTool(tool, *this);
     emit toolChanged(tool);
     update();
 }

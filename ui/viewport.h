@@ -7,8 +7,9 @@
 /// axis keys and typed amounts, or drag the gizmo: arrows move, squares scale, rings turn;
 /// ui/node_transform.h; one transform is one undo step), lattice (move the box in the view plane; Shift
 /// scales it, Ctrl turns it about the vertical; one gesture is one undo step), collider
-/// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it). The mode
-/// view animates one object's lattice in one of its vibration modes, for display only.
+/// (pick a collider, drag to move it in the view plane, Shift scales it, Delete removes it); each tool is a
+/// class of ui/viewport_tools.h. The mode view animates one object's lattice in one of its vibration modes, for
+/// display only.
 
 #include "core/modes/modes.h"
 #include "render/mesh_renderer.h"
@@ -27,10 +28,15 @@
 #include <functional>
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 
 class QLabel;
+
+namespace softtouch::ui {
+class ViewportTool;
+}
 
 namespace softtouch::ui {
 
@@ -197,7 +203,15 @@ protected:
     bool event(QEvent* event) override;
 
 private:
-    enum class Gesture { None, Orbit, Pan, Dolly, Drag, Paint, Box, Place, MoveCollider, Gizmo };
+    // The tools (ui/viewport_tools.h) act through the viewport's picking, camera and document.
+    friend class DragTool;
+    friend class PaintTool;
+    friend class NodeTool;
+    friend class PoseTool;
+    friend class LatticeTool;
+    friend class ColliderTool;
+    /// What the mouse's held button does: a camera move, or the current tool's gesture.
+    enum class Gesture { None, Orbit, Pan, Dolly, Tool };
     void uploadScene();
 public slots:
     /// Shows the painted field's range (call after changing brush().field).
@@ -212,15 +226,9 @@ private:
     int nodeAt(const QPointF& pos, double radiusPixels = 14.0) const;
     /// The object whose deformed surface is nearest under `pos` (-1: none), and where (`hit`).
     int objectAt(const QPointF& pos, std::optional<SurfaceHit>* hit = nullptr) const;
-    void beginDrag(const QPointF& pos, Qt::KeyboardModifiers modifiers);
-    void moveDrag(const QPointF& pos);
-    void paintDab(const QPointF& pos);
-    void placeLattice(const QPointF& from, const QPointF& to);
     /// The collider under `pos` (within its drawn size, or 30 pixels of its centre), -1 when none.
     int colliderAt(const QPointF& pos) const;
-    void moveCollider(const QPointF& from, const QPointF& to);
     void deleteCollider();
-    void applyNodeTool(const std::vector<int>& nodes, bool clear);
     /// Feeds the cursor at `pos` to the transform under way and shows its pose.
     void updateTransform(const QPointF& pos);
     /// One key binding of the viewport (see keyTable()).
@@ -236,7 +244,6 @@ private:
     std::optional<std::pair<TransformKind, TransformAxis>> gizmoPartAt(const QPointF& pos) const;
     void drawGizmo(QPainter& painter) const;
     std::vector<int> nodesInRect(const QRectF& rect) const;
-    int grabSlotDragged() const { return m_dragSlot; }
 
     Document* m_document;
     SimulationController* m_simulation;
@@ -248,6 +255,7 @@ private:
     QString m_renderProblem;
     OrbitCamera m_camera;
     Tool m_tool = Tool::Drag;
+    std::unique_ptr<ViewportTool> m_activeTool;  ///< The tool behind m_tool.
     render::ShadeMode m_shadeMode = render::ShadeMode::Shaded;
     NavigationStyle m_navigation = NavigationStyle::Maya;
     bool m_overlayVisible = true;
@@ -259,16 +267,10 @@ private:
     int m_object = 0;
 
     Gesture m_gesture = Gesture::None;
-    QPointF m_pressPos;
     QPointF m_lastPos;
-    Qt::KeyboardModifiers m_pressModifiers;
-    int m_dragSlot = -1;
-    Vec3 m_dragDepthPoint = Vec3::Zero();
-    Vec3 m_grabOffset = Vec3::Zero();
     double m_pressure = 1.0;
     double m_tiltDepth = 0.0;    ///< Pen tilt towards/away from the screen, in [-1, 1] (yTilt / 60°).
-    int m_nextStrokeKey = 1000;  // kFirstStrokeKey
-    int m_strokeKey = -1;
+    int m_nextStrokeKey = 1000;  ///< A tool's next stroke's undo merge key (kFirstStrokeKey).
     double m_frameMs = 0.0;
     ValueLegend* m_legend = nullptr;
     std::map<PaintField, std::pair<double, double>> m_fixedColourRanges;  ///< See setColourRange().
