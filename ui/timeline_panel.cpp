@@ -118,7 +118,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     auto* makeClipButton = new QPushButton(tr("Clip from take"));
     makeClipButton->setToolTip(tr("Make a clip of the take's in/out range (drag the blue range's ends on the ruler)."));
     m_loop = new QCheckBox(tr("Loop"));
-    m_loop->setToolTip(tr("A cycle: the last frame leads into the first (closed over a quarter second)."));
+    m_loop->setObjectName("clipLoop");
     auto* exportButton = new QPushButton(tr("Export…"));
     exportButton->setToolTip(tr("Export the selected clip (or the drivers from frame 0) as PC2, MDD, OBJ, glTF/GLB, "
                                 "VAT or lattice cache."));
@@ -158,7 +158,15 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
         if (range)
             makeClip(m_takes->currentRow(), m_loop->isChecked(), range->first, range->second);
     });
-    // The clips' own menu: play, rename (or double-click), duplicate, frame rate, delete (or Delete).
+    connect(m_loop, &QCheckBox::toggled, this, [this](bool checked) {
+        if (const int row = m_clips->currentRow(); row >= 0) {
+            if (!setClipLoop(row, checked))
+                showLoopState();
+        } else {
+            m_loopForCut = checked;
+        }
+    });
+    // The clips' own menu: play, rename (or double-click), duplicate, frame rate, loop, delete (or Delete).
     m_clips->setContextMenuPolicy(Qt::CustomContextMenu);
     connect(m_clips, &QListWidget::customContextMenuRequested, this, &TimelinePanel::showClipMenu);
     connect(m_clips, &QListWidget::itemDoubleClicked, this, [this] { askToRenameClip(m_clips->currentRow()); });
@@ -203,6 +211,21 @@ void TimelinePanel::selectTake(int row) {
     m_ruler->setSpan(last, fps());
     m_ruler->setInOut(std::pair(0, last));  // what "Clip from take" cuts: all of it until trimmed
     showRanges();
+    showLoopState();
+}
+
+void TimelinePanel::showLoopState() {
+    const QSignalBlocker block(m_loop);
+    const int row = m_clips->currentRow();
+    const auto& clips = m_document->project().clips.clips;
+    if (row >= 0 && std::size_t(row) < clips.size()) {
+        m_loop->setChecked(clips[std::size_t(row)].loop);
+        m_loop->setToolTip(tr("This clip is a cycle: its last frame leads into the first, closed over a quarter second."));
+    } else {
+        m_loop->setChecked(m_loopForCut);
+        m_loop->setToolTip(tr("Clip from take makes a cycle: the last frame leads into the first (closed over a quarter "
+                              "second)."));
+    }
 }
 
 void TimelinePanel::showRanges() {
@@ -246,6 +269,7 @@ void TimelinePanel::selectClip(int row) {
     m_ruler->setSpan(clip.frames - 1, clip.fps, clip.startSeconds);
     showRanges();
     showClipFrame(row, 0);
+    showLoopState();
 }
 
 void TimelinePanel::showFrame(int frame) {
@@ -677,6 +701,35 @@ bool TimelinePanel::deleteClip(int index) {
     });
 }
 
+bool TimelinePanel::setClipLoop(int index, bool loop) {
+    const auto& clips = m_document->project().clips.clips;
+    if (index < 0 || std::size_t(index) >= clips.size())
+        return false;
+    const QString name = QString::fromStdString(clips[std::size_t(index)].name);
+    return editClips(loop ? tr("Loop clip %1").arg(name) : tr("Stop looping clip %1").arg(name),
+                     [&](ClipLibrary& library) -> Status {
+                         Clip& clip = library.clips[std::size_t(index)];
+                         // A keyed clip made to its last key holds that key as its last frame; as a cycle the last
+                         // key is where the next pass starts (frame N is frame 0 again), so the span loses that
+                         // frame, and gets it back as a one-shot. A clip trimmed otherwise keeps its length.
+                         if (const NamedKeyframes* keys = clip.source == ClipSource::Keyframes ? library.findKeyframes(clip.sourceName)
+                                                                                               : nullptr) {
+                             double last = clip.startSeconds;
+                             for (const KeyframeAnimation& object : keys->objects)
+                                 if (!object.keys().empty())
+                                     last = std::max(last, object.keys().back().seconds);
+                             const int period = int(std::lround((last - clip.startSeconds) * clip.fps));
+                             if (period >= 2 && loop && !clip.loop && clip.frames == period + 1)
+                                 clip.frames = period;
+                             else if (period >= 2 && !loop && clip.loop && clip.frames == period)
+                                 clip.frames = period + 1;
+                         }
+                         clip.loop = loop;
+                         clip.blendFrames = loop ? std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))) : 0;
+                         return Status::success();
+                     });
+}
+
 bool TimelinePanel::retimeClip(int index, double rate) {
     return editClips(tr("Clip frame rate %1").arg(rate), [&](ClipLibrary& library) -> Status {
         if (index < 0 || std::size_t(index) >= library.clips.size())
@@ -721,6 +774,9 @@ void TimelinePanel::showClipMenu(const QPoint& pos) {
         if (ok)
             retimeClip(row, rate);
     });
+    QAction* loop = menu.addAction(tr("Loop"), this, [this, row, clip] { setClipLoop(row, !clip.loop); });
+    loop->setCheckable(true);
+    loop->setChecked(clip.loop);
     menu.addSeparator();
     menu.addAction(tr("Delete"), this, [this, row] { deleteClip(row); });
     menu.exec(m_clips->viewport()->mapToGlobal(pos));
@@ -783,6 +839,7 @@ void TimelinePanel::refreshLists() {
     if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)
         m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());  // key time, for the keys
     showRanges();
+    showLoopState();
 }
 
 }  // namespace softtouch::ui

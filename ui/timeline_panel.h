@@ -61,6 +61,9 @@ public slots:
     bool deleteClip(int index);
     /// Samples clip `index` at `fps` over the same seconds (frames and loop closure rescaled); one undo step.
     bool retimeClip(int index, double fps);
+    /// Makes clip `index` a cycle (closed over a quarter second, at most half the clip) or a one-shot; one undo
+    /// step. Any clip: cut from a take, keyed or of the drivers.
+    bool setClipLoop(int index, bool loop);
 
     /// The frame ruler (keys shown on it are the keys panel's; the main window wires them).
     FrameRuler* ruler() const { return m_ruler; }
@@ -116,6 +119,9 @@ private:
     /// Applies `change` to a copy of the clip library as one undo step named `text`; false, with the reason
     /// shown, when the result does not validate.
     bool editClips(const QString& text, const std::function<Status(ClipLibrary&)>& change);
+    /// The Loop box shows the selected clip's loop (and sets it), or with no clip selected what "Clip from take"
+    /// will cut.
+    void showLoopState();
     void showClipMenu(const QPoint& pos);
     /// Asks for clip `index`'s new name (double-click, the list's menu) and renames it.
     void askToRenameClip(int index);
@@ -125,6 +131,7 @@ private:
     QPushButton* m_record = nullptr;
     QListWidget* m_takes = nullptr;
     QListWidget* m_clips = nullptr;
+    bool m_loopForCut = false;  ///< The Loop box's choice for "Clip from take" (see showLoopState()).
     QCheckBox* m_loop = nullptr;
     FrameRuler* m_ruler = nullptr;
     QPushButton* m_play = nullptr;

@@ -168,6 +168,7 @@ private slots:
     void recordedTakeScrubsAndExports();
     void exportDialogsPackAGlbForShipping();
     void keyframesFromPosesMakeAClip();
+    void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();

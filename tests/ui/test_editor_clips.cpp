@@ -1,6 +1,10 @@
 // The editor driven through its real widgets (under Xvfb). Takes, keys and clips: record, scrub, key poses,
 // retime, export and render.
 #include "editor_fixture.h"
+#include <numbers>
+#include <QCheckBox>
+#include <QContextMenuEvent>
+#include <QMenu>
 
 // Render video draws from the viewport's view when asked (the animator framed it), from the CLI's ¾ view
 // otherwise, whatever the viewport shows.
@@ -254,6 +258,79 @@ void TestEditor::keyframesFromPosesMakeAClip() {
     QVERIFY(keys->makeClip(true));
     auto goalFrames = evaluateClip(w.document()->scene(), w.document()->project().clips, w.document()->project().clips.clips.back());
     QVERIFY2(goalFrames.ok(), goalFrames.message().c_str());
+}
+
+// A keyed clip becomes a cycle from its own menu or the Loop box beside the clips (one undo step each), the way a
+// swim cycle is made from keys: the last key, the first pose again, starts the next pass, so the seam steps like
+// any other frame. (Loop once applied only when cutting a clip from a take.)
+void TestEditor::aKeyedClipLoopsFromItsMenuAndTheLoopBox() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    const std::vector<Vec3> rest = lattice.restNodes();
+    // One second of a tail swing keyed every quarter second: lift = A sin(2 pi t), the last key the first pose.
+    for (int k = 0; k <= 4; ++k) {
+        const double t = 0.25 * k, lift = 0.05 * std::sin(2.0 * std::numbers::pi * t);
+        std::vector<Vec3> pose = rest;
+        for (std::size_t n = 0; n < pose.size(); ++n)
+            pose[n].y() += lift * std::max(0.0, lattice.box().toParameters(rest[n]).x() - 0.5);
+        QVERIFY(sim->setObjectPose(0, pose));
+        QVERIFY(keys->keyPose(t));
+    }
+    QVERIFY(keys->makeClip(false));
+    const ClipLibrary& library = w.document()->project().clips;
+    const int row = int(library.clips.size()) - 1;
+    const double fps = library.clips.back().fps;
+    QCOMPARE(library.clips.back().frames, int(std::lround(fps)) + 1);  // to the last key, held
+    auto* list = w.timeline()->findChild<QListWidget*>("clips");
+    auto* loopBox = w.timeline()->findChild<QCheckBox*>("clipLoop");
+    QVERIFY(list && loopBox);
+    const QPoint at = list->visualItemRect(list->item(row)).center();
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, at);
+    QCOMPARE(list->currentRow(), row);
+    QVERIFY(!loopBox->isChecked());
+
+    // The clip's menu: Loop, checked by a person choosing it in the open menu.
+    const int steps = undo->index();
+    bool chosen = false;
+    QTimer::singleShot(0, this, [&] {
+        auto* menu = qobject_cast<QMenu*>(QApplication::activePopupWidget());
+        QVERIFY(menu);
+        for (QAction* action : menu->actions())
+            if (action->text() == "Loop") {
+                QVERIFY(action->isCheckable() && !action->isChecked());
+                chosen = true;
+                action->trigger();
+            }
+        menu->close();
+    });
+    QContextMenuEvent menuEvent(QContextMenuEvent::Mouse, at, list->viewport()->mapToGlobal(at));
+    QApplication::sendEvent(list->viewport(), &menuEvent);
+    QVERIFY(chosen);
+    QCOMPARE(undo->index(), steps + 1);
+    const Clip& looped = w.document()->project().clips.clips[std::size_t(row)];
+    QVERIFY(looped.loop);
+    QCOMPARE(looped.frames, int(std::lround(fps)));  // frame N is frame 0 again: the last key starts the next pass
+    QVERIFY(looped.blendFrames > 0);
+    QVERIFY(loopBox->isChecked());
+    QVERIFY2(list->item(row)->text().contains("loop"), qPrintable(list->item(row)->text()));
+    auto frames = evaluateClip(w.document()->scene(), w.document()->project().clips, looped);
+    QVERIFY2(frames.ok(), frames.message().c_str());
+    const SeamMeasure seam = measureSeam(frames.value());
+    qInfo("keyed loop seam: %.3f of the neighbouring steps, %.3f of the median step", seam.localRatio, seam.ratio);
+    QVERIFY2(seam.localRatio < 1.2 && seam.ratio < 1.2, qPrintable(QString::number(seam.localRatio)));
+
+    // The Loop box beside the clips says and sets the selected clip's loop: off gives the held last key back.
+    QTest::mouseClick(loopBox, Qt::LeftButton);
+    QCOMPARE(undo->index(), steps + 2);
+    QVERIFY(!w.document()->project().clips.clips[std::size_t(row)].loop);
+    QCOMPARE(w.document()->project().clips.clips[std::size_t(row)].frames, int(std::lround(fps)) + 1);
+    undo->undo();
+    QVERIFY(w.document()->project().clips.clips[std::size_t(row)].loop);
+    QVERIFY(loopBox->isChecked());
 }
 
 // The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
