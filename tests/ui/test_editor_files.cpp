@@ -132,6 +132,12 @@ void TestEditor::recoversAutosaveAfterRealKill() {
     QVERIFY(next.offerRecovery());
     QVERIFY(yes.seen);
     QCOMPARE(next.document()->project().clips.sessions.size(), std::size_t(1));
+    // ... and shows it: the timeline lists the recovered take (and the scene's clips) at once, not after a save.
+    auto* takes = next.timeline()->findChild<QListWidget*>("takes");
+    auto* clips = next.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(takes && clips);
+    QCOMPARE(takes->count(), 1);
+    QCOMPARE(clips->count(), int(next.document()->project().clips.clips.size()));
     QVERIFY(next.document()->isModified());
     QCOMPARE(QFileInfo(next.document()->filePath()).canonicalFilePath(), QFileInfo(kDefaultScene).canonicalFilePath());
     next.document()->undoStack()->setClean();
