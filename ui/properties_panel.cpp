@@ -1,5 +1,6 @@
 #include "ui/properties_panel.h"
 
+#include "ui/collider_properties.h"
 #include "ui/edit_commands.h"
 #include "ui/material_tuning.h"
 #include "ui/spin_box.h"
@@ -40,6 +41,7 @@ void setQuietly(QDoubleSpinBox* box, double value) {
 PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
     : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
     auto* layout = new QVBoxLayout(this);
+    layout->addWidget(new ColliderProperties(document, viewport));  // shown while the collider tool has one picked
     layout->addWidget(buildSimulation());
     layout->addWidget(buildMaterial());
     layout->addWidget(buildLattice());

@@ -623,7 +623,10 @@ int Viewport::colliderAt(const QPointF& pos) const {
 }
 
 void Viewport::setCurrentCollider(int index) {
+    const bool changed = index != m_collider;
     m_collider = index;
+    if (changed)
+        emit currentColliderChanged(index);
     const auto& colliders = m_document->scene().world.colliders;
     if (index >= 0 && std::size_t(index) < colliders.size())
         emit hint(tr("%1 %2: drag to move, Shift+drag to scale, Delete to remove.")
@@ -638,6 +641,7 @@ void Viewport::deleteCollider() {
     WorldSettings after = before;
     after.colliders.erase(after.colliders.begin() + m_collider);
     m_collider = -1;
+    emit currentColliderChanged(-1);
     m_document->undoStack()->push(new WorldEditCommand(m_document, before, after, tr("Delete collider")));
 }
 

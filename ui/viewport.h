@@ -184,6 +184,8 @@ signals:
     void selectionChanged();
     /// Another object became the one the tools act on (outliner, double-click, a click in select or pose).
     void currentObjectChanged(int object);
+    /// The collider the collider tool acts on changed (-1: none).
+    void currentColliderChanged(int index);
     /// A one-line hint for the status bar (what the tool would do, what was picked).
     void hint(const QString& text);
 

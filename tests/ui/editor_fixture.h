@@ -155,6 +155,7 @@ private slots:
     void poseGizmoScalesAndTurns();
     void objectsAddDuplicatePickAndDelete();
     void colliderToolAddsMovesScalesAndDeletes();
+    void pickedColliderShowsItsNumbersInProperties();
     void openMeshColliderIsOfferedAsOneSided();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();

@@ -1,6 +1,8 @@
 // The editor driven through its real widgets (under Xvfb). Objects and colliders: add, duplicate, delete,
 // import an animated mesh, collide.
 #include "editor_fixture.h"
+#include <QDoubleSpinBox>
+#include <QGroupBox>
 
 // The rock scene opens with its collider in the Outliner (shape, size, where) and the running body tests
 // contact at the fish's surface points.
@@ -343,6 +345,63 @@ void TestEditor::colliderToolAddsMovesScalesAndDeletes() {
     QCOMPARE(colliders().size(), before + 1);  // the sphere's own add is still done
     w.document()->undoStack()->undo();          // and the scene is as the next test expects it
     QCOMPARE(colliders().size(), before);
+}
+
+// #42 item 9: a collider picked with the collider tool shows its numbers in the properties dock (its shape's
+// sizes only, restitution and friction, which the file keeps), and typing one is one undo step; another tool, or
+// no collider picked, hides them.
+void TestEditor::pickedColliderShowsItsNumbersInProperties() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    QUndoStack* undo = w.document()->undoStack();
+    auto* box = w.findChild<QGroupBox*>("colliderProperties");
+    QVERIFY(box);
+    QVERIFY(!box->isVisibleTo(&w));
+    w.findChild<QAction*>("actionAddSphereCollider")->trigger();
+    const auto& colliders = [&]() -> const std::vector<Collider>& { return w.document()->scene().world.colliders; };
+    const int index = int(colliders().size()) - 1;
+    QCOMPARE(view->currentCollider(), index);
+    QVERIFY(box->isVisibleTo(&w));
+    auto* radius = box->findChild<QDoubleSpinBox*>("colliderRadius");
+    auto* halfLength = box->findChild<QDoubleSpinBox*>("colliderHalfLength");
+    auto* friction = box->findChild<QDoubleSpinBox*>("colliderFriction");
+    auto* restitution = box->findChild<QDoubleSpinBox*>("colliderRestitution");
+    QVERIFY(radius && halfLength && friction && restitution);
+    QVERIFY(radius->isVisibleTo(&w) && !halfLength->isVisibleTo(&w));  // a sphere has a radius, no segment
+    QVERIFY(std::abs(radius->value() - colliders().back().radius) < 1e-4);  // as its 4 decimals show it
+    QCOMPARE(friction->value(), colliders().back().friction);
+    QCOMPARE(restitution->value(), colliders().back().restitution);
+
+    // Typed as a person types: select the field's text, type, Enter.
+    const int steps = undo->index();
+    const auto type = [&](QDoubleSpinBox* field, const QString& text) {
+        field->setFocus();
+        field->selectAll();
+        QTest::keyClicks(field, text);
+        QTest::keyClick(field, Qt::Key_Return);
+    };
+    type(friction, "0.9");
+    QCOMPARE(colliders().back().friction, 0.9);
+    QCOMPARE(undo->index(), steps + 1);
+    type(restitution, "0.3");
+    QCOMPARE(colliders().back().restitution, 0.3);
+    type(radius, "0.25");
+    QCOMPARE(colliders().back().radius, 0.25);
+    QCOMPARE(undo->index(), steps + 3);
+    // Undo puts the number back in the field too.
+    undo->undo();
+    QVERIFY(std::abs(radius->value() - colliders().back().radius) < 1e-4);
+    QVERIFY(colliders().back().radius != 0.25);
+
+    // Another tool hides them; back on the collider tool with it still picked, they show again.
+    w.findChild<QAction*>("toolDrag")->trigger();
+    QVERIFY(!box->isVisibleTo(&w));
+    w.findChild<QAction*>("toolCollider")->trigger();
+    QVERIFY(box->isVisibleTo(&w));
+    while (undo->index() > steps - 1)  // the friction, restitution and the add
+        undo->undo();
+    QCOMPARE(int(colliders().size()), index);
+    QVERIFY(!box->isVisibleTo(&w));
 }
 
 // An open mesh (a ground of two triangles) is not a solid: Add mesh collider says why and offers it as a
