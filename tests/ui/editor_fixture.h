@@ -162,6 +162,7 @@ private slots:
     void restingFishIsNotRedrawn();
     void secondHandHoldsAndPenPressureScalesTheSpring();
     void saveAndReopenGivesTheSameScene();
+    void ctrlShiftSAsksWhereToSave();
     void recoversAutosaveAfterKill();
     void recoversAutosaveAfterRealKill();
     void corruptProjectShowsErrorAndEditorStaysUsable();
