@@ -14,6 +14,7 @@
 #include <QInputDialog>
 #include <QKeyEvent>
 #include <QMenu>
+#include <QRegularExpression>
 #include <QTimer>
 #include <algorithm>
 
@@ -414,6 +415,8 @@ QString TimelinePanel::suggestedOutputPath(int index, const QString& suffix) con
     name += "-" + (index >= 0 && std::size_t(index) < library.clips.size()
                        ? QString::fromStdString(library.clips[std::size_t(index)].name)
                        : QStringLiteral("drivers"));
+    // A name a shell, a build script and an engine's importer take as one word: "take 1 clip" becomes take-1-clip.
+    name.replace(QRegularExpression("[^A-Za-z0-9._-]+"), "-");
     return QDir(folder).filePath(name + "." + suffix);
 }
 
