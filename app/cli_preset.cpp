@@ -7,6 +7,7 @@
 #include "io/documents/project_file.h"
 
 #include <cstdio>
+#include <variant>
 
 namespace softtouch::cli {
 namespace {
@@ -18,10 +19,11 @@ constexpr const char* kPresetAbout = R"(The two forms:
 export  Writes the setup of one object of SCENE (default: the first): lattice kind and resolution, the
         painted per-node mass, stiffness and damping, anchors, voids, the drivers and the scene's drivers
         clips, as a preset of kind "setup".
-apply   Puts a setup preset onto one object of SCENE and writes the result as a new project. The object
-        keeps its mesh and lattice box; when the lattice resolutions differ the painted maps are remapped
-        to the nearest node in lattice parameters (and rescaled so the body stays the same material).
-        The result is validated before anything is written.
+apply   Puts a preset onto one object of SCENE and writes the result as a new project. A setup preset:
+        the object keeps its mesh and lattice box; when the lattice resolutions differ the painted maps are
+        remapped to the nearest node in lattice parameters (and rescaled so the body stays the same
+        material). A material preset (presets/materials): its values on every node, anchors and voids
+        kept, as the editor's Presets dock applies it. The result is validated before anything is written.
 )";
 
 /// Index of the object named `name` (empty: the first).
@@ -79,23 +81,39 @@ int runPreset(const std::vector<std::string>& args) {
     }
     if (positional.size() != 2)
         return line.usage("preset apply needs a PRESET and a SCENE");
-    auto preset = io::loadSetupPreset(positional[0]);
-    if (!preset)
-        return fail(preset.message());
+    auto any = io::loadPreset(positional[0]);
+    if (!any)
+        return fail(any.message());
     auto project = io::loadProject(positional[1]);
     if (!project)
         return fail(project.message());
     auto object = findObject(project.value(), objectName);
     if (!object)
         return fail(object.message());
+    if (const auto* material = std::get_if<io::MaterialPreset>(&any.value())) {
+        // A material preset: its values on every node of the object (anchors and voids kept), as the editor's
+        // Presets dock applies it.
+        SceneObject& o = project->scene.objects[object.value()];
+        LatticeMaterial after = o.material;
+        if (Status s = io::applyMaterialPreset(*material, o.lattice, after); !s)
+            return fail(positional[0] + " on " + positional[1] + ": " + s.message());
+        if (auto body = buildLatticeBody(o.lattice, after); !body)
+            return fail(positional[0] + " on " + positional[1] + ": object '" + o.name + "': " + body.message());
+        o.material = std::move(after);
+        if (Status s = io::saveProject(project.value(), out); !s)
+            return fail(s.message());
+        std::printf("wrote %s (material '%s' on '%s')\n", out.c_str(), material->name.c_str(), o.name.c_str());
+        return 0;
+    }
+    const io::SetupPreset& setup = std::get<io::SetupPreset>(any.value());
     const LatticeShape before = project->scene.objects[object.value()].lattice.shape();
-    auto applied = io::applySetupPreset(preset.value(), project.value(), object.value());
+    auto applied = io::applySetupPreset(setup, project.value(), object.value());
     if (!applied)
         return fail(positional[0] + " on " + positional[1] + ": " + applied.message());
     if (Status s = io::saveProject(applied.value(), out); !s)
         return fail(s.message());
-    const bool remapped = before.kind != preset->shape.kind || before.nodes != preset->shape.nodes;
-    std::printf("wrote %s (preset '%s' on '%s'%s)\n", out.c_str(), preset->name.c_str(),
+    const bool remapped = before.kind != setup.shape.kind || before.nodes != setup.shape.nodes;
+    std::printf("wrote %s (preset '%s' on '%s'%s)\n", out.c_str(), setup.name.c_str(),
                 applied->scene.objects[object.value()].name.c_str(),
                 remapped ? ", painted maps remapped to the object's lattice" : "");
     return 0;

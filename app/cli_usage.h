@@ -32,8 +32,8 @@ inline constexpr std::array<CommandSummary, 12> kCommands{{
               "integrator and step do to them; --pictures draws the shapes headless.", Program::Bench},
     {"upgrade", "Rewrite per-lattice (lattice-springs) materials as continuum ones that mean the same on every lattice, "
                 "keeping mass, lowest mode and damping."},
-    {"preset", "Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset, and apply one to "
-               "another scene, remapped when the lattices differ."},
+    {"preset", "Share an object's setup (lattice, painted maps, drivers, clips) as a *.stpreset, and apply a setup "
+               "(remapped when the lattices differ) or a material preset to an object of a scene."},
     {"bench", "Measure step cost, deformation throughput, the haptic loop and the paper's Table 1 against peers.",
      Program::Bench},
     {"study", "The speed/accuracy trade: integrator x step x lattice x element against a converged solid, with the "

@@ -1,5 +1,6 @@
 // End to end: `bake --clip` and `preset export|apply` on the bundled fish.
 #include "core/authoring/clip.h"
+#include "io/documents/preset_file.h"
 #include "io/documents/project_file.h"
 #include "io/export/vertex_cache.h"
 
@@ -30,6 +31,7 @@ private slots:
     void unknownClipFails();
     void firstFramesOfALongClipAreTheClipsFirstFrames();
     void presetExportApplyBake();
+    void materialPresetAppliesAsTheEditorAppliesIt();
     void badPresetWritesNothing();
     void gltfReadsUseTinygltfsOwnLibrary();
 };
@@ -138,6 +140,26 @@ void TestCliClips::presetExportApplyBake() {
     QVERIFY(runCli({"validate", demekin}).exitCode == 0);
     const Run baked = runCli({"bake", demekin, "--clip", "swim", "--out", dir.filePath("d.pc2"), "--quiet"});
     QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+}
+
+// A material preset (presets/materials) applies from the command line too, the same as the editor's Presets dock
+// applies it (io::applyMaterialPreset on every node): it was refused as "not a setup".
+void TestCliClips::materialPresetAppliesAsTheEditorAppliesIt() {
+    QTemporaryDir dir;
+    const QString scene = kPresets + "scenes/guppy-swim.softtouch", preset = kPresets + "materials/jelly.stpreset";
+    const QString out = dir.filePath("jelly.softtouch");
+    const Run applied = runCli({"preset", "apply", preset, scene, "--out", out});
+    QVERIFY2(applied.exitCode == 0, qPrintable(applied.err));
+    QVERIFY2(applied.out.contains("material 'Jelly' on 'guppy'"), qPrintable(applied.out));
+    auto written = io::loadProject(out.toStdString());
+    auto original = io::loadProject(scene.toStdString());
+    auto jelly = io::loadMaterialPreset(preset.toStdString());
+    QVERIFY(written.ok() && original.ok() && jelly.ok());
+    SceneObject& o = original->scene.objects[0];
+    QVERIFY(io::applyMaterialPreset(jelly.value(), o.lattice, o.material).ok());
+    QVERIFY(written->scene.objects[0].material == o.material);
+    QVERIFY(!(written->scene.objects[0].material == io::loadProject(scene.toStdString())->scene.objects[0].material));
+    QVERIFY(runCli({"bake", out, "--clip", "swim", "--frames", "4", "--out", dir.filePath("j.pc2"), "--quiet"}).exitCode == 0);
 }
 
 void TestCliClips::badPresetWritesNothing() {
