@@ -106,7 +106,8 @@ Status Document::importAnimatedMesh(const QString& path, const io::AnimationRequ
     if (m_project.scene.objects.empty())
         m_project.scene.world.simulation = made->world.simulation;
     const std::size_t index = m_project.scene.objects.size();
-    if (Status s = insertObject(std::move(object), std::filesystem::absolute(path.toStdString()).string(), Vec3::Zero(), {},
+    const Vec3 offset = placeBeside(object);  // not inside the fish already there
+    if (Status s = insertObject(std::move(object), std::filesystem::absolute(path.toStdString()).string(), offset, {},
                                 index, tr("Import animated mesh %1").arg(QFileInfo(path).fileName()));
         !s)
         return Status::error(path.toStdString() + ": " + s.message());

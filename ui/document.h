@@ -109,6 +109,9 @@ private:
     /// The scene core's newScene() makes of a mesh file (Import Mesh's; Add Mesh takes its object); errors
     /// name the file.
     static Result<Scene> sceneFromMeshFile(const QString& path);
+    /// Moves `object` (mesh, lattice, base animation) along x beside the scene's objects when it would overlap
+    /// them, a fifth of its width apart; returns the move (the project keeps it as the object's "position").
+    Vec3 placeBeside(SceneObject& object) const;
     /// Inserts `object` at `index` with what the project keeps of it, as one undo step named `text`.
     Status insertObject(SceneObject object, std::string meshReference, Vec3 meshOffset, std::vector<RestShapeEdit> edits,
                         std::size_t index, const QString& text);

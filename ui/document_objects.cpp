@@ -68,13 +68,7 @@ Status Document::insertObject(SceneObject object, std::string meshReference, Vec
     return Status::success();
 }
 
-Status Document::addMesh(const QString& path) {
-    auto made = sceneFromMeshFile(path);  // the object a new scene would make of it
-    if (!made)
-        return made.status();
-    // Where the file puts it, unless that overlaps the scene's objects: then beside them along x, a fifth of
-    // its width apart (kept as its "position", so the project reopens the same).
-    SceneObject object = std::move(made->objects.front());
+Vec3 Document::placeBeside(SceneObject& object) const {
     Vec3 offset = Vec3::Zero();
     if (!m_project.scene.objects.empty()) {
         const Bounds scene = restBounds(m_project.scene);
@@ -83,6 +77,17 @@ Status Document::addMesh(const QString& path) {
             offset.x() = scene.max.x() - added.min.x() + 0.2 * (added.max.x() - added.min.x());
     }
     moveObject(object, offset);
+    return offset;
+}
+
+Status Document::addMesh(const QString& path) {
+    auto made = sceneFromMeshFile(path);  // the object a new scene would make of it
+    if (!made)
+        return made.status();
+    // Where the file puts it, unless that overlaps the scene's objects: then beside them along x, a fifth of
+    // its width apart (kept as its "position", so the project reopens the same).
+    SceneObject object = std::move(made->objects.front());
+    const Vec3 offset = placeBeside(object);
     const QString name = QFileInfo(path).fileName();
     return insertObject(std::move(object), std::filesystem::absolute(path.toStdString()).string(), offset, {},
                         m_project.scene.objects.size(), tr("Add mesh %1").arg(name));

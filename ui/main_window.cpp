@@ -581,7 +581,10 @@ Status MainWindow::importAnimatedMeshFile(const QString& path, const io::Animati
         showError(tr("Cannot import animated mesh"), QString::fromStdString(s.message()));
         return s;
     }
-    // The new object plays its base animation with the goals painted at ½: Space plays it.
+    // The new object, beside the others, is the one the tools act on; it plays its base animation with the goals
+    // painted at ½: Space plays it.
+    m_viewport->setCurrentObject(int(m_document->scene().objects.size()) - 1);
+    m_viewport->frameAll();
     m_simulation->pause();
     statusBar()->showMessage(tr("Imported %1. Paint 'Goal weight' where it should follow the animation exactly; "
                                 "Space plays it.").arg(report), 15000);

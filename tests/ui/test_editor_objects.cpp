@@ -105,6 +105,16 @@ void TestEditor::importAnimatedMeshAddsAFollowingObject() {
     QCOMPARE(QString::fromStdString(guppy.baseAnimation->take), QString("swim"));
     QCOMPARE(guppy.material.goalWeight, std::vector<double>(guppy.material.mass.size(), 0.5));
     QVERIFY(w.simulation()->simulation()->followsBaseAnimation(1));
+    // Beside the angelfish, not inside it, and the object the tools now act on (#42 item 10).
+    {
+        const Bounds fish = w.document()->scene().objects[0].mesh->bounds(), added = guppy.mesh->bounds();
+        QVERIFY2(added.min.x() > fish.max.x(), qPrintable(QString("guppy from x %1, angelfish to %2").arg(added.min.x()).arg(fish.max.x())));
+        QCOMPARE(w.viewport()->currentObject(), 1);
+        std::vector<Vec3> first;
+        for (const Vec3f& p : guppy.baseAnimation->samples.front())
+            first.push_back(p.cast<double>());
+        QVERIFY((boundsOf(first).min - added.min).norm() < 1e-4);  // its animation moved with it
+    }
     QVERIFY2(w.statusBar()->currentMessage().contains("take \"swim\""), qPrintable(w.statusBar()->currentMessage()));
     const auto listed = w.findChild<QTreeWidget*>("outliner")->findItems("Base animation", Qt::MatchExactly | Qt::MatchRecursive);
     QCOMPARE(listed.size(), 1);
