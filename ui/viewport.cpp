@@ -20,6 +20,9 @@
 
 namespace softtouch::ui {
 
+/// Objects the tools do not act on, when there are several: the default orange, greyed (linear RGB).
+const Eigen::Vector3f kOtherObjectColour{0.42f, 0.38f, 0.36f};
+
 /// The user's hands: for each grab, a line from the held point of the body to where the cursor pulls
 /// it (the drag spring), so the pull is visible while the body lags behind.
 class GrabIndicator : public QWidget {
@@ -290,6 +293,9 @@ void Viewport::paintGL() {
             render::showSceneObject(m_renderer, int(i), *sim, i, nodes, sim->time(), m_basePositions, m_baseNormals);
             render::MeshStyle style;
             style.mode = m_shadeMode;
+            // The object the tools act on in full colour, the others greyed, so a click's target is never a guess.
+            if (sim->objectCount() > 1 && int(i) != m_object)
+                style.colour = kOtherObjectColour;
             m_renderer.setStyle(int(i), style);
             updateOverlay(int(i), nodes);
         }

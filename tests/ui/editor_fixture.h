@@ -156,6 +156,7 @@ private slots:
     void objectsAddDuplicatePickAndDelete();
     void colliderToolAddsMovesScalesAndDeletes();
     void pickedColliderShowsItsNumbersInProperties();
+    void theCurrentObjectIsDrawnInColourTheOthersGreyed();
     void openMeshColliderIsOfferedAsOneSided();
     void pairSceneTogglesBodyCollisions();
     void mouseDragPullsAndReleaseSwingsBack();

@@ -414,6 +414,44 @@ void TestEditor::pickedColliderShowsItsNumbersInProperties() {
     QVERIFY(!box->isVisibleTo(&w));
 }
 
+// #42 item 10: the viewport shows which object the tools act on: it is drawn in its colour, the others greyed; the
+// outliner, a double-click or a click with select picks another and the colours follow.
+void TestEditor::theCurrentObjectIsDrawnInColourTheOthersGreyed() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/angelfish-pair.softtouch")));
+    QCOMPARE(w.document()->scene().objects.size(), std::size_t(2));
+    Viewport* view = w.viewport();
+    view->setOverlayVisible(false);
+    view->viewTop();  // the pair swims one behind the other: from above, side by side
+    view->frameAll();
+    // How orange the middle of object i's picture is: red minus blue, averaged over the middle of its screen box.
+    const auto warmth = [&](int object) {
+        const QImage image = view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+        const qreal scale = double(image.width()) / view->width();
+        QRectF box;
+        for (const Vec3f& p : view->deformedPositions(object))
+            box |= QRectF(view->toWidget(p.cast<double>()) * scale, QSizeF(1, 1));
+        const QRect middle = QRectF(box.center() - QPointF(box.width(), box.height()) / 8.0,
+                                    QSizeF(box.width(), box.height()) / 4.0).toRect();
+        double sum = 0.0;
+        int count = 0;
+        for (int y = middle.top(); y <= middle.bottom(); ++y)
+            for (int x = middle.left(); x <= middle.right(); ++x) {
+                const QColor c = image.pixelColor(x, y);
+                sum += c.red() - c.blue();
+                ++count;
+            }
+        return sum / std::max(count, 1);
+    };
+    view->setCurrentObject(0);
+    const double first = warmth(0), second = warmth(1);
+    QVERIFY2(first > second + 30.0, qPrintable(QString("current %1, other %2").arg(first).arg(second)));
+    view->setCurrentObject(1);
+    const double firstAfter = warmth(0), secondAfter = warmth(1);
+    QVERIFY2(secondAfter > firstAfter + 30.0, qPrintable(QString("current %1, other %2").arg(secondAfter).arg(firstAfter)));
+    QVERIFY2(first > firstAfter + 30.0, qPrintable(QString("the first fish %1 current, %2 not").arg(first).arg(firstAfter)));
+}
+
 // An open mesh (a ground of two triangles) is not a solid: Add mesh collider says why and offers it as a
 // one-sided surface. Declined, nothing is added; accepted, the collider pushes along the plane's normal and the
 // project saves it as "oneSided": true.
