@@ -9,6 +9,9 @@
 #include <QPushButton>
 #include <QSignalBlocker>
 #include <QStackedWidget>
+#include <QStandardItemModel>
+
+#include <algorithm>
 
 namespace softtouch::ui {
 
@@ -120,7 +123,11 @@ QWidget* ToolOptionsBar::buildPaintPage() {
         m_brushFieldShown.reset();  // offer a value in the new field's unit
         refresh();
     });
-    connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().value = v; });
+    connect(m_brushValue, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+        m_viewport->brush().value = v;
+        if (!m_offering)
+            m_brushValueOffered = false;  // the user's own value: kept whatever the material does
+    });
     connect(m_brushRadius, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().radiusPixels = v; });
     connect(m_brushStrength, &QDoubleSpinBox::valueChanged, this, [this](double v) { m_viewport->brush().strength = v; });
     connect(m_brushFalloff, &QComboBox::currentIndexChanged, this,
@@ -216,27 +223,53 @@ void ToolOptionsBar::refresh() {
     if (object < 0 || std::size_t(object) >= scene.objects.size())
         return;
     const LatticeMaterial& material = scene.objects[std::size_t(object)].material;
+    // Goal weight paints how closely a node follows a base animation: offered only where an object has one (a
+    // scene opened after one that had keeps no goal-weight brush and legend).
+    const bool animated = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                      [](const SceneObject& o) { return bool(o.baseAnimation); });
+    if (!animated && m_viewport->brush().field == PaintField::GoalWeight) {
+        m_viewport->setBrushField(PaintField::Stiffness);
+        m_brushFieldShown.reset();
+    }
     const PaintField field = m_viewport->brush().field;
     {
         const QSignalBlocker block(m_brushField);
+        // The fields by the names the legend and Properties use for this material ("Young's modulus", "density").
+        for (int i = 0; i < m_brushField->count(); ++i) {
+            const auto f = PaintField(m_brushField->itemData(i).toInt());
+            QString name = QString::fromUtf8(fieldName(f, material.model));
+            name[0] = name[0].toUpper();
+            if (f == PaintField::GoalWeight)
+                name += tr(" (base animation)");
+            m_brushField->setItemText(i, name);
+            if (auto* items = qobject_cast<QStandardItemModel*>(m_brushField->model()); items && f == PaintField::GoalWeight)
+                items->item(i)->setEnabled(animated);
+        }
         m_brushField->setCurrentIndex(m_brushField->findData(int(field)));
     }
     const auto [low, high] = paintableRange(field, material.model);
     m_brushValue->setRange(low, high);
     m_brushValue->setSuffix(QString(" ") + fieldUnit(field, material.model));
-    // A brush value in kg means nothing on a density map: when the field or what its values mean
-    // changes, start the brush at twice the field's mean (paint "stiffer", "heavier").
+    // A brush value in kg means nothing on a density map: when the field or what its values mean changes, start
+    // the brush at twice the field's mean (paint "stiffer", "heavier"); an offered value also follows the mean when
+    // something other than a stroke of this brush changed it (a stroke would otherwise raise its own target).
+    const auto& values = fieldValues(material, field);
+    double mean = 0.0;
+    for (double x : values)
+        mean += x / double(values.size());
     const std::pair shown{field, material.model};
-    if (m_brushFieldShown != shown) {
+    const bool fieldChanged = m_brushFieldShown != shown;
+    const bool materialMoved = m_brushValueOffered && !m_viewport->isPainting() && mean != m_offeredFromMean;
+    if (fieldChanged || materialMoved) {
         m_brushFieldShown = shown;
-        const auto& values = fieldValues(material, field);
-        double mean = 0.0;
-        for (double x : values)
-            mean += x / double(values.size());
+        m_offering = true;
         if (field == PaintField::VolumePreservation || field == PaintField::GoalWeight)
             m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume", "follow exactly"
         else if (mean > 0.0)
             m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush
+        m_offering = false;
+        m_brushValueOffered = true;
+        m_offeredFromMean = mean;
     }
 }
 

@@ -57,6 +57,11 @@ private:
     QDoubleSpinBox* m_dragStiffness = nullptr;
     QDoubleSpinBox* m_dragDamping = nullptr;
     std::optional<std::pair<PaintField, MaterialModel>> m_brushFieldShown; ///< Field and model the brush value is for.
+    /// The brush value is the one offered (twice the field's mean), not one the user typed: it follows the
+    /// material when an edit other than a paint stroke (Properties, undo, a preset) changes it.
+    bool m_brushValueOffered = false;
+    double m_offeredFromMean = 0.0;  ///< The field's mean the offered value was made from.
+    bool m_offering = false;         ///< The value is being set by refresh(), not by the user.
 };
 
 }  // namespace softtouch::ui

@@ -526,8 +526,9 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     m_gesture = navigationFor(event);
     if (m_gesture != Gesture::None || event->button() != Qt::LeftButton)
         return;
-    if (m_activeTool->press(event->position(), event->modifiers()))
-        m_gesture = Gesture::Tool;
+    m_gesture = Gesture::Tool;  // already while the press acts: a paint stroke's first dab is part of the stroke
+    if (!m_activeTool->press(event->position(), event->modifiers()))
+        m_gesture = Gesture::None;
     update();
 }
 

@@ -112,6 +112,8 @@ public:
     /// dispatches them (ui/viewport_keys.cpp), so the help cannot drift from what the keys do.
     QList<QPair<QString, QString>> keyTable() const;
 
+    /// A paint stroke is under way (the paint tool's button is held).
+    bool isPainting() const { return m_tool == Tool::Paint && m_gesture == Gesture::Tool; }
     /// Mean time to draw a frame, milliseconds (CPU side, including the node upload).
     double frameMilliseconds() const { return m_frameMs; }
     /// Why the viewport cannot draw (no OpenGL 3.3, shader error); empty when it can.

@@ -136,6 +136,7 @@ private slots:
     void opensDefaultScene();
     void clipPreviewFollowsAMaterialEdit();
     void paintStrokeIsOneUndoStep();
+    void paintBrushFollowsTheSceneAndItsMaterial();
     void modesFollowAStrokeOffTheUiThread();
     void redoWithCtrlYAndCtrlShiftZ();
     void paintsNodeDamping();

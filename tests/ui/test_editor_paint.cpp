@@ -1,6 +1,8 @@
 // The editor driven through its real widgets (under Xvfb). Painting the material: brush strokes, anchors,
 // presets and undo.
 #include "editor_fixture.h"
+#include <numeric>
+#include <QStandardItemModel>
 
 // A paint stroke is not held up by the modes: the panel analyses them on a worker thread (the stroke's dabs
 // return before the analysis is done, and coalesce into the latest), and what it shows once the stroke ends is
@@ -59,6 +61,61 @@ void TestEditor::paintStrokeIsOneUndoStep() {
     QVERIFY(!w.document()->isModified());
     w.document()->undoStack()->redo();
     QVERIFY(sameMaterial(w.document()->scene().objects[0].material, after));
+}
+
+// #42 item 8: the paint brush does not carry state into what it no longer fits. Its fields are named as the
+// legend names them; the value it offers (twice the field's mean) follows a material edit made elsewhere (a modulus
+// quartered in Properties left it at 8x the new one); one the user typed is kept; and goal weight, offered only
+// where an object follows a base animation, is not left selected in a scene without one.
+void TestEditor::paintBrushFollowsTheSceneAndItsMaterial() {
+    MainWindow& w = *m_window;
+    Viewport* view = w.viewport();
+    auto* field = w.toolOptions()->findChild<QComboBox*>("brushField");
+    auto* value = w.toolOptions()->findChild<QDoubleSpinBox*>("brushValue");
+    QVERIFY(field && value);
+    w.findChild<QAction*>("toolPaint")->trigger();
+    field->setCurrentIndex(field->findData(int(PaintField::Stiffness)));
+    QCOMPARE(w.document()->scene().objects[0].material.model, MaterialModel::Continuum);
+    QCOMPARE(field->currentText(), QString("Young's modulus"));
+    QVERIFY2(view->legendText().startsWith("Young's modulus"), qPrintable(view->legendText()));
+    const auto mean = [&] {
+        const std::vector<double>& k = w.document()->scene().objects[0].material.stiffness;
+        return std::accumulate(k.begin(), k.end(), 0.0) / double(k.size());
+    };
+    QVERIFY(std::abs(value->value() - 2.0 * mean()) < 1e-3 * mean());
+    // Properties quarters the modulus (an edit that is not a stroke): the offered value follows.
+    Document* doc = w.document();
+    LatticeMaterial softer = doc->scene().objects[0].material;
+    for (double& k : softer.stiffness)
+        k *= 0.25;
+    doc->undoStack()->push(new MaterialEditCommand(doc, 0, doc->scene().objects[0].material, softer, "Set modulus"));
+    QVERIFY2(std::abs(value->value() - 2.0 * mean()) < 1e-3 * mean(), qPrintable(QString("brush %1, mean %2").arg(value->value()).arg(mean())));
+    QCOMPARE(view->brush().value, value->value());
+    // A stroke does not move it (each dab would raise its own target otherwise).
+    const double before = value->value();
+    paintStroke(view);
+    QCOMPARE(value->value(), before);
+    // A value the user typed stays, whatever the material does.
+    value->setFocus();
+    value->selectAll();
+    QTest::keyClicks(value, "1234");
+    QTest::keyClick(value, Qt::Key_Return);
+    QCOMPARE(view->brush().value, 1234.0);
+    doc->undoStack()->undo();  // the stroke
+    QCOMPARE(value->value(), 1234.0);
+    doc->undoStack()->undo();  // the quartering
+
+    // Goal weight on the rigged guppy, then a scene with no base animation: the brush is back on the modulus.
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/guppy-rigged.softtouch")));
+    field->setCurrentIndex(field->findData(int(PaintField::GoalWeight)));
+    QCOMPARE(view->brush().field, PaintField::GoalWeight);
+    QVERIFY(view->legendText().startsWith("goal weight", Qt::CaseInsensitive));
+    QVERIFY(w.openFile(kDefaultScene));
+    QCOMPARE(view->brush().field, PaintField::Stiffness);
+    QCOMPARE(field->currentData().toInt(), int(PaintField::Stiffness));
+    QVERIFY2(view->legendText().startsWith("Young's modulus"), qPrintable(view->legendText()));
+    auto* items = qobject_cast<QStandardItemModel*>(field->model());
+    QVERIFY(items && !items->item(field->findData(int(PaintField::GoalWeight)))->isEnabled());
 }
 
 void TestEditor::redoWithCtrlYAndCtrlShiftZ() {
