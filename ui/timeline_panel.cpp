@@ -38,6 +38,11 @@
 namespace softtouch::ui {
 
 namespace {
+/// The timeline's line when no clip or take is on show.
+QString idleText() { return TimelinePanel::tr("Record a take, then scrub it here; make a clip of it and export it."); }
+}  // namespace
+
+namespace {
 
 /// Export from a file name: by its extension; a path without one is the base path of an export that
 /// has none when it ends with "_NAME" or ".NAME" (…_vat, …_lattice); PC2 otherwise.
@@ -108,7 +113,7 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(m_playTimer, &QTimer::timeout, this, [this] {
         advancePlayback(m_playTimer->interval() * 1e-3);
     });
-    m_time = new QLabel(tr("Record a take, then scrub it here; make a clip of it and export it."));
+    m_time = new QLabel(idleText());
     m_time->setWordWrap(true);
     right->addWidget(m_time);
     m_baseRange = new QLabel;  // the base animations the scene's objects follow (core/animation/base_motion.h)
@@ -175,7 +180,11 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
-    connect(document, &Document::sceneReplaced, this, &TimelinePanel::refreshLists);
+    connect(document, &Document::sceneReplaced, this, [this] {
+        // Another project: nothing of the old one's clips, takes or exports is on show any more.
+        m_time->setText(idleText());
+        refreshLists();
+    });
     // A clip on show while paused is evaluated again after an edit it depends on (material, lattice,
     // world): what the viewport shows is the clip as it now bakes. Once the simulation has rebuilt, so
     // the rebuild does not replace the pose.
@@ -837,6 +846,7 @@ void TimelinePanel::refreshLists() {
     } else if (clipRow >= 0) {
         if (m_playTimer->isActive())  // the clip shown was deleted
             togglePlayback();
+        m_time->setText(idleText());
         m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
     }
     if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)

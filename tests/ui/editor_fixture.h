@@ -173,6 +173,7 @@ private slots:
     void exportDialogsPackAGlbForShipping();
     void keyframesFromPosesMakeAClip();
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
+    void anotherProjectLeavesNoOldClipOnShow();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();

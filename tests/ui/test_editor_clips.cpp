@@ -334,6 +334,20 @@ void TestEditor::aKeyedClipLoopsFromItsMenuAndTheLoopBox() {
     QVERIFY(loopBox->isChecked());
 }
 
+// #42 item 8: after importing a mesh (a new project) the timeline no longer reads the old project's clip.
+void TestEditor::anotherProjectLeavesNoOldClipOnShow() {
+    MainWindow& w = *m_window;
+    auto* list = w.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(list && list->count() > 0);
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(list->item(0)).center());
+    QVERIFY2(w.timeline()->statusText().contains("swim"), qPrintable(w.timeline()->statusText()));
+    QVERIFY(w.document()->importMesh(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
+    QCOMPARE(list->count(), 0);
+    QVERIFY2(!w.timeline()->statusText().contains("swim"), qPrintable(w.timeline()->statusText()));
+    QVERIFY2(w.timeline()->statusText().startsWith("Record a take"), qPrintable(w.timeline()->statusText()));
+    QCOMPARE(w.timeline()->ruler()->lastFrame(), std::max(1, w.document()->scene().world.frames) - 1);
+}
+
 // The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
 // copies it, a click and Delete removes it; each is one undo step of the keys panel.
 void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
