@@ -66,6 +66,7 @@ QWidget* PropertiesPanel::buildSimulation() {
     m_integrator->setToolTip(tr("Speed against accuracy: docs/measurements/study.md measures each scheme."));
     form->addRow(tr("Integrator"), m_integrator);
     m_stepsPerSecond = makeSpinBox(10, 100000, 0, tr(" steps/s"), 10);
+    m_stepsPerSecond->setObjectName("stepsPerSecond");
     m_stepsPerSecond->setToolTip(tr("Fixed time step as steps per simulated second. Explicit schemes substep "
                                     "automatically below their stability bound."));
     form->addRow(tr("Time step"), m_stepsPerSecond);

@@ -202,6 +202,9 @@ protected:
     void wheelEvent(QWheelEvent* event) override;
     void tabletEvent(QTabletEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
+    /// The pointer came over the view: its keys (G, R, S, typed amounts, frame and view keys) go where the
+    /// pointer is, as in Blender, unless a text or number field is being typed into.
+    void enterEvent(QEnterEvent* event) override;
     /// Claims the keys a transform or the pose tool uses (G, R, S, X, Y, Z, digits, Enter, Esc) before the
     /// window's shortcuts (S is the select tool's) take them.
     bool event(QEvent* event) override;

@@ -5,7 +5,12 @@
 
 #include "ui/viewport.h"
 
+#include <QAbstractSpinBox>
+#include <QApplication>
 #include <QKeyEvent>
+#include <QLineEdit>
+#include <QPlainTextEdit>
+#include <QTextEdit>
 
 #include <algorithm>
 
@@ -117,6 +122,15 @@ bool Viewport::event(QEvent* e) {
         }
     }
     return QOpenGLWidget::event(e);
+}
+
+void Viewport::enterEvent(QEnterEvent* event) {
+    const QWidget* typing = QApplication::focusWidget();
+    const bool editing = typing && (qobject_cast<const QLineEdit*>(typing) || qobject_cast<const QAbstractSpinBox*>(typing) ||
+                                    qobject_cast<const QTextEdit*>(typing) || qobject_cast<const QPlainTextEdit*>(typing));
+    if (!editing && isActiveWindow())
+        setFocus(Qt::MouseFocusReason);
+    QOpenGLWidget::enterEvent(event);
 }
 
 }  // namespace softtouch::ui

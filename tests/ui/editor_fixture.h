@@ -152,6 +152,7 @@ private slots:
     void anchorToolPinsAClickedNode();
     void latticeToolMovesAndScalesTheBox();
     void poseToolMovesRotatesScalesAndKeys();
+    void poseKeysGoWhereThePointerIs();
     void poseAsRestShapeSavesAndUndoes();
     void poseGizmoScalesAndTurns();
     void objectsAddDuplicatePickAndDelete();

@@ -175,6 +175,40 @@ void TestEditor::poseToolMovesRotatesScalesAndKeys() {
 // The pose tool's "Pose as rest shape": the tail turned with R Z 25 becomes the mesh's rest shape (what the
 // viewport showed), the lattice is at rest around it, one undo step takes it back, and a saved project
 // reopens with the same mesh.
+// #42 item 4: the pose tool's keys go where the pointer is, as in Blender. With the keyboard focus elsewhere (the
+// clips list, clicked last), moving the pointer over the view is enough for G to start a move there; the
+// pointer crossing the view while a number is typed into a field leaves the typing alone.
+void TestEditor::poseKeysGoWhereThePointerIs() {
+    MainWindow& w = *m_window;
+    Viewport* view = startPosing(w);
+    const int n = isolatedNode(w, 0);
+    QVERIFY(n >= 0);
+    QTest::mouseClick(view, Qt::LeftButton, {}, screenOfNode(w, n));
+    QCOMPARE(view->selection(), std::set<int>{n});
+    // Focus elsewhere, as a click on the clips list leaves it, and the pointer over that list.
+    auto* list = w.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(list);
+    QCursor::setPos(list->viewport()->mapToGlobal(list->viewport()->rect().center()));
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->viewport()->rect().center());
+    QTRY_VERIFY(list->hasFocus());
+    // The pointer moves over the view (a real pointer move: the X server sends the enter).
+    QCursor::setPos(view->mapToGlobal(view->rect().center()));
+    QTRY_VERIFY(view->hasFocus());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_G);  // where the keyboard's key goes
+    QVERIFY(view->transform());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Escape);
+    QVERIFY(!view->transform());
+    // A value being typed keeps the keyboard when the pointer passes over the view.
+    auto* step = w.findChild<QDoubleSpinBox*>("stepsPerSecond");
+    QVERIFY(step);
+    QCursor::setPos(step->mapToGlobal(step->rect().center()));
+    QTest::mouseClick(step, Qt::LeftButton, {}, step->rect().center());
+    QTRY_VERIFY(step->hasFocus());
+    QCursor::setPos(view->mapToGlobal(view->rect().center()));
+    QTest::qWait(100);
+    QVERIFY(step->hasFocus());
+}
+
 void TestEditor::poseAsRestShapeSavesAndUndoes() {
     MainWindow& w = *m_window;
     Viewport* view = startPosing(w);
