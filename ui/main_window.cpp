@@ -54,6 +54,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     buildActions();
 
     m_statusSim = new QLabel;
+    m_statusSim->setObjectName("simulationStatus");
     m_statusFrame = new QLabel;
     m_statusMesh = new QLabel;
     m_statusHaptic = new QLabel;
@@ -293,7 +294,14 @@ void MainWindow::buildActions() {
     play->setShortcut(QKeySequence(Qt::Key_Space));
     // Not checkable: its text says what it does next ("Pause" while running); a checked "Pause" read
     // as "paused" while the simulation ran.
-    connect(play, &QAction::triggered, m_simulation, &SimulationController::togglePlay);
+    // One transport: Space plays what the timeline shows (the clip or take selected), else the live simulation.
+    connect(play, &QAction::triggered, this, [this] {
+        if (m_timeline->showsClipOrTake())
+            m_timeline->togglePlayback();
+        else
+            m_simulation->togglePlay();
+        refreshStatus();
+    });
     connect(m_simulation, &SimulationController::playingChanged, play, [play](bool on) {
         play->setText(on ? tr("Pause") : tr("Play"));
     });
@@ -301,8 +309,37 @@ void MainWindow::buildActions() {
     step->setShortcut(QKeySequence(Qt::Key_Period));
     connect(step, &QAction::triggered, m_simulation, &SimulationController::stepOnce);
     QAction* reset = new QAction(tr("Reset"), this);
+    reset->setObjectName("actionReset");
     reset->setShortcut(QKeySequence(Qt::Key_Home));
-    connect(reset, &QAction::triggered, m_simulation, &SimulationController::reset);
+    reset->setToolTip(tr("To the start (Home): the first frame of the clip or take on show, else the simulation from rest."));
+    connect(reset, &QAction::triggered, this, [this] {
+        if (m_timeline->showsClipOrTake())
+            m_timeline->goToEnd(false);
+        else
+            m_simulation->reset();
+    });
+    // Frame by frame through what the timeline shows (→ steps the live simulation when nothing is on show).
+    QAction* previousFrame = new QAction(tr("Previous Frame"), this);
+    previousFrame->setObjectName("actionPreviousFrame");
+    previousFrame->setShortcut(QKeySequence(Qt::Key_Left));
+    connect(previousFrame, &QAction::triggered, this, [this] { m_timeline->stepFrame(-1); });
+    QAction* nextFrame = new QAction(tr("Next Frame"), this);
+    nextFrame->setObjectName("actionNextFrame");
+    nextFrame->setShortcut(QKeySequence(Qt::Key_Right));
+    connect(nextFrame, &QAction::triggered, this, [this] {
+        if (m_timeline->showsClipOrTake())
+            m_timeline->stepFrame(1);
+        else
+            m_simulation->stepOnce();
+    });
+    QAction* firstFrame = new QAction(tr("First Frame"), this);
+    firstFrame->setObjectName("actionFirstFrame");
+    firstFrame->setShortcut(QKeySequence(Qt::SHIFT | Qt::Key_Left));
+    connect(firstFrame, &QAction::triggered, this, [this] { m_timeline->goToEnd(false); });
+    QAction* lastFrame = new QAction(tr("Last Frame"), this);
+    lastFrame->setObjectName("actionLastFrame");
+    lastFrame->setShortcut(QKeySequence(Qt::SHIFT | Qt::Key_Right));
+    connect(lastFrame, &QAction::triggered, this, [this] { m_timeline->goToEnd(true); });
     QAction* record = new QAction(tr("Record"), this);
     record->setShortcut(QKeySequence(tr("Ctrl+R")));
     connect(record, &QAction::triggered, m_timeline, &TimelinePanel::toggleRecording);
@@ -314,6 +351,11 @@ void MainWindow::buildActions() {
     for (QAction* a : {play, step, reset, record, keyPose}) {
         simBar->addAction(a);
         simMenu->addAction(a);
+    }
+    simMenu->addSeparator();
+    for (QAction* a : {previousFrame, nextFrame, firstFrame, lastFrame}) {
+        simMenu->addAction(a);
+        addAction(a);  // the keys work with the menu closed
     }
     simMenu->addSeparator();
     buildDeviceMenu(simMenu->addMenu(tr("Input &Device")));
@@ -487,7 +529,12 @@ void MainWindow::refreshOutliner() {
 void MainWindow::refreshStatus() {
     const SimulationStats& s = m_simulation->stats();
     const SceneSimulation* sim = m_simulation->simulation();
-    if (s.asleep)
+    if (m_timeline->isPlaying())
+        m_statusSim->setText(tr("playing %1 (Space pauses)").arg(m_timeline->shownName()));
+    else if (m_timeline->showsClipOrTake())
+        m_statusSim->setText(tr("%1 on show, paused (Space plays it; click empty space in the list for the live "
+                                "simulation)").arg(m_timeline->shownName()));
+    else if (s.asleep)
         m_statusSim->setText(tr("asleep: nothing moves, nothing is simulated or redrawn"));
     else if (!m_simulation->isPlaying())
         m_statusSim->setText(tr("paused (Space plays)"));

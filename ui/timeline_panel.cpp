@@ -14,6 +14,7 @@
 #include <QInputDialog>
 #include <QKeyEvent>
 #include <QMenu>
+#include <QMouseEvent>
 #include <QRegularExpression>
 #include <QTimer>
 #include <algorithm>
@@ -177,6 +178,8 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(m_clips, &QListWidget::customContextMenuRequested, this, &TimelinePanel::showClipMenu);
     connect(m_clips, &QListWidget::itemDoubleClicked, this, [this] { askToRenameClip(m_clips->currentRow()); });
     m_clips->installEventFilter(this);
+    m_clips->viewport()->installEventFilter(this);
+    m_takes->viewport()->installEventFilter(this);
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
@@ -292,6 +295,22 @@ void TimelinePanel::showFrame(int frame) {
 }
 
 bool TimelinePanel::isPlaying() const { return m_playTimer->isActive(); }
+
+bool TimelinePanel::showsClipOrTake() const { return m_clips->currentRow() >= 0 || m_takes->currentRow() >= 0; }
+
+QString TimelinePanel::shownName() const {
+    const ClipLibrary& library = m_document->project().clips;
+    if (const int row = m_clips->currentRow(); row >= 0 && std::size_t(row) < library.clips.size())
+        return tr("clip %1").arg(QString::fromStdString(library.clips[std::size_t(row)].name));
+    if (const int row = m_takes->currentRow(); row >= 0 && std::size_t(row) < library.sessions.size())
+        return QString::fromStdString(library.sessions[std::size_t(row)].name);
+    return {};
+}
+
+void TimelinePanel::goToEnd(bool last) {
+    if (showsClipOrTake())
+        showFrame(last ? m_ruler->lastFrame() : 0);
+}
 
 void TimelinePanel::togglePlayback() {
     if (m_playTimer->isActive()) {
@@ -800,6 +819,22 @@ bool TimelinePanel::eventFilter(QObject* watched, QEvent* event) {
         const auto* key = static_cast<QKeyEvent*>(event);
         if ((key->key() == Qt::Key_Delete || key->key() == Qt::Key_Backspace) && m_clips->currentRow() >= 0) {
             deleteClip(m_clips->currentRow());
+            return true;
+        }
+    }
+    // A click on empty space in the clips or takes list puts nothing on show: the transport drives the live
+    // simulation again.
+    if ((watched == m_clips->viewport() || watched == m_takes->viewport()) && event->type() == QEvent::MouseButtonPress) {
+        auto* list = watched == m_clips->viewport() ? m_clips : m_takes;
+        if (!list->itemAt(static_cast<QMouseEvent*>(event)->position().toPoint())) {
+            if (m_playTimer->isActive())
+                togglePlayback();
+            list->setCurrentRow(-1);
+            list->clearSelection();
+            m_time->setText(idleText());
+            m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
+            showRanges();
+            showLoopState();
             return true;
         }
     }

@@ -70,6 +70,12 @@ public slots:
     /// Plays the selected clip or take from the playhead, in a loop when looping is on; again: pauses.
     void togglePlayback();
     bool isPlaying() const;
+    /// A clip or take is on show: the one transport (Space, the arrows, Home) drives it, not the live simulation.
+    bool showsClipOrTake() const;
+    /// What is on show, as the status line names it ("clip swim", "take 1"); empty when nothing is.
+    QString shownName() const;
+    /// Shows the first frame (`last` false) or the last one of the clip or take on show.
+    void goToEnd(bool last);
     /// Moves playback on by `seconds` of the clip's time (what a timer tick does; tests call it directly).
     void advancePlayback(double seconds);
     /// One frame on (+1) or back (-1), wrapping in a loop.

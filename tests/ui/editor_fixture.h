@@ -175,6 +175,7 @@ private slots:
     void keyframesFromPosesMakeAClip();
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
     void anotherProjectLeavesNoOldClipOnShow();
+    void oneTransportPlaysWhatTheTimelineShows();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();

@@ -348,6 +348,51 @@ void TestEditor::anotherProjectLeavesNoOldClipOnShow() {
     QCOMPARE(w.timeline()->ruler()->lastFrame(), std::max(1, w.document()->scene().world.frames) - 1);
 }
 
+// #42 item 6: one transport. Space plays what the timeline shows (the selected clip), not the live simulation
+// beside it; ←/→ step a frame, Shift+←/→ go to the ends, Home to the start; the status line says what plays. A
+// click on empty space in the clips list puts nothing on show, and Space runs the live simulation again.
+void TestEditor::oneTransportPlaysWhatTheTimelineShows() {
+    MainWindow& w = *m_window;
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    SimulationController* sim = w.simulation();
+    TimelinePanel* timeline = w.timeline();
+    auto* status = w.findChild<QLabel*>("simulationStatus");
+    auto* list = timeline->findChild<QListWidget*>("clips");
+    QVERIFY(status && list && list->count() > 0);
+    sim->pause();
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(list->item(0)).center());
+    QVERIFY(timeline->showsClipOrTake());
+    const FrameRuler* ruler = timeline->ruler();
+    QCOMPARE(ruler->frame(), 0);
+    const auto key = [&](Qt::Key k, Qt::KeyboardModifiers m = {}) { QTest::keyClick(&w, k, m); };
+    key(Qt::Key_Right);
+    key(Qt::Key_Right);
+    QCOMPARE(ruler->frame(), 2);
+    key(Qt::Key_Left);
+    QCOMPARE(ruler->frame(), 1);
+    key(Qt::Key_Right, Qt::ShiftModifier);
+    QCOMPARE(ruler->frame(), ruler->lastFrame());
+    key(Qt::Key_Home);
+    QCOMPARE(ruler->frame(), 0);
+    // Space plays the clip, not the simulation; the status line says so.
+    key(Qt::Key_Space);
+    QVERIFY(timeline->isPlaying());
+    QVERIFY(!sim->isPlaying());
+    QTRY_VERIFY2(status->text().startsWith("playing clip swim"), qPrintable(status->text()));
+    key(Qt::Key_Space);
+    QVERIFY(!timeline->isPlaying());
+    QTRY_VERIFY2(status->text().startsWith("clip swim on show, paused"), qPrintable(status->text()));
+    // Nothing on show: Space runs the live simulation, Home resets it.
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, QPoint(5, list->viewport()->height() - 5));
+    QVERIFY(!timeline->showsClipOrTake());
+    key(Qt::Key_Space);
+    QVERIFY(sim->isPlaying());
+    QVERIFY(!timeline->isPlaying());
+    key(Qt::Key_Space);
+    QVERIFY(!sim->isPlaying());
+}
+
 // The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
 // copies it, a click and Delete removes it; each is one undo step of the keys panel.
 void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
