@@ -12,6 +12,7 @@
 #include "ui/take_dialog.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
+#include "ui/button_focus_guard.h"
 #include "ui/wheel_guard.h"
 
 #include <algorithm>
@@ -40,6 +41,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     : QMainWindow(parent), m_options(options) {
     setObjectName("SoftTouchMainWindow");
     QApplication::instance()->installEventFilter(new WheelGuard(this));  // scrolling a panel edits nothing
+    QApplication::instance()->installEventFilter(new ButtonFocusGuard(this));  // a clicked button keeps no keys
     m_document = new Document(this);
     m_simulation = new SimulationController(m_document, this);
     m_viewport = new Viewport(m_document, m_simulation, this);

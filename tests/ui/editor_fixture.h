@@ -176,6 +176,7 @@ private slots:
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
     void anotherProjectLeavesNoOldClipOnShow();
     void oneTransportPlaysWhatTheTimelineShows();
+    void spaceAfterADialogPlaysRatherThanReopeningIt();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();

@@ -1,6 +1,7 @@
 // The editor driven through its real widgets (under Xvfb). Takes, keys and clips: record, scrub, key poses,
 // retime, export and render.
 #include "editor_fixture.h"
+#include <QFileDialog>
 #include <numbers>
 #include <QCheckBox>
 #include <QContextMenuEvent>
@@ -391,6 +392,44 @@ void TestEditor::oneTransportPlaysWhatTheTimelineShows() {
     QVERIFY(!timeline->isPlaying());
     key(Qt::Key_Space);
     QVERIFY(!sim->isPlaying());
+}
+
+// #42 item 7: Esc out of Export…, then Space, plays; it used to press Export… again, the button keeping the keyboard
+// focus from its click. The keys go where a keyboard sends them: to the focus widget.
+void TestEditor::spaceAfterADialogPlaysRatherThanReopeningIt() {
+    MainWindow& w = *m_window;
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    w.simulation()->pause();
+    TimelinePanel* timeline = w.timeline();
+    auto* list = timeline->findChild<QListWidget*>("clips");
+    QVERIFY(list && list->count() > 0);
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(list->item(0)).center());
+    QPushButton* exportButton = nullptr;
+    for (QPushButton* b : timeline->findChildren<QPushButton*>())
+        if (b->text() == QString("Export…"))
+            exportButton = b;
+    QVERIFY(exportButton);
+    int dialogs = 0;
+    QTimer poll;
+    connect(&poll, &QTimer::timeout, this, [&] {
+        if (auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget())) {
+            ++dialogs;
+            QTest::keyClick(dialog, Qt::Key_Escape);  // as the user leaves it
+        }
+    });
+    poll.start(50);
+    QTest::mouseClick(exportButton, Qt::LeftButton);
+    QCOMPARE(dialogs, 1);
+    QVERIFY(QTest::qWaitForWindowActive(&w));  // the window is active again once the dialog is gone
+    QVERIFY(!exportButton->hasFocus());
+    QWidget* focus = QApplication::focusWidget();
+    QTest::keyClick(focus ? focus : static_cast<QWidget*>(&w), Qt::Key_Space);
+    QTest::qWait(300);
+    poll.stop();
+    QCOMPARE(dialogs, 1);
+    QVERIFY(timeline->isPlaying());
+    timeline->togglePlayback();
 }
 
 // The timeline's ruler shows the pose keys as ticks (#15 item 1): dragging a tick retimes its key, Ctrl+drag
