@@ -449,8 +449,17 @@ Status saveProject(const Project& project, const fs::path& path) {
     // (fs::absolute of an empty path throws).
     const fs::path from = project.path.empty() ? fs::path() : fs::absolute(project.path).parent_path();
     const fs::path to = fs::absolute(path).parent_path();
+    // An absolute reference (a mesh imported from a file dialog) is written relative too, as Blender's "//" paths
+    // are, so the project's folder can be moved or shared with its meshes; it stays absolute only where no
+    // relative path leads there.
     auto rebased = [&](const std::string& ref) {
-        if (ref.empty() || fs::path(ref).is_absolute() || project.path.empty())
+        if (ref.empty())
+            return ref;
+        if (fs::path(ref).is_absolute()) {
+            const fs::path relative = fs::path(ref).lexically_normal().lexically_relative(to.lexically_normal());
+            return relative.empty() ? ref : relative.generic_string();
+        }
+        if (project.path.empty())
             return ref;
         return (from / ref).lexically_normal().lexically_relative(to.lexically_normal()).generic_string();
     };

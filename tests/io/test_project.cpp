@@ -163,6 +163,18 @@ void TestProject::saveRebasesMeshPaths() {
     auto reloaded = loadProject(nested / "moved.softtouch");
     QVERIFY2(reloaded.ok(), reloaded.message().c_str());
     QCOMPARE(reloaded->scene.objects[0].mesh->positions.size(), project->scene.objects[0].mesh->positions.size());
+    // A mesh referred to by an absolute path (one imported from a file dialog) is written relative to the
+    // project, as Blender's "//" paths are: the folder moves or is shared with its meshes.
+    Project imported = project.value();
+    imported.path.clear();
+    imported.meshReferences[0] = std::filesystem::absolute(kPresets / "meshes/guppy.obj").lexically_normal().string();
+    QVERIFY(saveProject(imported, nested / "imported.softtouch").ok());
+    std::ifstream in(nested / "imported.softtouch");
+    const std::string written = nlohmann::json::parse(in)["objects"][0]["mesh"].get<std::string>();
+    QVERIFY2(!std::filesystem::path(written).is_absolute(), written.c_str());
+    auto fromImported = loadProject(nested / "imported.softtouch");
+    QVERIFY2(fromImported.ok(), fromImported.message().c_str());
+    QCOMPARE(fromImported->scene.objects[0].mesh->positions.size(), project->scene.objects[0].mesh->positions.size());
 }
 
 // A painted node damping map is saved per node (version 4) and reads back to the same map and motion.

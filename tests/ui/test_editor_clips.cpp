@@ -421,7 +421,8 @@ void TestEditor::spaceAfterADialogPlaysRatherThanReopeningIt() {
     poll.start(50);
     QTest::mouseClick(exportButton, Qt::LeftButton);
     QCOMPARE(dialogs, 1);
-    QVERIFY(QTest::qWaitForWindowActive(&w));  // the window is active again once the dialog is gone
+    w.activateWindow();  // what a window manager does when the dialog is gone (Xvfb runs none)
+    QVERIFY(QTest::qWaitForWindowActive(&w));
     QVERIFY(!exportButton->hasFocus());
     QWidget* focus = QApplication::focusWidget();
     QTest::keyClick(focus ? focus : static_cast<QWidget*>(&w), Qt::Key_Space);
