@@ -6,14 +6,13 @@
 #include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"
 #include "ui/keyframe_panel.h"
+#include "ui/panel_input_guard.h"
 #include "ui/presets_panel.h"
 #include "ui/properties_panel.h"
 #include "ui/study_panel.h"
 #include "ui/take_dialog.h"
 #include "ui/timeline_panel.h"
 #include "ui/tool_options_bar.h"
-#include "ui/button_focus_guard.h"
-#include "ui/wheel_guard.h"
 
 #include <algorithm>
 
@@ -40,8 +39,8 @@ namespace softtouch::ui {
 MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     : QMainWindow(parent), m_options(options) {
     setObjectName("SoftTouchMainWindow");
-    QApplication::instance()->installEventFilter(new WheelGuard(this));  // scrolling a panel edits nothing
-    QApplication::instance()->installEventFilter(new ButtonFocusGuard(this));  // a clicked button keeps no keys
+    // Scrolling a panel edits nothing; a clicked button keeps no keys.
+    QApplication::instance()->installEventFilter(new PanelInputGuard(this));
     m_document = new Document(this);
     m_simulation = new SimulationController(m_document, this);
     m_viewport = new Viewport(m_document, m_simulation, this);

@@ -1,16 +1,26 @@
-#include "ui/wheel_guard.h"
+#include "ui/panel_input_guard.h"
 
+#include <QAbstractButton>
 #include <QAbstractScrollArea>
 #include <QAbstractSlider>
 #include <QAbstractSpinBox>
 #include <QComboBox>
 #include <QCoreApplication>
 #include <QEvent>
+#include <QMainWindow>
 #include <QWidget>
 
 namespace softtouch::ui {
 
-bool WheelGuard::eventFilter(QObject* watched, QEvent* event) {
+bool PanelInputGuard::eventFilter(QObject* watched, QEvent* event) {
+    // At polish (before a button is first shown) it sits in its window: the main window's buttons, docks and
+    // bars included, and not a dialog's, whose buttons a keyboard user presses with Space.
+    if (event->type() == QEvent::Polish) {
+        if (auto* button = qobject_cast<QAbstractButton*>(watched))
+            if (qobject_cast<QMainWindow*>(button->window()) && (button->focusPolicy() & Qt::ClickFocus))
+                button->setFocusPolicy(Qt::TabFocus);
+        return false;
+    }
     if (event->type() != QEvent::Wheel)
         return false;
     auto* widget = qobject_cast<QWidget*>(watched);
