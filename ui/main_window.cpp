@@ -18,6 +18,10 @@
 
 #include <QActionGroup>
 #include <QApplication>
+#include <QVBoxLayout>
+#include <QTextBrowser>
+#include <QDialogButtonBox>
+#include <QDialog>
 #include <QCloseEvent>
 #include <QDockWidget>
 #include <QDir>
@@ -374,8 +378,19 @@ void MainWindow::buildActions() {
         QString html = "<table cellspacing=6>";
         for (const auto& [what, keys] : shortcutTable() + m_viewport->keyTable())
             html += "<tr><td>" + what.toHtmlEscaped() + "</td><td><b>" + keys.toHtmlEscaped() + "</b></td></tr>";
-        QMessageBox box(QMessageBox::NoIcon, tr("Keyboard Shortcuts"), html + "</table>", QMessageBox::Close, this);
-        box.exec();
+        // A scrolling list in a dialog that fits the window: the table is taller than a 800-pixel screen.
+        QDialog dialog(this);
+        dialog.setObjectName("shortcutsDialog");
+        dialog.setWindowTitle(tr("Keyboard Shortcuts"));
+        auto* layout = new QVBoxLayout(&dialog);
+        auto* text = new QTextBrowser;
+        text->setHtml(html + "</table>");
+        layout->addWidget(text);
+        auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
+        connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+        layout->addWidget(buttons);
+        dialog.resize(std::min(720, width() - 40), std::max(300, int(0.8 * height())));
+        dialog.exec();
     });
 }
 

@@ -1,6 +1,7 @@
 // The editor driven through its real widgets (under Xvfb). Painting the material: brush strokes, anchors,
 // presets and undo.
 #include "editor_fixture.h"
+#include <QTextBrowser>
 #include <numeric>
 #include <QStandardItemModel>
 
@@ -150,6 +151,26 @@ void TestEditor::redoWithCtrlYAndCtrlShiftZ() {
         playListed = playListed || (what == "Simulation ▸ Play" && keys == "Space");
     QVERIFY2(playListed, "Simulation ▸ Play (Space) is not in the shortcut table");
     QVERIFY(table.size() >= 10);
+    // F1 shows them in a dialog that fits a 1280x800 window (the table is longer than that: it scrolls).
+    const QSize size = w.size();
+    w.resize(1280, 800);
+    QTRY_COMPARE(w.height(), 800);
+    QSize shown;
+    QString text;
+    QTimer::singleShot(100, this, [&] {
+        if (auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget())) {
+            shown = dialog->frameGeometry().size();
+            if (auto* browser = dialog->findChild<QTextBrowser*>())
+                text = browser->toPlainText();
+            dialog->reject();
+        }
+    });
+    w.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&w));
+    QTest::keyClick(&w, Qt::Key_F1);
+    QVERIFY2(shown.isValid() && shown.height() <= 800, qPrintable(QString("%1 x %2").arg(shown.width()).arg(shown.height())));
+    QVERIFY2(text.contains("Simulation ▸ Next Frame") && text.contains("move the selected nodes"), qPrintable(text.left(300)));
+    w.resize(size);
     // Play says what it does next and is never shown checked.
     QAction* play = w.findChild<QAction*>("actionPlay");
     QVERIFY(!play->isCheckable());
