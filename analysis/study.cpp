@@ -284,8 +284,8 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
 
     // The truth: the converged solid, given by a study of the same scene and clip before, or made here on a thread
     // of its own beside the grid. It needs nothing the grid makes, and on two cores the grid's timed runs are not
-    // slowed by it (docs/measurements/study.md, "Cost"), so a first study takes the longer of the two rather than
-    // their sum. Rows played before it is ready are graded once it is.
+    // slowed by it (docs/design/architecture.md, "The study grades against the converged solid"), so a first study
+    // takes the longer of the two rather than their sum. Rows played before it is ready are graded once it is.
     std::mutex progressMutex;
     double referenceDone = options.given ? 1.0 : 0.0, gridDone = 0.0;
     std::atomic<bool> stopped = false;  // cancelled by the caller, or the reference failed: both threads stop
@@ -317,7 +317,6 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
     const std::vector<double> diagonals = meshDiagonals(scene);
     // The reference in hand: the baselines against it, logged, and a target checked. False when there is none (it
     // failed, was cancelled, or refuses the target), with `result` saying why.
-    bool haveReference = false;
     auto receiveReference = [&]() -> bool {
         if (maker.joinable())
             maker.join();
@@ -361,6 +360,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
     };
     if (options.given && !receiveReference())
         return result;
+    bool haveReference = options.given != nullptr;  // received: rows are graded as they are played
 
     const double freeSeconds = options.quick ? 2.0 : 3.0;  // several periods of the lowest lateral mode
     // Per lattice: converged in time (the reference of the integration error and of the frequency), and
@@ -458,7 +458,6 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         }
         return true;
     };
-    haveReference = options.given != nullptr;
 
     for (std::size_t i = 0; i < settings.size(); ++i) {
         if (!report(gridDone, double(i) / double(settings.size())) || !gradeWaiting(false))

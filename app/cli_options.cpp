@@ -97,10 +97,12 @@ std::string CommandLine::named(const Declared& d) {
     return d.shown.value.empty() ? d.name : d.name + " " + d.shown.value;
 }
 
+std::string CommandLine::inUsage(const Declared& d) { return d.shown.required ? named(d) : "[" + named(d) + "]"; }
+
 std::string CommandLine::synopsis() const {
     std::string line = m_command;
     for (const Declared& d : m_declared)
-        line += " " + (d.shown.required ? named(d) : "[" + named(d) + "]");
+        line += " " + inUsage(d);
     return line;
 }
 
@@ -136,13 +138,13 @@ std::string helpEntry(std::string_view name, std::string_view text) {
 std::string CommandLine::help() const {
     // The usage line wrapped under the command, as a long one reads in a terminal.
     std::string text = "Usage: softtouch-cli " + m_command;
-    const std::string indent(std::string("Usage: softtouch-cli ").size() + m_command.size() + 1, ' ');
+    const std::size_t indent = text.size();  // continuation lines start under the command's first argument
     std::size_t column = text.size();
     for (const Declared& d : m_declared) {
-        const std::string word = d.shown.required ? named(d) : "[" + named(d) + "]";
+        const std::string word = inUsage(d);
         if (column + 1 + word.size() > 110) {
-            text += "\n" + indent.substr(1);
-            column = indent.size() - 1;
+            text += "\n" + std::string(indent, ' ');
+            column = indent;
         }
         text += " " + word;
         column += 1 + word.size();

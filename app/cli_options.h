@@ -106,6 +106,8 @@ private:
     Declared& declare(Declared::Kind kind, std::string name, Shown shown);
     /// "--out FILE", "SCENE", "FILE...": a declaration as the usage line and the help name it.
     static std::string named(const Declared& d);
+    /// named(), in brackets unless required: a declaration's word in the usage line.
+    static std::string inUsage(const Declared& d);
     std::string m_command;
     std::string m_about;
     std::string m_after;

@@ -9,16 +9,10 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
-#include <QSignalBlocker>
 
 namespace softtouch::ui {
 
 namespace {
-
-void setQuietly(QDoubleSpinBox* box, double value) {
-    const QSignalBlocker block(box);
-    box->setValue(value);
-}
 
 /// Three spin boxes side by side (x, y, z) for one vector field.
 QWidget* row(std::array<QDoubleSpinBox*, 3>& boxes, double lo, double hi, const QString& suffix, const QString& what) {
@@ -99,7 +93,6 @@ void ColliderProperties::refresh() {
     if (!shown)
         return;
     const Collider& c = colliders[std::size_t(index)];
-    m_refreshing = true;
     setTitle(tr("Collider %1").arg(index + 1));
     m_shape->setText(QString::fromUtf8(colliderShapeName(c.shape)));
     for (int a = 0; a < 3; ++a) {
@@ -118,11 +111,10 @@ void ColliderProperties::refresh() {
     form->setRowVisible(m_halfLength, c.shape == ColliderShape::Capsule);
     form->setRowVisible(m_halfExtents[0]->parentWidget(), c.shape == ColliderShape::Box);
     form->setRowVisible(m_scale, c.shape == ColliderShape::Mesh);
-    m_refreshing = false;
 }
 
 void ColliderProperties::edit(const QString& text, const std::function<void(Collider&)>& change) {
-    if (m_refreshing || m_collider < 0)
+    if (m_collider < 0)
         return;
     const WorldSettings& before = m_document->scene().world;
     if (std::size_t(m_collider) >= before.colliders.size())

@@ -36,7 +36,6 @@ private:
     Document* m_document;
     Viewport* m_viewport;
     int m_collider = -1;
-    bool m_refreshing = false;
     QLabel* m_shape = nullptr;
     std::array<QDoubleSpinBox*, 3> m_centre{};
     QDoubleSpinBox* m_radius = nullptr;

@@ -29,15 +29,6 @@
 
 namespace softtouch::ui {
 
-namespace {
-
-void setQuietly(QDoubleSpinBox* box, double value) {
-    const QSignalBlocker block(box);
-    box->setValue(value);
-}
-
-}  // namespace
-
 PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
     : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
     auto* layout = new QVBoxLayout(this);

@@ -3,6 +3,7 @@
 /// unit suffix and step.
 
 #include <QDoubleSpinBox>
+#include <QSignalBlocker>
 #include <QString>
 
 namespace softtouch::ui {
@@ -20,6 +21,12 @@ inline QDoubleSpinBox* makeSpinBox(double lo, double hi, int decimals, const QSt
     if (maxWidth > 0)
         s->setMaximumWidth(maxWidth);
     return s;
+}
+
+/// Shows `value` in `box` without emitting valueChanged: a field refreshed from the document, not an edit.
+inline void setQuietly(QDoubleSpinBox* box, double value) {
+    const QSignalBlocker block(box);
+    box->setValue(value);
 }
 
 }  // namespace softtouch::ui

@@ -39,11 +39,12 @@
 namespace softtouch::ui {
 
 namespace {
+
 /// The timeline's line when no clip or take is on show.
 QString idleText() { return TimelinePanel::tr("Record a take, then scrub it here; make a clip of it and export it."); }
-}  // namespace
 
-namespace {
+/// The loop closure window a clip made a cycle gets: a quarter second, at most half the clip.
+int loopBlendFrames(const Clip& clip) { return std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))); }
 
 /// Export from a file name: by its extension; a path without one is the base path of an export that
 /// has none when it ends with "_NAME" or ".NAME" (…_vat, …_lattice); PC2 otherwise.
@@ -307,6 +308,13 @@ QString TimelinePanel::shownName() const {
     return {};
 }
 
+void TimelinePanel::showNothing() {
+    if (m_playTimer->isActive())
+        togglePlayback();
+    m_time->setText(idleText());
+    m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
+}
+
 void TimelinePanel::goToEnd(bool last) {
     if (showsClipOrTake())
         showFrame(last ? m_ruler->lastFrame() : 0);
@@ -418,7 +426,7 @@ bool TimelinePanel::makeClip(int index, bool loop, int in, int out) {
     clip.startSeconds = std::max(0, in) / clip.fps;
     clip.frames = std::max(1, out - std::max(0, in));
     clip.loop = loop;
-    clip.blendFrames = loop ? std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))) : 0;
+    clip.blendFrames = loop ? loopBlendFrames(clip) : 0;
     int n = 1;
     while (library.findClip(take.name + " clip" + (n > 1 ? " " + std::to_string(n) : "")))
         ++n;
@@ -756,7 +764,7 @@ bool TimelinePanel::setClipLoop(int index, bool loop) {
                                  clip.frames = period + 1;
                          }
                          clip.loop = loop;
-                         clip.blendFrames = loop ? std::min(clip.frames / 2, int(std::lround(0.25 * clip.fps))) : 0;
+                         clip.blendFrames = loop ? loopBlendFrames(clip) : 0;
                          return Status::success();
                      });
 }
@@ -827,12 +835,9 @@ bool TimelinePanel::eventFilter(QObject* watched, QEvent* event) {
     if ((watched == m_clips->viewport() || watched == m_takes->viewport()) && event->type() == QEvent::MouseButtonPress) {
         auto* list = watched == m_clips->viewport() ? m_clips : m_takes;
         if (!list->itemAt(static_cast<QMouseEvent*>(event)->position().toPoint())) {
-            if (m_playTimer->isActive())
-                togglePlayback();
             list->setCurrentRow(-1);
             list->clearSelection();
-            m_time->setText(idleText());
-            m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
+            showNothing();
             showRanges();
             showLoopState();
             return true;
@@ -879,10 +884,7 @@ void TimelinePanel::refreshLists() {
     } else if (takeRow >= 0 && takeRow < m_takes->count() && clipRow < 0) {
         m_takes->setCurrentRow(takeRow);
     } else if (clipRow >= 0) {
-        if (m_playTimer->isActive())  // the clip shown was deleted
-            togglePlayback();
-        m_time->setText(idleText());
-        m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());
+        showNothing();  // the clip shown was deleted
     }
     if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)
         m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());  // key time, for the keys

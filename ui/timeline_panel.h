@@ -128,6 +128,9 @@ private:
     /// The Loop box shows the selected clip's loop (and sets it), or with no clip selected what "Clip from take"
     /// will cut.
     void showLoopState();
+    /// No clip or take on show (deselected, or the one on show deleted): playback stops, the line gives its hint
+    /// and the ruler spans the scene's frames.
+    void showNothing();
     void showClipMenu(const QPoint& pos);
     /// Asks for clip `index`'s new name (double-click, the list's menu) and renames it.
     void askToRenameClip(int index);
