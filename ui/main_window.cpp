@@ -845,6 +845,7 @@ void MainWindow::refreshRecentMenu() {
 }
 
 void MainWindow::showError(const QString& title, const QString& message) {
+    qWarning("%s: %s", qPrintable(title), qPrintable(message));  // also in the log, for whoever runs it unattended
     QMessageBox box(QMessageBox::Critical, title, message, QMessageBox::Ok, this);
     box.setObjectName("errorDialog");
     box.exec();
