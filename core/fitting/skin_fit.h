@@ -32,6 +32,34 @@ struct SkinFit {
     double maxError = 0.0;                           ///< Largest vertex error in any frame, metres.
 };
 
+/// A skeleton the clip's mesh is already skinned to (a rig imported with it), in the terms linear blend skinning
+/// needs: each joint's skinning transform (its world transform times its inverse bind matrix; affine, scale
+/// allowed) at every frame, and each vertex's joints and weights.
+struct SourceSkin {
+    std::vector<std::vector<BoneTransform>> transforms; ///< [frame][joint], acting on the bind mesh.
+    std::vector<std::array<std::uint16_t, 4>> joints;   ///< Per vertex, four joints (unused slots at weight 0).
+    std::vector<std::array<float, 4>> weights;          ///< Per vertex, ≥ 0, summing to 1.
+};
+
+/// A skin on a source rig plus helper bones: skin.bones = J + H, where bones 0..J−1 are the source's joints
+/// with their transforms unchanged and bones J.. are rigid helper bones fitted to what the rig does not do.
+struct RigSkinFit {
+    SkinFit skin;                    ///< Weights over source joints and helpers; errors measured with them.
+    int sourceJoints = 0;            ///< J.
+    std::vector<int> helperParent;   ///< Per helper, the source joint that weighs most where it acts.
+    std::vector<Vec3> helperCentre;  ///< Per helper, its weighted centre on the bind mesh (where its bind pose sits).
+};
+
+/// Fits at most `helpers` rigid helper bones on top of `source` so that skinning by the source's joints and
+/// the helpers reproduces `frames` (positions of the `bind` mesh's vertices). Only the helpers' transforms and
+/// the weights change: the source joints keep their motion. Helpers are seeded where the source skin misses
+/// most (k-means++ on the vertices' trajectories, a vertex the source carries well counting as covered), then
+/// weights and helper transforms are improved in turn, each step never raising the error; a helper no vertex
+/// ends up weighing is dropped, so fewer than `helpers` may come back (none when the rig alone is exact).
+/// Deterministic.
+RigSkinFit fitHelperBones(std::span<const Vec3f> bind, const std::vector<std::vector<Vec3f>>& frames,
+                          const SourceSkin& source, int helpers, int iterations = 12);
+
 /// Fits `bones` rigid bones to `frames` (each the deformed positions of the `rest` vertices), with
 /// `iterations` rounds of weight and transform updates. Deterministic.
 SkinFit fitRigidSkin(std::span<const Vec3f> rest, const std::vector<std::vector<Vec3f>>& frames, int bones,
