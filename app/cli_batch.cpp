@@ -101,6 +101,7 @@ Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io
         options.frames = job.frames;
         options.clips = &project->clips;
         options.clip = job.clip;
+        options.meshSources = io::meshSources(project.value());
         options.threads = manifest.resources.cpusPerTask;
         auto baked = io::bake(project->scene, options);
         if (!baked)

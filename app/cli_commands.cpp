@@ -42,6 +42,7 @@ int runBake(const std::vector<std::string>& args) {
     std::optional<double> frames, fps, threads, error, targets, bones;
     std::vector<std::string> objects;
     bool quiet = false, eachObject = false, groups = false, compress = false;
+    std::optional<io::ClipExportOptions::SkinRig> rig;
     CommandLine line("bake", bakeAbout());
     line.positional("SCENE", scenePath, "The project to simulate (*.softtouch).");
     line.text("--out", outPath, {"FILE", "Output. Format from the extension: " + io::exportExtensions() + ".", true});
@@ -58,7 +59,15 @@ int runBake(const std::vector<std::string>& args) {
                 {"E", "pca: each frame's RMS vertex error, skin: the clip's RMS vertex error, at most E times the rest "
                       "mesh's bounding-box diagonal (0 < E <= 0.1; default 0.005)."});
     line.number("--targets", targets, NumberRange{}, {"K", "pca: at most K morph targets, the mean included (2..256, default 33)."});
-    line.number("--bones", bones, NumberRange{}, {"K", "skin: exactly K bones (1..256) instead of the fewest within --error."});
+    line.number("--bones", bones, NumberRange{}, {"K", "skin: exactly K bones (1..256) instead of the fewest within --error; on the source rig, K helper "
+                      "bones."});
+    line.value("--rig", [&rig](const std::string& name) {
+        rig = io::skinRigNamed(name);
+        return rig ? std::string() : "expects auto, source or fitted, got '" + name + "'";
+    }, {"auto|source|fitted", "skin: the bones. source keeps the skeleton the object's mesh file skinned it to (its "
+                             "joints, hierarchy, bind pose and animation) and adds at most --bones helper bones "
+                             "(default 16) for the wobble; fitted fits rigid bones to the clip alone; auto (the "
+                             "default) takes source where the one object baked came with a skinned base animation."});
     line.flag("--compress", compress,
               "glb, pca, skin (a .glb path): pack the file for shipping with EXT_meshopt_compression (three.js, "
               "Babylon.js, Unity glTFast read it; assimp, Blender, Godot do not): positions stay bit-exact, normals "
@@ -81,7 +90,7 @@ int runBake(const std::vector<std::string>& args) {
         return line.usage("cannot tell the format from '" + outPath + "'; use " + io::exportExtensions() + " or --format");
     if (eachObject && !objects.empty())
         return line.usage("--each-object bakes every object to its own cache; it takes no --object");
-    auto exportOptions = io::exportOptions(*format, {error, targets, bones, compress});
+    auto exportOptions = io::exportOptions(*format, {error, targets, bones, compress, rig});
     if (!exportOptions)
         return line.usage(exportOptions.message());
     io::BakeOptions options;
@@ -108,6 +117,7 @@ int runBake(const std::vector<std::string>& args) {
         return fail(project.message());
     options.clips = &project->clips;
     options.clip = clipName;
+    options.meshSources = io::meshSources(project.value());
     std::filesystem::path madeFolder;
     if (const std::string problem = makeOutputFolders(outPath, madeFolder); !problem.empty())
         return fail(problem);

@@ -57,6 +57,8 @@ row "pca" angelfish-swim c.glb "${swim[@]}" --format pca
 row "pca --compress" angelfish-swim c.glb "${swim[@]}" --format pca --compress
 row "skin" angelfish-swim c.glb "${swim[@]}" --format skin
 row "skin --compress" angelfish-swim c.glb "${swim[@]}" --format skin --compress
-row "skin, rigged guppy" guppy-rigged c.glb --format skin
+row "skin, rigged guppy (drivers), on its own rig" guppy-rigged c.glb --format skin
+row "skin, rigged guppy swim, on its own rig" guppy-rigged c.glb "${swim[@]}" --format skin
+row "skin, rigged guppy swim, fitted bones" guppy-rigged c.glb "${swim[@]}" --format skin --rig fitted
 row "vat (its mesh)" angelfish-swim c.vat-mesh.glb "${swim[@]}" --format vat
 row "lattice (its mesh)" angelfish-swim c.lattice.glb "${swim[@]}" --format lattice

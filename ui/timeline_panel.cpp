@@ -486,13 +486,16 @@ void TimelinePanel::exportClip(int index) {
     ExportChoices choices;
     const Scene& scene = m_document->scene();
     const bool packable = format.takesCompress && !io::writesGltfJson(path.toStdString());
-    if (scene.objects.size() > 1 || packable) {
+    const bool rigged = format.takesBones && std::any_of(scene.objects.begin(), scene.objects.end(),
+                                                         [](const SceneObject& o) { return o.baseAnimation != nullptr; });
+    if (scene.objects.size() > 1 || packable || rigged) {
         QDialog ask(this);
         ask.setWindowTitle(tr("Export Options"));
         auto* form = new QFormLayout(&ask);
         QComboBox* which = nullptr;
         QCheckBox* groups = nullptr;
         QCheckBox* compress = nullptr;
+        QComboBox* bones = nullptr;
         QString currentName;
         if (scene.objects.size() > 1) {
             which = new QComboBox;
@@ -516,6 +519,17 @@ void TimelinePanel::exportClip(int index) {
                                     "glTFast read it; Blender, assimp and Godot 4 do not, so keep an unpacked file for a DCC."));
             form->addRow(compress);
         }
+        if (rigged) {
+            bones = new QComboBox;
+            bones->setObjectName("exportBones");
+            bones->addItem(tr("The mesh file's own rig, plus helper bones for the wobble"));
+            bones->addItem(tr("Bones fitted to the clip alone"));
+            bones->setToolTip(tr("On its own rig the file keeps the skeleton the mesh came with (joint names, hierarchy, "
+                                 "bind pose and animation), so it goes back onto your character with its other "
+                                 "animations; a few helper bones under its joints carry the wobble. Fitted bones replace "
+                                 "the skeleton."));
+            form->addRow(tr("Bones"), bones);
+        }
         auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
         connect(buttons, &QDialogButtonBox::accepted, &ask, &QDialog::accept);
         connect(buttons, &QDialogButtonBox::rejected, &ask, &QDialog::reject);
@@ -527,6 +541,7 @@ void TimelinePanel::exportClip(int index) {
         choices.each = which && which->currentIndex() == 2;
         choices.groups = groups && groups->isChecked();
         choices.compress = compress && compress->isChecked();
+        choices.fittedBones = bones && bones->currentIndex() == 1;
     }
     const Status s = exportClipTo(index, path, format, choices);
     if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
@@ -548,6 +563,8 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
     options.format = &format;
     io::ExportSettings settings;
     settings.compress = choices.compress;
+    if (format.takesBones)
+        settings.rig = choices.fittedBones ? io::ClipExportOptions::SkinRig::Fitted : io::ClipExportOptions::SkinRig::Auto;
     auto exportOptions = io::exportOptions(format, settings);  // the defaults, packed or not
     if (!exportOptions) {
         m_time->setText(QString::fromStdString(exportOptions.message()));
@@ -555,6 +572,7 @@ Status TimelinePanel::exportClipTo(int index, const QString& path, const io::Exp
     }
     options.exportOptions = exportOptions.value();
     options.clips = &library;
+    options.meshSources = io::meshSources(m_document->project());
     if (index >= 0 && std::size_t(index) < library.clips.size())
         options.clip = library.clips[std::size_t(index)].name;
     QProgressDialog progress(tr("Exporting %1…").arg(path), tr("Cancel"), 0, 100, this);

@@ -31,6 +31,7 @@ struct ExportChoices {
     bool each = false;              ///< One file per object: the name + "-OBJECT" (io::perObjectPath()).
     bool groups = false;            ///< OBJ files name each object's faces with "g OBJECT".
     bool compress = false;          ///< A GLB packed for shipping (bake --compress; glb, pca and skin to a .glb).
+    bool fittedBones = false;       ///< A skin export fits its own bones even where the mesh came with a rig (bake --rig fitted).
 };
 
 /// Takes and clips of the open document.

@@ -11,6 +11,19 @@ double BaseAnimation::duration() const {
     return double(loop ? samples.size() : samples.size() - 1) / rate;
 }
 
+double BaseAnimation::takeSeconds(double seconds) const {
+    const double count = double(samples.size());
+    double at = seconds * rate;
+    if (loop) {
+        at = std::fmod(at, count);
+        if (at < 0.0)
+            at += count;
+    } else {
+        at = std::clamp(at, 0.0, std::max(0.0, count - 1.0));
+    }
+    return start + at / rate;
+}
+
 void BaseAnimation::positionsAt(double seconds, std::span<Vec3f> out) const {
     const auto count = std::ptrdiff_t(samples.size());
     if (count == 0)

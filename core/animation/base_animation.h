@@ -29,6 +29,9 @@ struct BaseAnimation {
     std::size_t vertexCount() const { return samples.empty() ? 0 : samples.front().size(); }
     /// Positions at `seconds` after the first sample: wrapped when looping, held at the ends otherwise.
     void positionsAt(double seconds, std::span<Vec3f> out) const;
+    /// The take's time, seconds, that positionsAt(`seconds`) shows: the first sample's plus the offset wrapped
+    /// (looping) or held at the ends. A rig evaluated at it gives the same pose where it lands on a sample.
+    double takeSeconds(double seconds) const;
     /// Checks the rate, the sample count (at least 2) and that every sample has `vertices` finite positions.
     Status validate(std::size_t vertices) const;
 };

@@ -7,6 +7,7 @@
 /// failure leaves the previous files untouched and no temporary behind. Layouts: docs/formats.md.
 
 #include "core/base/result.h"
+#include "core/fitting/skeleton.h"
 #include "core/geometry/lattice.h"
 #include "core/geometry/mesh.h"
 #include "io/export/vertex_cache.h"
@@ -39,6 +40,9 @@ struct ClipSetup {
     /// close the loop with one more key at frameCount / fps holding frame 0, so a player that loops by the
     /// animation's length goes from the last frame to the first in one frame's time, not in none.
     bool loops = false;
+    /// The skeleton the (one) object's mesh came skinned to, posed at every frame, when its file has one and the
+    /// bake asks for it (ClipExportOptions::skinRig): the skin export keeps it and fits helper bones on top.
+    std::shared_ptr<const SourceRig> sourceRig;
 };
 
 /// One frame handed to a clip writer.
@@ -72,6 +76,16 @@ struct ClipExportOptions {
     double skinError = 0.0;
     /// glTF/GLB skinned export with exactly this many bones when above 0 (overrides skinError). [0, 256].
     int skinBones = 0;
+    /// Which bones a skinned export uses.
+    enum class SkinRig {
+        Auto,    ///< The source rig where the one object baked came skinned to a skeleton, fitted bones elsewhere.
+        Source,  ///< The source rig, or fail saying why there is none.
+        Fitted,  ///< Rigid bones fitted to the clip alone (skinBones, skinError).
+    };
+    SkinRig skinRig = SkinRig::Auto;
+    /// On the source rig: the most helper bones added (the fewest of 0, 2, 4, 8, 16 up to it that meet
+    /// skinError, or exactly this many tried when skinBones is set). [0, 256].
+    static constexpr int kDefaultHelperBones = 16;
     /// GLB only: compress for shipping (io/import/gltf_meshopt.h): every buffer view through EXT_meshopt_compression,
     /// normals as 16-bit octahedral vectors; the skinned export also stores 8-bit joints and weights.
     bool gltfCompress = false;

@@ -177,6 +177,17 @@ std::filesystem::path restMeshPath(const std::filesystem::path& path, const Expo
 
 bool writesGltfJson(const std::filesystem::path& path) { return lowercase(path.extension().string()) == ".gltf"; }
 
+std::optional<ClipExportOptions::SkinRig> skinRigNamed(std::string_view name) {
+    using SkinRig = ClipExportOptions::SkinRig;
+    if (name == "auto")
+        return SkinRig::Auto;
+    if (name == "source")
+        return SkinRig::Source;
+    if (name == "fitted")
+        return SkinRig::Fitted;
+    return std::nullopt;
+}
+
 Result<ClipExportOptions> exportOptions(const ExportFormat& format, const ExportSettings& settings) {
     if (settings.error && !format.takesError)
         return Status::error(onlyFor("--error", &ExportFormat::takesError));
@@ -184,6 +195,8 @@ Result<ClipExportOptions> exportOptions(const ExportFormat& format, const Export
         return Status::error(onlyFor("--targets", &ExportFormat::takesTargets));
     if (settings.bones && !format.takesBones)
         return Status::error(onlyFor("--bones", &ExportFormat::takesBones));
+    if (settings.rig && !format.takesBones)
+        return Status::error(onlyFor("--rig", &ExportFormat::takesBones));
     if (settings.compress && !format.takesCompress)
         return Status::error(onlyFor("--compress", &ExportFormat::takesCompress));
     if (settings.bones && settings.error)
@@ -205,6 +218,7 @@ Result<ClipExportOptions> exportOptions(const ExportFormat& format, const Export
     if (format.takesBones) {  // skinning: a bone count, or the fewest bones within the error
         options.skinBones = settings.bones ? int(*settings.bones) : 0;
         options.skinError = settings.bones ? 0.0 : error;
+        options.skinRig = settings.rig.value_or(ClipExportOptions::SkinRig::Auto);
     }
     return options;
 }

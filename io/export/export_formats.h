@@ -32,7 +32,11 @@ struct ExportSettings {
     std::optional<double> targets;  ///< Compressed morphs: most targets, the mean included, a whole number in [2, 256].
     std::optional<double> bones;    ///< Skinning: exactly this many bones, a whole number in [1, 256].
     bool compress = false;          ///< GLB for shipping: EXT_meshopt_compression, octahedral normals, 8-bit weights.
+    std::optional<ClipExportOptions::SkinRig> rig = std::nullopt;  ///< Skinning: the source rig or fitted bones (default: auto).
 };
+
+/// The skin rig a name gives ("auto", "source", "fitted"); nullopt for any other.
+std::optional<ClipExportOptions::SkinRig> skinRigNamed(std::string_view name);
 
 /// Where an export's rest mesh goes (the OBJ whose vertex order the files follow; bake writes it).
 enum class RestMeshPlace {

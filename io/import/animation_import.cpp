@@ -164,7 +164,106 @@ public:
         }
     }
 
+    /// The skeleton of the one placed mesh, which must be skinned, evaluated at `seconds` of the take.
+    Result<SourceRig> sourceRig(const std::vector<double>& seconds, const std::string& name) const {
+        if (m_instances.size() != 1)
+            return Status::error("mesh file " + name + " places " + std::to_string(m_instances.size()) +
+                                 " triangle meshes; a skin onto its rig needs exactly one");
+        const aiMesh& mesh = *m_scene.mMeshes[m_instances.front().mesh];
+        if (!mesh.HasBones())
+            return Status::error("mesh file " + name + ": its mesh is not skinned to a skeleton");
+        SourceRig rig;
+        rig.meshName = mesh.mName.C_Str();
+        Skeleton& skeleton = rig.skeleton;
+        // Joints and their ancestors, in the flattened order (parents first). The file's root is left out when
+        // it is neither a joint nor moves anything (assimp's own root over a glTF scene's top-level nodes).
+        std::vector<int> jointNode;
+        std::vector<bool> keep(m_nodes.size(), false);
+        for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+            const auto it = m_byName.find(mesh.mBones[b]->mName.C_Str());
+            if (it == m_byName.end())
+                return Status::error("mesh file " + name + ": skin joint '" + mesh.mBones[b]->mName.C_Str() +
+                                     "' is not a node of the file");
+            jointNode.push_back(it->second);
+            for (int n = it->second; n >= 0 && !keep[std::size_t(n)]; n = m_parent[std::size_t(n)])
+                keep[std::size_t(n)] = true;
+        }
+        if (keep[0] && std::find(jointNode.begin(), jointNode.end(), 0) == jointNode.end() &&
+            m_nodes[0]->mTransformation.IsIdentity() && !m_channel[0])
+            keep[0] = false;
+        std::vector<int> index(m_nodes.size(), -1);
+        for (std::size_t n = 0; n < m_nodes.size(); ++n) {
+            if (!keep[n])
+                continue;
+            index[n] = int(skeleton.nodes.size());
+            Skeleton::Node node;
+            node.name = m_nodes[n]->mName.C_Str();
+            node.parent = m_parent[n] < 0 ? -1 : index[std::size_t(m_parent[n])];
+            node.rest = nodeTransform(m_nodes[n]->mTransformation);
+            node.animated = m_channel[n] != nullptr;
+            skeleton.nodes.push_back(std::move(node));
+        }
+        for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+            skeleton.joints.push_back(index[std::size_t(jointNode[b])]);
+            const aiMatrix4x4& m = mesh.mBones[b]->mOffsetMatrix;
+            Eigen::Matrix4d ibm;
+            ibm << m.a1, m.a2, m.a3, m.a4 * m_scale, m.b1, m.b2, m.b3, m.b4 * m_scale, m.c1, m.c2, m.c3, m.c4 * m_scale,
+                m.d1, m.d2, m.d3, m.d4;
+            skeleton.inverseBind.push_back(ibm);
+        }
+        // The bind mesh and each vertex's four heaviest weights, renormalised.
+        SkinnedMesh& skinned = rig.mesh;
+        std::vector<std::vector<std::pair<float, std::uint16_t>>> held(mesh.mNumVertices);
+        for (unsigned b = 0; b < mesh.mNumBones; ++b)
+            for (unsigned w = 0; w < mesh.mBones[b]->mNumWeights; ++w) {
+                const aiVertexWeight& vw = mesh.mBones[b]->mWeights[w];
+                if (vw.mVertexId < mesh.mNumVertices && vw.mWeight > 0.0f)
+                    held[vw.mVertexId].push_back({vw.mWeight, std::uint16_t(b)});
+            }
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            skinned.bind.push_back(Vec3f(mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z) * float(m_scale));
+            auto& weights = held[v];
+            if (weights.empty())
+                return Status::error("mesh file " + name + ": vertex " + std::to_string(v) +
+                                     " of its skinned mesh has no joint weights");
+            std::sort(weights.begin(), weights.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+            weights.resize(std::min<std::size_t>(weights.size(), 4));
+            float sum = 0.0f;
+            for (const auto& w : weights)
+                sum += w.first;
+            std::array<std::uint16_t, 4> joints{};
+            std::array<float, 4> share{};
+            for (std::size_t s = 0; s < 4; ++s) {
+                joints[s] = s < weights.size() ? weights[s].second : weights.front().second;
+                share[s] = s < weights.size() ? weights[s].first / sum : 0.0f;
+            }
+            skinned.joints.push_back(joints);
+            skinned.weights.push_back(share);
+        }
+        const double ticksPerSecond = m_take && m_take->mTicksPerSecond > 0.0 ? m_take->mTicksPerSecond : 25.0;
+        for (double at : seconds) {
+            std::vector<NodeTransform>& pose = skeleton.poses.emplace_back();
+            for (std::size_t n = 0; n < m_nodes.size(); ++n)
+                if (keep[n])
+                    pose.push_back(nodeTransform(localTransform(*m_nodes[n], m_channel[n], at * ticksPerSecond)));
+            reportImportProgress();
+        }
+        return rig;
+    }
+
 private:
+    /// A node transform in metres: the file's translation scaled as its positions are.
+    NodeTransform nodeTransform(const aiMatrix4x4& m) const {
+        aiVector3D scaling, position;
+        aiQuaternion rotation;
+        m.Decompose(scaling, rotation, position);
+        NodeTransform t;
+        t.translation = Vec3(position.x, position.y, position.z) * double(m_scale);
+        t.rotation = Eigen::Quaterniond(rotation.w, rotation.x, rotation.y, rotation.z).normalized();
+        t.scale = Vec3(scaling.x, scaling.y, scaling.z);
+        return t;
+    }
+
     /// What positionsAt() does for one placed `mesh` a sample: a pass over its vertices, one more for each
     /// blend-shape target some sample weighs (applyMorphs skips a weight of 0) and its weights' bookkeeping,
     /// one per skin weight and bone.
@@ -483,6 +582,69 @@ bool getAnimated(Decoder& in, AnimatedMesh& a) {
     return getTakes(in, a.takes) && in.getBytes(a.unit);
 }
 
+/// Everything importSourceRig() sends back through the importer's pipe.
+void putTransform(std::string& out, const NodeTransform& t) {
+    for (double x : {t.translation.x(), t.translation.y(), t.translation.z(), t.rotation.w(), t.rotation.x(), t.rotation.y(),
+                     t.rotation.z(), t.scale.x(), t.scale.y(), t.scale.z()})
+        put(out, x);
+}
+bool getTransform(Decoder& in, NodeTransform& t) {
+    double x[10];
+    for (double& v : x)
+        if (!in.get(v))
+            return false;
+    t.translation = Vec3(x[0], x[1], x[2]);
+    t.rotation = Eigen::Quaterniond(x[3], x[4], x[5], x[6]);
+    t.scale = Vec3(x[7], x[8], x[9]);
+    return true;
+}
+void putSourceRig(std::string& out, const SourceRig& rig) {
+    const Skeleton& s = rig.skeleton;
+    put(out, std::uint64_t(s.nodes.size()));
+    for (const Skeleton::Node& node : s.nodes) {
+        putString(out, node.name);
+        put(out, std::int32_t(node.parent));
+        putTransform(out, node.rest);
+        put(out, std::uint8_t(node.animated));
+    }
+    putVector(out, s.joints);
+    putVector(out, s.inverseBind);
+    put(out, std::uint64_t(s.poses.size()));
+    for (const auto& pose : s.poses)
+        for (const NodeTransform& t : pose)
+            putTransform(out, t);
+    putVector(out, rig.mesh.bind);
+    putVector(out, rig.mesh.joints);
+    putVector(out, rig.mesh.weights);
+    putString(out, rig.meshName);
+}
+bool getSourceRig(Decoder& in, SourceRig& rig) {
+    Skeleton& s = rig.skeleton;
+    std::uint64_t count = 0, poses = 0;
+    if (!in.get(count))
+        return false;
+    for (std::uint64_t n = 0; n < count; ++n) {
+        Skeleton::Node node;
+        std::int32_t parent = -1;
+        std::uint8_t animated = 0;
+        if (!in.getBytes(node.name) || !in.get(parent) || !getTransform(in, node.rest) || !in.get(animated))
+            return false;
+        node.parent = parent;
+        node.animated = animated != 0;
+        s.nodes.push_back(std::move(node));
+    }
+    if (!in.getVector(s.joints) || !in.getVector(s.inverseBind) || !in.get(poses))
+        return false;
+    for (std::uint64_t f = 0; f < poses; ++f) {
+        std::vector<NodeTransform>& pose = s.poses.emplace_back(s.nodes.size());
+        for (NodeTransform& t : pose)
+            if (!getTransform(in, t))
+                return false;
+    }
+    return in.getVector(rig.mesh.bind) && in.getVector(rig.mesh.joints) && in.getVector(rig.mesh.weights) &&
+           in.getBytes(rig.meshName);
+}
+
 }  // namespace
 
 Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request) {
@@ -501,6 +663,34 @@ Result<TakeList> animationTakes(const std::filesystem::path& path) {
             return sceneTakes(*scene.value(), name);
         },
         putTakes, getTakes);
+}
+
+Result<SourceRig> importSourceRig(const std::filesystem::path& path, const std::string& take,
+                                  const std::vector<double>& takeSeconds) {
+    return importIsolated<SourceRig>(
+        path,
+        [&](const std::string& name) -> Result<SourceRig> {
+            Assimp::Importer importer;
+            const auto read = readAnimatedScene(importer, path, name);
+            if (!read)
+                return read.status();
+            const aiScene& scene = *read.value();
+            if (countNodes(scene.mRootNode, kMaxRigNodes) > kMaxRigNodes)
+                return Status::error("mesh file " + name + ": its rig has more than " + formatCount(double(kMaxRigNodes)) +
+                                     " nodes (joints and others), the most SoftTouch samples");
+            const aiAnimation* chosen = nullptr;
+            for (unsigned a = 0; a < scene.mNumAnimations && !chosen; ++a)
+                if (take.empty() || take == scene.mAnimations[a]->mName.C_Str())
+                    chosen = scene.mAnimations[a];
+            if (!chosen)
+                return Status::error("mesh file " + name + " has no take \"" + take + "\"");
+            for (double at : takeSeconds)
+                if (!std::isfinite(at))
+                    return Status::error("mesh file " + name + ": a rig time is not a finite number");
+            const Rig rig(scene, chosen, sceneUnit(scene, path.string()).metresPerUnit);
+            return rig.sourceRig(takeSeconds, name);
+        },
+        putSourceRig, getSourceRig);
 }
 
 }  // namespace softtouch::io

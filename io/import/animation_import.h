@@ -9,6 +9,7 @@
 
 #include "core/animation/base_animation.h"
 #include "core/base/ranges.h"
+#include "core/fitting/skeleton.h"
 #include "core/geometry/mesh.h"
 
 #include <cstddef>
@@ -64,5 +65,11 @@ Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const
 /// The takes of `path` without sampling any (the editor's take chooser lists them before the import). Fails as
 /// importAnimatedMesh() does on a file it cannot read or one with no animation.
 Result<TakeList> animationTakes(const std::filesystem::path& path);
+
+/// Reads the skeleton of `path`'s skinned mesh and evaluates take `take` (empty: the first) at each of
+/// `takeSeconds`, in metres as importAnimatedMesh() reads the same file, vertices in its order. Fails, naming
+/// the file, where the file does not place exactly one triangle mesh or that mesh is not skinned.
+Result<SourceRig> importSourceRig(const std::filesystem::path& path, const std::string& take,
+                                  const std::vector<double>& takeSeconds);
 
 }  // namespace softtouch::io

@@ -4,6 +4,7 @@
 
 #include "io/export/vertex_cache.h"
 #include "io/files/atomic_file.h"
+#include "io/import/animation_import.h"
 #include "io/pipeline/frame_source.h"
 
 #include <algorithm>
@@ -29,7 +30,78 @@ Status checkOutputTarget(const std::filesystem::path& target) {
     return Status::error("cannot write '" + target.string() + "': it exists and is " + kind + "; nothing was written");
 }
 
+/// The skeleton the one object written came skinned to, posed at every frame, for a skin export that keeps it
+/// (ClipExportOptions::skinRig); null where the export fits its own bones, with the reason in `why` when the
+/// object does follow a base animation. Fails only where the source rig was asked for and cannot be had.
+Result<std::shared_ptr<const SourceRig>> sourceRigFor(const FrameSource& source, const std::vector<bool>& written,
+                                                      const BakeOptions& options, int frames, std::string& why) {
+    using SkinRig = ClipExportOptions::SkinRig;
+    const SkinRig wanted = options.exportOptions.skinRig;
+    if (!options.format->takesBones || wanted == SkinRig::Fitted)
+        return std::shared_ptr<const SourceRig>();
+    const SceneSimulation& sim = source.simulation();
+    std::vector<std::size_t> objects;
+    for (std::size_t i = 0; i < sim.objectCount(); ++i)
+        if (written[i])
+            objects.push_back(i);
+    auto without = [&](const std::string& reason, bool followsRig) -> Result<std::shared_ptr<const SourceRig>> {
+        if (wanted == SkinRig::Source)
+            return Status::error("--rig source: " + reason);
+        if (followsRig)
+            why = reason;
+        return std::shared_ptr<const SourceRig>();
+    };
+    if (objects.size() != 1)
+        return without("the bake writes " + std::to_string(objects.size()) + " objects; a skin onto a source rig takes one "
+                       "(bake them one by one with --each-object)",
+                       false);
+    const std::size_t i = objects.front();
+    const SceneObject& object = sim.object(i);
+    if (!sim.followsBaseAnimation(i) || !object.baseAnimation)
+        return without("object '" + object.name + "' has no base animation, so no rig of its own", false);
+    if (i >= options.meshSources.size() || options.meshSources[i].file.empty())
+        return without("the file object '" + object.name + "' came from is not known (or its rest shape was edited)", true);
+    const MeshSource& from = options.meshSources[i];
+    const BaseAnimation& animation = *object.baseAnimation;
+    std::vector<double> takeSeconds(static_cast<std::size_t>(frames));
+    for (int f = 0; f < frames; ++f)
+        takeSeconds[std::size_t(f)] = animation.takeSeconds(source.secondsAt(f));
+    auto read = importSourceRig(from.file, animation.take, takeSeconds);
+    if (!read)
+        return without(read.message(), true);
+    SourceRig& rig = read.value();
+    if (rig.mesh.bind.size() != object.mesh->positions.size())
+        return without("the skinned mesh of '" + from.file.string() + "' has " + std::to_string(rig.mesh.bind.size()) +
+                       " vertices and object '" + object.name + "' " + std::to_string(object.mesh->positions.size()),
+                       true);
+    // A mesh moved on load ("position") moves its whole rig: the top-level nodes carry the offset.
+    for (std::size_t n = 0; n < rig.skeleton.nodes.size(); ++n) {
+        if (rig.skeleton.nodes[n].parent >= 0)
+            continue;
+        rig.skeleton.nodes[n].rest.translation += from.offset;
+        for (auto& pose : rig.skeleton.poses)
+            pose[n].translation += from.offset;
+    }
+    return std::shared_ptr<const SourceRig>(std::make_shared<SourceRig>(std::move(rig)));
+}
+
 }  // namespace
+
+std::vector<MeshSource> meshSources(const Project& project) {
+    std::vector<MeshSource> sources(project.meshReferences.size());
+    const std::filesystem::path folder = project.path.empty() ? std::filesystem::path()
+                                                              : std::filesystem::absolute(project.path).parent_path();
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        const std::string& ref = project.meshReferences[i];
+        if (ref.empty() || (i < project.restShapeEdits.size() && !project.restShapeEdits[i].empty()))
+            continue;
+        const std::filesystem::path path(ref);
+        sources[i].file = path.is_absolute() || folder.empty() ? path : (folder / path).lexically_normal();
+        if (i < project.meshOffsets.size())
+            sources[i].offset = project.meshOffsets[i];
+    }
+    return sources;
+}
 
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     BakeResult result;
@@ -123,6 +195,11 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     setup.info.frameCount = std::size_t(frames);
     setup.info.fps = source.fps();
     setup.loops = source.loopLength() > 0 && frames % source.loopLength() == 0;
+    std::string fittedBecause;
+    auto rig = sourceRigFor(source, written, options, frames, fittedBecause);
+    if (!rig)
+        return rig.status();
+    setup.sourceRig = std::move(rig.value());
     if (Status s = writer->begin(options.output, setup); !s)
         return s;
 
@@ -180,6 +257,8 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     // The exporter's first: the CLI shows only the first few.
     result.warnings.insert(result.warnings.begin(), writer->warnings().begin(), writer->warnings().end());
     result.notes = writer->notes();
+    if (!fittedBecause.empty())
+        result.notes.push_back("bones fitted to the clip, not on the source rig: " + fittedBecause);
     result.frames = frames;
     return result;
 }

@@ -6,6 +6,7 @@
 
 #include "core/authoring/clip.h"
 #include "core/scene/scene.h"
+#include "io/documents/project_file.h"
 #include "io/export/clip_writer.h"
 #include "io/export/export_formats.h"
 #include "io/export/vertex_cache.h"
@@ -17,6 +18,16 @@
 #include <vector>
 
 namespace softtouch::io {
+
+/// The file an object's mesh and base animation were read from, for a skin export onto the file's own rig.
+struct MeshSource {
+    std::filesystem::path file;         ///< Empty: none (a built-in shape, or a mesh whose rest shape was edited).
+    Vec3 offset = Vec3::Zero();         ///< Metres the mesh was moved by on load ("position").
+};
+
+/// Per object of `project`, the file its mesh came from: its reference resolved against the project's folder.
+/// An object whose rest shape was edited gets none: its mesh is no longer the file's.
+std::vector<MeshSource> meshSources(const Project& project);
 
 /// What to bake.
 struct BakeOptions {
@@ -38,6 +49,9 @@ struct BakeOptions {
     /// DCC imports one named part per object. Off by default: importers that split groups into meshes may
     /// weld or reorder vertices, which breaks the vertex order PC2 and MDD caches rely on.
     bool objectGroups = false;
+    /// Per scene object, the file its mesh came from (meshSources()); a skin export (ClipExportOptions::skinRig)
+    /// reads the skeleton there. Empty: not known, the skin export fits its own bones.
+    std::vector<MeshSource> meshSources;
     /// Called after each frame with (frames done, total); returning false cancels the bake.
     std::function<bool(int, int)> progress;
 };

@@ -83,8 +83,11 @@ std::span<const Vec3> FrameSource::nodes(std::size_t object) const {
     return m_frameNodes[object];
 }
 
-double FrameSource::seconds() const {
-    return (m_isClip ? m_clipStart : 0.0) + double(m_current) / m_fps;
+double FrameSource::secondsAt(int frame) const {
+    if (!m_isClip)
+        return double(frame) / m_fps;
+    const int length = int(m_clipFrames.nodes.size());
+    return m_clipStart + double(m_loop ? frame % length : std::min(frame, length - 1)) / m_fps;
 }
 
 void FrameSource::evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads) const {

@@ -49,7 +49,10 @@ public:
     /// Lattice node positions of object i at the current frame.
     std::span<const Vec3> nodes(std::size_t object) const;
     /// Scene time of the current frame, seconds.
-    double seconds() const;
+    double seconds() const { return secondsAt(m_current); }
+    /// Scene time of frame `frame` (0 <= frame < frameCount()), seconds: past a loop clip's end it cycles,
+    /// past another clip's it holds the last frame.
+    double secondsAt(int frame) const;
     /// Deformed positions (and normals, when non-empty) of object i at the current frame.
     void evaluate(std::size_t object, std::span<Vec3f> positions, std::span<Vec3f> normals, int threads = 0) const;
 

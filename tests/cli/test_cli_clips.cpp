@@ -5,8 +5,12 @@
 #include "io/export/vertex_cache.h"
 
 #include "helpers/cli_run.h"
+#include "helpers/gltf_read.h"
 
 #include <QDir>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QFile>
 #include <QProcess>
 #include <QTemporaryDir>
@@ -34,6 +38,8 @@ private slots:
     void materialPresetAppliesAsTheEditorAppliesIt();
     void badPresetWritesNothing();
     void gltfReadsUseTinygltfsOwnLibrary();
+    void skinOnTheSourceRigKeepsTheSkeleton();
+    void skinRigChoiceIsRefusedWhereItCannotHold();
 };
 
 void TestCliClips::bakeSwimClipOfEveryFish_data() {
@@ -183,8 +189,6 @@ void TestCliClips::badPresetWritesNothing() {
     QVERIFY2(noObject.err.contains("no object named 'shark'"), qPrintable(noObject.err));
 }
 
-QTEST_GUILESS_MAIN(TestCliClips)
-#include "test_cli_clips.moc"
 
 // libdraco (which assimp links) exports a tinygltf of its own, built with other options: its TinyGLTF has
 // another layout. softtouch-cli once bound its glTF reads to it (libdraco came first among the libraries it
@@ -221,3 +225,138 @@ void TestCliClips::gltfReadsUseTinygltfsOwnLibrary() {
     QVERIFY2(elsewhere.isEmpty(), qPrintable(elsewhere.join('\n')));
     QVERIFY2(toTinygltf > 0, "the dynamic linker reported no tinygltf binding of softtouch-cli");
 }
+
+namespace {
+
+/// The node of `model` named `name`; -1 when none is.
+int nodeNamed(const tinygltf::Model& model, const std::string& name) {
+    for (std::size_t n = 0; n < model.nodes.size(); ++n)
+        if (model.nodes[n].name == name)
+            return int(n);
+    return -1;
+}
+
+/// The parent of node `child`; -1 for a top-level node.
+int parentOf(const tinygltf::Model& model, int child) {
+    for (std::size_t n = 0; n < model.nodes.size(); ++n)
+        for (int c : model.nodes[n].children)
+            if (c == child)
+                return int(n);
+    return -1;
+}
+
+/// A node's translation, rotation and scale as ten numbers (the identity's where the file leaves one out).
+std::vector<double> restOf(const tinygltf::Node& node) {
+    std::vector<double> t = node.translation.empty() ? std::vector<double>{0, 0, 0} : node.translation;
+    const std::vector<double> r = node.rotation.empty() ? std::vector<double>{0, 0, 0, 1} : node.rotation;
+    const std::vector<double> s = node.scale.empty() ? std::vector<double>{1, 1, 1} : node.scale;
+    t.insert(t.end(), r.begin(), r.end());
+    t.insert(t.end(), s.begin(), s.end());
+    return t;
+}
+
+double largestDifference(const std::vector<double>& a, const std::vector<double>& b) {
+    double d = a.size() == b.size() ? 0.0 : 1e30;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        d = std::max(d, std::abs(a[i] - b[i]));
+    return d;
+}
+
+}  // namespace
+
+// A skinned export of the rigged guppy keeps the skeleton it was imported with: every joint by name, under the
+// same parent, with its rest transform and inverse bind matrix, the file's bind mesh, and at most 16 helper bones
+// hung under source joints. With goal weight 1 everywhere the clip is the rig's own motion, and no helper is added.
+void TestCliClips::skinOnTheSourceRigKeepsTheSkeleton() {
+    QTemporaryDir dir;
+    const Run baked = runCli({"bake", kPresets + "scenes/guppy-rigged.softtouch", "--clip", "swim", "--format", "skin",
+                              "--out", dir.filePath("g.glb"), "--quiet"});
+    QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+    QVERIFY2(baked.out.contains("skinned onto the source rig: its 6 joints kept"), qPrintable(baked.out));
+    const tinygltf::Model ours = test::loadGlb(dir.filePath("g.glb").toStdString());
+    const tinygltf::Model theirs = test::loadGlb((kPresets + "meshes/guppy-rigged.glb").toStdString());
+    QCOMPARE(ours.skins.size(), std::size_t(1));
+    const tinygltf::Skin& skin = ours.skins.front();
+    const tinygltf::Skin& source = theirs.skins.front();
+    const std::vector<float> ourBinds = test::accessorFloats(ours, skin.inverseBindMatrices);
+    const std::vector<float> theirBinds = test::accessorFloats(theirs, source.inverseBindMatrices);
+    for (std::size_t j = 0; j < source.joints.size(); ++j) {
+        const tinygltf::Node& joint = theirs.nodes[std::size_t(source.joints[j])];
+        const int mine = skin.joints.at(j);
+        QCOMPARE(ours.nodes[std::size_t(mine)].name, joint.name);
+        const int theirParent = parentOf(theirs, source.joints[j]);
+        const int ourParent = parentOf(ours, mine);
+        QCOMPARE(ourParent < 0 ? std::string() : ours.nodes[std::size_t(ourParent)].name,
+                 theirParent < 0 ? std::string() : theirs.nodes[std::size_t(theirParent)].name);
+        QVERIFY2(largestDifference(restOf(ours.nodes[std::size_t(mine)]), restOf(joint)) < 1e-6, joint.name.c_str());
+        for (std::size_t e = 0; e < 16; ++e)
+            QVERIFY(std::abs(ourBinds[16 * j + e] - theirBinds[16 * j + e]) < 1e-6f);
+    }
+    const std::size_t helpers = skin.joints.size() - source.joints.size();
+    QVERIFY2(helpers <= 16, qPrintable(QString::number(helpers)));
+    for (std::size_t h = source.joints.size(); h < skin.joints.size(); ++h) {
+        const int parent = parentOf(ours, skin.joints[h]);
+        QVERIFY(parent >= 0);
+        QVERIFY2(nodeNamed(theirs, ours.nodes[std::size_t(parent)].name) >= 0, "a helper hangs under a source joint");
+    }
+    // The bind mesh is the file's, vertex for vertex.
+    const auto position = [](const tinygltf::Model& m) {
+        return test::accessorFloats(m, m.meshes.front().primitives.front().attributes.at("POSITION"));
+    };
+    const std::vector<float> ourBind = position(ours), theirBind = position(theirs);
+    QCOMPARE(ourBind.size(), theirBind.size());
+    for (std::size_t e = 0; e < ourBind.size(); ++e)
+        QVERIFY(std::abs(ourBind[e] - theirBind[e]) < 1e-6f);
+
+    // Goal weight 1 everywhere: the clip is the rig's motion itself.
+    QFile file(kPresets + "scenes/guppy-rigged.softtouch");
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    QJsonObject project = QJsonDocument::fromJson(file.readAll()).object();
+    QJsonArray objects = project["objects"].toArray();
+    QJsonObject fish = objects[0].toObject();
+    fish["mesh"] = kPresets + "meshes/guppy-rigged.glb";
+    QJsonObject material = fish["material"].toObject();
+    material["preset"] = kPresets + "materials/fish-body.stpreset";
+    QJsonArray ones;
+    for (qsizetype i = 0; i < material["goalWeight"].toArray().size(); ++i)
+        ones.append(1.0);
+    material["goalWeight"] = ones;
+    fish["material"] = material;
+    objects[0] = fish;
+    project["objects"] = objects;
+    QFile pinned(dir.filePath("pinned.softtouch"));
+    QVERIFY(pinned.open(QIODevice::WriteOnly));
+    pinned.write(QJsonDocument(project).toJson());
+    pinned.close();
+    const Run still = runCli({"bake", pinned.fileName(), "--clip", "swim", "--format", "skin", "--out", dir.filePath("p.glb"),
+                              "--quiet"});
+    QVERIFY2(still.exitCode == 0, qPrintable(still.err));
+    QVERIFY2(still.out.contains("its 6 joints kept (names, hierarchy, bind pose, animation) and 0 helper bones"),
+             qPrintable(still.out));
+    QCOMPARE(test::loadGlb(dir.filePath("p.glb").toStdString()).skins.front().joints.size(), source.joints.size());
+}
+
+// --rig source says why where there is no rig to keep; --rig fitted fits free bones; --rig is for skin only.
+void TestCliClips::skinRigChoiceIsRefusedWhereItCannotHold() {
+    QTemporaryDir dir;
+    const Run noRig = runCli({"bake", kPresets + "scenes/angelfish-swim.softtouch", "--clip", "swim", "--format", "skin",
+                              "--rig", "source", "--out", dir.filePath("a.glb"), "--quiet"});
+    QVERIFY(noRig.exitCode != 0);
+    QVERIFY2(noRig.err.contains("--rig source: object 'angelfish' has no base animation"), qPrintable(noRig.err));
+    QVERIFY(!QFile::exists(dir.filePath("a.glb")));
+    const Run fitted = runCli({"bake", kPresets + "scenes/guppy-rigged.softtouch", "--clip", "swim", "--format", "skin",
+                               "--rig", "fitted", "--out", dir.filePath("f.glb"), "--quiet"});
+    QVERIFY2(fitted.exitCode == 0, qPrintable(fitted.err));
+    QVERIFY2(fitted.out.contains("skinned: ") && fitted.out.contains("rigid bones"), qPrintable(fitted.out));
+    const Run wrongFormat = runCli({"bake", kPresets + "scenes/guppy-rigged.softtouch", "--rig", "source", "--out",
+                                    dir.filePath("g.pc2"), "--quiet"});
+    QCOMPARE(wrongFormat.exitCode, 2);
+    QVERIFY2(wrongFormat.err.contains("--rig"), qPrintable(wrongFormat.err));
+    const Run badName = runCli({"bake", kPresets + "scenes/guppy-rigged.softtouch", "--format", "skin", "--rig", "bones",
+                                "--out", dir.filePath("g.glb"), "--quiet"});
+    QCOMPARE(badName.exitCode, 2);
+    QVERIFY2(badName.err.contains("expects auto, source or fitted"), qPrintable(badName.err));
+}
+
+QTEST_GUILESS_MAIN(TestCliClips)
+#include "test_cli_clips.moc"

@@ -172,6 +172,7 @@ private slots:
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
     void exportDialogsPackAGlbForShipping();
+    void exportDialogPutsTheRiggedGuppyOnItsOwnRig();
     void keyframesFromPosesMakeAClip();
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
     void anotherProjectLeavesNoOldClipOnShow();

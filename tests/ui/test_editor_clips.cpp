@@ -1,9 +1,11 @@
 // The editor driven through its real widgets (under Xvfb). Takes, keys and clips: record, scrub, key poses,
 // retime, export and render.
 #include "editor_fixture.h"
+#include "helpers/gltf_read.h"
 #include <QFileDialog>
 #include <numbers>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QContextMenuEvent>
 #include <QMenu>
 
@@ -209,6 +211,73 @@ void TestEditor::exportDialogsPackAGlbForShipping() {
     QVERIFY(answeredOptions);
     QVERIFY(QFile::exists(glb));
     QVERIFY2(io::fileUsesMeshoptCompression(glb.toStdString()), "the file is not packed");
+}
+
+void TestEditor::exportDialogPutsTheRiggedGuppyOnItsOwnRig() {
+    // The rigged guppy's swim exported as a skinned GLB from Export…: Export Options offers the bones, its own rig
+    // first. On it the file's skin is the guppy's six spine joints (plus helpers); fitted, it is bones of its own.
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/guppy-rigged.softtouch")));
+    auto* clips = w.timeline()->findChild<QListWidget*>("clips");
+    QVERIFY(clips && clips->count() > 0);
+    clips->setCurrentRow(0);
+    QPushButton* exportButton = nullptr;
+    for (QPushButton* b : w.timeline()->findChildren<QPushButton*>())
+        if (b->text() == QString("Export…"))
+            exportButton = b;
+    QVERIFY(exportButton);
+    QString skinFilter;
+    for (const QString& f : TimelinePanel::exportFilters())
+        if (f.contains("skin", Qt::CaseInsensitive))
+            skinFilter = f;
+    // Answers the file dialog with `glb` and Export Options with bones choice `choice`; returns the choices offered.
+    auto exportAs = [&](const QString& glb, int choice) {
+        QStringList offered;
+        bool answeredFile = false, answeredOptions = false;
+        QTimer answer;
+        connect(&answer, &QTimer::timeout, this, [&] {
+            QWidget* modal = QApplication::activeModalWidget();
+            if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
+                answeredFile = true;
+                files->selectNameFilter(skinFilter);
+                files->setDirectory(QFileInfo(glb).absolutePath());
+                // selectFile() leaves the name typed before in place when the folder already holds an export; the
+                // name field is what a person types into.
+                if (auto* name = files->findChild<QLineEdit*>("fileNameEdit"))
+                    name->setText(QFileInfo(glb).fileName());
+                static_cast<QDialog*>(files)->accept();
+            } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
+                if (auto* bones = options->findChild<QComboBox*>("exportBones")) {
+                    answeredOptions = true;
+                    for (int i = 0; i < bones->count(); ++i)
+                        offered << bones->itemText(i);
+                    bones->setCurrentIndex(choice);
+                    options->accept();
+                }
+            }
+        });
+        answer.start(50);
+        exportButton->click();
+        answer.stop();
+        return offered;
+    };
+    const QString own = m_dir->filePath("guppy-own-rig.glb");
+    const QStringList offered = exportAs(own, 0);
+    QCOMPARE(offered.size(), 2);
+    QVERIFY2(offered[0].contains("own rig"), qPrintable(offered.join(" | ")));
+    QVERIFY(QFile::exists(own));
+    const tinygltf::Model onRig = softtouch::test::loadGlb(own.toStdString());
+    QStringList joints;
+    for (int j : onRig.skins.front().joints)
+        joints << QString::fromStdString(onRig.nodes[std::size_t(j)].name);
+    QCOMPARE(joints.mid(0, 6), (QStringList{"spine0", "spine1", "spine2", "spine3", "spine4", "spine5"}));
+    QVERIFY(joints.size() <= 6 + 16);
+
+    const QString fitted = m_dir->filePath("guppy-fitted.glb");
+    exportAs(fitted, 1);
+    QVERIFY(QFile::exists(fitted));
+    const tinygltf::Model free = softtouch::test::loadGlb(fitted.toStdString());
+    QVERIFY(QString::fromStdString(free.nodes[std::size_t(free.skins.front().joints.front())].name).startsWith("bone_"));
 }
 
 void TestEditor::keyframesFromPosesMakeAClip() {

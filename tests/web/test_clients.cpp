@@ -6,6 +6,7 @@
 
 #include "helpers/cli_run.h"
 
+#include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QProcess>
@@ -48,6 +49,7 @@ class TestClients : public QObject {
 private slots:
     void everyGlbKindPlaysAsTheBakeSays_data();
     void everyGlbKindPlaysAsTheBakeSays();
+    void theRiggedGuppyKeepsItsSkeletonInBlender();
 };
 
 void TestClients::everyGlbKindPlaysAsTheBakeSays_data() {
@@ -60,6 +62,9 @@ void TestClients::everyGlbKindPlaysAsTheBakeSays_data() {
     QTest::newRow("skin") << "angelfish-swim" << (swim + QStringList{"--format", "skin"});
     QTest::newRow("skin, compressed") << "angelfish-swim" << (swim + QStringList{"--format", "skin", "--compress"});
     QTest::newRow("skin of the rigged guppy") << "guppy-rigged" << QStringList{"--format", "skin"};
+    QTest::newRow("skin on the rigged guppy's own rig") << "guppy-rigged" << (swim + QStringList{"--format", "skin"});
+    QTest::newRow("skin of the rigged guppy, fitted bones")
+        << "guppy-rigged" << (swim + QStringList{"--format", "skin", "--rig", "fitted"});
 }
 
 void TestClients::everyGlbKindPlaysAsTheBakeSays() {
@@ -111,7 +116,8 @@ void TestClients::everyGlbKindPlaysAsTheBakeSays() {
                      qPrintable(QString("RMS %1 played, %2 printed").arg(playedRms).arg(printedRms)));
         else
             QVERIFY2(playedRms <= printedRms + 1e-6, qPrintable(QString("RMS %1 played, worst frame %2 printed").arg(playedRms).arg(printedRms)));
-        QVERIFY2(playedWorst <= printedWorst + 1e-6, qPrintable(QString("worst %1 played, %2 printed").arg(playedWorst).arg(printedWorst)));
+        // The bake prints three significant digits: the played worst may be above the printed one by its rounding.
+        QVERIFY2(playedWorst <= 1.005 * printedWorst + 1e-6, qPrintable(QString("worst %1 played, %2 printed").arg(playedWorst).arg(printedWorst)));
     };
     check(three, false);
     if (QTest::currentTestFailed())
@@ -121,6 +127,44 @@ void TestClients::everyGlbKindPlaysAsTheBakeSays() {
         return;
     if (inBlender["imported"].toBool())  // the two players agree
         QVERIFY2(std::abs(inBlender["rms"].toDouble() - three["rms"].toDouble()) < 1e-6, "Blender and three.js differ");
+}
+
+// The rigged guppy's swim exported onto its own rig, as Blender 3.4 imports it (rig_in_blender.py): every source
+// joint is there under its own name and parent, its rest matrix is the source file's, and at every frame its world
+// matrix is the source's at the take time the bake played, within 1e-6 (translations over the diagonal); the
+// helper bones hang under source joints. The clip's own error against the PC2 is checked by the rows above.
+void TestClients::theRiggedGuppyKeepsItsSkeletonInBlender() {
+    const QString blender = QStandardPaths::findExecutable("blender");
+    if (blender.isEmpty())
+        QSKIP("client test skipped: blender is missing (scripts/install-deps.sh installs it)");
+    QTemporaryDir dir;
+    const QString project = kSource + "/presets/scenes/guppy-rigged.softtouch";
+    const auto cache = runCli({"bake", project, "--clip", "swim", "--out", dir.filePath("c.pc2"), "--quiet"});
+    QVERIFY2(cache.exitCode == 0, qPrintable(cache.err));
+    const auto baked = runCli({"bake", project, "--clip", "swim", "--format", "skin", "--out", dir.filePath("c.glb")});
+    QVERIFY2(baked.exitCode == 0, qPrintable(baked.err));
+    // Where the clip sits in the take: the clip's start and rate from the project, the take's span from the import.
+    QFile file(project);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const QJsonObject clip = QJsonDocument::fromJson(file.readAll()).object()["clips"].toObject()["library"].toArray()[0].toObject();
+    const QRegularExpressionMatch take = QRegularExpression("from ([0-9.]+) s for ([0-9.]+) s").match(baked.out);
+    QVERIFY2(take.hasMatch(), qPrintable(baked.out));
+    const QStringList args{"-b", "--factory-startup", "--python", kSource + "/tests/web/rig_in_blender.py", "--",
+                           kSource + "/presets/meshes/guppy-rigged.glb", dir.filePath("c.glb"), dir.filePath("c.obj"),
+                           QString::number(clip["fps"].toDouble()), QString::number(clip["frames"].toInt()),
+                           QString::number(clip["start"].toDouble(), 'g', 17), take.captured(1), take.captured(2)};
+    const QJsonObject seen = play(blender, args);
+    qInfo("%s", QJsonDocument(seen).toJson(QJsonDocument::Compact).constData());
+    QVERIFY2(!seen.contains("error"), qPrintable(seen["error"].toString()));
+    QCOMPARE(seen["joints"].toInt(), 6);
+    QVERIFY2(seen["missing"].toArray().isEmpty() && seen["reparented"].toArray().isEmpty(),
+             QJsonDocument(seen).toJson().constData());
+    QVERIFY2(seen["rest"].toDouble() < 1e-6, "a joint's rest (bind) matrix differs from the source file's");
+    QVERIFY2(seen["animation"].toDouble() < 1e-6, "a joint's world matrix differs from the source file's");
+    const QJsonObject helpers = seen["helpers"].toObject();
+    QVERIFY(helpers.size() <= 16);
+    for (const QString& helper : helpers.keys())
+        QVERIFY2(helper.startsWith(helpers[helper].toString() + "_wobble_"), qPrintable(helper));
 }
 
 QTEST_GUILESS_MAIN(TestClients)

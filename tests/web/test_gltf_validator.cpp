@@ -65,6 +65,13 @@ void TestGltfValidator::everyGlbKindPassesTheValidator_data() {
                                       << "swim.glb" << true;
     QTest::newRow("skin of the rigged guppy") << "guppy-rigged.softtouch" << QStringList{"--format", "skin"} << "swim.glb"
                                               << "swim.glb" << false;
+    QTest::newRow("skin on the rigged guppy's own rig") << "guppy-rigged.softtouch" << (swim + QStringList{"--format", "skin"})
+                                                        << "swim.glb" << "swim.glb" << false;
+    QTest::newRow("skin on the rigged guppy's own rig, compressed")
+        << "guppy-rigged.softtouch" << (swim + QStringList{"--format", "skin", "--compress"}) << "swim.glb" << "swim.glb" << true;
+    QTest::newRow("skin of the rigged guppy, fitted bones")
+        << "guppy-rigged.softtouch" << (swim + QStringList{"--format", "skin", "--rig", "fitted"}) << "swim.glb" << "swim.glb"
+        << false;
     QTest::newRow("vat mesh") << fish << (swim + QStringList{"--format", "vat"}) << "swim" << "swim.vat-mesh.glb" << false;
     QTest::newRow("lattice cache mesh") << fish << (swim + QStringList{"--format", "lattice"}) << "swim"
                                         << "swim.lattice.glb" << false;
