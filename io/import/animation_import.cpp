@@ -533,7 +533,7 @@ void putTakes(std::string& out, const TakeList& takes) {
     }
 }
 
-bool getTakes(Decoder& in, TakeList& takes) {
+bool readTakesBytes(Decoder& in, TakeList& takes) {
     std::uint64_t count = 0;
     if (!in.get(count))
         return false;
@@ -566,7 +566,7 @@ void putAnimated(std::string& out, const AnimatedMesh& a) {
     putString(out, a.unit);
 }
 
-bool getAnimated(Decoder& in, AnimatedMesh& a) {
+bool readAnimatedBytes(Decoder& in, AnimatedMesh& a) {
     std::uint64_t samples = 0;
     std::uint8_t loop = 0;
     if (!getMesh(in, a.mesh) || !in.getBytes(a.animation.take) || !in.get(a.animation.start) || !in.get(a.animation.rate) ||
@@ -579,7 +579,7 @@ bool getAnimated(Decoder& in, AnimatedMesh& a) {
             return false;
         a.animation.samples.push_back(std::move(sample));
     }
-    return getTakes(in, a.takes) && in.getBytes(a.unit);
+    return readTakesBytes(in, a.takes) && in.getBytes(a.unit);
 }
 
 /// Everything importSourceRig() sends back through the importer's pipe.
@@ -618,7 +618,7 @@ void putSourceRig(std::string& out, const SourceRig& rig) {
     putVector(out, rig.mesh.weights);
     putString(out, rig.meshName);
 }
-bool getSourceRig(Decoder& in, SourceRig& rig) {
+bool readSourceRigBytes(Decoder& in, SourceRig& rig) {
     Skeleton& s = rig.skeleton;
     std::uint64_t count = 0, poses = 0;
     if (!in.get(count))
@@ -645,52 +645,74 @@ bool getSourceRig(Decoder& in, SourceRig& rig) {
            in.getBytes(rig.meshName);
 }
 
+/// The skeleton of `path`'s skinned mesh at `takeSeconds` of take `take` (importSourceRig()).
+Result<SourceRig> readSourceRig(const std::filesystem::path& path, const std::string& name, const std::string& take,
+                                const std::vector<double>& takeSeconds) {
+    Assimp::Importer importer;
+    const auto read = readAnimatedScene(importer, path, name);
+    if (!read)
+        return read.status();
+    const aiScene& scene = *read.value();
+    if (countNodes(scene.mRootNode, kMaxRigNodes) > kMaxRigNodes)
+        return Status::error("mesh file " + name + ": its rig has more than " + formatCount(double(kMaxRigNodes)) +
+                             " nodes (joints and others), the most SoftTouch samples");
+    const aiAnimation* chosen = nullptr;
+    for (unsigned a = 0; a < scene.mNumAnimations && !chosen; ++a)
+        if (take.empty() || take == scene.mAnimations[a]->mName.C_Str())
+            chosen = scene.mAnimations[a];
+    if (!chosen)
+        return Status::error("mesh file " + name + " has no take \"" + take + "\"");
+    for (double at : takeSeconds)
+        if (!std::isfinite(at))
+            return Status::error("mesh file " + name + ": a rig time is not a finite number");
+    const Rig rig(scene, chosen, sceneUnit(scene, path.string()).metresPerUnit);
+    return rig.sourceRig(takeSeconds, name);
+}
+
 }  // namespace
 
+std::string answerAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request) {
+    return encodeResult(readAnimated(path, name, request), putAnimated);
+}
+
+std::string answerTakes(const std::filesystem::path& path, const std::string& name) {
+    Assimp::Importer importer;
+    const auto scene = readAnimatedScene(importer, path, name);
+    return encodeResult(scene ? sceneTakes(*scene.value(), name) : Result<TakeList>(scene.status()), putTakes);
+}
+
+std::string answerSourceRig(const std::filesystem::path& path, const std::string& name, const std::string& take,
+                            const std::vector<double>& takeSeconds) {
+    return encodeResult(readSourceRig(path, name, take, takeSeconds), putSourceRig);
+}
+
+bool getAnimated(Decoder& in, AnimatedMesh& a) { return readAnimatedBytes(in, a); }
+bool getTakes(Decoder& in, TakeList& takes) { return readTakesBytes(in, takes); }
+bool getSourceRig(Decoder& in, SourceRig& rig) { return readSourceRigBytes(in, rig); }
+
 Result<AnimatedMesh> importAnimatedMesh(const std::filesystem::path& path, const AnimationRequest& request) {
-    return importIsolated<AnimatedMesh>(
-        path, [&](const std::string& name) { return readAnimated(path, name, request); }, putAnimated, getAnimated);
+    ImportRequest asked;
+    asked.kind = ImportRequest::Kind::Animated;
+    asked.paths = {path};
+    asked.animation = request;
+    return importIsolated<AnimatedMesh>(asked, getAnimated);
 }
 
 Result<TakeList> animationTakes(const std::filesystem::path& path) {
-    return importIsolated<TakeList>(
-        path,
-        [&](const std::string& name) -> Result<TakeList> {
-            Assimp::Importer importer;
-            const auto scene = readAnimatedScene(importer, path, name);
-            if (!scene)
-                return scene.status();
-            return sceneTakes(*scene.value(), name);
-        },
-        putTakes, getTakes);
+    ImportRequest asked;
+    asked.kind = ImportRequest::Kind::Takes;
+    asked.paths = {path};
+    return importIsolated<TakeList>(asked, getTakes);
 }
 
 Result<SourceRig> importSourceRig(const std::filesystem::path& path, const std::string& take,
                                   const std::vector<double>& takeSeconds) {
-    return importIsolated<SourceRig>(
-        path,
-        [&](const std::string& name) -> Result<SourceRig> {
-            Assimp::Importer importer;
-            const auto read = readAnimatedScene(importer, path, name);
-            if (!read)
-                return read.status();
-            const aiScene& scene = *read.value();
-            if (countNodes(scene.mRootNode, kMaxRigNodes) > kMaxRigNodes)
-                return Status::error("mesh file " + name + ": its rig has more than " + formatCount(double(kMaxRigNodes)) +
-                                     " nodes (joints and others), the most SoftTouch samples");
-            const aiAnimation* chosen = nullptr;
-            for (unsigned a = 0; a < scene.mNumAnimations && !chosen; ++a)
-                if (take.empty() || take == scene.mAnimations[a]->mName.C_Str())
-                    chosen = scene.mAnimations[a];
-            if (!chosen)
-                return Status::error("mesh file " + name + " has no take \"" + take + "\"");
-            for (double at : takeSeconds)
-                if (!std::isfinite(at))
-                    return Status::error("mesh file " + name + ": a rig time is not a finite number");
-            const Rig rig(scene, chosen, sceneUnit(scene, path.string()).metresPerUnit);
-            return rig.sourceRig(takeSeconds, name);
-        },
-        putSourceRig, getSourceRig);
+    ImportRequest asked;
+    asked.kind = ImportRequest::Kind::SourceRig;
+    asked.paths = {path};
+    asked.take = take;
+    asked.takeSeconds = takeSeconds;
+    return importIsolated<SourceRig>(asked, getSourceRig);
 }
 
 }  // namespace softtouch::io

@@ -5,6 +5,7 @@
 
 #include "core/base/result.h"
 #include "core/geometry/mesh.h"
+#include "io/import/animation_import.h"
 
 #include <cstdint>
 #include <cstring>
@@ -26,13 +27,49 @@ inline constexpr double kImportIdleSeconds = 10.0;
 /// operations) took 2.1 s and 0.4 s in release, 8.1 s and 4.9 s under ASan + UBSan, on a busy 2-core machine.
 inline constexpr double kImportMostSeconds = 120.0;
 
-/// Runs `produce` in a child process and returns the bytes it made. The child is stopped when it shows no
+/// Runs `produce` in a forked child process and returns the bytes it made. The child is stopped when it shows no
 /// sign of life for `idleSeconds` (an import hung in a lock or a loop), or runs past kImportMostSeconds.
 /// A crash, a hang, an exception or another failure of the child is an error naming `name` and the cause
-/// ("cannot read mesh NAME: …"). Where no child can be started, `produce` runs in this process. Every
-/// import uses the default window; a test of the watchdog itself may give a shorter one.
+/// ("cannot read mesh NAME: …"). Where no child can be started, `produce` runs in this process. The imports go
+/// through runImport(); this is for a test of the watchdog itself, which may give a shorter window.
 Result<std::string> runIsolated(const std::filesystem::path& path, const std::string& name,
                                 const std::function<std::string()>& produce, double idleSeconds = kImportIdleSeconds);
+
+/// One import, as the importer's child is asked for it.
+struct ImportRequest {
+    enum class Kind : std::uint8_t {
+        Mesh = 1,       ///< importMesh(paths[0]).
+        Animated,       ///< importAnimatedMesh(paths[0], animation).
+        Takes,          ///< animationTakes(paths[0]).
+        SourceRig,      ///< importSourceRig(paths[0], take, takeSeconds).
+        CheckMeshes,    ///< Whether every one of `paths` imports as a mesh.
+    };
+    Kind kind = Kind::Mesh;
+    std::vector<std::filesystem::path> paths;  ///< At least one.
+    AnimationRequest animation;                ///< Animated.
+    std::string take;                          ///< SourceRig.
+    std::vector<double> takeSeconds;           ///< SourceRig.
+};
+
+/// The importer program, started for each import where it is found beside the running program.
+inline constexpr const char* kImporterProgramName = "softtouch-import";
+/// Its path beside the running program; empty where it is not there (a fuzz build), and the import forks.
+std::filesystem::path importerProgram();
+
+/// Runs `request` in a child process, as runIsolated() describes: the importer program when there is one
+/// (started with posix_spawn, so it begins with a single thread whatever this process runs), else a fork() of
+/// this process. Returns the bytes of its answer (answerImportRequest()).
+Result<std::string> runImport(const ImportRequest& request, const std::string& name);
+
+/// What the child sends back for `request`: the import's result, encoded (encodeResult()). Runs in the child.
+std::string answerImportRequest(const ImportRequest& request);
+/// A request as bytes for the importer program's stdin, and back; nullopt when the bytes are not one.
+std::string encodeImportRequest(const ImportRequest& request);
+std::optional<ImportRequest> decodeImportRequest(const std::string& bytes);
+
+/// The importer program's main: reads a request on stdin, beats on fd 3, answers on stdout, and exits as a
+/// forked child would (app/softtouch_import.cpp).
+int importerMain();
 
 /// Tells the parent that the import running in this child is making progress (one sample of an animation
 /// done), so a long, legitimate import is not taken for a hung one. Cheap enough to call often: it writes at
@@ -149,14 +186,14 @@ std::optional<Result<T>> decodeResult(const std::string& bytes, Get&& getValue) 
 /// body), naming it `name` in errors.
 Status checkMeshFile(const std::filesystem::path& path, const std::string& name);
 
-/// Imports `path` in a child process: the file checked, `read(name)` run there, its result sent back with
-/// `putValue` and read with `getValue`. Every error names the file.
-template <typename T, typename Read, typename Put, typename Get>
-Result<T> importIsolated(const std::filesystem::path& path, Read&& read, Put&& putValue, Get&& getValue) {
-    const std::string name = "'" + path.string() + "'";
-    if (Status s = checkMeshFile(path, name); !s)
+/// Runs `request` in a child process (runImport()): its files checked first, its answer read with
+/// `getValue`. Every error names the file.
+template <typename T, typename Get>
+Result<T> importIsolated(const ImportRequest& request, Get&& getValue) {
+    const std::string name = "'" + request.paths.front().string() + "'";
+    if (Status s = checkMeshFile(request.paths.front(), name); !s)
         return s;
-    auto bytes = runIsolated(path, name, [&] { return encodeResult(read(name), putValue); });
+    auto bytes = runImport(request, name);
     if (!bytes)
         return bytes.status();
     auto decoded = decodeResult<T>(bytes.value(), getValue);
@@ -165,5 +202,17 @@ Result<T> importIsolated(const std::filesystem::path& path, Read&& read, Put&& p
                              "short); the file is corrupt or in a form assimp cannot read");
     return std::move(*decoded);
 }
+
+/// What each kind of request answers, in the child (the readers live beside their public functions).
+std::string answerMesh(const std::filesystem::path& path, const std::string& name);
+std::string answerMeshesCheck(const std::vector<std::filesystem::path>& paths);
+std::string answerAnimated(const std::filesystem::path& path, const std::string& name, const AnimationRequest& request);
+std::string answerTakes(const std::filesystem::path& path, const std::string& name);
+std::string answerSourceRig(const std::filesystem::path& path, const std::string& name, const std::string& take,
+                            const std::vector<double>& takeSeconds);
+/// Reads what answerAnimated(), answerTakes() and answerSourceRig() send (animation_import.cpp).
+bool getAnimated(Decoder& in, AnimatedMesh& a);
+bool getTakes(Decoder& in, TakeList& takes);
+bool getSourceRig(Decoder& in, SourceRig& rig);
 
 }  // namespace softtouch::io

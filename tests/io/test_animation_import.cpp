@@ -13,6 +13,7 @@
 #include "io/pipeline/bake.h"
 #include "io/pipeline/frame_source.h"
 
+#include <QProcess>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -643,6 +644,49 @@ private slots:
                  QString("cannot read mesh 'quiet.glb': the importer (assimp) showed no progress for 3 s and was stopped"));
         qInfo("the quiet child was stopped after %.2f s", seconds);
         QVERIFY(seconds >= kIdle + 0.5 && seconds < kIdle + 3.0);
+    }
+
+    // Every import runs in the importer program, started beside this one with posix_spawn: a child with one
+    // thread, where a fork() of a threaded process could inherit a lock another thread held (the sanitizers'
+    // allocators hung such children now and then). Its answers are the forked child's, byte for byte.
+    void importsRunInTheImporterProgram() {
+        const std::filesystem::path program = importerProgram();
+        QVERIFY2(!program.empty(), "softtouch-import is not built beside the tests");
+        QCOMPARE(QString::fromStdString(program.filename().string()), QString(kImporterProgramName));
+        const std::filesystem::path guppy = kPresets / "meshes/guppy-rigged.glb";
+        std::vector<ImportRequest> requests(4);
+        requests[0].kind = ImportRequest::Kind::Animated;
+        requests[0].animation.rate = 24.0;
+        requests[1].kind = ImportRequest::Kind::Takes;
+        requests[2].kind = ImportRequest::Kind::SourceRig;
+        requests[2].takeSeconds = {0.0, 0.25, 0.5};
+        requests[3].kind = ImportRequest::Kind::CheckMeshes;
+        for (ImportRequest& request : requests) {
+            request.paths = {guppy};
+            if (request.kind == ImportRequest::Kind::CheckMeshes)
+                request.paths.push_back(kPresets / "meshes/guppy.obj");
+            auto spawned = runImport(request, "'guppy-rigged.glb'");
+            auto forked = runIsolated(guppy, "'guppy-rigged.glb'", [&] { return answerImportRequest(request); });
+            QVERIFY2(spawned.ok() && forked.ok(), (spawned.ok() ? forked : spawned).message().c_str());
+            QVERIFY(spawned.value().size() > 1);
+            QVERIFY2(spawned.value() == forked.value(), qPrintable(QString("request kind %1").arg(int(request.kind))));
+        }
+    }
+
+    // A request the program cannot read (another build's, or none) is refused with its own exit status and a
+    // line saying so, which runImport() turns into a message.
+    void theImporterProgramRefusesARequestItCannotRead() {
+        const std::filesystem::path program = importerProgram();
+        QVERIFY2(!program.empty(), "softtouch-import is not built beside the tests");
+        QProcess child;
+        child.start(QString::fromStdString(program.string()), {});
+        QVERIFY(child.waitForStarted());
+        child.write("not a request");
+        child.closeWriteChannel();
+        QVERIFY(child.waitForFinished(30000));
+        QCOMPARE(child.exitCode(), 5);
+        QVERIFY2(child.readAllStandardError().contains("did not decode"), "no reason given");
+        QVERIFY(child.readAllStandardOutput().isEmpty());
     }
 };
 
