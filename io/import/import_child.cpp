@@ -195,10 +195,12 @@ Result<std::string> supervise(pid_t child, ChildPipes pipes, const std::string& 
     if (WIFEXITED(status) && WEXITSTATUS(status) == kChildBadRequest)
         return Status::error("cannot read mesh " + name + ": the importer program did not understand its request (" +
                              childSaid(errors, true) + "); it is not the one this program was built with");
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+        const std::string said = childSaid(errors, false);
         return Status::error("cannot read mesh " + name + ": the importer (assimp) failed on it (exit status " +
                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                             "); the file is corrupt or in a form assimp cannot read");
+                             (said.empty() ? "" : ": " + said) + "); the file is corrupt or in a form assimp cannot read");
+    }
     return bytes;
 }
 

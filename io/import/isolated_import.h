@@ -113,7 +113,8 @@ public:
         if (!get(n) || (m_bytes.size() - m_at) / sizeof(T) < n)
             return false;
         values.resize(std::size_t(n));
-        std::memcpy(static_cast<void*>(values.data()), m_bytes.data() + m_at, std::size_t(n) * sizeof(T));
+        if (n != 0)  // an empty vector's data() may be null, which memcpy must not be given
+            std::memcpy(static_cast<void*>(values.data()), m_bytes.data() + m_at, std::size_t(n) * sizeof(T));
         m_at += std::size_t(n) * sizeof(T);
         return true;
     }

@@ -65,6 +65,22 @@ void TestEditor::initTestCase() {
     QStandardPaths::setTestModeEnabled(true);
     QApplication::setOrganizationName("SoftTouchTests");
     QApplication::setApplicationName("test_editor");
+    m_unansweredDialogs.setInterval(15000);  // tests answer theirs within a second or two, even under ASan
+    connect(&m_unansweredDialogs, &QTimer::timeout, this, [this] {
+        QWidget* modal = QApplication::activeModalWidget();
+        if (modal && modal == m_openSinceLastTick) {
+            const auto* box = qobject_cast<QMessageBox*>(modal);
+            qWarning("closing a dialog no test answered: '%s' %s", qPrintable(modal->windowTitle()),
+                     box ? qPrintable(box->text()) : "");
+            if (auto* dialog = qobject_cast<QDialog*>(modal))
+                dialog->reject();
+            else
+                modal->close();
+            modal = nullptr;
+        }
+        m_openSinceLastTick = modal;
+    });
+    m_unansweredDialogs.start();
 }
 
 void TestEditor::init() {

@@ -45,6 +45,7 @@
 #include <QLineEdit>
 #include <QListWidget>
 #include <QMessageBox>
+#include <QPointer>
 #include <QProcess>
 #include <QPushButton>
 #include <QRegularExpression>
@@ -207,4 +208,9 @@ private:
 
     std::unique_ptr<QTemporaryDir> m_dir;
     std::unique_ptr<MainWindow> m_window;
+    /// Closes a modal dialog that no test answered (an error box in init(), say) once it has stood open for
+    /// two of its ticks, saying what it showed: the test then fails on what the dialog said instead of
+    /// waiting out QTest's five-minute watchdog.
+    QTimer m_unansweredDialogs;
+    QPointer<QWidget> m_openSinceLastTick;
 };
