@@ -1,6 +1,9 @@
 #include "ui/frame_ruler.h"
 
+#include <QActionGroup>
+#include <QContextMenuEvent>
 #include <QKeyEvent>
+#include <QMenu>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
@@ -56,8 +59,10 @@ void FrameRuler::setRanges(std::vector<Range> ranges) {
     update();
 }
 
-void FrameRuler::setKeys(std::vector<double> seconds) {
+void FrameRuler::setKeys(std::vector<double> seconds, std::vector<KeyInterpolation> interpolation) {
     m_keys = std::move(seconds);
+    m_interpolation = std::move(interpolation);
+    m_interpolation.resize(m_keys.size(), KeyInterpolation::Smooth);
     if (m_selectedKey >= int(m_keys.size()))
         m_selectedKey = -1;
     update();
@@ -134,20 +139,33 @@ void FrameRuler::paintEvent(QPaintEvent*) {
                          painter.fontMetrics().elidedText(r.label, Qt::ElideRight, int(box.width()) - 6));
     }
     painter.setBrush(Qt::NoBrush);
-    // Keys: diamonds, the selected one filled orange; a dragged one drawn where it would land.
+    // Keys: their shape says how each moves on (smooth a diamond, linear a circle, constant a square whose hold
+    // bar runs to the next key); the selected one filled orange; a dragged one drawn where it would land.
     for (int k = 0; k < int(m_keys.size()); ++k) {
         QPointF p = keyPoint(k);
         if (m_drag == Drag::Key && k == m_selectedKey)
             p.setX(xOfFrame(m_dragFrame));
-        QPainterPath diamond;
-        diamond.moveTo(p + QPointF(0, -6));
-        diamond.lineTo(p + QPointF(6, 0));
-        diamond.lineTo(p + QPointF(0, 6));
-        diamond.lineTo(p + QPointF(-6, 0));
-        diamond.closeSubpath();
+        const KeyInterpolation how = m_interpolation[std::size_t(k)];
+        if (how == KeyInterpolation::Constant && k + 1 < int(m_keys.size())) {
+            painter.setPen(Qt::NoPen);
+            painter.setBrush(QColor(120, 120, 120));
+            painter.drawRect(QRectF(p.x(), p.y() - 1.5, keyPoint(k + 1).x() - p.x(), 3));
+        }
+        QPainterPath shape;
+        if (how == KeyInterpolation::Linear) {
+            shape.addEllipse(p, 5.5, 5.5);
+        } else if (how == KeyInterpolation::Constant) {
+            shape.addRect(QRectF(p.x() - 5, p.y() - 5, 10, 10));
+        } else {
+            shape.moveTo(p + QPointF(0, -6));
+            shape.lineTo(p + QPointF(6, 0));
+            shape.lineTo(p + QPointF(0, 6));
+            shape.lineTo(p + QPointF(-6, 0));
+            shape.closeSubpath();
+        }
         painter.setPen(QPen(Qt::black, 1));
         painter.setBrush(k == m_selectedKey ? QColor(255, 160, 40) : QColor(235, 235, 235));
-        painter.drawPath(diamond);
+        painter.drawPath(shape);
     }
     // The playhead, with its frame.
     const double x = xOfFrame(m_frame);
@@ -231,6 +249,36 @@ void FrameRuler::keyPressEvent(QKeyEvent* event) {
         return;
     }
     QWidget::keyPressEvent(event);
+}
+
+void FrameRuler::contextMenuEvent(QContextMenuEvent* event) {
+    const int k = keyAt(event->pos());
+    if (k < 0) {
+        QWidget::contextMenuEvent(event);
+        return;
+    }
+    m_selectedKey = k;
+    emit keySelected(k);
+    update();
+    QMenu menu(this);
+    menu.setObjectName("keyMenu");
+    auto* group = new QActionGroup(&menu);
+    const std::pair<KeyInterpolation, QString> choices[] = {{KeyInterpolation::Smooth, tr("Smooth")},
+                                                            {KeyInterpolation::Linear, tr("Linear")},
+                                                            {KeyInterpolation::Constant, tr("Constant (hold)")}};
+    for (const auto& [how, label] : choices) {
+        QAction* action = menu.addAction(label);
+        action->setCheckable(true);
+        action->setChecked(m_interpolation[std::size_t(k)] == how);
+        action->setActionGroup(group);
+        connect(action, &QAction::triggered, this, [this, k, how = how] { emit keyInterpolationChosen(k, how); });
+    }
+    menu.addSeparator();
+    connect(menu.addAction(tr("Delete key")), &QAction::triggered, this, [this, k] {
+        m_selectedKey = -1;
+        emit keyDeleted(k);
+    });
+    menu.exec(event->globalPos());
 }
 
 }  // namespace softtouch::ui

@@ -4,6 +4,8 @@
 /// can be selected, dragged to retime (Ctrl+drag copies) and deleted. Click or drag on the ruler to scrub.
 /// It draws and reports; the timeline panel and the keys panel make the edits (one undo step each).
 
+#include "core/authoring/keyframes.h"
+
 #include <QWidget>
 
 #include <optional>
@@ -43,8 +45,10 @@ public:
     void setRanges(std::vector<Range> ranges);
     const std::vector<Range>& ranges() const { return m_ranges; }
 
-    /// The keys to show, seconds of key time (in order).
-    void setKeys(std::vector<double> seconds);
+    /// The keys to show, seconds of key time (in order), and how each moves on to the next (drawn as its shape:
+    /// smooth a diamond, linear a circle, constant a square with a bar held to the next key; all smooth when
+    /// not given).
+    void setKeys(std::vector<double> seconds, std::vector<KeyInterpolation> interpolation = {});
     const std::vector<double>& keys() const { return m_keys; }
     /// The selected key (-1: none).
     int selectedKey() const { return m_selectedKey; }
@@ -63,8 +67,10 @@ signals:
     void frameChanged(int frame);
     /// A key tick was dropped at `seconds` (snapped to a frame): moved, or copied with Ctrl.
     void keyMoved(int index, double seconds, bool copy);
-    /// The selected key is to be deleted (Delete or Backspace).
+    /// The selected key is to be deleted (Delete or Backspace, or its right-click menu).
     void keyDeleted(int index);
+    /// A key's right-click menu chose how it moves on to the next.
+    void keyInterpolationChosen(int index, softtouch::KeyInterpolation interpolation);
     /// A key tick was clicked: show its pose.
     void keySelected(int index);
     /// An in or out handle was dragged.
@@ -76,6 +82,7 @@ protected:
     void mouseMoveEvent(QMouseEvent* event) override;
     void mouseReleaseEvent(QMouseEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
+    void contextMenuEvent(QContextMenuEvent* event) override;
 
 private:
     enum class Drag { None, Scrub, Key, In, Out };
@@ -89,6 +96,7 @@ private:
     int m_frame = 0;
     std::optional<std::pair<int, int>> m_inOut;
     std::vector<double> m_keys;
+    std::vector<KeyInterpolation> m_interpolation;  ///< Per key.
     std::vector<Range> m_ranges;
     int m_selectedKey = -1;
     Drag m_drag = Drag::None;

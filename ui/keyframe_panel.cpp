@@ -3,6 +3,7 @@
 #include "ui/edit_commands.h"
 
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QGridLayout>
 #include <QLabel>
@@ -18,7 +19,7 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     auto* layout = new QGridLayout(this);
     m_list = new QListWidget;
     m_list->setObjectName("keys");
-    layout->addWidget(m_list, 0, 0, 5, 1);
+    layout->addWidget(m_list, 0, 0, 6, 1);
     m_time = new QDoubleSpinBox;
     m_time->setRange(0.0, 1e5);
     m_time->setDecimals(3);
@@ -35,13 +36,24 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     layout->addWidget(move, 1, 2);
     layout->addWidget(copy, 2, 1);
     layout->addWidget(remove, 2, 2);
+    m_interpolation = new QComboBox;
+    m_interpolation->setObjectName("keyInterpolation");
+    m_interpolation->addItem(tr("Smooth"), int(KeyInterpolation::Smooth));
+    m_interpolation->addItem(tr("Linear"), int(KeyInterpolation::Linear));
+    m_interpolation->addItem(tr("Constant (hold)"), int(KeyInterpolation::Constant));
+    m_interpolation->setToolTip(tr("How the selected key moves on to the next: smooth (a spline through the keys), "
+                                   "linear (a straight line), constant (held, then a snap to the next key). Also on "
+                                   "the key's right-click menu in the Timeline's ruler."));
+    m_interpolation->setEnabled(false);
+    layout->addWidget(new QLabel(tr("Interpolation")), 3, 1);
+    layout->addWidget(m_interpolation, 3, 2);
     m_goals = new QCheckBox(tr("As goals (physics follow-through)"));
     auto* clip = new QPushButton(tr("Clip from keys"));
-    layout->addWidget(m_goals, 3, 1, 1, 2);
-    layout->addWidget(clip, 4, 1, 1, 2);
+    layout->addWidget(m_goals, 4, 1, 1, 2);
+    layout->addWidget(clip, 5, 1, 1, 2);
     m_message = new QLabel;
     m_message->setWordWrap(true);
-    layout->addWidget(m_message, 5, 0, 1, 3);
+    layout->addWidget(m_message, 6, 0, 1, 3);
 
     connect(key, &QPushButton::clicked, this, [this] { keyPose(m_time->value()); });
     connect(move, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), m_time->value(), false); });
@@ -49,6 +61,9 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     connect(remove, &QPushButton::clicked, this, [this] { deleteKey(m_list->currentRow()); });
     connect(clip, &QPushButton::clicked, this, [this] { makeClip(m_goals->isChecked()); });
     connect(m_list, &QListWidget::currentRowChanged, this, &KeyframePanel::showKey);
+    connect(m_interpolation, &QComboBox::activated, this, [this](int item) {
+        setInterpolation(m_list->currentRow(), KeyInterpolation(m_interpolation->itemData(item).toInt()));
+    });
     connect(document, &Document::clipsChanged, this, &KeyframePanel::refresh);
     connect(document, &Document::sceneReplaced, this, &KeyframePanel::refresh);
     refresh();
@@ -124,12 +139,28 @@ bool KeyframePanel::deleteKey(int index) {
     return edit(tr("Delete key"), [&](KeyframeAnimation& a) { return a.deleteKey(std::size_t(index)); });
 }
 
+bool KeyframePanel::setInterpolation(int index, KeyInterpolation interpolation) {
+    if (index < 0)
+        return false;
+    return edit(tr("Set key interpolation to %1").arg(keyInterpolationName(interpolation)),
+                [&](KeyframeAnimation& a) { return a.setInterpolation(std::size_t(index), interpolation); });
+}
+
 void KeyframePanel::showKey(int index) {
     const std::vector<LatticeKey> k = keys();
     const SceneSimulation* sim = m_simulation->simulation();
     const NamedKeyframes* set = m_document->project().clips.findKeyframes(kSetName);
+    m_interpolation->setEnabled(index >= 0 && std::size_t(index) < k.size());
     if (index < 0 || std::size_t(index) >= k.size() || !sim || !set)
         return;
+    {
+        const QSignalBlocker quiet(m_interpolation);
+        m_interpolation->setCurrentIndex(m_interpolation->findData(int(k[std::size_t(index)].interpolation)));
+    }
+    if (m_list->currentRow() != index) {
+        const QSignalBlocker quiet(m_list);
+        m_list->setCurrentRow(index);
+    }
     m_time->setValue(k[std::size_t(index)].seconds);
     std::vector<std::vector<Vec3>> pose;
     for (std::size_t i = 0; i < sim->objectCount(); ++i) {
@@ -174,9 +205,23 @@ bool KeyframePanel::makeClip(bool goals) {
 
 void KeyframePanel::refresh() {
     const QSignalBlocker block(m_list);
+    const int selected = m_list->currentRow();
     m_list->clear();
-    for (const LatticeKey& k : keys())
-        m_list->addItem(tr("%1 s · %n node(s)", nullptr, int(k.nodes.size())).arg(k.seconds, 0, 'f', 3));
+    // Frames first, as the ruler counts them (the scene's rate), then seconds.
+    const double fps = m_document->scene().world.fps;
+    const QString names[] = {tr("smooth"), tr("linear"), tr("constant")};
+    const std::vector<LatticeKey> all = keys();
+    for (const LatticeKey& k : all)
+        m_list->addItem(tr("frame %1 (%2 s) · %n node(s) · %3", nullptr, int(k.nodes.size()))
+                            .arg(k.seconds * fps, 0, 'g', 6)
+                            .arg(k.seconds, 0, 'f', 3)
+                            .arg(names[int(k.interpolation)]));
+    if (selected >= 0 && selected < int(all.size())) {
+        m_list->setCurrentRow(selected);
+        const QSignalBlocker quiet(m_interpolation);
+        m_interpolation->setCurrentIndex(m_interpolation->findData(int(all[std::size_t(selected)].interpolation)));
+    }
+    m_interpolation->setEnabled(m_list->currentRow() >= 0);
 }
 
 }  // namespace softtouch::ui

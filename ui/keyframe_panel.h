@@ -13,6 +13,7 @@
 class QCheckBox;
 class QDoubleSpinBox;
 class QLabel;
+class QComboBox;
 class QListWidget;
 
 namespace softtouch::ui {
@@ -35,6 +36,8 @@ public:
     /// Moves (copy = false) or copies key `index` to `seconds`.
     bool moveKey(int index, double seconds, bool copy);
     bool deleteKey(int index);
+    /// Sets how key `index` moves on to the next (one undo step).
+    bool setInterpolation(int index, KeyInterpolation interpolation);
     /// Shows key `index`'s pose.
     void showKey(int index);
     /// Adds a clip of the keys from the first to the last key at the scene's fps; goals simulate them.
@@ -51,6 +54,7 @@ private:
     QListWidget* m_list = nullptr;
     QDoubleSpinBox* m_time = nullptr;
     QCheckBox* m_goals = nullptr;
+    QComboBox* m_interpolation = nullptr;  ///< The selected key's interpolation.
     QLabel* m_message = nullptr;
 };
 

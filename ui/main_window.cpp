@@ -150,9 +150,12 @@ void MainWindow::buildDocks() {
     FrameRuler* ruler = m_timeline->ruler();
     const auto showKeys = [this, ruler] {
         std::vector<double> seconds;
-        for (const LatticeKey& k : m_keyframes->keys())
+        std::vector<KeyInterpolation> interpolation;
+        for (const LatticeKey& k : m_keyframes->keys()) {
             seconds.push_back(k.seconds);
-        ruler->setKeys(std::move(seconds));
+            interpolation.push_back(k.interpolation);
+        }
+        ruler->setKeys(std::move(seconds), std::move(interpolation));
     };
     connect(m_document, &Document::clipsChanged, ruler, showKeys);
     connect(m_document, &Document::sceneReplaced, ruler, showKeys);
@@ -162,6 +165,8 @@ void MainWindow::buildDocks() {
         m_keyframes->moveKey(index, seconds, copy);
     });
     connect(ruler, &FrameRuler::keyDeleted, m_keyframes, [this](int index) { m_keyframes->deleteKey(index); });
+    connect(ruler, &FrameRuler::keyInterpolationChosen, m_keyframes,
+            [this](int index, KeyInterpolation how) { m_keyframes->setInterpolation(index, how); });
     showKeys();
 }
 

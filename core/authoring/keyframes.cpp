@@ -14,8 +14,11 @@ long long findNode(const LatticeKey& key, std::uint32_t node) {
     return it != key.nodes.end() && *it == node ? it - key.nodes.begin() : -1;
 }
 
-/// Catmull-Rom through (t[k], p[k]) with non-uniform times: value and derivative at `s`.
-void catmullRom(const std::vector<double>& t, const std::vector<Vec3>& p, double s, Vec3& value, Vec3& rate) {
+/// The track through (t[k], p[k]) at `s`, value and derivative, segment k moving as `how[k]` says: smooth is
+/// Catmull-Rom with non-uniform times (cubic Hermite, tangents from the neighbouring keys), linear a straight
+/// line, constant key k held.
+void track(const std::vector<double>& t, const std::vector<Vec3>& p, const std::vector<KeyInterpolation>& how, double s,
+           Vec3& value, Vec3& rate) {
     rate.setZero();
     const std::size_t n = t.size();
     if (n == 1 || s <= t.front()) {
@@ -27,14 +30,24 @@ void catmullRom(const std::vector<double>& t, const std::vector<Vec3>& p, double
         return;
     }
     const std::size_t i = std::size_t(std::upper_bound(t.begin(), t.end(), s) - t.begin()) - 1;
+    const double h = t[i + 1] - t[i];
+    const double x = (s - t[i]) / h;
+    if (how[i] == KeyInterpolation::Constant) {
+        value = p[i];
+        return;
+    }
+    if (how[i] == KeyInterpolation::Linear) {
+        value = p[i] + x * (p[i + 1] - p[i]);
+        rate = (p[i + 1] - p[i]) / h;
+        return;
+    }
     auto tangent = [&](std::size_t k) -> Vec3 {
         const std::size_t lo = k == 0 ? 0 : k - 1;
         const std::size_t hi = std::min(k + 1, n - 1);
         return (p[hi] - p[lo]) / (t[hi] - t[lo]);
     };
-    const double h = t[i + 1] - t[i];
     const Vec3 m1 = tangent(i) * h, m2 = tangent(i + 1) * h;
-    const double x = (s - t[i]) / h, x2 = x * x, x3 = x2 * x;
+    const double x2 = x * x, x3 = x2 * x;
     // Cubic Hermite basis on [0,1].
     value = (2 * x3 - 3 * x2 + 1) * p[i] + (x3 - 2 * x2 + x) * m1 + (-2 * x3 + 3 * x2) * p[i + 1] + (x3 - x2) * m2;
     rate = ((6 * x2 - 6 * x) * p[i] + (3 * x2 - 4 * x + 1) * m1 + (-6 * x2 + 6 * x) * p[i + 1] + (3 * x2 - 2 * x) * m2) / h;
@@ -69,7 +82,7 @@ Result<std::size_t> KeyframeAnimation::insertKey(LatticeKey key) {
         order[i] = i;
     if (key.nodes.size() == key.displacement.size()) {
         std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key.nodes[a] < key.nodes[b]; });
-        LatticeKey sorted{key.seconds, {}, {}};
+        LatticeKey sorted{key.seconds, {}, {}, key.interpolation};
         for (std::size_t i : order) {
             sorted.nodes.push_back(key.nodes[i]);
             sorted.displacement.push_back(key.displacement[i]);
@@ -147,6 +160,29 @@ Status KeyframeAnimation::deleteKey(std::size_t index) {
     return Status::success();
 }
 
+Status KeyframeAnimation::setInterpolation(std::size_t index, KeyInterpolation interpolation) {
+    if (index >= m_keys.size())
+        return Status::error("no key " + std::to_string(index) + " (" + std::to_string(m_keys.size()) + " keys)");
+    m_keys[index].interpolation = interpolation;
+    return Status::success();
+}
+
+const char* keyInterpolationName(KeyInterpolation interpolation) {
+    switch (interpolation) {
+    case KeyInterpolation::Linear: return "linear";
+    case KeyInterpolation::Constant: return "constant";
+    case KeyInterpolation::Smooth: break;
+    }
+    return "smooth";
+}
+
+std::optional<KeyInterpolation> keyInterpolationNamed(std::string_view name) {
+    for (KeyInterpolation k : {KeyInterpolation::Smooth, KeyInterpolation::Linear, KeyInterpolation::Constant})
+        if (name == keyInterpolationName(k))
+            return k;
+    return std::nullopt;
+}
+
 long long KeyframeAnimation::keyAt(double seconds) const {
     for (std::size_t i = 0; i < m_keys.size(); ++i) {
         if (std::abs(m_keys[i].seconds - seconds) <= kSameTime)
@@ -165,19 +201,22 @@ void KeyframeAnimation::sample(double seconds, std::span<Vec3> displacement, std
         keyed->assign(m_nodeCount, 0);
     std::vector<double> t;
     std::vector<Vec3> p;
+    std::vector<KeyInterpolation> how;
     for (std::size_t node = 0; node < m_nodeCount && node < displacement.size(); ++node) {
         t.clear();
         p.clear();
+        how.clear();
         for (const LatticeKey& key : m_keys) {
             if (const long long k = findNode(key, std::uint32_t(node)); k >= 0) {
                 t.push_back(key.seconds);
                 p.push_back(key.displacement[std::size_t(k)]);
+                how.push_back(key.interpolation);
             }
         }
         if (t.empty())
             continue;
         Vec3 value, rate;
-        catmullRom(t, p, seconds, value, rate);
+        track(t, p, how, seconds, value, rate);
         displacement[node] = value;
         if (node < velocity.size())
             velocity[node] = rate;

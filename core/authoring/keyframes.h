@@ -3,10 +3,12 @@
 ///
 /// A key stores, at one time, the displacement from rest of some lattice nodes (all of them or the
 /// selected ones). Each node has its own track made of the keys that hold it; between them the
-/// displacement follows a Catmull-Rom spline with non-uniform times (tangent at key k:
-/// (p[k+1] − p[k−1]) / (t[k+1] − t[k−1]), one-sided at the ends), so it passes through every key, is
-/// C1, reproduces motion at constant velocity exactly, and holds before the first and after the last
-/// key. Nodes no key holds stay at rest.
+/// displacement moves from each key to the next as that key's interpolation says: smooth (the default), a
+/// Catmull-Rom spline with non-uniform times (tangent at key k: (p[k+1] − p[k−1]) / (t[k+1] − t[k−1]),
+/// one-sided at the ends), which passes through every key, is C1 where neighbouring keys are smooth too and
+/// reproduces motion at constant velocity exactly; linear, a straight line at constant velocity; constant, the
+/// key held until the next (a pose that snaps, as in blocking). Before the first and after the last key the
+/// displacement holds. Nodes no key holds stay at rest.
 ///
 /// Keys as goals: goalDrags() turns the keyed pose at time t into one drag spring per keyed node
 /// (support on that node only; target = rest + keyed displacement, target velocity = the spline's
@@ -16,15 +18,28 @@
 #include "core/base/ranges.h"
 #include "core/scene/scene.h"
 
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace softtouch {
+
+/// How the keyed displacement goes from a key to the next (Blender's and Maya's per-key interpolation).
+enum class KeyInterpolation : std::uint8_t {
+    Smooth,    ///< Catmull-Rom through the neighbouring keys.
+    Linear,    ///< A straight line at constant velocity.
+    Constant,  ///< This key held until the next.
+};
+/// Its name in files and menus ("smooth", "linear", "constant"), and back (nullopt for another name).
+const char* keyInterpolationName(KeyInterpolation interpolation);
+std::optional<KeyInterpolation> keyInterpolationNamed(std::string_view name);
 
 /// One keyframe: some nodes' displacements at one time.
 struct LatticeKey {
     double seconds = 0.0;                ///< Key time, seconds, finite.
     std::vector<std::uint32_t> nodes;    ///< Keyed nodes, increasing, unique, < node count.
     std::vector<Vec3> displacement;      ///< Per keyed node, metres from its rest position.
+    KeyInterpolation interpolation = KeyInterpolation::Smooth;  ///< From this key to the next.
 };
 
 /// How keys pull a simulated body.
@@ -63,6 +78,8 @@ public:
     Result<std::size_t> copyKey(std::size_t index, double seconds);
     /// Deletes key `index`.
     Status deleteKey(std::size_t index);
+    /// Sets how key `index` moves on to the next.
+    Status setInterpolation(std::size_t index, KeyInterpolation interpolation);
     /// Index of the key at `seconds` (within 1e-9 s), or -1.
     long long keyAt(double seconds) const;
 

@@ -227,12 +227,21 @@ std::optional<NamedKeyframes> readKeyframes(const JsonValue& v, const Scene& sce
             const JsonValue key = keys.at(k);
             if (!key.expectObject(true))
                 return std::nullopt;
-            key.checkKeys({"time", "nodes", "displacement"});
+            key.checkKeys({"time", "nodes", "displacement", "interpolation"});
             LatticeKey lk;
             const auto t = key["time"].number(-1e6, 1e6, "s", true);
             if (!t)
                 return std::nullopt;
             lk.seconds = *t;
+            if (const JsonValue how = key["interpolation"]; how.exists()) {
+                const auto name = how.string(true);
+                const auto interpolation = name ? keyInterpolationNamed(*name) : std::nullopt;
+                if (!interpolation) {
+                    how.problem("expected \"smooth\", \"linear\" or \"constant\"");
+                    return std::nullopt;
+                }
+                lk.interpolation = *interpolation;
+            }
             const JsonValue ns = key["nodes"], ds = key["displacement"];
             if (!ns.isArray() || !ds.isArray() || ns.size() != ds.size()) {
                 key.problem("expected \"nodes\" (node indices, i fastest) and \"displacement\" ([x,y,z] per node) of equal length");
@@ -384,7 +393,10 @@ void writeClipLibrary(const ClipLibrary& lib, json& doc) {
                     json displacement = json::array();
                     for (const Vec3& d : k.displacement)
                         displacement.push_back(vec(d));
-                    keys.push_back({{"time", k.seconds}, {"nodes", k.nodes}, {"displacement", displacement}});
+                    json key = {{"time", k.seconds}, {"nodes", k.nodes}, {"displacement", displacement}};
+                    if (k.interpolation != KeyInterpolation::Smooth)  // smooth is what a key without it means
+                        key["interpolation"] = keyInterpolationName(k.interpolation);
+                    keys.push_back(std::move(key));
                 }
                 objects.push_back({{"keys", keys}});
             }

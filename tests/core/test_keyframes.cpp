@@ -38,6 +38,7 @@ class TestKeyframes : public QObject {
 private slots:
     void interpolationPassesThroughKeysAndIsCubic();
     void subsetKeysMakePerNodeTracks();
+    void eachKeySaysHowItMovesOnToTheNext();
     void setMoveCopyDelete();
     void badKeysAreRefused();
     void goalSpringsFollowKeysWithFollowThrough();
@@ -101,6 +102,49 @@ void TestKeyframes::subsetKeysMakePerNodeTracks() {
     // Keying more nodes at an existing time merges into that key.
     QCOMPARE(anim.setKey(1.0, rest, std::vector<Vec3>{up * 5, up * 5, up * 5}, {2}).value(), std::size_t(1));
     QCOMPARE(anim.keys()[1].nodes, (std::vector<std::uint32_t>{1, 2}));
+}
+
+void TestKeyframes::eachKeySaysHowItMovesOnToTheNext() {
+    // One node keyed at 0, 1, 2 and 3 s: heights 0, 1, 0, 1. Segment by segment: the first key constant (held, then
+    // a snap at 1 s), the second linear, the third smooth.
+    KeyframeAnimation anim(1);
+    const std::vector<Vec3> rest{Vec3::Zero()};
+    const std::vector<double> heights{0.0, 1.0, 0.0, 1.0};
+    for (std::size_t k = 0; k < heights.size(); ++k)
+        QVERIFY(anim.setKey(double(k), rest, std::vector<Vec3>{Vec3(0, heights[k], 0)}).ok());
+    QCOMPARE(anim.keys()[0].interpolation, KeyInterpolation::Smooth);  // a new key is smooth
+    QVERIFY(anim.setInterpolation(0, KeyInterpolation::Constant).ok());
+    QVERIFY(anim.setInterpolation(1, KeyInterpolation::Linear).ok());
+    QVERIFY(!anim.setInterpolation(4, KeyInterpolation::Linear).ok());
+    std::vector<Vec3> d(1), v(1);
+    for (double t : {0.0, 0.25, 0.5, 0.999}) {  // held at key 0's pose, not moving
+        anim.sample(t, d, v);
+        QCOMPARE(d[0].y(), 0.0);
+        QCOMPARE(v[0].y(), 0.0);
+    }
+    anim.sample(1.0, d, v);
+    QCOMPARE(d[0].y(), 1.0);  // the snap: key 1's pose on its time
+    for (double t : {1.25, 1.5, 1.75}) {  // a straight line down at 1 m/s
+        anim.sample(t, d, v);
+        QVERIFY(std::abs(d[0].y() - (2.0 - t)) < 1e-12);
+        QVERIFY(std::abs(v[0].y() + 1.0) < 1e-12);
+    }
+    // Smooth from key 2: through both ends, not the straight line (its tangent at key 2 comes from keys 1 and 3).
+    anim.sample(2.5, d, v);
+    QVERIFY2(std::abs(d[0].y() - 0.5) > 0.05, qPrintable(QString::number(d[0].y())));
+    anim.sample(3.0, d, v);
+    QCOMPARE(d[0].y(), 1.0);
+    // Moving, copying and keying over a key keep its interpolation; the copy takes it along.
+    QVERIFY(anim.moveKey(1, 1.1).ok());
+    QCOMPARE(anim.keys()[1].interpolation, KeyInterpolation::Linear);
+    QVERIFY(anim.copyKey(0, 5.0).ok());
+    QCOMPARE(anim.keys().back().interpolation, KeyInterpolation::Constant);
+    QVERIFY(anim.setKey(0.0, rest, std::vector<Vec3>{Vec3(0, 0.5, 0)}).ok());
+    QCOMPARE(anim.keys()[0].interpolation, KeyInterpolation::Constant);
+    // Names, both ways.
+    for (KeyInterpolation k : {KeyInterpolation::Smooth, KeyInterpolation::Linear, KeyInterpolation::Constant})
+        QCOMPARE(keyInterpolationNamed(keyInterpolationName(k)), std::optional<KeyInterpolation>(k));
+    QVERIFY(!keyInterpolationNamed("bezier"));
 }
 
 void TestKeyframes::setMoveCopyDelete() {

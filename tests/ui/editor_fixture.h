@@ -180,6 +180,7 @@ private slots:
     void oneTransportPlaysWhatTheTimelineShows();
     void spaceAfterADialogPlaysRatherThanReopeningIt();
     void rulerTicksRetimeCopyAndDeleteKeys();
+    void keysHoldOrGoStraightAsTheRulerMenuSays();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();
     void scriptedDeviceDrivesTheFishAtHapticRate();

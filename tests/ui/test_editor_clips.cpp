@@ -555,6 +555,84 @@ void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
     QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
 }
 
+// Each key says how it moves on to the next: picked from its right-click menu on the ruler or in the Keys panel
+// (one undo step each), and the keyed clip moves so: a constant key holds its pose until the next key, a linear
+// one goes straight, at constant speed, to it.
+void TestEditor::keysHoldOrGoStraightAsTheRulerMenuSays() {
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    FrameRuler* ruler = w.timeline()->ruler();
+    QUndoStack* undo = w.document()->undoStack();
+    sim->setDriversEnabled(false);
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    const std::vector<Vec3> rest = lattice.restNodes();
+    std::vector<Vec3> raised = rest;
+    const Vec3 lift(0, 0.05, 0);
+    raised[0] += lift;
+    QVERIFY(keys->keyPose(0.0));  // rest at 0 s, raised at 1 s, rest again at 2 s
+    QVERIFY(sim->setObjectPose(0, raised));
+    QVERIFY(keys->keyPose(1.0));
+    QVERIFY(sim->setObjectPose(0, rest));
+    QVERIFY(keys->keyPose(2.0));
+    const int undo0 = undo->index();
+    // Right-click the 1 s key on the ruler and pick Constant (hold) from its menu.
+    QStringList offered;
+    QTimer::singleShot(100, this, [&] {
+        auto* menu = qobject_cast<QMenu*>(QApplication::activePopupWidget());
+        if (!menu || menu->objectName() != "keyMenu")
+            return;
+        for (QAction* action : menu->actions()) {
+            offered << action->text();
+            if (action->text() == "Constant (hold)")
+                action->trigger();
+        }
+        menu->close();
+    });
+    const QPoint at = ruler->keyPoint(1).toPoint();
+    QContextMenuEvent rightClick(QContextMenuEvent::Mouse, at, ruler->mapToGlobal(at));
+    QApplication::sendEvent(ruler, &rightClick);
+    QVERIFY2(offered.contains("Linear") && offered.contains("Delete key"), qPrintable(offered.join(", ")));
+    QCOMPARE(keys->keys()[1].interpolation, KeyInterpolation::Constant);
+    QCOMPARE(undo->index(), undo0 + 1);
+    // In the Keys panel, the first key becomes linear: select it, then the arrow key on the Interpolation box.
+    auto* list = keys->findChild<QListWidget*>("keys");
+    auto* how = keys->findChild<QComboBox*>("keyInterpolation");
+    QVERIFY(list && how);
+    list->setCurrentRow(0);
+    QVERIFY(how->isEnabled());
+    QCOMPARE(how->currentText(), QString("Smooth"));
+    QTest::keyClick(how, Qt::Key_Down);
+    QCOMPARE(keys->keys()[0].interpolation, KeyInterpolation::Linear);
+    QCOMPARE(undo->index(), undo0 + 2);
+    QVERIFY2(list->item(0)->text().contains("linear") && list->item(1)->text().contains("constant"),
+             qPrintable(list->item(0)->text() + " | " + list->item(1)->text()));
+    list->setCurrentRow(1);
+    QCOMPARE(how->currentText(), QString("Constant (hold)"));
+    // The clip from the keys: straight up to the lift over the first second, held through the second, then the
+    // snap back to rest at 2 s.
+    QVERIFY(keys->makeClip(false));
+    const ClipLibrary& library = w.document()->project().clips;
+    auto frames = evaluateClip(w.document()->scene(), library, library.clips.back());
+    QVERIFY2(frames.ok(), frames.message().c_str());
+    const double fps = library.clips.back().fps;
+    const int count = int(frames->nodes.size());
+    QVERIFY(count >= int(2 * fps));
+    for (int f = 0; f < count; ++f) {
+        const double t = f / fps;
+        const Vec3 expected = rest[0] + (t <= 1.0 ? t * lift : t < 2.0 - 1e-9 ? lift : Vec3::Zero().eval());
+        const double off = (frames->nodes[std::size_t(f)][0][0] - expected).norm();
+        QVERIFY2(off < 1e-9, qPrintable(QString("frame %1 (%2 s) is %3 m off").arg(f).arg(t).arg(off)));
+    }
+    // Undo takes both choices back: the clip, then the linear key, then the held key.
+    undo->undo();
+    undo->undo();
+    undo->undo();
+    QCOMPARE(undo->index(), undo0);
+    QCOMPARE(keys->keys()[0].interpolation, KeyInterpolation::Smooth);
+    QCOMPARE(keys->keys()[1].interpolation, KeyInterpolation::Smooth);
+}
+
 // A take's in/out range, trimmed by dragging its ends on the ruler, is what "Clip from take" cuts: the clip
 // starts at the in frame and its exported cache holds out - in frames, the first one the take's state at in.
 void TestEditor::trimmedTakeClipExportsItsRange() {
