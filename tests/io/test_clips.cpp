@@ -159,6 +159,7 @@ void TestClips::libraryRoundTripsAndSessionsReplayExactly() {
         p.y() += 0.05;
     QVERIFY(keys.setKey(0.0, rest, rest, {0, 4, 8, 12}).ok());
     QVERIFY(keys.setKey(0.5, rest, up, {0, 4, 8, 12}).ok());
+    QVERIFY(keys.setInterpolation(0, KeyInterpolation::Constant).ok());
     project.clips.keyframes.push_back({"flick", {keys}});
     project.clips.clips.push_back(Clip{"take", ClipSource::Session, "take 1", 0.0, 24, 24.0, false, 0, std::nullopt});
     project.clips.clips.push_back(Clip{"flick", ClipSource::Keyframes, "flick", 0.0, 12, 24.0, false, 0, GoalSettings{}});
@@ -176,6 +177,8 @@ void TestClips::libraryRoundTripsAndSessionsReplayExactly() {
     QVERIFY(lib.findClip("flick")->goals.has_value());
     QCOMPARE(lib.findKeyframes("flick")->objects[0].keys().size(), std::size_t(2));
     QCOMPARE(lib.findKeyframes("flick")->objects[0].keys()[1].nodes, (std::vector<std::uint32_t>{0, 4, 8, 12}));
+    QCOMPARE(lib.findKeyframes("flick")->objects[0].keys()[0].interpolation, KeyInterpolation::Constant);
+    QCOMPARE(lib.findKeyframes("flick")->objects[0].keys()[1].interpolation, KeyInterpolation::Smooth);
 
     // The saved session replays bit for bit: 17 significant digits survive the JSON.
     const Session& session = lib.findSession("take 1")->session;
@@ -237,6 +240,9 @@ void TestClips::badClipsNameTheProblem_data() {
     QTest::newRow("key node out of range")
         << R"(, "keyframes": [{"name": "k", "objects": [{"keys": [{"time": 0, "nodes": [64], "displacement": [[0,0,0]]}]}]}])"
         << "/keyframes/0/objects/0/keys/0/nodes/0: expected an integer in [0, 63]";
+    QTest::newRow("unknown key interpolation")
+        << R"(, "keyframes": [{"name": "k", "objects": [{"keys": [{"time": 0, "nodes": [0], "displacement": [[0,0,0]], "interpolation": "bezier"}]}]}])"
+        << "/keyframes/0/objects/0/keys/0/interpolation: expected";
     QTest::newRow("session of another lattice")
         << R"(, "sessions": [{"name": "s", "dt": 0.004166666666666667, "start": {"step": 0, "bodies": [{"position": [0, 0, 0], "velocity": [0, 0, 0]}]}, "end": 10}])"
         << "/sessions/0/start/bodies/0/position: expected 192 numbers";
