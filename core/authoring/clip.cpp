@@ -34,12 +34,44 @@ std::vector<Vec3> sampleNodes(const SceneSimulation& sim, double seconds) {
     return out;
 }
 
+/// Which key time a keyframe clip shows at each frame. A loop plays its keys round and round: key time wraps
+/// with the period. A goal clip's simulation starts before the clip's first frame, so frame 0 shows the body
+/// already moving with the keys rather than at rest (from rest it would snap to the first key within a frame):
+/// a loop first runs two passes of its cycle, so the seam joins the cycle's own motion; a one-shot clip starts
+/// a second before its earliest key or its start, holding that key, so the body has settled into it.
+struct KeyTiming {
+    double lead = 0.0;    ///< Simulated seconds before the clip's first frame.
+    double start = 0.0;   ///< Key time of the clip's first frame.
+    double period = 0.0;  ///< A loop's length, seconds; 0: no wrap.
+
+    KeyTiming(const Clip& clip, const NamedKeyframes& keys) : start(clip.startSeconds) {
+        if (clip.loop) {
+            period = double(clip.frames) / clip.fps;
+            lead = 2.0 * period;  // >= the closure's pre-roll, at most `frames` frames
+            return;
+        }
+        double earliest = clip.startSeconds;
+        for (const KeyframeAnimation& k : keys.objects)
+            if (!k.keys().empty())
+                earliest = std::min(earliest, k.firstSeconds());
+        lead = clip.startSeconds - earliest + 1.0;
+    }
+    /// The simulation's time of clip frame j (negative: the pre-roll).
+    double simulated(int j, double fps) const { return lead + double(j) / fps; }
+    /// The key time at simulated time `seconds`.
+    double keyTime(double seconds) const { return fromStart(seconds - lead); }
+    /// The key time `t` seconds after the clip's first frame (wrapped into the cycle for a loop).
+    double fromStart(double t) const { return period > 0.0 ? start + (t - period * std::floor(t / period)) : start + t; }
+};
+
 /// Every keyed object's goal springs, refreshed at the start of each step (as GoalPlayer does for one object).
 SceneSimulation::StepInputs goalInputs(const NamedKeyframes& keys, const GoalSettings& goals,
-                                       const std::vector<std::vector<Vec3>>& rest) {
-    return [&keys, &goals, &rest](SceneSimulation& sim, std::size_t i, long long step) {
+                                       const std::vector<std::vector<Vec3>>& rest, const KeyTiming& timing) {
+    return [&keys, &goals, &rest, &timing](SceneSimulation& sim, std::size_t i, long long step) {
         if (!keys.objects[i].keys().empty())
-            sim.setInteractiveDrags(i, goalDrags(keys.objects[i], rest[i], double(step) * sim.simulator(i).settings().dt, goals));
+            sim.setInteractiveDrags(
+                i, goalDrags(keys.objects[i], rest[i], timing.keyTime(double(step) * sim.simulator(i).settings().dt), goals,
+                             timing.period));
     };
 }
 
@@ -303,17 +335,23 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
                                      sim.object(i).name + "' (" + std::to_string(keys->objects[i].nodeCount()) +
                                      " nodes, lattice " + std::to_string(rest[i].size()) + ")");
         }
+        const KeyTiming timing(clip, *keys);
+        if (close)
+            pre = clip.blendFrames;  // a loop's pass before, or the goals' lead-in, is its pre-roll
         for (int j = -pre; j <= last; ++j) {
             if (stopped(j))
                 return Status::cancelled(where + "cancelled");
             if (clip.goals) {
-                sim.advanceToSample(timeOf(j), problems, goalInputs(*keys, *clip.goals, rest));
-                samples.push_back(sampleNodes(sim, timeOf(j)));
+                const double at = timing.simulated(j, clip.fps);
+                sim.advanceToSample(at, problems, goalInputs(*keys, *clip.goals, rest, timing));
+                samples.push_back(sampleNodes(sim, at));
                 continue;
             }
             std::vector<Vec3> flat;
             for (std::size_t i = 0; i < sim.objectCount(); ++i) {
-                const std::vector<Vec3> p = keys->objects[i].pose(timeOf(j), rest[i]);
+                // A loop plays its keys round and round (the pre-roll is the end of the pass before).
+                const double t = clip.loop ? timing.fromStart(double(j) / clip.fps) : timeOf(j);
+                const std::vector<Vec3> p = keys->objects[i].pose(t, rest[i], timing.period);
                 flat.insert(flat.end(), p.begin(), p.end());
             }
             samples.push_back(std::move(flat));

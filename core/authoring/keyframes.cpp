@@ -16,12 +16,13 @@ long long findNode(const LatticeKey& key, std::uint32_t node) {
 
 /// The track through (t[k], p[k]) at `s`, value and derivative, segment k moving as `how[k]` says: smooth is
 /// Catmull-Rom with non-uniform times (cubic Hermite, tangents from the neighbouring keys), linear a straight
-/// line, constant key k held.
+/// line, constant key k held. When the keys span exactly one `cycle` (> 0: the last key at the first's time
+/// plus the cycle), the ends' tangents wrap round to the neighbouring pass, as a looping clip plays them.
 void track(const std::vector<double>& t, const std::vector<Vec3>& p, const std::vector<KeyInterpolation>& how, double s,
-           Vec3& value, Vec3& rate) {
+           double cycle, Vec3& value, Vec3& rate) {
     rate.setZero();
     const std::size_t n = t.size();
-    if (n == 1 || s <= t.front()) {
+    if (n == 1 || s < t.front()) {
         value = p.front();
         return;
     }
@@ -41,7 +42,12 @@ void track(const std::vector<double>& t, const std::vector<Vec3>& p, const std::
         rate = (p[i + 1] - p[i]) / h;
         return;
     }
+    const bool wraps = cycle > 0.0 && n >= 3 && std::abs(t.back() - t.front() - cycle) <= 1e-9 * std::max(1.0, cycle);
     auto tangent = [&](std::size_t k) -> Vec3 {
+        if (wraps && k == 0)
+            return (p[1] - p[n - 2]) / (t[1] - (t[n - 2] - cycle));
+        if (wraps && k == n - 1)
+            return (p[1] - p[n - 2]) / (t[1] + cycle - t[n - 2]);
         const std::size_t lo = k == 0 ? 0 : k - 1;
         const std::size_t hi = std::min(k + 1, n - 1);
         return (p[hi] - p[lo]) / (t[hi] - t[lo]);
@@ -192,7 +198,7 @@ long long KeyframeAnimation::keyAt(double seconds) const {
 }
 
 void KeyframeAnimation::sample(double seconds, std::span<Vec3> displacement, std::span<Vec3> velocity,
-                               std::vector<std::uint8_t>* keyed) const {
+                               std::vector<std::uint8_t>* keyed, double cycle) const {
     for (Vec3& d : displacement)
         d.setZero();
     for (Vec3& v : velocity)
@@ -216,7 +222,7 @@ void KeyframeAnimation::sample(double seconds, std::span<Vec3> displacement, std
         if (t.empty())
             continue;
         Vec3 value, rate;
-        track(t, p, how, seconds, value, rate);
+        track(t, p, how, seconds, cycle, value, rate);
         displacement[node] = value;
         if (node < velocity.size())
             velocity[node] = rate;
@@ -225,22 +231,22 @@ void KeyframeAnimation::sample(double seconds, std::span<Vec3> displacement, std
     }
 }
 
-std::vector<Vec3> KeyframeAnimation::pose(double seconds, std::span<const Vec3> rest) const {
+std::vector<Vec3> KeyframeAnimation::pose(double seconds, std::span<const Vec3> rest, double cycle) const {
     std::vector<Vec3> out(rest.size());
-    sample(seconds, out);
+    sample(seconds, out, {}, nullptr, cycle);
     for (std::size_t i = 0; i < out.size(); ++i)
         out[i] += rest[i];
     return out;
 }
 
 std::vector<DragSpring> goalDrags(const KeyframeAnimation& animation, std::span<const Vec3> rest, double seconds,
-                                  const GoalSettings& settings) {
+                                  const GoalSettings& settings, double cycle) {
     std::vector<DragSpring> drags;
     if (settings.weight <= 0.0 || animation.keys().empty())
         return drags;
     std::vector<Vec3> displacement(rest.size()), velocity(rest.size());
     std::vector<std::uint8_t> keyed;
-    animation.sample(seconds, displacement, velocity, &keyed);
+    animation.sample(seconds, displacement, velocity, &keyed, cycle);
     for (std::size_t n = 0; n < rest.size(); ++n) {
         if (!keyed[n])
             continue;

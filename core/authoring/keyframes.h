@@ -84,11 +84,12 @@ public:
     long long keyAt(double seconds) const;
 
     /// Keyed displacement and its time derivative of every node at `seconds` (zero for unkeyed nodes).
-    /// `keyed` (optional) gets 1 for nodes some key holds.
+    /// `keyed` (optional) gets 1 for nodes some key holds. `cycle` > 0: a loop's length, seconds; a node whose
+    /// keys span exactly that (its last key the first pose again) gets tangents that wrap round at its ends.
     void sample(double seconds, std::span<Vec3> displacement, std::span<Vec3> velocity = {},
-                std::vector<std::uint8_t>* keyed = nullptr) const;
+                std::vector<std::uint8_t>* keyed = nullptr, double cycle = 0.0) const;
     /// The keyed pose: rest + sample(seconds).
-    std::vector<Vec3> pose(double seconds, std::span<const Vec3> rest) const;
+    std::vector<Vec3> pose(double seconds, std::span<const Vec3> rest, double cycle = 0.0) const;
     /// Time of the first and last key (0, 0 when empty).
     double firstSeconds() const { return m_keys.empty() ? 0.0 : m_keys.front().seconds; }
     double lastSeconds() const { return m_keys.empty() ? 0.0 : m_keys.back().seconds; }
@@ -100,9 +101,9 @@ private:
 };
 
 /// One drag spring per keyed node pulling it toward its keyed position at `seconds` (see the file
-/// comment). Empty when the weight is 0 or nothing is keyed.
+/// comment; `cycle` as sample() takes it). Empty when the weight is 0 or nothing is keyed.
 std::vector<DragSpring> goalDrags(const KeyframeAnimation& animation, std::span<const Vec3> rest, double seconds,
-                                  const GoalSettings& settings);
+                                  const GoalSettings& settings, double cycle = 0.0);
 
 /// Steps a SceneSimulation with goal springs on one object, refreshed at the start of every step,
 /// on top of its drivers and of any `extra` interactive drags (the editor's mouse). The animation

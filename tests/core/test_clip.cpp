@@ -52,6 +52,7 @@ private slots:
     void driversClipIsTheSimulation();
     void sessionClipIsTheReplay();
     void keyframeClipsPlayKeysOrGoals();
+    void goalClipsStartInStride();
     void loopClosureByCrossFadeAndBySpreadingTheDrift();
     void seamMeasureOfAPerfectCycle();
     void badClipsAreRefused();
@@ -125,8 +126,8 @@ void TestClip::keyframeClipsPlayKeysOrGoals() {
     QVERIFY(lib.validate(scene).ok());
     auto played = evaluateClip(scene, lib, keyed);
     QVERIFY2(played.ok(), played.message().c_str());
-    for (std::size_t i = 0; i < 24; ++i)
-        QVERIFY(played->nodes[i][0] == anim.pose(double(i) / 24.0, rest));
+    for (std::size_t i = 0; i < 24; ++i)  // a loop: the keys' tangents wrap round the 1 s cycle
+        QVERIFY(played->nodes[i][0] == anim.pose(double(i) / 24.0, rest, 1.0));
     // Goals: physics follows the keys (and the driver) instead of copying them.
     keyed.goals = GoalSettings{50.0, 0.2, 1.0};
     auto simulated = evaluateClip(scene, lib, keyed);
@@ -141,6 +142,53 @@ void TestClip::keyframeClipsPlayKeysOrGoals() {
     lib.keyframes[0].objects[0] = KeyframeAnimation(27);
     QVERIFY(!lib.validate(scene).ok());
     QVERIFY(!evaluateClip(scene, lib, keyed).ok());
+}
+
+// A goal clip's simulation starts before its first frame, so frame 0 shows the body already moving with the keys,
+// not at rest snapping toward the first key: a one-shot clip of a bent first key opens settled in the bend, a
+// looped one in the cycle's own stride, its seam an ordinary step.
+void TestClip::goalClipsStartInStride() {
+    Scene scene = swimmingBall();
+    scene.objects[0].drivers.clear();  // the keys alone move it
+    const Lattice& lattice = scene.objects[0].lattice;
+    const std::vector<Vec3> rest = lattice.restNodes();
+    const std::size_t tip = std::size_t(lattice.index(0, 2, 2));
+    const auto bentBy = [&](double amount) {
+        std::vector<Vec3> bent = rest;
+        for (int n = 0; n < lattice.nodeCount(); ++n)
+            bent[std::size_t(n)].z() += amount * (1.0 - lattice.restNodeParameters(n).x());
+        return bent;
+    };
+    KeyframeAnimation oneShot(rest.size());
+    QVERIFY(oneShot.setKey(0.0, rest, bentBy(0.2)).ok());
+    QVERIFY(oneShot.setKey(1.0, rest, rest).ok());
+    KeyframeAnimation cycle(rest.size());
+    const double swing[] = {0.0, 0.2, 0.0, -0.2, 0.0};
+    for (int k = 0; k < 5; ++k)
+        QVERIFY(cycle.setKey(0.25 * k, rest, bentBy(swing[k])).ok());
+    ClipLibrary lib;
+    lib.keyframes.push_back({"once", {oneShot}});
+    lib.keyframes.push_back({"cycle", {cycle}});
+    const GoalSettings goals{200.0, 2.0, 1.0};
+    const Clip once{"once", ClipSource::Keyframes, "once", 0.0, 12, 24.0, false, 0, goals};
+    auto opened = evaluateClip(scene, lib, once);
+    QVERIFY2(opened.ok(), opened.message().c_str());
+    const double keyed = 0.2 * (1.0 - lattice.restNodeParameters(int(tip)).x());
+    const double first = opened->nodes[0][0][tip].z() - rest[tip].z();
+    const double step = (opened->nodes[1][0][tip] - opened->nodes[0][0][tip]).norm();
+    QVERIFY2(first > 0.7 * keyed, qPrintable(QString("frame 0 at %1 of the keyed %2").arg(first).arg(keyed)));
+    QVERIFY2(step < 0.1 * keyed, qPrintable(QString("first step %1").arg(step)));
+
+    const Clip loop{"loop", ClipSource::Keyframes, "cycle", 0.0, 24, 24.0, true, 6, goals};
+    auto looped = evaluateClip(scene, lib, loop);
+    QVERIFY2(looped.ok(), looped.message().c_str());
+    QCOMPARE(looped->nodes.size(), std::size_t(24));
+    const SeamMeasure seam = measureSeam(looped.value());
+    QVERIFY2(seam.ratio < 1.2 && seam.localRatio < 1.2, qPrintable(QString("%1 / %2").arg(seam.ratio).arg(seam.localRatio)));
+    // Frame 0 is in stride: the tip is moving as it does a cycle later, not starting from rest.
+    const double v0 = looped->nodes[1][0][tip].z() - looped->nodes[0][0][tip].z();
+    const double vEnd = looped->nodes[0][0][tip].z() - looped->nodes[23][0][tip].z();
+    QVERIFY2(std::abs(v0) > 0.5 * std::abs(vEnd) && v0 * vEnd > 0.0, qPrintable(QString("%1 vs %2").arg(v0).arg(vEnd)));
 }
 
 void TestClip::loopClosureByCrossFadeAndBySpreadingTheDrift() {

@@ -39,6 +39,7 @@ private slots:
     void interpolationPassesThroughKeysAndIsCubic();
     void subsetKeysMakePerNodeTracks();
     void eachKeySaysHowItMovesOnToTheNext();
+    void aKeyedCycleWrapsItsTangents();
     void setMoveCopyDelete();
     void badKeysAreRefused();
     void goalSpringsFollowKeysWithFollowThrough();
@@ -145,6 +146,32 @@ void TestKeyframes::eachKeySaysHowItMovesOnToTheNext() {
     for (KeyInterpolation k : {KeyInterpolation::Smooth, KeyInterpolation::Linear, KeyInterpolation::Constant})
         QCOMPARE(keyInterpolationNamed(keyInterpolationName(k)), std::optional<KeyInterpolation>(k));
     QVERIFY(!keyInterpolationNamed("bezier"));
+}
+
+// Keys that span exactly one cycle, the last the first pose again, as a looping clip plays them: given the cycle,
+// the ends' tangents wrap round to the neighbouring pass, so the velocity carries across the loop's seam; without
+// it they are one-sided and the velocity jumps there (here from 2.5 to 5 m/s).
+void TestKeyframes::aKeyedCycleWrapsItsTangents() {
+    KeyframeAnimation anim(1);
+    const std::vector<Vec3> rest{Vec3::Zero()};
+    const std::vector<std::pair<double, double>> keys{{0.0, 0.0}, {0.2, 1.0}, {0.6, -1.0}, {1.0, 0.0}};
+    for (const auto& [t, height] : keys)
+        QVERIFY(anim.setKey(t, rest, std::vector<Vec3>{Vec3(0, height, 0)}).ok());
+    const auto velocity = [&](double t, double cycle) {
+        std::vector<Vec3> d(1), v(1);
+        anim.sample(t, d, v, nullptr, cycle);
+        return v[0].y();
+    };
+    const double start = velocity(0.0, 1.0), end = velocity(1.0 - 1e-9, 1.0);
+    QVERIFY2(std::abs(start - 2.0 / 0.6) < 1e-9, qPrintable(QString::number(start)));  // (1 - (-1)) / (0.2 + 0.4)
+    QVERIFY2(std::abs(end - start) < 1e-6, qPrintable(QString("%1 vs %2").arg(end).arg(start)));
+    QVERIFY(std::abs(velocity(0.0, 0.0) - 5.0) < 1e-9 && std::abs(velocity(1.0 - 1e-9, 0.0) - 2.5) < 1e-6);
+    // Inside the cycle, and for keys that do not span it, nothing changes.
+    QCOMPARE(velocity(0.4, 1.0), velocity(0.4, 0.0));
+    QCOMPARE(velocity(0.0, 2.0), velocity(0.0, 0.0));
+    // Every key is still passed through.
+    for (const auto& [t, height] : keys)
+        QCOMPARE(anim.pose(t, rest, 1.0)[0].y(), height);
 }
 
 void TestKeyframes::setMoveCopyDelete() {
