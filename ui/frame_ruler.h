@@ -28,6 +28,8 @@ public:
     double originSeconds() const { return m_origin; }
     /// The playhead's frame.
     int frame() const { return m_frame; }
+    /// Scene (or key) time of `frame`, seconds: frames count from the shown clip's or take's start.
+    double secondsOfFrame(int frame) const { return m_origin + frame / m_fps; }
     /// Moves the playhead (clamped to the span) without emitting frameChanged.
     void setFrame(int frame);
 

@@ -1,14 +1,17 @@
 #include "ui/keyframe_panel.h"
 
 #include "ui/edit_commands.h"
+#include "ui/spin_box.h"
 
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QGridLayout>
+#include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
+#include <QSpinBox>
 
 #include <cmath>
 
@@ -19,14 +22,19 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     auto* layout = new QGridLayout(this);
     m_list = new QListWidget;
     m_list->setObjectName("keys");
-    layout->addWidget(m_list, 0, 0, 6, 1);
-    m_time = new QDoubleSpinBox;
-    m_time->setRange(0.0, 1e5);
-    m_time->setDecimals(3);
-    m_time->setSingleStep(0.25);
-    m_time->setSuffix(tr(" s"));
-    layout->addWidget(new QLabel(tr("Key time")), 0, 1);
-    layout->addWidget(m_time, 0, 2);
+    layout->addWidget(m_list, 0, 0, 7, 1);
+    m_frame = new QSpinBox;
+    m_frame->setObjectName("keyFrame");
+    m_frame->setRange(0, 1000000);
+    m_frame->setToolTip(tr("The frame Key pose (I) keys at, counted from the scene's start at its frame rate; it "
+                           "follows the playhead on the timeline's ruler."));
+    m_seconds = new QLabel;
+    auto* at = new QHBoxLayout;
+    at->addWidget(m_frame, 1);
+    at->addWidget(m_seconds);
+    layout->addWidget(new QLabel(tr("Key frame")), 0, 1);
+    layout->addLayout(at, 0, 2);
+    connect(m_frame, &QSpinBox::valueChanged, this, &KeyframePanel::showSeconds);
     auto* key = new QPushButton(tr("Key pose"));
     key->setToolTip(tr("Key the current pose of the selected nodes (all nodes when none is selected)."));
     auto* move = new QPushButton(tr("Move key here"));
@@ -48,16 +56,29 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     layout->addWidget(new QLabel(tr("Interpolation")), 3, 1);
     layout->addWidget(m_interpolation, 3, 2);
     m_goals = new QCheckBox(tr("As goals (physics follow-through)"));
+    m_goalStrength = makeSpinBox(0.01, kGoalWeight.high, 2, QString(), 0.5);
+    m_goalStrength->setObjectName("goalStrength");
+    m_goalStrength->setValue(GoalSettings{}.weight);
+    m_goalStrength->setPrefix(QStringLiteral("× "));
+    m_goalStrength->setToolTip(tr("How hard the goal springs pull the keyed nodes to their keys (%1 N/m and %2 N·s/m "
+                                  "per node at × 1): higher follows the keys more closely, lower leaves more to "
+                                  "the material.")
+                                   .arg(GoalSettings{}.stiffness)
+                                   .arg(GoalSettings{}.damping));
+    m_goalStrength->setEnabled(false);
+    connect(m_goals, &QCheckBox::toggled, m_goalStrength, &QWidget::setEnabled);
     auto* clip = new QPushButton(tr("Clip from keys"));
     layout->addWidget(m_goals, 4, 1, 1, 2);
-    layout->addWidget(clip, 5, 1, 1, 2);
+    layout->addWidget(new QLabel(tr("Goal strength")), 5, 1);
+    layout->addWidget(m_goalStrength, 5, 2);
+    layout->addWidget(clip, 6, 1, 1, 2);
     m_message = new QLabel;
     m_message->setWordWrap(true);
-    layout->addWidget(m_message, 6, 0, 1, 3);
+    layout->addWidget(m_message, 7, 0, 1, 3);
 
-    connect(key, &QPushButton::clicked, this, [this] { keyPose(m_time->value()); });
-    connect(move, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), m_time->value(), false); });
-    connect(copy, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), m_time->value(), true); });
+    connect(key, &QPushButton::clicked, this, [this] { keyPose(keyTime()); });
+    connect(move, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), keyTime(), false); });
+    connect(copy, &QPushButton::clicked, this, [this] { moveKey(m_list->currentRow(), keyTime(), true); });
     connect(remove, &QPushButton::clicked, this, [this] { deleteKey(m_list->currentRow()); });
     connect(clip, &QPushButton::clicked, this, [this] { makeClip(m_goals->isChecked()); });
     connect(m_list, &QListWidget::currentRowChanged, this, &KeyframePanel::showKey);
@@ -108,7 +129,13 @@ bool KeyframePanel::edit(const QString& text, const std::function<Status(Keyfram
     return true;
 }
 
-double KeyframePanel::keyTime() const { return m_time->value(); }
+double KeyframePanel::keyTime() const { return m_frame->value() / m_document->scene().world.fps; }
+
+void KeyframePanel::showSeconds() { m_seconds->setText(tr("%1 s").arg(keyTime(), 0, 'f', 3)); }
+
+void KeyframePanel::setKeyTime(double seconds) {
+    m_frame->setValue(int(std::lround(seconds * m_document->scene().world.fps)));
+}
 
 bool KeyframePanel::keyPose(double seconds) {
     const SceneSimulation* sim = m_simulation->simulation();
@@ -161,7 +188,7 @@ void KeyframePanel::showKey(int index) {
         const QSignalBlocker quiet(m_list);
         m_list->setCurrentRow(index);
     }
-    m_time->setValue(k[std::size_t(index)].seconds);
+    setKeyTime(k[std::size_t(index)].seconds);
     std::vector<std::vector<Vec3>> pose;
     for (std::size_t i = 0; i < sim->objectCount(); ++i) {
         const std::vector<Vec3> rest = sim->object(i).lattice.restNodes();
@@ -185,8 +212,10 @@ bool KeyframePanel::makeClip(bool goals) {
     clip.fps = m_document->scene().world.fps;
     clip.startSeconds = k.front().seconds;
     clip.frames = std::max(1, int(std::lround((k.back().seconds - k.front().seconds) * clip.fps)) + 1);
-    if (goals)
+    if (goals) {
         clip.goals = GoalSettings{};
+        clip.goals->weight = m_goalStrength->value();
+    }
     int n = 1;
     while (library.findClip("keys clip" + (n > 1 ? " " + std::to_string(n) : "")))
         ++n;
@@ -222,6 +251,7 @@ void KeyframePanel::refresh() {
         m_interpolation->setCurrentIndex(m_interpolation->findData(int(all[std::size_t(selected)].interpolation)));
     }
     m_interpolation->setEnabled(m_list->currentRow() >= 0);
+    showSeconds();  // the scene's rate may have changed
 }
 
 }  // namespace softtouch::ui

@@ -12,6 +12,7 @@
 
 class QCheckBox;
 class QDoubleSpinBox;
+class QSpinBox;
 class QLabel;
 class QComboBox;
 class QListWidget;
@@ -29,8 +30,11 @@ public:
 
     /// Keys of the current object, in time order.
     std::vector<LatticeKey> keys() const;
-    /// The time the panel's buttons key at (its Key time field), seconds.
+    /// The time the panel's buttons and I key at, seconds: its Key frame field, in frames at the scene's rate
+    /// as the ruler counts them, which follows the playhead.
     double keyTime() const;
+    /// Sets the Key frame field to the frame nearest `seconds`.
+    void setKeyTime(double seconds);
     /// Keys the current pose at `seconds` (the selected nodes, or all). Returns false with the reason shown.
     bool keyPose(double seconds);
     /// Moves (copy = false) or copies key `index` to `seconds`.
@@ -47,13 +51,17 @@ private:
     /// Applies `change` to a copy of the library's keyframe set (made when missing) as one undo step.
     bool edit(const QString& text, const std::function<Status(KeyframeAnimation&)>& change);
     void refresh();
+    /// The Key frame field's time in seconds, beside it.
+    void showSeconds();
 
     Document* m_document;
     SimulationController* m_simulation;
     Viewport* m_viewport;
     QListWidget* m_list = nullptr;
-    QDoubleSpinBox* m_time = nullptr;
+    QSpinBox* m_frame = nullptr;  ///< Key frame, at the scene's rate.
+    QLabel* m_seconds = nullptr;  ///< That frame in seconds.
     QCheckBox* m_goals = nullptr;
+    QDoubleSpinBox* m_goalStrength = nullptr;  ///< The goal springs' weight for the next clip.
     QComboBox* m_interpolation = nullptr;  ///< The selected key's interpolation.
     QLabel* m_message = nullptr;
 };

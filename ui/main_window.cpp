@@ -143,8 +143,9 @@ void MainWindow::buildDocks() {
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
     auto* keysDock = dock(tr("Keys"), "keysDock", m_keyframes, Qt::BottomDockWidgetArea);
     keysDock->setMaximumHeight(220);
-    tabifyDockWidget(timelineDock, keysDock);
-    timelineDock->raise();
+    // Beside the timeline, not a tab behind it: an animator keys while looking at the ruler.
+    splitDockWidget(timelineDock, keysDock, Qt::Horizontal);
+    resizeDocks({timelineDock, keysDock}, {940, 420}, Qt::Horizontal);
     // The pose keys of the current object as ticks on the timeline's ruler: click one to see its pose, drag
     // it to retime (Ctrl+drag copies), Delete removes it; the keys panel makes each edit (one undo step).
     FrameRuler* ruler = m_timeline->ruler();
@@ -161,6 +162,8 @@ void MainWindow::buildDocks() {
     connect(m_document, &Document::sceneReplaced, ruler, showKeys);
     connect(m_viewport, &Viewport::selectionChanged, ruler, showKeys);  // also sent when the current object changes
     connect(ruler, &FrameRuler::keySelected, m_keyframes, &KeyframePanel::showKey);
+    connect(ruler, &FrameRuler::frameChanged, m_keyframes,
+            [this, ruler](int frame) { m_keyframes->setKeyTime(ruler->secondsOfFrame(frame)); });
     connect(ruler, &FrameRuler::keyMoved, m_keyframes, [this](int index, double seconds, bool copy) {
         m_keyframes->moveKey(index, seconds, copy);
     });

@@ -176,6 +176,7 @@ private slots:
     void exportDialogPutsTheRiggedGuppyOnItsOwnRig();
     void keyframesFromPosesMakeAClip();
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
+    void aGuppySwimCycleIsKeyedInTheEditorAlone();
     void anotherProjectLeavesNoOldClipOnShow();
     void oneTransportPlaysWhatTheTimelineShows();
     void spaceAfterADialogPlaysRatherThanReopeningIt();

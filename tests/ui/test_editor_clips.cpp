@@ -8,6 +8,7 @@
 #include <QComboBox>
 #include <QContextMenuEvent>
 #include <QMenu>
+#include <QSpinBox>
 
 // Render video draws from the viewport's view when asked (the animator framed it), from the CLI's ¾ view
 // otherwise, whatever the viewport shows.
@@ -402,6 +403,123 @@ void TestEditor::aKeyedClipLoopsFromItsMenuAndTheLoopBox() {
     undo->undo();
     QVERIFY(w.document()->project().clips.clips[std::size_t(row)].loop);
     QVERIFY(loopBox->isChecked());
+}
+
+// #42's must-show: a one-second guppy swim cycle keyed entirely in the editor, as docs/user-guide.md tells it.
+// Front view (1); a box dragged round the tail's column of lattice nodes selects it; G Z 0.1 Enter (the tail
+// 10 cm to the side) and I key it at frame 0; a click on the ruler at frame 12 moves the Key frame there, the
+// pointer back over the view, G Z -0.2 Enter, I; frame 24, G Z 0.2 Enter, I. As goals at strength 2, Clip from
+// keys, Loop: the body swims through the keys with physics and the loop's seam steps like the rest of the cycle.
+void TestEditor::aGuppySwimCycleIsKeyedInTheEditorAlone() {
+    MainWindow& w = *m_window;
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/guppy-swim.softtouch")));
+    w.simulation()->pause();
+    Viewport* view = startPosing(w);
+    KeyframePanel* keys = w.keyframes();
+    FrameRuler* ruler = w.timeline()->ruler();
+    auto* keyFrame = keys->findChild<QSpinBox*>("keyFrame");
+    QVERIFY(keyFrame && keyFrame->isVisible() && ruler->isVisible());  // the Keys panel does not hide the ruler
+    QTest::keyClick(view, Qt::Key_1);
+    const Lattice& lattice = w.document()->scene().objects[0].lattice;
+    const auto nodes = [&] { return w.simulation()->simulation()->simulator(0).state().position; };
+    std::set<int> tail;
+    QRectF around;
+    for (int n = 0; n < lattice.nodeCount(); ++n)
+        if (lattice.coords(n)[0] == 0) {  // the guppy's tail fan is at the low-x end of its box
+            tail.insert(n);
+            const QPointF p = view->toWidget(nodes()[std::size_t(n)]);
+            around = around.isNull() ? QRectF(p, QSizeF(1, 1)) : around.united(QRectF(p, QSizeF(1, 1)));
+        }
+    around.adjust(-8, -8, 8, 8);
+    for (int n = 0; n < lattice.nodeCount(); ++n)
+        QVERIFY2(tail.count(n) || !around.contains(view->toWidget(nodes()[std::size_t(n)])), "the box holds only the tail");
+    QTest::mousePress(view, Qt::LeftButton, {}, around.topLeft().toPoint());
+    QTest::mouseMove(view, around.center().toPoint());
+    QTest::mouseMove(view, around.bottomRight().toPoint());
+    QTest::mouseRelease(view, Qt::LeftButton, {}, around.bottomRight().toPoint());
+    QCOMPARE(view->selection(), tail);
+
+    const auto swingAndKey = [&](const char* metres) {
+        QCursor::setPos(view->mapToGlobal(view->rect().center()));  // the keys go where the pointer is
+        QTRY_VERIFY(view->hasFocus());
+        QTest::keyClick(view, Qt::Key_G);
+        QTest::keyClick(view, Qt::Key_Z);
+        QTest::keyClicks(view, metres);
+        QTest::keyClick(view, Qt::Key_Return);
+        QTest::keyClick(view, Qt::Key_I);
+    };
+    const auto clickRulerAt = [&](int frame) {
+        const QPoint at(int(std::lround(ruler->xOfFrame(frame))), 30);
+        QCursor::setPos(ruler->mapToGlobal(at));  // the pointer leaves the view for the ruler
+        QTest::qWait(100);  // the X server's pointer events first, as a hand moving the mouse gives them
+        QTest::mouseClick(ruler, Qt::LeftButton, {}, at);
+        QCOMPARE(keyFrame->value(), frame);  // the Key frame follows the playhead
+    };
+    QCOMPARE(keyFrame->value(), 0);
+    swingAndKey("0.1");
+    clickRulerAt(12);
+    swingAndKey("-0.2");
+    clickRulerAt(24);
+    swingAndKey("0.2");
+    const std::vector<LatticeKey> keyed = keys->keys();
+    QCOMPARE(keyed.size(), std::size_t(3));
+    const double fps = w.document()->scene().world.fps;
+    for (std::size_t k = 0; k < 3; ++k) {
+        QCOMPARE(keyed[k].seconds, 12.0 * double(k) / fps);
+        QCOMPARE(keyed[k].nodes.size(), tail.size());
+    }
+    QCOMPARE(ruler->keys().size(), std::size_t(3));
+
+    // As goals, Clip from keys; then the new clip's Loop box on the timeline.
+    QCheckBox* goals = nullptr;
+    QPushButton* makeClip = nullptr;
+    for (auto* box : keys->findChildren<QCheckBox*>())
+        if (box->text().startsWith("As goals"))
+            goals = box;
+    for (auto* button : keys->findChildren<QPushButton*>())
+        if (button->text() == "Clip from keys")
+            makeClip = button;
+    QVERIFY(goals && makeClip);
+    auto* strength = keys->findChild<QDoubleSpinBox*>("goalStrength");
+    QVERIFY(strength && !strength->isEnabled());
+    QTest::mouseClick(goals, Qt::LeftButton);
+    QVERIFY(goals->isChecked() && strength->isEnabled());
+    QTest::mouseClick(strength, Qt::LeftButton);  // the goal springs twice as strong: typed, then Enter
+    strength->selectAll();
+    QTest::keyClicks(strength, "2");
+    QTest::keyClick(strength, Qt::Key_Return);
+    QTest::mouseClick(makeClip, Qt::LeftButton);
+    const ClipLibrary& library = w.document()->project().clips;
+    QCOMPARE(library.clips.back().source, ClipSource::Keyframes);
+    QVERIFY(library.clips.back().goals.has_value());
+    QCOMPARE(library.clips.back().goals->weight, 2.0);
+    auto* list = w.timeline()->findChild<QListWidget*>("clips");
+    auto* loopBox = w.timeline()->findChild<QCheckBox*>("clipLoop");
+    QVERIFY(list && loopBox);
+    const int row = list->count() - 1;
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(list->item(row)).center());
+    QCOMPARE(list->currentRow(), row);
+    QTest::mouseClick(loopBox, Qt::LeftButton);
+    const Clip& cycle = library.clips[std::size_t(row)];
+    QVERIFY(cycle.loop);
+    QCOMPARE(cycle.frames, 24);  // one second at 24 fps: frame 24 is frame 0 again
+
+    auto frames = evaluateClip(w.document()->scene(), library, cycle);
+    QVERIFY2(frames.ok(), frames.message().c_str());
+    const SeamMeasure seam = measureSeam(frames.value());
+    // It swims: the tail swings from side to side through most of the keyed 20 cm (the goal springs lag it and
+    // the material holds it back).
+    double low = 1e9, high = -1e9;
+    const std::size_t tip = std::size_t(*tail.begin());
+    for (const auto& f : frames->nodes) {
+        low = std::min(low, f[0][tip].z());
+        high = std::max(high, f[0][tip].z());
+    }
+    qInfo("guppy keyed loop: seam %.3f of the median step (%.3f of the neighbouring steps); the tail swings %.3f m "
+          "of the keyed 0.2 m",
+          seam.ratio, seam.localRatio, high - low);
+    QVERIFY2(high - low > 0.75 * 0.2, qPrintable(QString::number(high - low)));
+    QVERIFY2(seam.ratio <= 1.2 && seam.localRatio <= 1.2, qPrintable(QString("%1 / %2").arg(seam.ratio).arg(seam.localRatio)));
 }
 
 // #42 item 8: after importing a mesh (a new project) the timeline no longer reads the old project's clip.
