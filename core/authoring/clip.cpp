@@ -37,8 +37,9 @@ std::vector<Vec3> sampleNodes(const SceneSimulation& sim, double seconds) {
 /// Which key time a keyframe clip shows at each frame. A loop plays its keys round and round: key time wraps
 /// with the period. A goal clip's simulation starts before the clip's first frame, so frame 0 shows the body
 /// already moving with the keys rather than at rest (from rest it would snap to the first key within a frame):
-/// a loop first runs two passes of its cycle, so the seam joins the cycle's own motion; a one-shot clip starts
-/// a second before its earliest key or its start, holding that key, so the body has settled into it.
+/// a loop first runs two passes of its cycle (two seconds of a longer one), so the seam joins the cycle's own
+/// motion; a one-shot clip starts a second before its earliest key or its start, holding that key, so the body
+/// has settled into it.
 struct KeyTiming {
     double lead = 0.0;    ///< Simulated seconds before the clip's first frame.
     double start = 0.0;   ///< Key time of the clip's first frame.
@@ -47,7 +48,9 @@ struct KeyTiming {
     KeyTiming(const Clip& clip, const NamedKeyframes& keys) : start(clip.startSeconds) {
         if (clip.loop) {
             period = double(clip.frames) / clip.fps;
-            lead = 2.0 * period;  // >= the closure's pre-roll, at most `frames` frames
+            // Two passes, or two seconds of a longer cycle (a long loop is not simulated three times over); at
+            // least the closure's pre-roll.
+            lead = std::max(double(clip.blendFrames) / clip.fps, std::min(2.0 * period, 2.0));
             return;
         }
         double earliest = clip.startSeconds;
