@@ -2,6 +2,7 @@
 
 #include "core/geometry/lattice.h"
 #include "ui/frame_ruler.h"
+#include "ui/properties_panel.h"
 #include "ui/study_panel.h"
 #include "ui/timeline_panel.h"
 
@@ -9,9 +10,11 @@
 #include <QApplication>
 #include <QEventLoop>
 #include <QKeyEvent>
+#include <QLabel>
 #include <QListWidget>
 #include <QMouseEvent>
 #include <QPushButton>
+#include <QTimer>
 
 #include <cmath>
 #include <cstdio>
@@ -251,6 +254,13 @@ void dragTail(ui::MainWindow& window, const QPointF& offset, double seconds) {
 }
 
 bool showMode(ui::MainWindow& window, int n, bool hold) {
+    // The modes are analysed on a worker thread once the scene opens: their buttons appear when that is done.
+    if (auto* modes = window.findChild<QLabel*>(QStringLiteral("modes")); modes && modes->property("analysing").toBool()) {
+        QEventLoop loop;
+        QObject::connect(window.properties(), &ui::PropertiesPanel::modesShown, &loop, &QEventLoop::quit);
+        QTimer::singleShot(60000, &loop, &QEventLoop::quit);  // a bound, not a wait on a hung analysis
+        loop.exec();
+    }
     auto* button = window.findChild<QPushButton*>(QStringLiteral("showMode%1").arg(n));
     if (!button || button->isHidden())
         return false;

@@ -40,11 +40,13 @@ void FrameRuler::setSpan(int lastFrame, double fps, double originSeconds) {
     m_frame = 0;
     m_inOut.reset();
     update();
+    emit playheadMoved(m_frame);
 }
 
 void FrameRuler::setFrame(int frame) {
     m_frame = std::clamp(frame, 0, m_lastFrame);
     update();
+    emit playheadMoved(m_frame);
 }
 
 void FrameRuler::setInOut(std::optional<std::pair<int, int>> range) {

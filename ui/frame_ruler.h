@@ -65,6 +65,8 @@ public:
     QSize minimumSizeHint() const override;
 
 signals:
+    /// The playhead is at `frame`: scrubbed, played, stepped, or back at 0 on another span.
+    void playheadMoved(int frame);
     /// The user scrubbed to `frame`.
     void frameChanged(int frame);
     /// A key tick was dropped at `seconds` (snapped to a frame): moved, or copied with Ctrl.

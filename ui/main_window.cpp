@@ -162,7 +162,7 @@ void MainWindow::buildDocks() {
     connect(m_document, &Document::sceneReplaced, ruler, showKeys);
     connect(m_viewport, &Viewport::selectionChanged, ruler, showKeys);  // also sent when the current object changes
     connect(ruler, &FrameRuler::keySelected, m_keyframes, &KeyframePanel::showKey);
-    connect(ruler, &FrameRuler::frameChanged, m_keyframes,
+    connect(ruler, &FrameRuler::playheadMoved, m_keyframes,
             [this, ruler](int frame) { m_keyframes->setKeyTime(ruler->secondsOfFrame(frame)); });
     connect(ruler, &FrameRuler::keyMoved, m_keyframes, [this](int index, double seconds, bool copy) {
         m_keyframes->moveKey(index, seconds, copy);

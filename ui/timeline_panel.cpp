@@ -904,8 +904,12 @@ void TimelinePanel::refreshLists() {
     } else if (clipRow >= 0) {
         showNothing();  // the clip shown was deleted
     }
-    if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0)
-        m_ruler->setSpan(std::max(1, m_document->scene().world.frames) - 1, fps());  // key time, for the keys
+    if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0) {
+        // Key time, for the keys; the playhead stays where it is (a key just set there, say) unless the span changed.
+        const int last = std::max(1, m_document->scene().world.frames) - 1;
+        if (m_ruler->lastFrame() != last || m_ruler->fps() != fps() || m_ruler->secondsOfFrame(0) != 0.0)
+            m_ruler->setSpan(last, fps());
+    }
     showRanges();
     showLoopState();
 }

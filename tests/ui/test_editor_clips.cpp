@@ -446,7 +446,10 @@ void TestEditor::aGuppySwimCycleIsKeyedInTheEditorAlone() {
         QTest::keyClick(view, Qt::Key_Z);
         QTest::keyClicks(view, metres);
         QTest::keyClick(view, Qt::Key_Return);
+        const int at = keyFrame->value();
         QTest::keyClick(view, Qt::Key_I);
+        QCOMPARE(ruler->frame(), at);  // keying leaves the playhead, and the Key frame, where they were
+        QCOMPARE(keyFrame->value(), at);
     };
     const auto clickRulerAt = [&](int frame) {
         const QPoint at(int(std::lround(ruler->xOfFrame(frame))), 30);
