@@ -18,6 +18,7 @@
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPointer>
 #include <QPushButton>
 #include <QSpinBox>
@@ -38,6 +39,7 @@ PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simul
     layout->addWidget(buildLattice());
     layout->addWidget(buildSelection());
     layout->addStretch();
+    connect(document, &Document::sceneReplaced, this, [this] { m_modesShownFor = -1; });  // before refresh()
     connect(document, &Document::sceneReplaced, this, &PropertiesPanel::refresh);
     connect(document, &Document::materialChanged, this, &PropertiesPanel::refresh);
     connect(document, &Document::latticeChanged, this, &PropertiesPanel::refresh);
@@ -530,6 +532,13 @@ void PropertiesPanel::refresh() {
         const MaterialSummary s = summarise(o.lattice, o.material);
         m_element->setCurrentIndex(m_element->findData(int(o.material.element)));
         showMaterialUnits(o.material.model, o.material.element);
+        if (m_modesShownFor != object()) {
+            // Another scene or object: the wobble and damping shown were another body's, blank until measured.
+            for (QDoubleSpinBox* box : {m_frequency, m_dampingRatio})
+                if (auto* text = box->findChild<QLineEdit*>())
+                    text->clear();
+            m_modesShownFor = object();
+        }
         refreshModes(o, w.simulation);
         setQuietly(m_totalMass, s.totalMass);
         setQuietly(m_stiffness, s.meanStiffness);

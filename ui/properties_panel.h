@@ -95,6 +95,7 @@ private:
     /// result is stale and not shown.
     std::optional<std::pair<SceneObject, SimulationSettings>> m_modesWanted;
     bool m_modesRunning = false;  ///< An analysis is on the thread pool.
+    int m_modesShownFor = -1;     ///< The object whose wobble and damping the fields hold (-1: none yet).
     QPushButton* m_compareSolid = nullptr;  ///< "Compare with the solid": compareWithSolid().
     QLabel* m_solid = nullptr;              ///< Its result until the next edit (core/modes/solid_modes.h).
     QDoubleSpinBox* m_nodeDamping = nullptr;

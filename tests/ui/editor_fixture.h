@@ -188,6 +188,7 @@ private slots:
     void studyDockMeasuresTheOpenSceneAndAppliesAPick();
     void studyDockCancelsAndStopsWithTheWindow();
     void propertiesShowTheBodysModes();
+    void wobbleIsBlankUntilTheNewSceneIsMeasured();
     void propertiesCompareTheLatticeWithTheSolid();
     void wheelScrollsPropertiesWithoutEditing();
     void elementChoiceRunsTheSolidAndSaysWhatItCannot();

@@ -358,6 +358,29 @@ void TestEditor::studyDockCancelsAndStopsWithTheWindow() {
 
 // The wobble frequency and damping ratio in Properties are the body's lowest mode (as
 // `softtouch-cli modes` prints it); typing a frequency lands the lowest mode on it in one undo step.
+// The wobble and damping fields never show one body's numbers as another's: after opening another scene they are
+// blank while its modes are measured (they showed the old fish's, or 0.001 Hz on a fresh start), then the new
+// body's.
+void TestEditor::wobbleIsBlankUntilTheNewSceneIsMeasured() {
+    MainWindow& w = *m_window;
+    auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
+    auto* ratio = w.findChild<QDoubleSpinBox*>("dampingRatio");
+    auto* modes = w.findChild<QLabel*>("modes");
+    QVERIFY(frequency && ratio && modes);
+    waitForModes(w);
+    const QString angelfish = frequency->text();
+    QVERIFY2(angelfish.endsWith(" Hz") && frequency->value() > 0.1, qPrintable(angelfish));
+    QVERIFY(w.openFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/scenes/guppy-swim.softtouch")));
+    if (modes->property("analysing").toBool())  // the usual case: the analysis runs on a worker thread
+        QVERIFY2(!frequency->text().contains(QRegularExpression("[0-9]")) && !ratio->text().contains(QRegularExpression("[0-9]")) &&
+                     !frequency->isEnabled(),
+                 qPrintable(frequency->text() + " | " + ratio->text()));
+    waitForModes(w);
+    QVERIFY(frequency->isEnabled());
+    QVERIFY2(frequency->text().endsWith(" Hz") && frequency->text() != angelfish, qPrintable(frequency->text()));
+    QVERIFY(!ratio->text().isEmpty());
+}
+
 void TestEditor::propertiesShowTheBodysModes() {
     MainWindow& w = *m_window;
     auto* frequency = w.findChild<QDoubleSpinBox*>("frequency");
