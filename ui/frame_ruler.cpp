@@ -253,6 +253,15 @@ void FrameRuler::keyPressEvent(QKeyEvent* event) {
     QWidget::keyPressEvent(event);
 }
 
+QString keyInterpolationLabel(KeyInterpolation interpolation) {
+    switch (interpolation) {
+    case KeyInterpolation::Linear: return FrameRuler::tr("Linear");
+    case KeyInterpolation::Constant: return FrameRuler::tr("Constant (hold)");
+    case KeyInterpolation::Smooth: break;
+    }
+    return FrameRuler::tr("Smooth");
+}
+
 void FrameRuler::contextMenuEvent(QContextMenuEvent* event) {
     const int k = keyAt(event->pos());
     if (k < 0) {
@@ -265,15 +274,12 @@ void FrameRuler::contextMenuEvent(QContextMenuEvent* event) {
     QMenu menu(this);
     menu.setObjectName("keyMenu");
     auto* group = new QActionGroup(&menu);
-    const std::pair<KeyInterpolation, QString> choices[] = {{KeyInterpolation::Smooth, tr("Smooth")},
-                                                            {KeyInterpolation::Linear, tr("Linear")},
-                                                            {KeyInterpolation::Constant, tr("Constant (hold)")}};
-    for (const auto& [how, label] : choices) {
-        QAction* action = menu.addAction(label);
+    for (KeyInterpolation how : {KeyInterpolation::Smooth, KeyInterpolation::Linear, KeyInterpolation::Constant}) {
+        QAction* action = menu.addAction(keyInterpolationLabel(how));
         action->setCheckable(true);
         action->setChecked(m_interpolation[std::size_t(k)] == how);
         action->setActionGroup(group);
-        connect(action, &QAction::triggered, this, [this, k, how = how] { emit keyInterpolationChosen(k, how); });
+        connect(action, &QAction::triggered, this, [this, k, how] { emit keyInterpolationChosen(k, how); });
     }
     menu.addSeparator();
     connect(menu.addAction(tr("Delete key")), &QAction::triggered, this, [this, k] {

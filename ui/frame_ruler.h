@@ -14,6 +14,9 @@
 
 namespace softtouch::ui {
 
+/// A key interpolation as the editor's menus name it ("Smooth", "Linear", "Constant (hold)").
+QString keyInterpolationLabel(KeyInterpolation interpolation);
+
 class FrameRuler : public QWidget {
     Q_OBJECT
 public:

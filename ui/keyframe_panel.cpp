@@ -1,6 +1,7 @@
 #include "ui/keyframe_panel.h"
 
 #include "ui/edit_commands.h"
+#include "ui/frame_ruler.h"
 #include "ui/spin_box.h"
 
 #include <QCheckBox>
@@ -46,9 +47,8 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     layout->addWidget(remove, 2, 2);
     m_interpolation = new QComboBox;
     m_interpolation->setObjectName("keyInterpolation");
-    m_interpolation->addItem(tr("Smooth"), int(KeyInterpolation::Smooth));
-    m_interpolation->addItem(tr("Linear"), int(KeyInterpolation::Linear));
-    m_interpolation->addItem(tr("Constant (hold)"), int(KeyInterpolation::Constant));
+    for (KeyInterpolation how : {KeyInterpolation::Smooth, KeyInterpolation::Linear, KeyInterpolation::Constant})
+        m_interpolation->addItem(keyInterpolationLabel(how), int(how));
     m_interpolation->setToolTip(tr("How the selected key moves on to the next: smooth (a spline through the keys), "
                                    "linear (a straight line), constant (held, then a snap to the next key). Also on "
                                    "the key's right-click menu in the Timeline's ruler."));
@@ -131,6 +131,11 @@ bool KeyframePanel::edit(const QString& text, const std::function<Status(Keyfram
 
 double KeyframePanel::keyTime() const { return m_frame->value() / m_document->scene().world.fps; }
 
+void KeyframePanel::showInterpolation(KeyInterpolation interpolation) {
+    const QSignalBlocker quiet(m_interpolation);
+    m_interpolation->setCurrentIndex(m_interpolation->findData(int(interpolation)));
+}
+
 void KeyframePanel::showSeconds() { m_seconds->setText(tr("%1 s").arg(keyTime(), 0, 'f', 3)); }
 
 void KeyframePanel::setKeyTime(double seconds) {
@@ -180,10 +185,7 @@ void KeyframePanel::showKey(int index) {
     m_interpolation->setEnabled(index >= 0 && std::size_t(index) < k.size());
     if (index < 0 || std::size_t(index) >= k.size() || !sim || !set)
         return;
-    {
-        const QSignalBlocker quiet(m_interpolation);
-        m_interpolation->setCurrentIndex(m_interpolation->findData(int(k[std::size_t(index)].interpolation)));
-    }
+    showInterpolation(k[std::size_t(index)].interpolation);
     if (m_list->currentRow() != index) {
         const QSignalBlocker quiet(m_list);
         m_list->setCurrentRow(index);
@@ -238,17 +240,15 @@ void KeyframePanel::refresh() {
     m_list->clear();
     // Frames first, as the ruler counts them (the scene's rate), then seconds.
     const double fps = m_document->scene().world.fps;
-    const QString names[] = {tr("smooth"), tr("linear"), tr("constant")};
     const std::vector<LatticeKey> all = keys();
     for (const LatticeKey& k : all)
         m_list->addItem(tr("frame %1 (%2 s) · %n node(s) · %3", nullptr, int(k.nodes.size()))
                             .arg(k.seconds * fps, 0, 'g', 6)
                             .arg(k.seconds, 0, 'f', 3)
-                            .arg(names[int(k.interpolation)]));
+                            .arg(keyInterpolationLabel(k.interpolation).toLower()));
     if (selected >= 0 && selected < int(all.size())) {
         m_list->setCurrentRow(selected);
-        const QSignalBlocker quiet(m_interpolation);
-        m_interpolation->setCurrentIndex(m_interpolation->findData(int(all[std::size_t(selected)].interpolation)));
+        showInterpolation(all[std::size_t(selected)].interpolation);
     }
     m_interpolation->setEnabled(m_list->currentRow() >= 0);
     showSeconds();  // the scene's rate may have changed

@@ -53,6 +53,8 @@ private:
     void refresh();
     /// The Key frame field's time in seconds, beside it.
     void showSeconds();
+    /// Shows the selected key's interpolation in the Interpolation box (not an edit).
+    void showInterpolation(KeyInterpolation interpolation);
 
     Document* m_document;
     SimulationController* m_simulation;

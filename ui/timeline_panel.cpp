@@ -907,7 +907,7 @@ void TimelinePanel::refreshLists() {
     if (m_clips->currentRow() < 0 && m_takes->currentRow() < 0 && clipRow < 0 && takeRow < 0) {
         // Key time, for the keys; the playhead stays where it is (a key just set there, say) unless the span changed.
         const int last = std::max(1, m_document->scene().world.frames) - 1;
-        if (m_ruler->lastFrame() != last || m_ruler->fps() != fps() || m_ruler->secondsOfFrame(0) != 0.0)
+        if (m_ruler->lastFrame() != last || m_ruler->fps() != fps() || m_ruler->originSeconds() != 0.0)
             m_ruler->setSpan(last, fps());
     }
     showRanges();
