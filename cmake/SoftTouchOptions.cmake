@@ -10,6 +10,18 @@ target_compile_options(softtouch_build_options INTERFACE
   # GCC 12 reports false -Wrestrict errors inside std::string concatenation at -O3 (GCC PR 105651).
   $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)
 
+# Every program and test names only the shared libraries it calls into. The modules are static libraries that
+# carry all their dependencies, FFmpeg and Qt included, and without this each program (softtouch-import, spawned
+# for every mesh read, above all) would load about 150 libraries at start-up instead of the 20 it uses.
+target_link_options(softtouch_build_options INTERFACE -Wl,--as-needed)
+# LLVM's linker where it is installed (scripts/install-deps.sh installs it): it links a sanitizer build's test
+# program in a fifth of the time GNU ld takes (test_editor: 0.7 s against 3.8 s), and a build links about 90.
+include(CheckLinkerFlag)
+check_linker_flag(CXX -fuse-ld=lld SOFTTOUCH_HAVE_LLD)
+if(SOFTTOUCH_HAVE_LLD)
+  target_link_options(softtouch_build_options INTERFACE -fuse-ld=lld)
+endif()
+
 if(SOFTTOUCH_STRICT)
   target_compile_options(softtouch_build_options INTERFACE -Werror)
 endif()

@@ -15,6 +15,7 @@ esac
 # To build every program and run the editor.
 packages=(
   cmake ninja-build g++ pkg-config
+  lld                     # LLVM's linker: links each program in a fraction of GNU ld's time (cmake/SoftTouchOptions.cmake)
   qt6-base-dev            # Qt Core/Gui/Widgets/Test
   libqt6opengl6-dev       # QOpenGLWidget (the editor's viewport)
   qt6-charts-dev          # the study's error-against-cost chart (ui/study_plot.cpp), in the editor and as study.png
