@@ -21,6 +21,7 @@
 #include <cmath>
 #include <fstream>
 #include <csignal>
+#include <map>
 #include <set>
 #include <sys/stat.h>
 
@@ -102,8 +103,14 @@ private slots:
 namespace {
 /// The usage line of `command` as its --help prints it (wrapped there), on one line.
 QString usageLine(const QString& command) {
-    const Run help = runCli({command, "--help"});
-    return help.out.left(help.out.indexOf("\n\n")).simplified();
+    // Asked once per command: every bad-usage row compares with it, and each ask is a run of the program.
+    static std::map<QString, QString> asked;
+    auto [at, added] = asked.try_emplace(command);
+    if (added) {
+        const Run help = runCli({command, "--help"});
+        at->second = help.out.left(help.out.indexOf("\n\n")).simplified();
+    }
+    return at->second;
 }
 }  // namespace
 

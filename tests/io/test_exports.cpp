@@ -151,13 +151,19 @@ AxisValues bsplineBasis(const std::vector<double>& knots, int degree, int count,
     return out;
 }
 
-/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache, and the unit
-/// normal from the Jacobian's cofactor (core/geometry/binding.h) applied to the rest normal.
-std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const Vec3& uvw,
-                                      const Vec3& restNormal) {
-    AxisValues axis[3];
+/// The three axes' basis of one object of a lattice cache at a vertex's parameters: a vertex's for every frame.
+using LatticeBasis = std::array<AxisValues, 3>;
+LatticeBasis latticeBasis(const LatticeCacheObject& object, const Vec3& uvw) {
+    LatticeBasis axis;
     for (std::size_t a = 0; a < 3; ++a)
         axis[a] = bsplineBasis(object.knots[a], object.degrees[a], object.nodes[a], uvw[int(a)]);
+    return axis;
+}
+
+/// x(u,v,w) = sum_ijk P_ijk N_i(u) N_j(v) N_k(w) for one object of a lattice cache, and the unit
+/// normal from the Jacobian's cofactor (core/geometry/binding.h) applied to the rest normal.
+std::pair<Vec3, Vec3> evaluateLattice(const LatticeCacheObject& object, const Vec3f* nodes, const LatticeBasis& axis,
+                                      const Vec3& restNormal) {
     Vec3 x = Vec3::Zero();
     Vec3 xu = Vec3::Zero();
     Vec3 xv = Vec3::Zero();
@@ -1211,12 +1217,14 @@ void TestExports::latticeRoundTrip() {
             firstNode += std::size_t(cache.objects[before].nodeCount());
         const tinygltf::Primitive& morphed = morphs.meshes.at(o).primitives.at(0);
         const std::vector<float> morphRestNormals = accessorFloats(morphs, morphed.attributes.at("NORMAL"));
+        std::vector<LatticeBasis> basis(object.vertexCount);
+        for (std::size_t v = 0; v < object.vertexCount; ++v)
+            basis[v] = latticeBasis(object, Vec3(uvw[3 * v], uvw[3 * v + 1], uvw[3 * v + 2]));
         for (std::size_t f = 0; f < cache.frameCount; ++f) {
             const std::vector<float> normalDeltas = accessorFloats(morphs, morphed.targets.at(f).at("NORMAL"));
             for (std::size_t v = 0; v < object.vertexCount; ++v) {
-                const Vec3 p(uvw[3 * v], uvw[3 * v + 1], uvw[3 * v + 2]);
                 const Vec3 n(restNormals[3 * v], restNormals[3 * v + 1], restNormals[3 * v + 2]);
-                const auto [x, normal] = evaluateLattice(object, cache.frames[f].data() + firstNode, p, n);
+                const auto [x, normal] = evaluateLattice(object, cache.frames[f].data() + firstNode, basis[v], n);
                 const Vec3f& expected = reference.frames[f][object.firstVertex + v];
                 worst = std::max(worst, (x - expected.cast<double>()).norm());
                 const std::size_t g = 3 * v;  // in the object's own glTF mesh

@@ -24,9 +24,15 @@ namespace {
 const std::filesystem::path kPresets = std::filesystem::path(SOFTTOUCH_SOURCE_DIR) / "presets";
 
 /// A minimal valid project referencing a sample mesh by absolute path, with `patch` merged in.
-std::string projectText(const std::string& objectExtra = "", const std::string& rootExtra = "") {
+/// A closed box of 12 triangles, for tests about the project file rather than the mesh.
+constexpr const char* kBoxObj = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
+                                "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+
+std::string projectText(const std::string& objectExtra = "", const std::string& rootExtra = "",
+                        const std::filesystem::path& mesh = kPresets / "meshes/guppy.obj") {
     return R"({"format": "softtouch-project", "version": 1,
-      "objects": [{"name": "fish", "mesh": ")" + (kPresets / "meshes/guppy.obj").string() + R"(",
+      "objects": [{"name": "fish", "mesh": ")" + mesh.string() + R"(",
                    "lattice": {"nodes": [4, 4, 4]})" + objectExtra + R"(}])" + rootExtra + "}";
 }
 
@@ -328,13 +334,15 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore() {
             range = r;
     QVERIFY(range);
     QTemporaryDir dir;
+    // The ranges are the file's, not the mesh's: a box reads in a fraction of the fish's time, 5 × 3 reads a row.
+    const auto box = writeFile(dir, "box.obj", kBoxObj);
     const double step = range->whole ? 1.0 : std::max(1e-9, 1e-6 * std::abs(range->high));
     const double lowStep = range->whole ? 1.0 : (range->low == 0.0 ? 1e-12 : 1e-6 * std::abs(range->low));
     for (const double value : {range->low, range->low - lowStep, range->low + lowStep, range->high, range->high + step}) {
         char text[40];
         std::snprintf(text, sizeof text, range->whole ? "%.0f" : "%.17g", value);
         const std::string json = where.arg(text).toStdString();
-        const auto path = writeFile(dir, "p.softtouch", inObject ? projectText(json) : projectText("", json));
+        const auto path = writeFile(dir, "p.softtouch", inObject ? projectText(json, "", box) : projectText("", json, box));
         auto project = loadProject(path);
         const QString what = field + " = " + text + ": " + QString::fromStdString(project.ok() ? "read" : project.message());
         QVERIFY2(project.ok() == range->contains(value), qPrintable(what));
@@ -460,9 +468,7 @@ void TestProject::meshColliderFromAFile() {
     QTemporaryDir dir;
     const std::filesystem::path root = dir.path().toStdString();
     std::filesystem::create_directories(root / "rocks");
-    std::ofstream(root / "rocks/cube.obj") << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
-                                              "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
-                                              "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+    std::ofstream(root / "rocks/cube.obj") << kBoxObj;
     const std::string scene = R"({"format": "softtouch-project", "version": 2,
         "objects": [{"name": "fish", "mesh": ")" + (kPresets / "meshes/angelfish.obj").generic_string() + R"("}],
         "world": {"colliders": [{"shape": "mesh", "mesh": "rocks/cube.obj", "centre": [0, -1.5, 0], "scale": 0.5,
