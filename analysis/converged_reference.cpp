@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <variant>
 
 namespace softtouch::analysis {
 namespace {
@@ -78,6 +79,12 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     };
 
     log << "converged reference: the solid element refined in time on the coarsest net, then in space\n";
+    for (const SceneObject& object : scene.objects)
+        for (std::size_t d = 0; d < object.drivers.size(); ++d)
+            if (!(std::visit([](const auto& driver) { return driver.radius; }, object.drivers[d]) > 0.0))
+                log << "  note: driver " << d + 1 << " of '" << object.name << "' pulls a point: a finer net answers a "
+                    << "point's pull with a deeper dent, so the reference converges slowly; a radius on the driver (m) "
+                    << "makes its pull a load the solid converges under\n";
     // Time first, on the coarsest net (the cheap one): a finer net substeps at least as finely (its stable
     // step is shorter), so its step error is at most this one's.
     auto coarse = rung(options.nodes.front(), options.dt / 2, 0);

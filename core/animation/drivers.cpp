@@ -64,6 +64,7 @@ Status validateDriver(const Driver& driver) {
             return Status::error("release time must be finite");
         if (std::string p = firstProblem({{kDriverStiffness, d->stiffness},
                                           {kDriverDamping, d->damping},
+                                          {kDriverRadius, d->radius},
                                           {kDragRelease, d->releaseTime < 0.0 ? 0.0 : d->releaseTime}});  // < 0: never
             !p.empty())
             return Status::error(p);
@@ -78,21 +79,58 @@ Status validateDriver(const Driver& driver) {
                                       {kSwimPhase, s.phase},
                                       {kSwimRamp, s.rampSeconds},
                                       {kDriverStiffness, s.stiffness},
-                                      {kDriverDamping, s.damping}});
+                                      {kDriverDamping, s.damping},
+                                      {kDriverRadius, s.radius}});
         !p.empty())
         return Status::error(p);
     return Status::success();
 }
 
-std::optional<DragSpring> driverDrag(const Driver& driver, const Lattice& lattice, double t) {
+DriverGrip driverGrip(const Driver& driver, const Lattice& lattice) {
+    const auto [point, radius] = std::visit([](const auto& d) { return std::pair{d.point, d.radius}; }, driver);
+    DriverGrip grip;
+    const OrientedBox& box = lattice.box();
+    if (!(radius > 0.0)) {
+        grip.support = lattice.weights(point);
+        grip.rest = box.toWorld(point);
+        return grip;
+    }
+    // The ball's mean, by a grid of kSteps samples a radius: the same samples on every lattice, closer together
+    // than the basis functions of the nets the study refines to are wide, so each sees one smooth pull. The
+    // lattice reproduces positions, so the held material's rest is the samples' mean.
+    constexpr int kSteps = 8;
+    const Vec3 centre = box.toWorld(point);
+    std::vector<double> sum(std::size_t(lattice.nodeCount()), 0.0);
+    int samples = 0;
+    for (int a = -kSteps; a <= kSteps; ++a)
+        for (int b = -kSteps; b <= kSteps; ++b)
+            for (int c = -kSteps; c <= kSteps; ++c) {
+                if (a * a + b * b + c * c > kSteps * kSteps)
+                    continue;
+                const Vec3 at = centre + Vec3(a, b, c) * (radius / kSteps);
+                const Vec3 uvw = box.toParameters(at);
+                if ((uvw.array() < 0.0).any() || (uvw.array() > 1.0).any())
+                    continue;
+                for (const NodeWeight& w : lattice.weights(uvw))
+                    sum[w.node] += w.weight;
+                grip.rest += at;
+                ++samples;
+            }
+    // The centre is always a sample: the point lies in the box (validateDriver).
+    for (std::size_t i = 0; i < sum.size(); ++i)
+        if (sum[i] != 0.0)
+            grip.support.push_back({std::uint32_t(i), sum[i] / samples});
+    grip.rest /= samples;
+    return grip;
+}
+
+std::optional<DragSpring> driverDrag(const Driver& driver, const DriverGrip& grip, double t) {
     DragSpring drag;
     Vec3 offset, velocity;
-    Vec3 point;
     if (const auto* d = std::get_if<ScriptedDrag>(&driver)) {
         if (d->releaseTime >= 0.0 && t >= d->releaseTime)
             return std::nullopt;
         samplePath(d->keys, t, offset, velocity);
-        point = d->point;
         drag.stiffness = d->stiffness;
         drag.damping = d->damping;
     } else {
@@ -108,12 +146,11 @@ std::optional<DragSpring> driverDrag(const Driver& driver, const Lattice& lattic
         const Vec3 dir = s.direction.normalized();
         offset = dir * (s.amplitude * ramp * std::sin(w * t + s.phase));
         velocity = dir * (s.amplitude * (rampRate * std::sin(w * t + s.phase) + ramp * w * std::cos(w * t + s.phase)));
-        point = s.point;
         drag.stiffness = s.stiffness;
         drag.damping = s.damping;
     }
-    drag.support = lattice.weights(point);
-    drag.target = lattice.box().toWorld(point) + offset;
+    drag.support = grip.support;
+    drag.target = grip.rest + offset;
     drag.targetVelocity = velocity;
     return drag;
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// Drivers move a body without an input device: each turns time into drag springs. Both pull a
-/// material point (lattice parameters u,v,w) towards its rest position plus an offset.
+/// material point (lattice parameters u,v,w), or the ball of material around it, towards its rest position
+/// plus an offset.
 
 #include "core/base/ranges.h"
 #include "core/body/forces.h"
@@ -25,6 +26,7 @@ struct ScriptedDrag {
     double stiffness = 50.0;    ///< Ks, N/m, (0, 1e9].
     double damping = 1.0;       ///< Kd, N·s/m, [0, 1e6].
     double releaseTime = -1.0;  ///< Seconds after which the drag lets go (< 0: never).
+    double radius = 0.0;        ///< Metres, [0, 1e3]: the drag holds the ball of this radius around the point (DriverGrip).
 };
 
 /// A sinusoidal sideways pull of a region (a tail), the headless way to make a swim cycle.
@@ -37,6 +39,7 @@ struct SwimDriver {
     double rampSeconds = 0.0;         ///< Amplitude fades in over this time, seconds, >= 0.
     double stiffness = 50.0;          ///< Ks, N/m, (0, 1e9].
     double damping = 1.0;             ///< Kd, N·s/m, [0, 1e6].
+    double radius = 0.0;              ///< Metres, [0, 1e3]: the pull holds the ball of this radius around the point (DriverGrip).
 };
 
 /// Any driver.
@@ -51,11 +54,26 @@ inline constexpr FieldRange kSwimFrequency{"frequency", "frequency", 0.0, 100.0,
 inline constexpr FieldRange kSwimAmplitude{"amplitude", "amplitude", 0.0, 1e3, "m"};
 inline constexpr FieldRange kSwimPhase{"phase", "phase", -1e6, 1e6, "rad"};
 inline constexpr FieldRange kSwimRamp{"ramp", "ramp", 0.0, 1e6, "s"};
+inline constexpr FieldRange kDriverRadius{"radius", "radius", 0.0, 1e3, "m"};
 
 /// Checks a driver's fields; the message names the field.
 Status validateDriver(const Driver& driver);
 
-/// The drag spring a driver applies at time t, or nothing (a released scripted drag).
-std::optional<DragSpring> driverDrag(const Driver& driver, const Lattice& lattice, double seconds);
+/// Where a driver holds the body: the node weights of the material it pulls, and where that material is at rest.
+///
+/// Radius 0 holds the point alone, through the lattice's basis there. A lattice of higher degree or more nodes
+/// has narrower basis functions, so a point's pull concentrates as the lattice is refined, and an elastic solid
+/// answers an ever more concentrated pull with an ever deeper local dent (under a point load the displacement
+/// has no bound): a point-driven clip has no converged solid to be graded against. A radius holds the mean of a
+/// ball of material instead (clipped to the lattice's box), as a fin or a hand pushes over an area: a load the
+/// solid converges under (docs/design/lattice.md, "Drivers carried to another lattice").
+struct DriverGrip {
+    std::vector<NodeWeight> support;  ///< Node weights, summing to 1.
+    Vec3 rest = Vec3::Zero();         ///< The held material's mean rest position, world.
+};
+DriverGrip driverGrip(const Driver& driver, const Lattice& lattice);
+
+/// The drag spring a driver applies at time t through its grip, or nothing (a released scripted drag).
+std::optional<DragSpring> driverDrag(const Driver& driver, const DriverGrip& grip, double seconds);
 
 }  // namespace softtouch

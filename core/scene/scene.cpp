@@ -241,7 +241,9 @@ Result<SceneSimulation> SceneSimulation::create(Scene&& input, const SceneSimula
             motion = created.value();
         }
         sim.m_objects.push_back(Runtime{&object, std::move(geometry), Simulator(model.value(), scene->world.simulation), {},
-                                        std::move(motion), {}, {}, -1});
+                                        std::move(motion), {}, {}, -1, {}});
+        for (const Driver& driver : object.drivers)
+            sim.m_objects.back().grips.push_back(driverGrip(driver, object.lattice));
     }
     return sim;
 }
@@ -252,8 +254,8 @@ ExternalForces SceneSimulation::forcesAt(std::size_t i, double seconds) const {
     f.planes = m_scene->world.planes;
     f.colliders = m_scene->world.colliders;
     const SceneObject& object = *m_objects[i].source;
-    for (const Driver& driver : object.drivers) {
-        if (auto drag = driverDrag(driver, object.lattice, seconds))
+    for (std::size_t d = 0; d < object.drivers.size(); ++d) {
+        if (auto drag = driverDrag(object.drivers[d], m_objects[i].grips[d], seconds))
             f.drags.push_back(std::move(*drag));
     }
     const std::size_t firstInteractive = f.drags.size();

@@ -188,6 +188,7 @@ private:
         ExternalForces lastForces;             ///< Of the step just taken (what the guard settles with).
         std::vector<Vec3> previous;            ///< Node positions before the step just taken.
         long long previousStep = -1;           ///< Step count `previous` was taken at; -1: none.
+        std::vector<DriverGrip> grips;         ///< Where each of the object's drivers holds its lattice.
     };
 
     /// Takes one step of object i (inputs first), appending problems; returns its report.

@@ -421,7 +421,7 @@ std::optional<Driver> readDriver(const JsonValue& v) {
     if (!type)
         return std::nullopt;
     if (*type == "swim") {
-        v.checkKeys({"type", "point", "direction", "frequency", "amplitude", "phase", "ramp", "stiffness", "damping"});
+        v.checkKeys({"type", "point", "direction", "frequency", "amplitude", "phase", "ramp", "stiffness", "damping", "radius"});
         SwimDriver s;
         if (auto p = v["point"].vec3()) s.point = *p;
         if (auto d = v["direction"].vec3()) s.direction = *d;
@@ -431,10 +431,11 @@ std::optional<Driver> readDriver(const JsonValue& v) {
         if (auto x = v.field(kSwimRamp)) s.rampSeconds = *x;
         if (auto x = v.field(kDriverStiffness)) s.stiffness = *x;
         if (auto x = v.field(kDriverDamping)) s.damping = *x;
+        if (auto x = v.field(kDriverRadius)) s.radius = *x;
         return s;
     }
     if (*type == "drag") {
-        v.checkKeys({"type", "point", "keys", "stiffness", "damping", "release"});
+        v.checkKeys({"type", "point", "keys", "stiffness", "damping", "release", "radius"});
         ScriptedDrag d;
         if (auto p = v["point"].vec3()) d.point = *p;
         const JsonValue keys = v["keys"];
@@ -453,6 +454,7 @@ std::optional<Driver> readDriver(const JsonValue& v) {
         if (auto x = v.field(kDriverStiffness)) d.stiffness = *x;
         if (auto x = v.field(kDriverDamping)) d.damping = *x;
         if (auto x = v.field(kDragRelease)) d.releaseTime = *x;
+        if (auto x = v.field(kDriverRadius)) d.radius = *x;
         return d;
     }
     v["type"].problem("expected \"swim\" or \"drag\", got \"" + *type + "\"");
@@ -486,10 +488,12 @@ json driverJson(const Driver& driver) {
                     {kDriverDamping.name, d->damping}};
         if (d->releaseTime >= 0.0)
             out[kDragRelease.name] = d->releaseTime;
+        if (d->radius > 0.0)  // written only where it holds more than the point, as files before it read
+            out[kDriverRadius.name] = d->radius;
         return out;
     }
     const auto& s = std::get<SwimDriver>(driver);
-    return {{"type", "swim"},
+    json out = {{"type", "swim"},
             {"point", vec(s.point)},
             {"direction", vec(s.direction)},
             {kSwimFrequency.name, s.frequencyHz},
@@ -498,6 +502,9 @@ json driverJson(const Driver& driver) {
             {kSwimRamp.name, s.rampSeconds},
             {kDriverStiffness.name, s.stiffness},
             {kDriverDamping.name, s.damping}};
+    if (s.radius > 0.0)
+        out[kDriverRadius.name] = s.radius;
+    return out;
 }
 
 }  // namespace softtouch::io::document

@@ -15,6 +15,7 @@
 #include <QtTest>
 
 #include <array>
+#include <limits>
 #include <random>
 
 using namespace softtouch;
@@ -322,6 +323,57 @@ private slots:
             QVERIFY2(worst < 0.02, qPrintable(QString::number(100.0 * worst) + "%"));
             QVERIFY2(worstPlain < 1.0, qPrintable(QString::number(100.0 * worstPlain) + "%"));  // bounded: no growth
         }
+    }
+
+    // Where a driver holds the body (core/animation/drivers.h, DriverGrip). A point's pull concentrates as the net
+    // is refined, and the solid answers it with an ever deeper dent, so a point-driven clip has no converged solid
+    // to grade against; a ball's pull is one load on every net, and the solid converges under it. Measured
+    // statically: the held material's displacement per newton of sideways pull at the tail, on Bezier nets of
+    // 4, 6 and 8 nodes.
+    void aPointPullDeepensAsTheSolidIsRefinedABallsConverges() {
+        const OrientedBox box = boxOf(kFishBox);
+        std::array<std::vector<double>, 2> compliance;  // the point's, the ball's; one per net
+        for (int nodes : {4, 6, 8}) {
+            const Lattice lattice = latticeOver(box, LatticeKind::Bezier, nodes);
+            const auto model = build(lattice, pinnedFish(lattice));
+            const ElementBody& e = *model->element;
+            const Eigen::LDLT<Eigen::MatrixXd> stiffness(elementRestStiffness(e));
+            for (int ball = 0; ball < 2; ++ball) {
+                SwimDriver swim;
+                swim.point = Vec3(0.0, 0.5, 0.5);
+                swim.radius = ball ? 0.1 : 0.0;
+                const DriverGrip grip = driverGrip(swim, lattice);
+                double total = 0.0;
+                for (const NodeWeight& w : grip.support)
+                    total += w.weight;
+                QVERIFY2(std::abs(total - 1.0) < 1e-12, qPrintable(QString::number(total - 1.0)));
+                Eigen::VectorXd load = Eigen::VectorXd::Zero(stiffness.rows());  // 1 N along w, shared as the grip holds
+                for (const NodeWeight& w : grip.support)
+                    if (e.slot[w.node] >= 0)
+                        load(3 * e.slot[w.node] + 2) = w.weight;
+                compliance[std::size_t(ball)].push_back(load.dot(stiffness.solve(load)));
+            }
+        }
+        const auto change = [&](int ball, int rung) {  // relative change from one net to the next
+            const std::vector<double>& c = compliance[std::size_t(ball)];
+            return (c[std::size_t(rung + 1)] - c[std::size_t(rung)]) / c[std::size_t(rung + 1)];
+        };
+        // How far the finest net still is from the limit, by the study's rule (analysis/converged_reference.h):
+        // the rest of the geometric series of the changes.
+        const auto remaining = [&](int ball) {
+            const double r = change(ball, 1) / change(ball, 0);
+            return r < 1.0 ? std::abs(change(ball, 1)) * r / (1.0 - r) : std::numeric_limits<double>::infinity();
+        };
+        const auto dent = [&](int net) { return compliance[0][std::size_t(net)] - compliance[1][std::size_t(net)]; };
+        qInfo("point: %.4g %.4g %.4g m/N (changes %.3g, %.3g; %.3g from the limit); ball of 0.1 m: %.4g %.4g %.4g m/N "
+              "(changes %.3g, %.3g; %.3g from the limit); the point's dent beyond the ball's %.4g %.4g %.4g m/N",
+              compliance[0][0], compliance[0][1], compliance[0][2], change(0, 0), change(0, 1), remaining(0),
+              compliance[1][0], compliance[1][1], compliance[1][2], change(1, 0), change(1, 1), remaining(1), dent(0),
+              dent(1), dent(2));
+        // The point's dent beyond the ball's deepens on every net: the part of its answer with no limit.
+        QVERIFY(dent(0) > 0.0 && dent(1) > dent(0) && dent(2) > dent(1));
+        // The ball's answer settles: its estimated distance from the limit is under half the point's.
+        QVERIFY2(remaining(1) < 0.5 * remaining(0), qPrintable(QString("%1 against %2").arg(remaining(1)).arg(remaining(0))));
     }
 
     // Hanging under gravity with heavy damping, the body settles where the linear static solve K u = f puts it:

@@ -293,7 +293,7 @@ const FieldRange* const kFileRanges[] = {&ranges::kDt,          &ranges::kXpbdSu
                                          &ranges::kRestitution, &ranges::kFriction,     &ranges::kColliderRadius,
                                          &ranges::kCapsuleHalfLength, &kSwimFrequency,  &kSwimAmplitude,   &kSwimPhase,
                                          &kSwimRamp,            &kDriverStiffness,      &kDriverDamping,   &kDragRelease,
-                                         &kHeavyAnchorRatio};
+                                         &kHeavyAnchorRatio,    &kDriverRadius};
 
 }  // namespace
 
@@ -301,8 +301,12 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
     QTest::addColumn<QString>("where");  // the JSON the value goes into, %1 standing for it
     QTest::addColumn<QString>("field");
     QTest::addColumn<bool>("inObject");  // `where` goes into the object, else into the project's root
-    const auto add = [](const FieldRange& r, const char* where, bool inObject = false) {
-        QTest::newRow(r.name) << QString::fromLatin1(where) << QString::fromLatin1(r.name) << inObject;
+    QTest::addColumn<int>("which");      // which of kFileRanges (two share the name "radius")
+    const auto indexOf = [](const FieldRange& r) {
+        return int(std::find(std::begin(kFileRanges), std::end(kFileRanges), &r) - std::begin(kFileRanges));
+    };
+    const auto add = [&](const FieldRange& r, const char* where, bool inObject = false) {
+        QTest::newRow(r.name) << QString::fromLatin1(where) << QString::fromLatin1(r.name) << inObject << indexOf(r);
     };
     add(ranges::kDt, R"(, "simulation": {"dt": %1})");
     add(ranges::kXpbdSubsteps, R"(, "simulation": {"integrator": "xpbd", "xpbdSubsteps": %1})");
@@ -315,9 +319,11 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore_data() {
     add(ranges::kCapsuleHalfLength,
         R"(, "world": {"colliders": [{"shape": "capsule", "centre": [0, -9, 0], "radius": 1, "axis": [1, 0, 0], "halfLength": %1}]})");
     const char* swim = R"(, "drivers": [{"type": "swim", "point": [0.1, 0.5, 0.5], "direction": [0, 0, 1], "%2": %1}])";
-    for (const FieldRange* r : {&kSwimFrequency, &kSwimAmplitude, &kSwimPhase, &kSwimRamp, &kDriverStiffness, &kDriverDamping})
+    for (const FieldRange* r : {&kSwimFrequency, &kSwimAmplitude, &kSwimPhase, &kSwimRamp, &kDriverStiffness, &kDriverDamping,
+                                &kDriverRadius})
         QTest::newRow((std::string("swim ") + r->name).c_str())
-            << QString::fromLatin1(swim).arg("%1", QString::fromLatin1(r->name)) << QString::fromLatin1(r->name) << true;
+            << QString::fromLatin1(swim).arg("%1", QString::fromLatin1(r->name)) << QString::fromLatin1(r->name) << true
+            << indexOf(*r);
     add(kDragRelease,
         R"(, "drivers": [{"type": "drag", "point": [0.5, 0.5, 0.5], "keys": [{"time": 0, "offset": [0, 0.1, 0]}], "release": %1}])",
         true);
@@ -328,11 +334,10 @@ void TestProject::fieldRangesMeanTheSameInFileAndCore() {
     QFETCH(QString, where);
     QFETCH(QString, field);
     QFETCH(bool, inObject);
-    const FieldRange* range = nullptr;
-    for (const FieldRange* r : kFileRanges)
-        if (field == r->name)
-            range = r;
-    QVERIFY(range);
+    QFETCH(int, which);
+    QVERIFY(which >= 0 && which < int(std::size(kFileRanges)));
+    const FieldRange* range = kFileRanges[which];
+    QCOMPARE(field, QString::fromLatin1(range->name));
     QTemporaryDir dir;
     // The ranges are the file's, not the mesh's: a box reads in a fraction of the fish's time, 5 × 3 reads a row.
     const auto box = writeFile(dir, "box.obj", kBoxObj);
