@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <variant>
 
 namespace softtouch::analysis {
 namespace {
@@ -81,7 +80,7 @@ Result<ConvergedReference> convergedReference(const Scene& scene, const ClipLibr
     log << "converged reference: the solid element refined in time on the coarsest net, then in space\n";
     for (const SceneObject& object : scene.objects)
         for (std::size_t d = 0; d < object.drivers.size(); ++d)
-            if (!(std::visit([](const auto& driver) { return driver.radius; }, object.drivers[d]) > 0.0))
+            if (!(driverRadius(object.drivers[d]) > 0.0))
                 log << "  note: driver " << d + 1 << " of '" << object.name << "' pulls a point: a finer net answers a "
                     << "point's pull with a deeper dent, so the reference converges slowly; a radius on the driver (m) "
                     << "makes its pull a load the solid converges under\n";

@@ -87,7 +87,8 @@ Status validateDriver(const Driver& driver) {
 }
 
 DriverGrip driverGrip(const Driver& driver, const Lattice& lattice) {
-    const auto [point, radius] = std::visit([](const auto& d) { return std::pair{d.point, d.radius}; }, driver);
+    const Vec3 point = std::visit([](const auto& d) { return d.point; }, driver);
+    const double radius = driverRadius(driver);
     DriverGrip grip;
     const OrientedBox& box = lattice.box();
     if (!(radius > 0.0)) {

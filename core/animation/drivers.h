@@ -16,6 +16,7 @@ namespace softtouch {
 struct PathKey {
     double time = 0.0;             ///< Seconds, increasing.
     Vec3 offset = Vec3::Zero();    ///< Metres from the point's rest position.
+    bool operator==(const PathKey&) const = default;
 };
 
 /// A point of the object follows a keyed path (Catmull-Rom through the keys; held before the first
@@ -27,6 +28,7 @@ struct ScriptedDrag {
     double damping = 1.0;       ///< Kd, N·s/m, [0, 1e6].
     double releaseTime = -1.0;  ///< Seconds after which the drag lets go (< 0: never).
     double radius = 0.0;        ///< Metres, [0, 1e3]: the drag holds the ball of this radius around the point (DriverGrip).
+    bool operator==(const ScriptedDrag&) const = default;
 };
 
 /// A sinusoidal sideways pull of a region (a tail), the headless way to make a swim cycle.
@@ -40,6 +42,7 @@ struct SwimDriver {
     double stiffness = 50.0;          ///< Ks, N/m, (0, 1e9].
     double damping = 1.0;             ///< Kd, N·s/m, [0, 1e6].
     double radius = 0.0;              ///< Metres, [0, 1e3]: the pull holds the ball of this radius around the point (DriverGrip).
+    bool operator==(const SwimDriver&) const = default;
 };
 
 /// Any driver.
@@ -58,6 +61,11 @@ inline constexpr FieldRange kDriverRadius{"radius", "radius", 0.0, 1e3, "m"};
 
 /// Checks a driver's fields; the message names the field.
 Status validateDriver(const Driver& driver);
+
+/// The radius of the ball a driver holds (0: the point alone).
+inline double driverRadius(const Driver& driver) {
+    return std::visit([](const auto& d) { return d.radius; }, driver);
+}
 
 /// Where a driver holds the body: the node weights of the material it pulls, and where that material is at rest.
 ///

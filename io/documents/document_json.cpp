@@ -480,30 +480,29 @@ void readDrivers(const JsonValue& drivers, std::vector<Driver>& out) {
 }
 
 json driverJson(const Driver& driver) {
+    json out;
     if (const auto* d = std::get_if<ScriptedDrag>(&driver)) {
         json keys = json::array();
         for (const PathKey& k : d->keys)
             keys.push_back({{"time", k.time}, {"offset", vec(k.offset)}});
-        json out = {{"type", "drag"}, {"point", vec(d->point)}, {"keys", keys}, {kDriverStiffness.name, d->stiffness},
-                    {kDriverDamping.name, d->damping}};
+        out = {{"type", "drag"}, {"point", vec(d->point)}, {"keys", keys}, {kDriverStiffness.name, d->stiffness},
+               {kDriverDamping.name, d->damping}};
         if (d->releaseTime >= 0.0)
             out[kDragRelease.name] = d->releaseTime;
-        if (d->radius > 0.0)  // written only where it holds more than the point, as files before it read
-            out[kDriverRadius.name] = d->radius;
-        return out;
+    } else {
+        const auto& s = std::get<SwimDriver>(driver);
+        out = {{"type", "swim"},
+               {"point", vec(s.point)},
+               {"direction", vec(s.direction)},
+               {kSwimFrequency.name, s.frequencyHz},
+               {kSwimAmplitude.name, s.amplitude},
+               {kSwimPhase.name, s.phase},
+               {kSwimRamp.name, s.rampSeconds},
+               {kDriverStiffness.name, s.stiffness},
+               {kDriverDamping.name, s.damping}};
     }
-    const auto& s = std::get<SwimDriver>(driver);
-    json out = {{"type", "swim"},
-            {"point", vec(s.point)},
-            {"direction", vec(s.direction)},
-            {kSwimFrequency.name, s.frequencyHz},
-            {kSwimAmplitude.name, s.amplitude},
-            {kSwimPhase.name, s.phase},
-            {kSwimRamp.name, s.rampSeconds},
-            {kDriverStiffness.name, s.stiffness},
-            {kDriverDamping.name, s.damping}};
-    if (s.radius > 0.0)
-        out[kDriverRadius.name] = s.radius;
+    if (const double radius = driverRadius(driver); radius > 0.0)  // written only where it holds more than the point
+        out[kDriverRadius.name] = radius;
     return out;
 }
 
