@@ -26,9 +26,10 @@ where 'softtouch-cli render' puts it (drag to orbit; Reset view goes back), with
 slider and the keys Space, Left, Right and Home.
 )";
 
-constexpr const char* kPreviewAfter = R"(The page's address takes options after '#': frame=N shows frame N and stops, size=WxH draws at that
-size, matte draws a white silhouette on black, readback writes the canvas as a PNG into the page
-(tests use these).
+constexpr const char* kPreviewAfter = R"(The page's address takes options after '#': frame=N shows frame N and stops, until=T plays
+and stops T seconds in (both take lists: frame=6,12&until=0.4,1.3), size=WxH draws at that size, matte
+draws a white silhouette on black, readback writes each stop's picture as a PNG into the page (tests use
+these).
 )";
 
 std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }

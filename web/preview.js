@@ -7,9 +7,13 @@
 //   vat:            the shipped io/shaders/vat_deform.glsl on the EXR textures
 //   lattice:        the shipped io/shaders/lattice_deform.glsl, its WebGL 2 form (LATTICE_NODE_TEXTURE)
 //
-// Address options (after '#', joined by '&'): frame=N shows frame N and stops; until=T plays from the
-// start and stops on the frame reached T seconds in (tick=S: S seconds a step on a timer, not the clock); size=WxH draws at that size; matte draws a white silhouette on black; readback then writes the canvas as a PNG data URL into <pre id="readback"> and
-// the page's title becomes "ready" once the frame is drawn (tests/web/test_preview.cpp reads it with headless Chromium).
+// Address options (after '#', joined by '&'): frame=N shows frame N and stops (frame=A,B,... shows each in
+// turn); until=T plays from the start and stops on the frame reached T seconds in (until=T1,T2,... stops at
+// each in turn and plays on between them; after frame= it starts from the beginning); tick=S: S seconds a
+// step on a timer, not the clock; size=WxH draws at that size; matte draws a white silhouette on black;
+// readback writes each picture shown at a stop into <pre id="readback">, one line each: the frame's label, a
+// tab, the canvas as a PNG data URL. The page's title becomes "ready" once the last stop is drawn
+// (tests/web/test_preview.cpp reads it with headless Chromium: one browser start for every check of a clip).
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -19,8 +23,10 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const clip = JSON.parse(document.getElementById('softtouch-clip').textContent);
 const options = new URLSearchParams(location.hash.slice(1));
-const stillFrame = options.has('frame') ? Math.max(0, Math.min(clip.frames - 1, parseInt(options.get('frame'), 10) || 0)) : -1;
-const playUntil = options.has('until') ? Math.max(0, Number(options.get('until')) || 0) : -1;
+const listOption = (name) => (options.has(name) ? options.get(name).split(',') : []);
+const stillFrames = listOption('frame').map((f) => Math.max(0, Math.min(clip.frames - 1, parseInt(f, 10) || 0)));
+const playStops = listOption('until').map((t) => Math.max(0, Number(t) || 0)).sort((a, b) => a - b);
+const stops = stillFrames.length > 0 || playStops.length > 0;
 const tick = options.has('tick') ? Math.max(0, Number(options.get('tick')) || 0) : 0;
 const matte = options.has('matte');
 const readback = options.has('readback');
@@ -233,8 +239,8 @@ async function loadLattice() {
 }
 
 async function main() {
-    const renderer = new THREE.WebGLRenderer({ antialias: stillFrame < 0 && playUntil < 0, preserveDrawingBuffer: readback });
-    renderer.setPixelRatio(stillFrame < 0 ? window.devicePixelRatio : 1);
+    const renderer = new THREE.WebGLRenderer({ antialias: !stops, preserveDrawingBuffer: readback });
+    renderer.setPixelRatio(stillFrames.length === 0 ? window.devicePixelRatio : 1);
     renderer.setSize(viewWidth(), viewHeight());
     document.getElementById('view').appendChild(renderer.domElement);
 
@@ -270,8 +276,8 @@ async function main() {
     // A glTF loop's closing key is frame 0 again at frames / fps: the cycle plays through it, one frame's time
     // from the last frame to the first. Other clips end on their last frame.
     const duration = clip.closesLoop ? clip.frames / clip.fps : Math.max(clip.frames - 1, 1) / clip.fps;
-    let time = stillFrame >= 0 ? stillFrame / clip.fps : 0;
-    let playing = stillFrame < 0;
+    let time = stillFrames.length > 0 ? stillFrames[stillFrames.length - 1] / clip.fps : 0;
+    let playing = stillFrames.length === 0;
     const show = () => {
         player.show(time);
         const frame = Math.round(time * clip.fps) % clip.frames;
@@ -299,12 +305,29 @@ async function main() {
     });
     controls.addEventListener('change', () => { if (!playing) renderer.render(scene, camera); });
 
-    show();
-    if (stillFrame >= 0) {
-        if (readback) document.getElementById('readback').textContent = renderer.domElement.toDataURL('image/png');
+    // Stops: each picture shown is kept for readback with the label it was shown under.
+    const pictures = [];
+    const capture = () => {
+        if (readback) pictures.push(label.textContent + '\t' + renderer.domElement.toDataURL('image/png'));
+    };
+    const finish = () => {
+        if (readback) document.getElementById('readback').textContent = pictures.join('\n');
         document.title = 'ready';
+    };
+    for (const f of stillFrames) {
+        time = f / clip.fps;
+        show();
+        capture();
+    }
+    if (stillFrames.length > 0 && playStops.length === 0) {
+        finish();
         return;
     }
+    if (stillFrames.length > 0) {
+        time = 0;
+        playing = true;
+    }
+    show();
     // One step of playback by dt seconds.
     let timer = 0;
     let elapsed = 0;  // seconds played, through any number of loops
@@ -313,15 +336,20 @@ async function main() {
         time += dt;
         elapsed += dt;
         if (time > duration) time = clip.loop ? time % duration : duration;
-        if (playUntil >= 0 && elapsed >= playUntil) {
-            // until=T: play, then stop on the frame the time has reached and hand the picture over.
-            playing = false;
+        if (playStops.length > 0 && elapsed >= playStops[0]) {
+            // until=T: the frame the time has reached, drawn and handed over; playback goes on from the
+            // unrounded time to the next stop, as if it had not stopped.
+            playStops.shift();
+            const played = time;
             time = Math.round(time * clip.fps) / clip.fps;
+            playing = playStops.length > 0;
             show();
+            capture();
+            time = played;
+            if (playing) return;
             renderer.setAnimationLoop(null);
             clearInterval(timer);
-            if (readback) document.getElementById('readback').textContent = renderer.domElement.toDataURL('image/png');
-            document.title = 'ready';
+            finish();
             return;
         }
         show();
