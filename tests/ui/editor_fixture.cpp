@@ -59,9 +59,20 @@ void keepReferencesIn(const QTemporaryDir& dir) {
     qputenv("XDG_CACHE_HOME", dir.filePath("cache").toUtf8());
 }
 
+void answerSaveDialog(QFileDialog& dialog, const QString& nameFilter, const QString& path) {
+    dialog.selectNameFilter(nameFilter);
+    dialog.setDirectory(QFileInfo(path).absolutePath());
+    if (auto* name = dialog.findChild<QLineEdit*>("fileNameEdit"))
+        name->setText(QFileInfo(path).fileName());
+    else
+        dialog.selectFile(path);
+    static_cast<QDialog&>(dialog).accept();  // QFileDialog::accept, through its public base
+}
+
 }  // namespace softtouch::test::editor
 
 void TestEditor::initTestCase() {
+    m_cacheHome = qgetenv("XDG_CACHE_HOME");
     QStandardPaths::setTestModeEnabled(true);
     QApplication::setOrganizationName("SoftTouchTests");
     QApplication::setApplicationName("test_editor");
@@ -97,6 +108,11 @@ void TestEditor::cleanup() {
         m_window->document()->undoStack()->setClean();  // no unsaved-changes prompt on close
     m_window.reset();
     m_dir.reset();
+    // Every function runs in one process: what one test points at is gone with its folder.
+    if (m_cacheHome.isNull())
+        qunsetenv("XDG_CACHE_HOME");
+    else
+        qputenv("XDG_CACHE_HOME", m_cacheHome);
 }
 
 std::unique_ptr<MainWindow> TestEditor::makeWindow() {

@@ -122,7 +122,13 @@ void paintStroke(Viewport* view);
 void waitForModes(MainWindow& w);
 
 /// The study dock keeps its references in the test's own folder: none from another run is found there.
+/// TestEditor::cleanup() puts XDG_CACHE_HOME back.
 void keepReferencesIn(const QTemporaryDir& dir);
+
+/// Answers a save dialog as a person does: the file type, the folder, the name typed into the name field, then
+/// Save. (selectFile() leaves a name typed before in place when the folder already holds an export, and the
+/// dialog opens in the last folder any earlier test visited.)
+void answerSaveDialog(QFileDialog& dialog, const QString& nameFilter, const QString& path);
 
 }  // namespace softtouch::test::editor
 
@@ -210,6 +216,7 @@ private:
     int isolatedNode(MainWindow& w, int object) const;
 
     std::unique_ptr<QTemporaryDir> m_dir;
+    QByteArray m_cacheHome;  ///< XDG_CACHE_HOME as the suite found it (null: unset).
     std::unique_ptr<MainWindow> m_window;
     /// Closes a modal dialog that no test answered (an error box in init(), say) once it has stood open for
     /// two of its ticks, saying what it showed: the test then fails on what the dialog said instead of

@@ -194,9 +194,7 @@ void TestEditor::exportDialogsPackAGlbForShipping() {
         QWidget* modal = QApplication::activeModalWidget();
         if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
             answeredFile = true;
-            files->selectNameFilter(skinFilter);
-            files->selectFile(glb);
-            static_cast<QDialog*>(files)->accept();  // QFileDialog::accept, through its public base
+            answerSaveDialog(*files, skinFilter, glb);
         } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
             if (auto* pack = options->findChild<QCheckBox*>("exportCompress")) {
                 answeredOptions = true;
@@ -210,7 +208,7 @@ void TestEditor::exportDialogsPackAGlbForShipping() {
     answer.stop();
     QVERIFY(answeredFile);
     QVERIFY(answeredOptions);
-    QVERIFY(QFile::exists(glb));
+    QVERIFY2(QFile::exists(glb), qPrintable(QString("%1 not written; the folder holds %2").arg(glb, QDir(m_dir->path()).entryList(QDir::Files).join(", "))));
     QVERIFY2(io::fileUsesMeshoptCompression(glb.toStdString()), "the file is not packed");
 }
 
@@ -240,13 +238,7 @@ void TestEditor::exportDialogPutsTheRiggedGuppyOnItsOwnRig() {
             QWidget* modal = QApplication::activeModalWidget();
             if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
                 answeredFile = true;
-                files->selectNameFilter(skinFilter);
-                files->setDirectory(QFileInfo(glb).absolutePath());
-                // selectFile() leaves the name typed before in place when the folder already holds an export; the
-                // name field is what a person types into.
-                if (auto* name = files->findChild<QLineEdit*>("fileNameEdit"))
-                    name->setText(QFileInfo(glb).fileName());
-                static_cast<QDialog*>(files)->accept();
+                answerSaveDialog(*files, skinFilter, glb);
             } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
                 if (auto* bones = options->findChild<QComboBox*>("exportBones")) {
                     answeredOptions = true;
