@@ -26,7 +26,7 @@ constexpr std::size_t kMaxTriMeshVertices = 46340;
 
 /// Settling (settleBullet()): windows of this many steps (half a second) ...
 constexpr int kSettleWindow = 120;
-/// ... until one in which the dragged vertex moved less than this fraction of its displacement (its
+/// ... until one in which the held surface moved less than this fraction of its displacement (its
 /// range over the window, and its mean against the window before: a ringing body passes neither) ...
 constexpr double kSettleTolerance = 1e-4;
 /// ... or this many steps (50 simulated seconds).
@@ -100,7 +100,7 @@ private:
 /// (≈ 0.97 at 24,928 triangles), just as it is for the mass-spring contenders. The price of a position
 /// solver: once a ≫ 1 a link is nearly fully projected and a stiffer spring barely changes it (in the
 /// limit of many iterations the link behaves as a spring of stiffness ∝ ln(1 + a), not a), so at 240 Hz
-/// Bullet cannot hold the dragged vertex of the finest meshes much closer than 18% of the diagonal and
+/// Bullet cannot hold the drag of the finest meshes much closer than 18% of the diagonal and
 /// its calibration saturates there (equal_response.h).
 btScalar linearStiffness(double stiffnessNPerM, double inverseMass, double dt, int iterations) {
     const double a = stiffnessNPerM * inverseMass * dt * dt;
@@ -124,15 +124,11 @@ btScalar dampingCoefficient(double dampingNsPerM, double totalMass, double dt) {
 
 /// The scenario's body as a btSoftBody in its own world, with the user's drag.
 ///
-/// The drag is a link of rest length zero from the dragged node to a massless (kinematic) node that
-/// we move along the target, its kLST mapped from Ks like the springs'. Bullet has no compliant
-/// constraint, and a node force does not do: Bullet integrates forces explicitly, so the plain
-/// F = Ks·(target − x) − Kd·v is unstable once h·Kd/m > 2 (26 on the light nodes of 24,928 triangles),
-/// and the force of implicit Euler on the node alone, F = m·Δv/h with (m + h·Kd + h²·Ks)·Δv =
-/// h·(Ks·(target − x − h·v) − Kd·v), is stable but pulls a held node with Ks·d·m/(m + h·Kd + h²·Ks):
-/// 1/38 of the drag at 24,928 triangles, not the pull the other contenders get. The link pulls a held
-/// node with Ks·d, as theirs does (for a lone link exactly, see linearStiffness()). Bullet's links have
-/// no damper, so the drag's Kd (0.5 N·s/m) has no counterpart here.
+/// The drag is the other contenders' drag spring on the same held surface (surfaceGrip()): before each step
+/// the force F = Ks·(target − x̄) − Kd·v̄ on the held surface's mean x̄ is shared among its nodes by their
+/// weights (btSoftBody::addForce), as the mass-springs' drag spring does. Bullet integrates node forces
+/// explicitly, which on one light node would be unstable (h·Kd/m is 26 on a node of 24,928 triangles): the
+/// held surface carries about 3% of the mass at every size, so h·Kd/m is 0.06 and h²·Ks/m 0.03 for its mean.
 class BulletBody {
 public:
     /// False when CreateFromTriMesh cannot take the mesh.
@@ -181,30 +177,32 @@ public:
         // Self-collision is off by default (fCollision::Default = rigid-soft only) and there are no rigid
         // bodies: no contender pays for collisions.
 
-        // The drag: a massless node at the target and a zero-length link to it.
-        const Vec3f rest = mesh.positions[s.dragVertex];
-        body.appendNode(btVector3(rest.x(), rest.y(), rest.z()), 0);
-        m_target = body.m_nodes.size() - 1;
-        btSoftBody::Material* drag = body.appendMaterial();
-        drag->m_kLST = linearStiffness(s.dragStiffness, 1.0 / nodeMass, s.dt, setting.iterations);
-        body.appendLink(int(s.dragVertex), m_target, drag);
-        // Shuffled in with the springs, as Bullet shuffles all links: solved last in every sweep, a stiff drag
-        // link would leave the vertex where it put it (one iteration at 24,928 triangles then holds it at 99% of
-        // the way to the target, whatever the springs' stiffness).
-        body.randomizeConstraints();
-        // Rest lengths now, while the target sits on the dragged vertex (Bullet would take them at the
-        // first step, wherever the target is by then).
+        // Rest lengths now, at rest (Bullet would take them at the first step).
         body.updateConstants();
         body.m_bUpdateRtCst = false;
-        m_dragged = int(s.dragVertex);
-        m_rest = rest.cast<double>();
+        for (const auto& [vertex, weight] : surfaceGrip(s)) {
+            m_grip.push_back({int(vertex), weight});
+            m_rest += weight * mesh.positions[vertex].cast<double>();
+        }
+        m_dragStiffness = s.dragStiffness;
+        m_dragDamping = s.dragDamping;
         return true;
     }
 
-    /// One step of s.dt with the drag target at `target`. maxSubSteps = 0: exactly dt, no
-    /// interpolation, a fixed step like ours.
+    /// One step of s.dt with the drag target at `target` (still, as the other contenders' drag target is
+    /// held still within a step). maxSubSteps = 0: exactly dt, no interpolation, a fixed step like ours.
     void step(const Vec3& target, double dt) {
-        m_body->m_nodes[m_target].m_x = btVector3(btScalar(target.x()), btScalar(target.y()), btScalar(target.z()));
+        Vec3 mean = Vec3::Zero(), velocity = Vec3::Zero();
+        for (const auto& [node, weight] : m_grip) {
+            const btSoftBody::Node& n = m_body->m_nodes[node];
+            mean += weight * Vec3(n.m_x.x(), n.m_x.y(), n.m_x.z());
+            velocity += weight * Vec3(n.m_v.x(), n.m_v.y(), n.m_v.z());
+        }
+        const Vec3 force = m_dragStiffness * (target - mean) - m_dragDamping * velocity;
+        for (const auto& [node, weight] : m_grip) {
+            const Vec3 f = weight * force;
+            m_body->addForce(btVector3(btScalar(f.x()), btScalar(f.y()), btScalar(f.z())), node);
+        }
         m_world.world().stepSimulation(btScalar(dt), 0);
     }
     void meshPositions(std::span<Vec3f> out) const {
@@ -213,19 +211,26 @@ public:
             out[n] = Vec3f(float(p.x()), float(p.y()), float(p.z()));
         }
     }
+    /// How far the held surface's mean is from its rest position.
     double displacement() const {
-        const btVector3& p = m_body->m_nodes[m_dragged].m_x;
-        return (Vec3(p.x(), p.y(), p.z()) - m_rest).norm();
+        Vec3 mean = Vec3::Zero();
+        for (const auto& [node, weight] : m_grip) {
+            const btVector3& p = m_body->m_nodes[node].m_x;
+            mean += weight * Vec3(p.x(), p.y(), p.z());
+        }
+        return (mean - m_rest).norm();
     }
+    const Vec3& gripRest() const { return m_rest; }
     btSoftBody& body() { return *m_body; }
 
 private:
     BulletWorld m_world;
     btSoftBody* m_body = nullptr;
     std::size_t m_vertexCount = 0;
-    int m_target = 0;
-    int m_dragged = 0;
-    Vec3 m_rest = Vec3::Zero();
+    std::vector<std::pair<int, double>> m_grip;  ///< The held surface: node and weight.
+    Vec3 m_rest = Vec3::Zero();                   ///< Its mean at rest.
+    double m_dragStiffness = 0.0;
+    double m_dragDamping = 0.0;
 };
 
 }  // namespace
@@ -236,7 +241,7 @@ std::optional<ContenderRun> runBullet(const InteractionScenario& s, const Bullet
     BulletBody bullet;
     if (!bullet.build(s, setting))
         return std::nullopt;
-    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
+    const Vec3 restPoint = bullet.gripRest();
     const std::size_t vertices = s.mesh.positions.size();
     ContenderRun run;
     run.frames.resize(std::size_t(s.frames()) * vertices);  // allocated before the clock starts
@@ -262,7 +267,7 @@ std::optional<StaticResponse> settleBullet(const InteractionScenario& s, const B
     if (!bullet.build(s, setting))
         return std::nullopt;
     bullet.body().m_cfg.kDP = btScalar(kSettleDamping);
-    const Vec3 target = s.mesh.positions[s.dragVertex].cast<double>() + s.dragOffset;
+    const Vec3 target = bullet.gripRest() + s.dragOffset;
     StaticResponse result;
     double low = 1e300, high = 0.0, sum = 0.0, previousMean = -1.0;
     while (result.steps < kMaxSettleSteps) {

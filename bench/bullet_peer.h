@@ -26,8 +26,8 @@ struct BulletSetting {
 /// triangles, or more than 46340 vertices: it allocates a vertices² table indexed by int).
 std::optional<ContenderRun> runBullet(const InteractionScenario& scenario, const BulletSetting& setting);
 
-/// Bullet's static response: the drag held at scenario.dragOffset and the body run until the dragged
-/// vertex stops moving (a position solver has no equilibrium equation to solve directly). nullopt
+/// Bullet's static response: the drag held at scenario.dragOffset and the body run until the held
+/// surface stops moving (a position solver has no equilibrium equation to solve directly). nullopt
 /// where runBullet() has no run.
 std::optional<StaticResponse> settleBullet(const InteractionScenario& scenario, const BulletSetting& setting);
 

@@ -1,6 +1,7 @@
 #include "bench/contenders.h"
 
 #include "analysis/timer.h"
+#include "core/animation/drivers.h"
 #include "core/body/lattice_body.h"
 #include "core/body/mesh_body.h"
 #include "core/solver/simulator.h"
@@ -91,7 +92,6 @@ std::string_view contenderName(Contender contender) {
 
 OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiffnessScale, int solidNodes) {
     assert(contender != Contender::Bullet && stiffnessScale > 0.0);
-    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
     if (contender == Contender::Lattice || contender == Contender::Solid) {
         const LatticeShape shape = contender == Contender::Solid
                                        ? LatticeShape{LatticeKind::Bezier, {solidNodes, solidNodes, solidNodes}}
@@ -100,25 +100,28 @@ OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiff
         m_model = contender == Contender::Solid ? solidModel(s, lattice, stiffnessScale)
                                                 : latticeModel(s, lattice, stiffnessScale);
         m_binding.emplace(Binding::create(lattice, s.mesh.positions, s.mesh.normals));
-        m_dragSupport = lattice.weights(lattice.box().toParameters(restPoint));
+        const Vec3 centre = lattice.box().toParameters(s.mesh.positions[s.dragVertex].cast<double>());
+        m_gripSupport = materialGrip(lattice, centre, s.gripRadius).support;
     } else {
         m_model = meshModel(s, contender == Contender::Local, stiffnessScale);
-        m_dragSupport = {{s.dragVertex, 1.0}};
+        for (const auto& [vertex, weight] : surfaceGrip(s))
+            m_gripSupport.push_back({vertex, weight});
     }
+    m_gripRest = gripPoint(m_model->restPositions);
 }
 
 DragSpring OurBody::dragSpring(const InteractionScenario& s) const {
     DragSpring drag;
-    drag.support = m_dragSupport;
+    drag.support = m_gripSupport;
     drag.stiffness = s.dragStiffness;
     drag.damping = s.dragDamping;
-    drag.target = s.mesh.positions[s.dragVertex].cast<double>();
+    drag.target = m_gripRest;
     return drag;
 }
 
-Vec3 OurBody::dragVertex(const std::vector<Vec3>& nodes) const {
+Vec3 OurBody::gripPoint(const std::vector<Vec3>& nodes) const {
     Vec3 p = Vec3::Zero();
-    for (const NodeWeight& w : m_dragSupport)
+    for (const NodeWeight& w : m_gripSupport)
         p += w.weight * nodes[w.node];
     return p;
 }
@@ -146,7 +149,7 @@ ContenderRun runContender(const InteractionScenario& s, const OurBody& body, con
         settings.energyCheckSteps = 0;
     Simulator sim(body.sharedModel(), settings);
 
-    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
+    const Vec3 restPoint = body.gripRest();
     DragSpring drag = body.dragSpring(s);
     ExternalForces forces;
     const std::size_t vertices = s.mesh.positions.size();

@@ -8,7 +8,7 @@
 ///
 /// One material for all: the scale multiplies every spring's stiffness and its damping alike, so every
 /// body has the scenario's relaxation time damping / stiffness (0.9 / 80 s), and the solid has it as
-/// viscosity / Young's modulus. Equal response then means the same pull moves the same point equally far
+/// viscosity / Young's modulus. Equal response then means the same pull moves what it holds equally far
 /// at rest, and the motion on the way there is damped alike.
 
 #include "bench/scenario.h"
@@ -79,15 +79,17 @@ public:
 
     const BodyModel& model() const { return *m_model; }
     std::shared_ptr<const BodyModel> sharedModel() const { return m_model; }
-    /// Weights of the dragged material point over the nodes (the drag spring's support).
-    const std::vector<NodeWeight>& dragSupport() const { return m_dragSupport; }
+    /// What the drag holds, as weights over the nodes summing to 1 (the drag spring's support): the ball of
+    /// material on the lattice and the solid (materialGrip), the surface under it on a mesh body (surfaceGrip).
+    const std::vector<NodeWeight>& gripSupport() const { return m_gripSupport; }
+    /// Where the held material is at rest (the support's weighted sum of the rest nodes).
+    const Vec3& gripRest() const { return m_gripRest; }
     /// A mass-spring on the mesh (global or local), not a lattice.
     bool isMeshBody() const { return !m_binding; }
-    /// The scenario's drag spring on the dragged point, its target at the point's rest position.
+    /// The scenario's drag spring on the held material, its target at the material's rest position.
     DragSpring dragSpring(const InteractionScenario& scenario) const;
-    /// Where the dragged vertex is for these node positions (its mesh position: the FFD is linear in the
-    /// nodes, so it is the drag support's weighted sum for the lattice too).
-    Vec3 dragVertex(const std::vector<Vec3>& nodes) const;
+    /// Where the held material is for these node positions (the support's weighted sum).
+    Vec3 gripPoint(const std::vector<Vec3>& nodes) const;
     /// The mesh for these node positions (the lattice evaluates its binding on one thread, like every
     /// contender; a mesh body copies its nodes).
     void meshPositions(const std::vector<Vec3>& nodes, std::span<Vec3f> positions) const;
@@ -95,7 +97,8 @@ public:
 private:
     std::shared_ptr<const BodyModel> m_model;
     std::optional<Binding> m_binding;  ///< Lattice only.
-    std::vector<NodeWeight> m_dragSupport;
+    std::vector<NodeWeight> m_gripSupport;
+    Vec3 m_gripRest = Vec3::Zero();
 };
 
 /// The solid's Young's modulus at stiffness scale 1, per N/m of scenario.stiffness and per metre of the

@@ -1,6 +1,6 @@
 #pragma once
 /// Equal response: the contenders of Table 1 are only comparable when they are the same object. Each
-/// contender's stiffness is scaled until its dragged vertex reaches a common static displacement
+/// contender's stiffness is scaled until what its drag holds reaches a common static displacement
 /// under the same pull (the drag held at its final offset until the body settles).
 
 #include <functional>
@@ -34,10 +34,10 @@ struct Calibration {
 using StaticDisplacement = std::function<CalibrationStep(double scale)>;
 
 /// Finds the stiffness scale whose static displacement is `target` (m) within `tolerance` (relative),
-/// starting from `firstScale`, in at most `maxEvaluations` settles. `reach` is where the dragged
-/// vertex would go with no body at all (the drag's offset, m; > target).
+/// starting from `firstScale`, in at most `maxEvaluations` settles. `reach` is where what the drag
+/// holds would go with no body at all (the drag's offset, m; > target).
 ///
-/// The body at the dragged vertex is a spring k_b·scale in series with the drag spring Ks, so a linear
+/// The body under the drag is a spring k_b·scale in series with the drag spring Ks, so a linear
 /// body would move d = reach·Ks / (Ks + k_b·scale). The first step solves that model for the scale
 /// (one settle tells k_b); after it the search is a secant on log(displacement) against log(scale)
 /// (the body is not linear), kept inside the bracket once the target is bracketed (bisection in

@@ -40,10 +40,35 @@ InteractionScenario makeScenario(Mesh mesh) {
     s.dragVertex = order.back();
     const std::size_t anchors = std::max<std::size_t>(1, order.size() / 20);
     s.anchors.assign(order.begin(), order.begin() + std::ptrdiff_t(anchors));
+    s.gripRadius = 0.1 * b.diagonal();
     s.dragOffset = Vec3(0.6, 0.8, 0.0).normalized() * (0.2 * b.diagonal());
     s.localRadius = 0.25 * b.diagonal();
     s.mesh = std::move(mesh);
     return s;
+}
+
+std::vector<std::pair<std::uint32_t, double>> surfaceGrip(const InteractionScenario& s) {
+    const auto& x = s.mesh.positions;
+    std::vector<double> area(x.size(), 0.0);
+    for (const auto& t : s.mesh.triangles) {
+        const double third = (x[t[1]] - x[t[0]]).cast<double>().cross((x[t[2]] - x[t[0]]).cast<double>()).norm() / 6.0;
+        for (std::uint32_t v : t)
+            area[v] += third;
+    }
+    const Vec3f centre = x[s.dragVertex];
+    std::vector<std::pair<std::uint32_t, double>> grip;
+    double sum = 0.0;
+    for (std::uint32_t v = 0; v < x.size(); ++v) {
+        if ((x[v] - centre).norm() <= s.gripRadius && area[v] > 0.0) {
+            grip.emplace_back(v, area[v]);
+            sum += area[v];
+        }
+    }
+    if (!(sum > 0.0))
+        return {{s.dragVertex, 1.0}};
+    for (auto& [v, w] : grip)
+        w /= sum;
+    return grip;
 }
 
 }  // namespace softtouch::bench

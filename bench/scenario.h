@@ -1,6 +1,7 @@
 #pragma once
 /// The interaction every contender of the paper's Table 1 is timed on: the same mesh, the same second
-/// of a user pulling one vertex while a few vertices are held, the same spring constants. Each
+/// of a user pulling the object by a hand's width of its tip while a few vertices are held, the same spring
+/// constants. Each
 /// contender (our lattice, a global mass-spring on every vertex, a local mass-spring around the
 /// drag, Bullet's btSoftBody) simulates it and hands out the mesh positions at the frame rate.
 
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace softtouch::bench {
@@ -22,7 +24,11 @@ struct InteractionScenario {
     double stiffness = 80.0;            ///< Per spring, N/m (the paper's 80.0).
     double damping = 0.9;               ///< Per spring, N·s/m (the paper's 0.9).
     double totalMass = 1.0;             ///< Of the whole object, kg.
-    std::uint32_t dragVertex = 0;       ///< The vertex the user pulls.
+    std::uint32_t dragVertex = 0;       ///< The vertex at the centre of what the user holds.
+    double gripRadius = 0.0;            ///< The drag pulls the mean of what lies within this distance of the
+                                        ///< dragged vertex (m; makeScenario(): 10% of the diagonal): the ball of
+                                        ///< material on the lattice and the solid, the surface on a mesh body
+                                        ///< (surfaceGrip()). A single point's pull has no converged solid.
     Vec3 dragOffset = Vec3::Zero();     ///< Where it is pulled, relative to its rest position (m); the
                                         ///< target moves there linearly over the first half second, then holds.
     double dragStiffness = 50.0;        ///< Ks of the drag spring, N/m.
@@ -43,9 +49,16 @@ struct InteractionScenario {
     int frames() const { return steps() / stepsPerFrame(); }
 };
 
-/// A scenario on `mesh`: drag the vertex of largest x outward by 20% of the diagonal, hold the 5% of
-/// vertices of smallest x; the local mass-spring's region reaches 25% of the diagonal from the drag.
+/// A scenario on `mesh`: drag what lies within 10% of the diagonal of the vertex of largest x outward by 20% of
+/// the diagonal, hold the 5% of vertices of smallest x; the local mass-spring's region reaches 25% of the
+/// diagonal from the drag.
 InteractionScenario makeScenario(Mesh mesh);
+
+/// What a mesh body's drag holds: the surface within scenario.gripRadius of the dragged vertex, as vertex
+/// weights summing to 1, each vertex weighted by its share of the surface (a third of its triangles' area), so
+/// that the pull is the mean of the surface under the hand on a coarse mesh as on a fine one. Never empty: the
+/// dragged vertex alone when nothing else is near.
+std::vector<std::pair<std::uint32_t, double>> surfaceGrip(const InteractionScenario& scenario);
 
 /// A closed ellipsoid with exactly `triangles` triangles (a UV sphere; `triangles` must be
 /// 2·segments·(rings−1) for some segments >= 3, rings >= 3 — every size of the paper's Table 1 is).

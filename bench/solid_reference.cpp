@@ -29,7 +29,7 @@ StaticResponse settleSolid(const InteractionScenario& s, double scale, int nodes
     settings.dt = kSolidSettleStep;
     settings.sleep = false;
     Simulator sim(body.sharedModel(), settings);
-    const Vec3 rest = s.mesh.positions[s.dragVertex].cast<double>();
+    const Vec3 rest = body.gripRest();
     DragSpring drag = body.dragSpring(s);
     drag.target = rest + s.dragOffset;
     ExternalForces forces;
@@ -40,7 +40,7 @@ StaticResponse settleSolid(const InteractionScenario& s, double scale, int nodes
     while (r.steps < kSolidSettleSteps && still < kSolidStillSteps) {
         (void)sim.step(forces);
         ++r.steps;
-        const double d = (body.dragVertex(sim.state().position) - rest).norm();
+        const double d = (body.gripPoint(sim.state().position) - rest).norm();
         still = std::abs(d - last) <= kSolidStillFraction * d ? still + 1 : 0;
         last = d;
     }

@@ -43,7 +43,7 @@ SolidReference solidReference(const InteractionScenario& scenario, double target
                               const SolidReferenceOptions& options, std::ostream& log);
 
 /// The solid's static displacement at `scale` on n³ nodes: implicit Euler at a large step with the drag
-/// held at its final offset until the dragged point stops (the solid has no spring energy for
+/// held at its final offset until what it holds stops (the solid has no spring energy for
 /// settleOurs()'s Newton).
 StaticResponse settleSolid(const InteractionScenario& scenario, double scale, int nodes);
 

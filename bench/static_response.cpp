@@ -118,8 +118,8 @@ private:
 
 StaticResponse settleOurs(const InteractionScenario& s, const OurBody& body, std::vector<Vec3>* start) {
     const BodyModel& model = body.model();
-    const Vec3 restPoint = s.mesh.positions[s.dragVertex].cast<double>();
-    DragEquilibrium problem(model, body.dragSupport(), restPoint + s.dragOffset, s.dragStiffness);
+    const Vec3 restPoint = body.gripRest();
+    DragEquilibrium problem(model, body.gripSupport(), restPoint + s.dragOffset, s.dragStiffness);
     std::vector<Vec3> nodes = start && start->size() == model.nodeCount() ? *start : model.restPositions;
 
     Eigen::VectorXd x, gradient, trialGradient, trial;

@@ -1,6 +1,6 @@
 #pragma once
 /// The static response of a contender of ours: the drag held at the scenario's final offset, and how
-/// far the dragged vertex goes once nothing moves. Equal static displacement under the same pull is
+/// far what the drag holds goes once nothing moves. Equal static displacement under the same pull is
 /// what makes the contenders of Table 1 comparable (equal_response.h).
 ///
 /// The equilibrium is a minimum of the elastic energy plus the drag spring's,
@@ -23,7 +23,7 @@ namespace softtouch::bench {
 
 /// Where a settle ended.
 struct StaticResponse {
-    double displacement = 0.0; ///< |dragged vertex − its rest position| at equilibrium, m.
+    double displacement = 0.0; ///< |held material's mean − its rest position| at equilibrium, m.
     int steps = 0;             ///< Newton iterations (ours) or simulation steps (Bullet) it took.
     bool converged = false;    ///< The displacement stopped changing (see settleOurs()) within the cap.
 };

@@ -2,8 +2,8 @@
 /// The paper's Table 1 redone at equal response and graded at equal accuracy against one reference.
 ///
 /// For one mesh size (measureTable1Size()):
-///  1. Equal response. Every contender's stiffness is scaled (equal_response.h) until the dragged
-///     vertex reaches the same static displacement under the same pull: a stated fraction of the
+///  1. Equal response. Every contender's stiffness is scaled (equal_response.h) until what its
+///     drag holds reaches the same static displacement under the same pull: a stated fraction of the
 ///     mesh's bounding-box diagonal (Table1Options::targetFraction; why that and not the lattice's own
 ///     displacement: docs/measurements/performance.md).
 ///  2. Each peer at its best. The mass-springs run implicit Euler (at the scenario's step) and XPBD

@@ -180,7 +180,7 @@ json table1Section(bool quick, std::ostream& out) {
     char header[600];
     std::snprintf(header, sizeof header,
                   "\nTable 1 at equal response: one second of dragging (dt 1/240 s, mesh at 60 Hz, one thread).\n"
-                  "  Every body's stiffness and damping are scaled until its dragged vertex, held, settles %.0f%% of the\n"
+                  "  Every body's stiffness and damping are scaled until what its drag holds settles %.0f%% of the\n"
                   "  diagonal from rest. Seconds per simulated second; error = RMS against the same body's converged\n"
                   "  run, solid = RMS against the common reference (the converged solid), %% of the diagonal%s.\n"
                   "  docs/measurements/performance.md says why.\n",

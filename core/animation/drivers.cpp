@@ -87,8 +87,10 @@ Status validateDriver(const Driver& driver) {
 }
 
 DriverGrip driverGrip(const Driver& driver, const Lattice& lattice) {
-    const Vec3 point = std::visit([](const auto& d) { return d.point; }, driver);
-    const double radius = driverRadius(driver);
+    return materialGrip(lattice, std::visit([](const auto& d) { return d.point; }, driver), driverRadius(driver));
+}
+
+DriverGrip materialGrip(const Lattice& lattice, const Vec3& point, double radius) {
     DriverGrip grip;
     const OrientedBox& box = lattice.box();
     if (!(radius > 0.0)) {
@@ -117,7 +119,7 @@ DriverGrip driverGrip(const Driver& driver, const Lattice& lattice) {
                 grip.rest += at;
                 ++samples;
             }
-    // The centre is always a sample: the point lies in the box (validateDriver).
+    // The centre is always a sample: the point lies in the box (validateDriver; the caller's promise).
     for (std::size_t i = 0; i < sum.size(); ++i)
         if (sum[i] != 0.0)
             grip.support.push_back({std::uint32_t(i), sum[i] / samples});

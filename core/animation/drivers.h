@@ -81,6 +81,10 @@ struct DriverGrip {
 };
 DriverGrip driverGrip(const Driver& driver, const Lattice& lattice);
 
+/// The grip on the ball of material of `radius` metres around `point` (box parameters, inside the box), clipped to
+/// the box; radius 0 holds the point alone. driverGrip() is this at the driver's point and radius.
+DriverGrip materialGrip(const Lattice& lattice, const Vec3& point, double radius);
+
 /// The drag spring a driver applies at time t through its grip, or nothing (a released scripted drag).
 std::optional<DragSpring> driverDrag(const Driver& driver, const DriverGrip& grip, double seconds);
 

@@ -51,6 +51,7 @@ private slots:
     void nearestPointOfATriangleIsInTheRightRegion();
     void carryingAMeshOntoItselfChangesNothing();
     void carryingACoarseMeshMovesTheFineOneAlike();
+    void theHandHoldsTheSameSurfaceOnEveryMesh();
     void theSolidIsCalibratedToTheSameDisplacement();
     void theSolidsRefinementIsReported();
     void everyRunIsGradedAgainstTheSolidAndSmallerMeshesToo();
@@ -276,6 +277,44 @@ void TestTable1::theSolidIsCalibratedToTheSameDisplacement() {
     const double off = size().reference.calibration.displacement / size().target - 1.0;
     QVERIFY2(std::abs(off) <= kEqualResponse, qPrintable(QString("solid: %1%").arg(100.0 * off)));
     QVERIFY(size().reference.material.modulus > 0.0 && std::isfinite(size().reference.material.modulus));
+}
+
+// What the drag holds: on a mesh body the surface within the grip radius of the tip vertex, weighted by area, so
+// the coarsest and a fine ellipsoid hold nearly the same place about their tips (5 vertices against 129); on the
+// lattice and the solid the ball of material there, the same on every net.
+void TestTable1::theHandHoldsTheSameSurfaceOnEveryMesh() {
+    const InteractionScenario coarse = makeScenario(makeEllipsoid(kSmallerTriangles));
+    const InteractionScenario fine = makeScenario(makeEllipsoid(8640));
+    const double diagonal = fine.mesh.bounds().diagonal();
+    QVERIFY(std::abs(fine.gripRadius - 0.1 * diagonal) < 1e-12 * diagonal);
+    Vec3 means[2];
+    for (int i = 0; i < 2; ++i) {
+        const InteractionScenario& s = i == 0 ? coarse : fine;
+        const auto grip = surfaceGrip(s);
+        double sum = 0.0;
+        Vec3 mean = Vec3::Zero();
+        for (const auto& [vertex, weight] : grip) {
+            QVERIFY(weight > 0.0);
+            QVERIFY((s.mesh.positions[vertex] - s.mesh.positions[s.dragVertex]).norm() <= s.gripRadius);
+            sum += weight;
+            mean += weight * s.mesh.positions[vertex].cast<double>();
+        }
+        QVERIFY(std::abs(sum - 1.0) < 1e-12);
+        QVERIFY2(grip.size() >= (i == 0 ? 2u : 50u), qPrintable(QString::number(grip.size())));
+        means[i] = mean - s.mesh.positions[s.dragVertex].cast<double>();
+        // A mesh body's drag holds exactly that surface.
+        const OurBody global(s, Contender::Global, 1.0);
+        QVERIFY((global.gripRest() - mean).norm() < 1e-6);
+    }
+    QVERIFY2((means[0] - means[1]).norm() < 0.01 * diagonal, qPrintable(QString::number((means[0] - means[1]).norm() / diagonal)));
+    // The lattice and the solid hold the ball: its mean lies inside it, and is the same on a 4x4x4 lattice and an
+    // 8x8x8 net (the samples are the same; each net reproduces positions).
+    const OurBody lattice(fine, Contender::Lattice, 1.0);
+    const OurBody solid(fine, Contender::Solid, 1.0, 8);
+    const Vec3 tip = fine.mesh.positions[fine.dragVertex].cast<double>();
+    QVERIFY((lattice.gripRest() - tip).norm() < fine.gripRadius);
+    QVERIFY((lattice.gripRest() - solid.gripRest()).norm() < 1e-9 * diagonal);
+    QVERIFY(lattice.gripSupport().size() > 1);
 }
 
 void TestTable1::theSolidsRefinementIsReported() {
