@@ -4,19 +4,13 @@
 #include "app/cli_options.h"
 #include "app/cli_support.h"
 
-#include "io/files/atomic_file.h"
 #include "io/pipeline/clip_preview.h"
-#include "render/video_render.h"
+#include "render/preview_page.h"
 
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <system_error>
 
 namespace softtouch::cli {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr const char* kPreviewAbout = R"(Write DIR/index.html, one self-contained page that plays an exported clip in a web browser with
 three.js, the way a game engine plays it: skinned and morph glTF through three.js's own loader,
@@ -31,8 +25,6 @@ and stops T seconds in (both take lists: frame=6,12&until=0.4,1.3), size=WxH dra
 draws a white silhouette on black, readback writes each stop's picture as a PNG into the page (tests use
 these).
 )";
-
-std::array<float, 3> array3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
@@ -54,33 +46,15 @@ int runPreview(const std::vector<std::string>& args) {
     if (const auto exit = line.parse(args))
         return *exit;
 
-    auto clip = io::inspectPreviewClip(clipPath);
-    if (!clip)
-        return fail(clip.message());
-    const float aspect = float(size.first) / float(size.second);
-    const render::CameraPlacement placement = render::videoCameraPlacement(clip->restBounds, aspect);
-    io::PreviewCamera camera;
-    camera.eye = array3(placement.eye);
-    camera.centre = array3(placement.centre);
-    camera.up = array3(placement.up);
-    camera.fovYDegrees = float(placement.fovY * 180.0 / M_PI);
-    camera.nearPlane = placement.nearPlane;
-    camera.farPlane = placement.farPlane;
     const io::PreviewAssets assets{app::bundledFolder("web", "web"), app::bundledFolder("shaders", "io/shaders")};
-    auto page = io::buildPreviewPage(clip.value(), camera, assets);
+    auto page = render::writePreviewPage(clipPath, outDir, size.first, size.second, assets);
     if (!page)
         return fail(page.message());
-    std::error_code ec;
-    fs::create_directories(outDir, ec);
-    if (ec)
-        return fail("cannot create " + outDir + ": " + ec.message());
-    const fs::path index = fs::path(outDir) / "index.html";
-    if (Status s = io::writeFileAtomically(index, page.value()); !s)
-        return fail(s.message());
+    const io::PreviewClip& clip = page->clip;
     if (!quiet)
-        std::printf("wrote %s (%s clip %s: %d frames at %g fps, %s; %.1f MB)\n", index.c_str(),
-                    io::previewKindName(clip->kind), clip->name.c_str(), clip->frames, clip->fps, clip->summary.c_str(),
-                    double(page.value().size()) / 1e6);
+        std::printf("wrote %s (%s clip %s: %d frames at %g fps, %s; %.1f MB)\n", page->index.c_str(),
+                    io::previewKindName(clip.kind), clip.name.c_str(), clip.frames, clip.fps, clip.summary.c_str(),
+                    double(page->bytes) / 1e6);
     return 0;
 }
 
