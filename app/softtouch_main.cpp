@@ -102,6 +102,8 @@ int main(int argc, char** argv) {
     const QString project = parser.positionalArguments().value(0, softtouch::app::defaultScenePath());
     softtouch::ui::MainWindowOptions options;
     options.presetFolder = softtouch::app::presetFolder();
+    options.webFolder = QString::fromStdString(softtouch::app::bundledFolder("web", "web").string());
+    options.shaderFolder = QString::fromStdString(softtouch::app::bundledFolder("shaders", "io/shaders").string());
     options.autosaveFolder = parser.value(autosaveFolder);
     const double autosaveS = parser.value(autosaveSeconds).toDouble();
     if (!(autosaveS >= 0.05 && autosaveS <= 86400)) {

@@ -135,6 +135,8 @@ void MainWindow::buildDocks() {
     propertiesDock->raise();
 
     m_timeline = new TimelinePanel(m_document, m_simulation);
+    if (!m_options.webFolder.isEmpty())
+        m_timeline->setPreviewAssets({m_options.webFolder.toStdString(), m_options.shaderFolder.toStdString()});
     m_timeline->setViewCamera([this] { return m_viewport->camera().placement(); });
     m_timeline->setCurrentObjectSource([this] { return m_viewport->currentObject(); });
     m_study->setClipSource([this] { return m_timeline->exportedClipName(); });

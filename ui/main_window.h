@@ -29,6 +29,8 @@ struct MainWindowOptions {
     QString autosaveFolder;          ///< Empty: <AppDataLocation>/autosave.
     int autosaveMilliseconds = 60000;///< Autosave interval.
     QString presetFolder;            ///< Shipped presets (presets/materials); empty: found next to the binary.
+    QString webFolder;               ///< The preview page's player and three.js (web/); empty: Export… offers no preview.
+    QString shaderFolder;            ///< The shipped engine shaders the page embeds (io/shaders/).
 };
 
 /// The editor window.

@@ -1,6 +1,7 @@
 #include "ui/timeline_panel.h"
 
 #include "io/pipeline/bake.h"
+#include "render/preview_page.h"
 #include "render/video_render.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
@@ -8,6 +9,7 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDesktopServices>
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QFormLayout>
@@ -31,6 +33,7 @@
 #include <QVBoxLayout>
 
 #include <atomic>
+#include <set>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -488,7 +491,10 @@ void TimelinePanel::exportClip(int index) {
     const bool packable = format.takesCompress && !io::writesGltfJson(path.toStdString());
     const bool rigged = format.takesBones && std::any_of(scene.objects.begin(), scene.objects.end(),
                                                          [](const SceneObject& o) { return o.baseAnimation != nullptr; });
-    if (scene.objects.size() > 1 || packable || rigged) {
+    // The preview page plays what a game plays: the glTF kinds, VAT and lattice caches (io/pipeline/clip_preview.h).
+    static const std::set<std::string_view> kPreviewable{"skin", "pca", "glb", "gltf", "vat", "lattice"};
+    const bool previewable = !m_previewAssets.webRoot.empty() && kPreviewable.contains(format.name);
+    if (scene.objects.size() > 1 || packable || rigged || previewable) {
         QDialog ask(this);
         ask.setWindowTitle(tr("Export Options"));
         auto* form = new QFormLayout(&ask);
@@ -496,6 +502,13 @@ void TimelinePanel::exportClip(int index) {
         QCheckBox* groups = nullptr;
         QCheckBox* compress = nullptr;
         QComboBox* bones = nullptr;
+        const auto addCheck = [form](const char* name, const QString& text, const QString& tip) {
+            auto* box = new QCheckBox(text);
+            box->setObjectName(name);
+            box->setToolTip(tip);
+            form->addRow(box);
+            return box;
+        };
         QString currentName;
         if (scene.objects.size() > 1) {
             which = new QComboBox;
@@ -506,18 +519,15 @@ void TimelinePanel::exportClip(int index) {
             which->addItem(tr("Only %1 (the current object)").arg(currentName));
             which->addItem(tr("Each object in its own file (name-OBJECT)"));
             form->addRow(tr("Objects"), which);
-            groups = new QCheckBox(tr("Name each object's faces in OBJ files (g OBJECT)"));
-            groups->setToolTip(tr("A DCC then imports one part per object; some importers reorder vertices when they split "
-                                  "groups, which PC2 and MDD caches rely on."));
-            form->addRow(groups);
+            groups = addCheck("exportGroups", tr("Name each object's faces in OBJ files (g OBJECT)"),
+                              tr("A DCC then imports one part per object; some importers reorder vertices when they split "
+                                 "groups, which PC2 and MDD caches rely on."));
         }
         if (packable) {
-            compress = new QCheckBox(tr("Pack for shipping (EXT_meshopt_compression)"));
-            compress->setObjectName("exportCompress");
-            compress->setToolTip(tr("About a third of the size, as games ship glTF: every buffer packed losslessly, normals "
-                                    "as 16-bit octahedral vectors, skin weights in 8 bits. three.js, Babylon.js and Unity's "
-                                    "glTFast read it; Blender, assimp and Godot 4 do not, so keep an unpacked file for a DCC."));
-            form->addRow(compress);
+            compress = addCheck("exportCompress", tr("Pack for shipping (EXT_meshopt_compression)"),
+                                tr("About a third of the size, as games ship glTF: every buffer packed losslessly, normals "
+                                   "as 16-bit octahedral vectors, skin weights in 8 bits. three.js, Babylon.js and Unity's "
+                                   "glTFast read it; Blender, assimp and Godot 4 do not, so keep an unpacked file for a DCC."));
         }
         if (rigged) {
             bones = new QComboBox;
@@ -529,6 +539,13 @@ void TimelinePanel::exportClip(int index) {
                                  "animations; a few helper bones under its joints carry the wobble. Fitted bones replace "
                                  "the skeleton."));
             form->addRow(tr("Bones"), bones);
+        }
+        QCheckBox* preview = nullptr;
+        if (previewable) {
+            preview = addCheck("exportPreview", tr("Open a preview page (the clip played by three.js in your web browser)"),
+                               tr("Writes a page beside the export (NAME-preview/index.html) that plays it the way a game "
+                                  "engine does, from disk, with no server; the same page as softtouch-cli preview. Not "
+                                  "for one file per object."));
         }
         auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
         connect(buttons, &QDialogButtonBox::accepted, &ask, &QDialog::accept);
@@ -542,10 +559,31 @@ void TimelinePanel::exportClip(int index) {
         choices.groups = groups && groups->isChecked();
         choices.compress = compress && compress->isChecked();
         choices.fittedBones = bones && bones->currentIndex() == 1;
+        choices.preview = preview && preview->isChecked() && !choices.each;
     }
     const Status s = exportClipTo(index, path, format, choices);
     if (!s && !s.wasCancelled())  // a cancel is the user's choice, not an error (the message said so, and
         QMessageBox::critical(this, tr("Export failed"), QString::fromStdString(s.message()));  // never matched)
+    if (s && choices.preview)
+        previewExport(path);
+}
+
+void TimelinePanel::previewExport(const QString& path) {
+    // Beside the export, named after it: "fish-swim.glb" -> "fish-swim-preview/index.html" (a VAT's or a lattice
+    // cache's base path likewise).
+    const QFileInfo exported(path);
+    const QString base = exported.suffix() == "glb" || exported.suffix() == "gltf" ? exported.completeBaseName() : exported.fileName();
+    const QString folder = exported.dir().filePath(base + "-preview");
+    const QString exportedText = m_time->text();
+    auto page = render::writePreviewPage(path.toStdString(), folder.toStdString(), 960, 540, m_previewAssets);
+    if (!page) {
+        QMessageBox::warning(this, tr("Preview page"),
+                             tr("The clip was exported, but its preview page was not written: %1").arg(QString::fromStdString(page.message())));
+        return;
+    }
+    const QString index = QString::fromStdString(page->index.string());
+    m_time->setText(tr("%1; preview page %2").arg(exportedText, index));
+    QDesktopServices::openUrl(QUrl::fromLocalFile(index));
 }
 
 Status TimelinePanel::exportClipTo(int index, const QString& path) { return exportClipTo(index, path, formatFor(path)); }

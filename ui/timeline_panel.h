@@ -7,6 +7,7 @@
 
 #include "core/authoring/clip.h"
 #include "io/export/export_formats.h"
+#include "io/pipeline/clip_preview.h"
 #include "render/camera.h"
 #include "ui/simulation_controller.h"
 
@@ -32,6 +33,7 @@ struct ExportChoices {
     bool groups = false;            ///< OBJ files name each object's faces with "g OBJECT".
     bool compress = false;          ///< A GLB packed for shipping (bake --compress; glb, pca and skin to a .glb).
     bool fittedBones = false;       ///< A skin export fits its own bones even where the mesh came with a rig (bake --rig fitted).
+    bool preview = false;           ///< Then writes the clip's preview page beside it and opens it (softtouch-cli preview).
 };
 
 /// Takes and clips of the open document.
@@ -83,6 +85,8 @@ public slots:
     void stepFrame(int delta);
     /// Asks for a file and exports clip `index` (or the drivers when < 0) with a progress dialog.
     void exportClip(int index);
+    /// Writes the preview page of the export at `path` beside it and opens it in the web browser.
+    void previewExport(const QString& path);
     /// The export dialog's file types, one per export of the registry (io/export/export_formats.h), in its order:
     /// "Point cache (*.pc2)", …; a base-path export (vat, lattice) takes any name.
     static QStringList exportFilters();
@@ -93,6 +97,9 @@ public slots:
     Status exportClipTo(int index, const QString& path);
     Status exportClipTo(int index, const QString& path, const io::ExportFormat& format);
     Status exportClipTo(int index, const QString& path, const io::ExportFormat& format, const ExportChoices& choices);
+    /// Where the preview page's player and shaders are (softtouch-cli preview's); with none, Export… offers no
+    /// preview page.
+    void setPreviewAssets(io::PreviewAssets assets) { m_previewAssets = std::move(assets); }
     /// The object "only the current object" exports (the main window passes the viewport's).
     void setCurrentObjectSource(std::function<int()> current) { m_currentObject = std::move(current); }
     /// The name of the clip Export… writes now: the selected clip's, or "" (the drivers) when none is selected.
@@ -149,6 +156,7 @@ private:
     QTimer* m_playTimer = nullptr;
     double m_playPosition = 0.0;   ///< Playback's place, frames (fractional between ticks).
     QLabel* m_time = nullptr;
+    io::PreviewAssets m_previewAssets;
     QLabel* m_baseRange = nullptr;  ///< Each object's base animation: take, range, loop (hidden when none).
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
     std::function<render::CameraPlacement()> m_viewCamera;  ///< See setViewCamera().

@@ -73,6 +73,7 @@ void answerSaveDialog(QFileDialog& dialog, const QString& nameFilter, const QStr
 
 void TestEditor::initTestCase() {
     m_cacheHome = qgetenv("XDG_CACHE_HOME");
+    QDesktopServices::setUrlHandler("file", this, "desktopOpened");
     QStandardPaths::setTestModeEnabled(true);
     QApplication::setOrganizationName("SoftTouchTests");
     QApplication::setApplicationName("test_editor");
@@ -104,6 +105,7 @@ void TestEditor::init() {
 }
 
 void TestEditor::cleanup() {
+    m_desktopOpened.clear();
     if (m_window)
         m_window->document()->undoStack()->setClean();  // no unsaved-changes prompt on close
     m_window.reset();
@@ -120,6 +122,8 @@ std::unique_ptr<MainWindow> TestEditor::makeWindow() {
     options.autosaveFolder = m_dir->filePath("autosave");
     options.autosaveMilliseconds = 100;
     options.presetFolder = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/materials");
+    options.webFolder = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/web");
+    options.shaderFolder = QStringLiteral(SOFTTOUCH_SOURCE_DIR "/io/shaders");
     auto w = std::make_unique<MainWindow>(options);
     w->resize(1280, 800);
     w->show();

@@ -39,6 +39,7 @@
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QFile>
+#include <QDesktopServices>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
@@ -179,6 +180,7 @@ private slots:
     void presetAppliesAsOneUndoStep();
     void recordedTakeScrubsAndExports();
     void exportDialogsPackAGlbForShipping();
+    void exportWritesAndOpensAPreviewPage();
     void exportDialogPutsTheRiggedGuppyOnItsOwnRig();
     void keyframesFromPosesMakeAClip();
     void aKeyedClipLoopsFromItsMenuAndTheLoopBox();
@@ -207,6 +209,11 @@ private slots:
     void propertiesFieldsFitTheDock_data();
     void propertiesFieldsFitTheDock();
 
+public slots:
+    /// Where the editor asked the desktop to open a file (QDesktopServices' handler for file: URLs in this suite,
+    /// so no browser starts).
+    void desktopOpened(const QUrl& url) { m_desktopOpened << url; }
+
 private:
     std::unique_ptr<MainWindow> makeWindow();
     /// Readies the window for posing: active and focused on the viewport (keys reach it), the drivers
@@ -217,6 +224,7 @@ private:
 
     std::unique_ptr<QTemporaryDir> m_dir;
     QByteArray m_cacheHome;  ///< XDG_CACHE_HOME as the suite found it (null: unset).
+    QList<QUrl> m_desktopOpened;
     std::unique_ptr<MainWindow> m_window;
     /// Closes a modal dialog that no test answered (an error box in init(), say) once it has stood open for
     /// two of its ticks, saying what it showed: the test then fails on what the dialog said instead of

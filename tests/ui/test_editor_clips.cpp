@@ -170,35 +170,37 @@ void TestEditor::recordedTakeScrubsAndExports() {
     QCOMPARE(w.timeline()->takeCount(), 0);
 }
 
-void TestEditor::exportDialogsPackAGlbForShipping() {
-    // The whole way a person goes: Export…, the file dialog (the skinned GLB type and a name), then Export
-    // Options' "Pack for shipping". Each modal dialog is answered as it opens, as a person would.
-    MainWindow& w = *m_window;
+namespace {
+
+/// Export… the way a person goes: the button, the file dialog (the export type whose filter mentions `kind`, and
+/// `path`), then Export Options with the check box `tick` ticked. Each modal dialog is answered as it opens.
+/// False when a dialog did not come.
+bool exportThroughDialogs(MainWindow& w, const QString& kind, const QString& path, const QString& tick) {
     auto* clips = w.timeline()->findChild<QListWidget*>("clips");
-    QVERIFY(clips && clips->count() > 0);
+    if (!clips || clips->count() == 0)
+        return false;
     clips->setCurrentRow(0);
     QPushButton* exportButton = nullptr;
     for (QPushButton* b : w.timeline()->findChildren<QPushButton*>())
         if (b->text() == QString("Export…"))
             exportButton = b;
-    QVERIFY(exportButton);
-    const QString glb = m_dir->filePath("shipped.glb");
-    QString skinFilter;
+    QString filter;
     for (const QString& f : TimelinePanel::exportFilters())
-        if (f.contains("skin", Qt::CaseInsensitive))
-            skinFilter = f;
-    QVERIFY(!skinFilter.isEmpty());
+        if (f.contains(kind, Qt::CaseInsensitive))
+            filter = f;
+    if (!exportButton || filter.isEmpty())
+        return false;
     bool answeredFile = false, answeredOptions = false;
     QTimer answer;
-    connect(&answer, &QTimer::timeout, this, [&] {
+    QObject::connect(&answer, &QTimer::timeout, [&] {
         QWidget* modal = QApplication::activeModalWidget();
         if (auto* files = qobject_cast<QFileDialog*>(modal); files && !answeredFile) {
             answeredFile = true;
-            answerSaveDialog(*files, skinFilter, glb);
+            answerSaveDialog(*files, filter, path);
         } else if (auto* options = qobject_cast<QDialog*>(modal); options && !answeredOptions) {
-            if (auto* pack = options->findChild<QCheckBox*>("exportCompress")) {
+            if (auto* box = options->findChild<QCheckBox*>(tick)) {
                 answeredOptions = true;
-                pack->setChecked(true);
+                box->setChecked(true);
                 options->accept();
             }
         }
@@ -206,10 +208,43 @@ void TestEditor::exportDialogsPackAGlbForShipping() {
     answer.start(50);
     exportButton->click();
     answer.stop();
-    QVERIFY(answeredFile);
-    QVERIFY(answeredOptions);
+    return answeredFile && answeredOptions;
+}
+
+}  // namespace
+
+void TestEditor::exportDialogsPackAGlbForShipping() {
+    // The whole way a person goes: Export…, the file dialog (the skinned GLB type and a name), then Export
+    // Options' "Pack for shipping".
+    const QString glb = m_dir->filePath("shipped.glb");
+    QVERIFY(exportThroughDialogs(*m_window, "skin", glb, "exportCompress"));
     QVERIFY2(QFile::exists(glb), qPrintable(QString("%1 not written; the folder holds %2").arg(glb, QDir(m_dir->path()).entryList(QDir::Files).join(", "))));
     QVERIFY2(io::fileUsesMeshoptCompression(glb.toStdString()), "the file is not packed");
+    // No preview page unless asked for.
+    QVERIFY(!QFileInfo::exists(m_dir->filePath("shipped-preview")));
+    QVERIFY(m_desktopOpened.isEmpty());
+}
+
+// #42: the preview page from the editor. Export Options' "Open a preview page" writes the page softtouch-cli
+// preview writes, beside the export, and asks the desktop to open it; the status line says where it is.
+void TestEditor::exportWritesAndOpensAPreviewPage() {
+    const QString glb = m_dir->filePath("fish-swim.glb");
+    QVERIFY(exportThroughDialogs(*m_window, "skin", glb, "exportPreview"));
+    QVERIFY(QFile::exists(glb));
+    const QString index = m_dir->filePath("fish-swim-preview/index.html");
+    QFile page(index);
+    QVERIFY2(page.open(QIODevice::ReadOnly), qPrintable(index));
+    const QByteArray html = page.readAll();
+    QVERIFY(html.contains("id=\"softtouch-clip\""));
+    QVERIFY(html.contains("\"kind\":\"skinned\"") || html.contains("\"kind\": \"skinned\""));
+    QCOMPARE(m_desktopOpened, QList<QUrl>{QUrl::fromLocalFile(index)});
+    QVERIFY2(m_window->timeline()->statusText().contains(index), qPrintable(m_window->timeline()->statusText()));
+    // The same page as the command line's for the same file.
+    const auto cli = softtouch::test::runCli({"preview", glb, "--out", m_dir->filePath("cli"), "--quiet"});
+    QCOMPARE(cli.exitCode, 0);
+    QFile cliPage(m_dir->filePath("cli/index.html"));
+    QVERIFY(cliPage.open(QIODevice::ReadOnly));
+    QVERIFY(cliPage.readAll() == html);
 }
 
 void TestEditor::exportDialogPutsTheRiggedGuppyOnItsOwnRig() {
