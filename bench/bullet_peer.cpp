@@ -180,10 +180,9 @@ public:
         // Rest lengths now, at rest (Bullet would take them at the first step).
         body.updateConstants();
         body.m_bUpdateRtCst = false;
-        for (const auto& [vertex, weight] : surfaceGrip(s)) {
-            m_grip.push_back({int(vertex), weight});
-            m_rest += weight * mesh.positions[vertex].cast<double>();
-        }
+        m_grip = surfaceGrip(s);
+        for (const NodeWeight& w : m_grip)
+            m_rest += w.weight * mesh.positions[w.node].cast<double>();
         m_dragStiffness = s.dragStiffness;
         m_dragDamping = s.dragDamping;
         return true;
@@ -192,16 +191,10 @@ public:
     /// One step of s.dt with the drag target at `target` (still, as the other contenders' drag target is
     /// held still within a step). maxSubSteps = 0: exactly dt, no interpolation, a fixed step like ours.
     void step(const Vec3& target, double dt) {
-        Vec3 mean = Vec3::Zero(), velocity = Vec3::Zero();
-        for (const auto& [node, weight] : m_grip) {
-            const btSoftBody::Node& n = m_body->m_nodes[node];
-            mean += weight * Vec3(n.m_x.x(), n.m_x.y(), n.m_x.z());
-            velocity += weight * Vec3(n.m_v.x(), n.m_v.y(), n.m_v.z());
-        }
-        const Vec3 force = m_dragStiffness * (target - mean) - m_dragDamping * velocity;
-        for (const auto& [node, weight] : m_grip) {
-            const Vec3 f = weight * force;
-            m_body->addForce(btVector3(btScalar(f.x()), btScalar(f.y()), btScalar(f.z())), node);
+        const Vec3 force = m_dragStiffness * (target - held(&btSoftBody::Node::m_x)) - m_dragDamping * held(&btSoftBody::Node::m_v);
+        for (const NodeWeight& w : m_grip) {
+            const Vec3 f = w.weight * force;
+            m_body->addForce(btVector3(btScalar(f.x()), btScalar(f.y()), btScalar(f.z())), int(w.node));
         }
         m_world.world().stepSimulation(btScalar(dt), 0);
     }
@@ -212,23 +205,26 @@ public:
         }
     }
     /// How far the held surface's mean is from its rest position.
-    double displacement() const {
-        Vec3 mean = Vec3::Zero();
-        for (const auto& [node, weight] : m_grip) {
-            const btVector3& p = m_body->m_nodes[node].m_x;
-            mean += weight * Vec3(p.x(), p.y(), p.z());
-        }
-        return (mean - m_rest).norm();
-    }
+    double displacement() const { return (held(&btSoftBody::Node::m_x) - m_rest).norm(); }
     const Vec3& gripRest() const { return m_rest; }
     btSoftBody& body() { return *m_body; }
 
 private:
+    /// The held surface's weighted mean of a node quantity (position m_x or velocity m_v).
+    Vec3 held(btVector3 btSoftBody::Node::*quantity) const {
+        Vec3 mean = Vec3::Zero();
+        for (const NodeWeight& w : m_grip) {
+            const btVector3& v = m_body->m_nodes[int(w.node)].*quantity;
+            mean += w.weight * Vec3(v.x(), v.y(), v.z());
+        }
+        return mean;
+    }
+
     BulletWorld m_world;
     btSoftBody* m_body = nullptr;
     std::size_t m_vertexCount = 0;
-    std::vector<std::pair<int, double>> m_grip;  ///< The held surface: node and weight.
-    Vec3 m_rest = Vec3::Zero();                   ///< Its mean at rest.
+    std::vector<NodeWeight> m_grip;  ///< The held surface (surfaceGrip()).
+    Vec3 m_rest = Vec3::Zero();      ///< Its mean at rest.
     double m_dragStiffness = 0.0;
     double m_dragDamping = 0.0;
 };

@@ -104,8 +104,7 @@ OurBody::OurBody(const InteractionScenario& s, Contender contender, double stiff
         m_gripSupport = materialGrip(lattice, centre, s.gripRadius).support;
     } else {
         m_model = meshModel(s, contender == Contender::Local, stiffnessScale);
-        for (const auto& [vertex, weight] : surfaceGrip(s))
-            m_gripSupport.push_back({vertex, weight});
+        m_gripSupport = surfaceGrip(s);
     }
     m_gripRest = gripPoint(m_model->restPositions);
 }

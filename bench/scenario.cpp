@@ -47,7 +47,7 @@ InteractionScenario makeScenario(Mesh mesh) {
     return s;
 }
 
-std::vector<std::pair<std::uint32_t, double>> surfaceGrip(const InteractionScenario& s) {
+std::vector<NodeWeight> surfaceGrip(const InteractionScenario& s) {
     const auto& x = s.mesh.positions;
     std::vector<double> area(x.size(), 0.0);
     for (const auto& t : s.mesh.triangles) {
@@ -56,18 +56,18 @@ std::vector<std::pair<std::uint32_t, double>> surfaceGrip(const InteractionScena
             area[v] += third;
     }
     const Vec3f centre = x[s.dragVertex];
-    std::vector<std::pair<std::uint32_t, double>> grip;
+    std::vector<NodeWeight> grip;
     double sum = 0.0;
     for (std::uint32_t v = 0; v < x.size(); ++v) {
         if ((x[v] - centre).norm() <= s.gripRadius && area[v] > 0.0) {
-            grip.emplace_back(v, area[v]);
+            grip.push_back({v, area[v]});
             sum += area[v];
         }
     }
     if (!(sum > 0.0))
         return {{s.dragVertex, 1.0}};
-    for (auto& [v, w] : grip)
-        w /= sum;
+    for (NodeWeight& w : grip)
+        w.weight /= sum;
     return grip;
 }
 

@@ -1,16 +1,16 @@
 #pragma once
 /// The interaction every contender of the paper's Table 1 is timed on: the same mesh, the same second
-/// of a user pulling the object by a hand's width of its tip while a few vertices are held, the same spring
-/// constants. Each
-/// contender (our lattice, a global mass-spring on every vertex, a local mass-spring around the
-/// drag, Bullet's btSoftBody) simulates it and hands out the mesh positions at the frame rate.
+/// of a user pulling the object by a hand's width of its tip while a few vertices are held, the same
+/// spring constants. Each contender (our lattice, a global mass-spring on every vertex, a local
+/// mass-spring around the drag, Bullet's btSoftBody) simulates it and hands out the mesh positions at
+/// the frame rate.
 
+#include "core/geometry/lattice.h"
 #include "core/geometry/mesh.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 namespace softtouch::bench {
@@ -58,7 +58,7 @@ InteractionScenario makeScenario(Mesh mesh);
 /// weights summing to 1, each vertex weighted by its share of the surface (a third of its triangles' area), so
 /// that the pull is the mean of the surface under the hand on a coarse mesh as on a fine one. Never empty: the
 /// dragged vertex alone when nothing else is near.
-std::vector<std::pair<std::uint32_t, double>> surfaceGrip(const InteractionScenario& scenario);
+std::vector<NodeWeight> surfaceGrip(const InteractionScenario& scenario);
 
 /// A closed ellipsoid with exactly `triangles` triangles (a UV sphere; `triangles` must be
 /// 2·segments·(rings−1) for some segments >= 3, rings >= 3 — every size of the paper's Table 1 is).
