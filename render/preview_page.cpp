@@ -3,7 +3,6 @@
 #include "io/files/atomic_file.h"
 #include "render/video_render.h"
 
-#include <cmath>
 #include <array>
 #include <numbers>
 #include <system_error>

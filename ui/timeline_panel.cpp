@@ -33,7 +33,6 @@
 #include <QVBoxLayout>
 
 #include <atomic>
-#include <set>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -491,9 +490,7 @@ void TimelinePanel::exportClip(int index) {
     const bool packable = format.takesCompress && !io::writesGltfJson(path.toStdString());
     const bool rigged = format.takesBones && std::any_of(scene.objects.begin(), scene.objects.end(),
                                                          [](const SceneObject& o) { return o.baseAnimation != nullptr; });
-    // The preview page plays what a game plays: the glTF kinds, VAT and lattice caches (io/pipeline/clip_preview.h).
-    static const std::set<std::string_view> kPreviewable{"skin", "pca", "glb", "gltf", "vat", "lattice"};
-    const bool previewable = !m_previewAssets.webRoot.empty() && kPreviewable.contains(format.name);
+    const bool previewable = !m_previewAssets.webRoot.empty() && io::previewPlays(format.name);
     if (scene.objects.size() > 1 || packable || rigged || previewable) {
         QDialog ask(this);
         ask.setWindowTitle(tr("Export Options"));

@@ -276,7 +276,7 @@ async function main() {
     // A glTF loop's closing key is frame 0 again at frames / fps: the cycle plays through it, one frame's time
     // from the last frame to the first. Other clips end on their last frame.
     const duration = clip.closesLoop ? clip.frames / clip.fps : Math.max(clip.frames - 1, 1) / clip.fps;
-    let time = stillFrames.length > 0 ? stillFrames[stillFrames.length - 1] / clip.fps : 0;
+    let time = 0;  // frame= shows its frames below, then plays from the start if until= asks
     let playing = stillFrames.length === 0;
     const show = () => {
         player.show(time);

@@ -327,6 +327,13 @@ std::string rewriteImports(const std::string& source, const std::string& from, s
 
 }  // namespace
 
+bool previewPlays(std::string_view format) {
+    for (std::string_view played : {"skin", "pca", "glb", "gltf", "vat", "lattice"})
+        if (format == played)
+            return true;
+    return false;
+}
+
 const char* previewKindName(PreviewKind kind) {
     switch (kind) {
     case PreviewKind::Skinned: return "skinned";

@@ -11,6 +11,7 @@
 #include <array>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace softtouch::io {
@@ -25,6 +26,10 @@ enum class PreviewKind {
 
 /// "skinned", "morph", "vat", "lattice".
 const char* previewKindName(PreviewKind kind);
+
+/// Whether the page plays what the export called `format` writes ("skin", "pca", "glb", "gltf", "vat",
+/// "lattice"; io/export/export_formats.h): the kinds a game plays, not point caches or meshes.
+bool previewPlays(std::string_view format);
 
 /// An exported clip as the page needs it.
 struct PreviewClip {
