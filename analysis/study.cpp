@@ -38,20 +38,23 @@ Result<SceneObject> onLattice(const SceneObject& source, const LatticeShape& sha
     return o;
 }
 
-/// The clip's mesh frames of a scene, and the wall time they took (physics and deformation).
+/// The clip's mesh frames of a scene, and the wall time they took (physics and deformation, and writing them
+/// when a writer is given).
 struct ClipRun {
     ClipMeshFrames frames;
     double seconds = 0.0;
     bool finite = true;
-    std::string failure;  ///< Why the clip could not be played; empty when it was.
+    std::string failure;       ///< Why the clip could not be played; empty when it was.
+    std::string writeFailure;  ///< Why finite frames could not be written; empty when they were (or nothing writes).
 };
 
-ClipRun runClip(const Scene& scene, const ClipLibrary& library, const Clip& clip) {
+ClipRun runClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
+                const std::function<Status(const ClipMeshFrames&)>& write = {}) {
     ClipRun run;
     Stopwatch watch;
     auto frames = clipMeshFrames(scene, library, clip);
-    run.seconds = watch.seconds();
     if (!frames) {
+        run.seconds = watch.seconds();
         run.finite = false;
         run.failure = frames.message();
         return run;
@@ -60,6 +63,11 @@ ClipRun runClip(const Scene& scene, const ClipLibrary& library, const Clip& clip
     for (const std::vector<Vec3f>& object : run.frames.positions)
         for (const Vec3f& p : object)
             run.finite = run.finite && p.allFinite();
+    // A bake refuses non-finite frames before writing them: those runs pay the frames alone.
+    if (write && run.finite)
+        if (Status s = write(run.frames); !s)
+            run.writeFailure = s.message();
+    run.seconds = watch.seconds();
     return run;
 }
 
@@ -237,6 +245,7 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         return result;
     }
     result.clip = clip.value();
+    result.written = options.write ? options.written : std::string();
     for (const SceneObject& object : scene.objects)
         result.objects.push_back(object.name);
     const int repeats = std::clamp(options.repeats, 1, 100);
@@ -479,11 +488,16 @@ StudyResult runStudy(const Scene& scene, const ClipLibrary& library, const Study
         Scene run = runs->scene;
         run.world.simulation.integrator = setting.integrator;
         run.world.simulation.dt = setting.dt;
-        ClipRun clipRun = runClip(run, library, clip.value());
+        ClipRun clipRun = runClip(run, library, clip.value(), options.write);
+        if (!clipRun.writeFailure.empty()) {  // the scratch folder, not the setting: no row can be costed
+            result.failure = "writing the clip as a bake does: " + clipRun.writeFailure;
+            stopped = true;
+            break;
+        }
         // The cost the user pays for the clip: the fastest of the repeats (noise only ever adds time).
         double fastest = clipRun.seconds, slowest = clipRun.seconds;
         for (int r = 1; r < repeats; ++r) {
-            const double seconds = runClip(run, library, clip.value()).seconds;
+            const double seconds = runClip(run, library, clip.value(), options.write).seconds;
             fastest = std::min(fastest, seconds);
             slowest = std::max(slowest, seconds);
         }
@@ -636,8 +650,11 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         << "material carried to each resolution as the same continuum (density, Young's modulus and viscosity do not depend\n"
         << "on the lattice; anchors keep their extent in the material). Errors are RMS vertex distances over every frame,\n"
         << "relative to the mesh's bounding-box diagonal; the worst object's is shown.\n\n"
-        << "- **cost**: wall seconds per second of clip for its physics and mesh deformation (one thread), the fastest of\n"
-        << "  repeated runs, + how much slower the slowest was.\n"
+        << "- **cost**: wall seconds per second of clip for its "
+        << (result.written.empty() ? std::string("physics and mesh deformation (one thread)")
+                                   : "physics, mesh deformation (one thread) and writing " + result.written)
+        << ", the fastest of\n"
+        << "  repeated runs, + how much slower the slowest was: what a bake of the clip pays.\n"
         << "- **total error**: the exported mesh against the converged solid (below). The Pareto front and picks use the\n"
         << "  **" << studyErrorName(result.error) << "** error.\n"
         << "- **integration error**: against this very lattice converged in time (Verlet at 1/"

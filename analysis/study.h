@@ -57,6 +57,13 @@ struct StudyOptions {
     std::string clip;
     StudyError error = StudyError::Total;
     int repeats = 5;           ///< Timed runs per setting; the cost is the fastest. [1, 100].
+    /// What a bake does with the frames it played, timed with every run so that a row's cost is what its bake pays:
+    /// physics, mesh deformation and writing (the CLI writes a PC2 cache and its rest mesh, as `bake` does by
+    /// default, to a scratch folder). Empty: nothing written, the cost is the frames alone (the editor's dock,
+    /// whose cost is the viewport's frame time).
+    std::function<Status(const ClipMeshFrames&)> write;
+    /// What `write` writes, for the report ("a PC2 cache and its rest mesh"); empty when nothing is.
+    std::string written;
     /// The grid; empty: the default (quick) grid. Lattices are carried over each object's box.
     std::vector<LatticeShape> lattices;
     std::vector<IntegratorKind> integrators;
@@ -90,7 +97,8 @@ struct StudyRow {
     BodyElement element = BodyElement::Springs;
     std::string resolution;            ///< studyModelName(lattice, element), e.g. "4x4x4 bezier", "4x4x4 bezier solid".
     int nodes = 0;                     ///< Lattice nodes.
-    /// Wall seconds per second of clip: the clip's physics and mesh deformation, the fastest of the repeats.
+    /// Wall seconds per second of clip: the clip's physics, mesh deformation and writing (StudyOptions::write), the
+    /// fastest of the repeats.
     double costPerSecond = 0.0;
     double costSpread = 0.0;           ///< (slowest − fastest) / fastest of the repeats.
     /// Total: RMS vertex error over all frames against the reference / mesh diagonal, the worst object's.
@@ -126,6 +134,7 @@ struct StudyResult {
     double restError = 0.0;            ///< The do-nothing baseline: the bodies at rest against the reference (worst object).
     double motionAmplitude = 0.0;      ///< Largest vertex displacement of the reference from rest / diagonal.
     std::string failure;               ///< Why there are no rows (the reference could not be made); empty otherwise.
+    std::string written;               ///< What each timed run also wrote (StudyOptions::written); empty: nothing.
     bool cancelled = false;            ///< The progress callback stopped it; rows are those measured so far.
     /// The reference's uncertainty (ConvergedReference::uncertainty); infinite without one.
     double referenceUncertainty() const;

@@ -4,8 +4,8 @@
 For the angelfish, guppy and demekin swim clips and the error targets 0.005, 0.01 and 0.02, runs
 `softtouch-cli study SCENE --clip swim --target T --apply OUT --repeats 1`: the full grid against the converged
 solid, the cheapest setting within T written to a project, read back and re-measured as written. Each row is
-the printed pick, the error the study printed for it and the error of the project as written, or the reason
-the study refused the target. The converged solid of each scene is kept between the runs
+the printed pick, the error and cost the study printed for it, and the error and bake time of the project as
+written, or the reason the study refused the target. The converged solid of each scene is kept between the runs
 ($XDG_CACHE_HOME/softtouch/references), so only a scene's first run makes it. About 30 minutes on two cores.
 
 Usage: python3 scripts/study-picks.py [OUT.md]   (from the repository root, after the build)
@@ -22,6 +22,7 @@ SCENES = ["angelfish-swim", "guppy-swim", "demekin-swim"]
 TARGETS = ["0.005", "0.01", "0.02"]
 PICK = re.compile(r"^cheapest setting within \S+ of the diagonal \(total error\): (.*) \(total error (\S+); (\S+) s per second of clip\)$")
 WRITTEN = re.compile(r"re-measured as written: total error (\S+)")
+BAKED = re.compile(r"^baked as written: (\S+) s per second of clip")
 REFUSED = re.compile(r"target \S+ refused: (.*)$")
 REFERENCE = re.compile(r"^reference: (.*); estimated (\S+) of the diagonal from the converged solid")
 
@@ -39,6 +40,8 @@ def run(scene, target, folder):
             row["pick"], row["printed"], row["cost"] = m.group(1), float(m.group(2)), float(m.group(3))
         elif m := WRITTEN.search(line):
             row["written"] = float(m.group(1))
+        elif m := BAKED.match(line):
+            row["baked"] = float(m.group(1))
         elif m := REFUSED.search(line):
             row["refused"] = m.group(1)
         elif m := REFERENCE.match(line):
@@ -69,25 +72,28 @@ def main():
         "Made by `python3 scripts/study-picks.py`, which runs, for each scene and target,",
         "`softtouch-cli study presets/scenes/SCENE.softtouch --clip swim --repeats 1 --target T --apply OUT`: the full",
         "grid against the converged solid, then the cheapest setting within T written to OUT, read back and played",
-        "as a bake plays it. Errors are RMS vertex distances over the clip, relative to the mesh's bounding-box",
-        "diagonal, against the converged solid. One timed run per setting (`--repeats 1`): the picks' costs are",
+        "as a bake plays it, then baked as written (`bake` to a PC2 cache, one deformation thread) and timed. Errors",
+        "are RMS vertex distances over the clip, relative to the mesh's bounding-box diagonal, against the",
+        "converged solid. Costs are wall seconds per second of clip of what a bake pays: physics, mesh deformation",
+        "and writing the PC2 cache and its rest mesh. One timed run per setting (`--repeats 1`): the costs are",
         "single samples, so a rerun may pick another setting of about the same cost; the errors do not depend on",
         "the timing.",
         "",
-        "| scene | target | pick | error printed | error as written | written / printed | within target |",
-        "|---|---:|---|---:|---:|---:|---|",
+        "| scene | target | pick | error printed | error as written | written / printed | within target | cost printed | bake as written |",
+        "|---|---:|---|---:|---:|---:|---|---:|---:|",
     ]
     for r in rows:
         target = pct(r["target"])
         if "refused" in r:
-            lines.append(f"| {r['scene']} | {target} | refused: {r['refused']} | | | | |")
+            lines.append(f"| {r['scene']} | {target} | refused: {r['refused']} | | | | | | |")
         elif "failed" in r or "written" not in r:
-            lines.append(f"| {r['scene']} | {target} | failed: {r.get('failed', 'no re-measure printed')} | | | | no |")
+            lines.append(f"| {r['scene']} | {target} | failed: {r.get('failed', 'no re-measure printed')} | | | | no | | |")
         else:
             ratio = r["written"] / r["printed"]
+            baked = f"{r['baked']:.2e}" if "baked" in r else "not baked"
             meets = "yes" if r["written"] <= r["target"] and r["status"] == 0 else "no"
             lines.append(f"| {r['scene']} | {target} | {r['pick']} | {pct(r['printed'])} | {pct(r['written'])} | "
-                         f"{ratio:.3f} | {meets} |")
+                         f"{ratio:.3f} | {meets} | {r['cost']:.2e} | {baked} |")
     lines += ["", "The references, each estimated distance from the converged limit, and the smallest target each",
               "certifies (ten times that distance), as each scene's first run made them:", "", "| scene | reference | distance from the limit | certifies from |",
               "|---|---|---:|---:|"]

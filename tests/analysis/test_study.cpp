@@ -7,6 +7,7 @@
 #include <atomic>
 #include <QtTest>
 #include <sstream>
+#include <thread>
 
 using namespace softtouch;
 using namespace softtouch::analysis;
@@ -32,6 +33,7 @@ private slots:
     void theScenesOwnSettingIsMeasured();
     void latticesAreMeasuredAgainstTheSolid();
     void theSolidElementIsAChoice();
+    void theCostIsWhatTheBakePaysWritingIncluded();
 
 private:
     const StudyRow& row(IntegratorKind kind, double dt, const std::string& resolution) const;
@@ -435,6 +437,48 @@ void TestStudy::theSolidElementIsAChoice() {
     const auto measured = remeasure(applied.value(), m_clips, m_result);
     QVERIFY2(measured.ok(), measured.message().c_str());
     QVERIFY(std::abs(measured->total - solid.rmsError) <= 1e-9 * solid.rmsError);
+}
+
+// #38: a row's cost is what its bake pays, the writing included: every timed run hands the frames it played to
+// StudyOptions::write inside the timed span (a write that takes 50 ms makes every run cost at least that), the
+// report says what was written, and a write that fails stops the study naming why instead of pricing rows without it.
+void TestStudy::theCostIsWhatTheBakePaysWritingIncluded() {
+    StudyOptions options;
+    options.repeats = 2;
+    options.clip = "first second";
+    options.lattices = {{LatticeKind::Bezier, {3, 3, 3}}};
+    options.integrators = {IntegratorKind::Verlet};
+    options.steps = {1.0 / 60};
+    options.elements = {BodyElement::Springs};
+    options.includeCurrent = false;
+    options.given = m_result.reference;
+    int writes = 0, wrongFrames = 0;
+    constexpr double kWriteSeconds = 0.05;
+    options.write = [&](const ClipMeshFrames& frames) {
+        ++writes;
+        wrongFrames += frames.frames != 24 || frames.positions.size() != m_scene.objects.size() ||
+                       frames.positions[0].size() != 24 * m_scene.objects[0].mesh->positions.size();
+        std::this_thread::sleep_for(std::chrono::duration<double>(kWriteSeconds));
+        return Status::success();
+    };
+    options.written = "a test's slow file";
+    std::ostringstream log;
+    const StudyResult result = runStudy(m_scene, m_clips, options, log);
+    QVERIFY2(result.failure.empty(), result.failure.c_str());
+    QCOMPARE(int(result.rows.size()), 1);
+    QCOMPARE(writes, options.repeats);
+    QCOMPARE(wrongFrames, 0);
+    const StudyRow& priced = result.rows.front();
+    const StudyRow& unwritten = row(IntegratorKind::Verlet, 1.0 / 60, "3x3x3 bezier");
+    QVERIFY2(priced.costPerSecond >= kWriteSeconds / result.clip.seconds(), qPrintable(QString::number(priced.costPerSecond)));
+    QCOMPARE(priced.rmsError, unwritten.rmsError);  // writing changes what it costs, not what it is
+    QVERIFY(studyMarkdown(result, "x").find("and writing a test's slow file, the fastest") != std::string::npos);
+    QVERIFY(studyMarkdown(m_result, "x").find("physics and mesh deformation (one thread), the fastest") != std::string::npos);
+
+    options.write = [](const ClipMeshFrames&) { return Status::error("the disk is full"); };
+    const StudyResult failed = runStudy(m_scene, m_clips, options, log);
+    QVERIFY(failed.rows.empty());
+    QCOMPARE(failed.failure, std::string("writing the clip as a bake does: the disk is full"));
 }
 
 QTEST_GUILESS_MAIN(TestStudy)

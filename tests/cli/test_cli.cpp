@@ -607,6 +607,9 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
     const QString path = kScenes + "demekin-swim.softtouch";
     QTemporaryDir dir;
     qputenv("XDG_CACHE_HOME", dir.filePath("cache").toUtf8());
+    const QByteArray tmpdir = qgetenv("TMPDIR");
+    QVERIFY(QDir(dir.path()).mkdir("tmp"));
+    qputenv("TMPDIR", dir.filePath("tmp").toUtf8());  // where the timed runs write the clip as bake would
     const QString applied = dir.filePath("pick.softtouch");
     const Run study = runCli({"study", path, "--lattices", "bezier2,bezier3", "--integrators", "verlet,implicit-euler",
                               "--steps", "24,240", "--repeats", "1", "--reference-nets", "2,3,4", "--target", "0.005",
@@ -620,6 +623,12 @@ void TestCli::studyWritesItsFilesAndAppliesAPick() {
     QVERIFY(csv.open(QIODevice::ReadOnly));
     QCOMPARE(QString(csv.readAll()).trimmed().split('\n').size(), 1 + 8 + 8 + 1);
     QVERIFY(study.out.contains("re-measured as written"));
+    qputenv("TMPDIR", tmpdir);
+    // The printed cost includes writing the clip, and the pick is baked as written to show it; the scratch goes.
+    QVERIFY2(study.out.contains(QRegularExpression("baked as written: \\S+ s per second of clip, fastest of 1 \\(the study: ")),
+             qPrintable(study.out.right(400)));
+    const QStringList scratch = QDir(dir.filePath("tmp")).entryList({"softtouch-*"});  // Qt's runtime-root may stay
+    QVERIFY2(scratch.isEmpty(), qPrintable(scratch.join(' ')));
 
     auto pick = io::loadProject(applied.toStdString());
     QVERIFY2(pick.ok(), pick.message().c_str());
