@@ -653,8 +653,7 @@ std::string studyMarkdown(const StudyResult& result, const std::string& command)
         << "- **cost**: wall seconds per second of clip for its "
         << (result.written.empty() ? std::string("physics and mesh deformation (one thread)")
                                    : "physics, mesh deformation (one thread) and writing " + result.written)
-        << ", the fastest of\n"
-        << "  repeated runs, + how much slower the slowest was: what a bake of the clip pays.\n"
+        << ",\n  the fastest of repeated runs, + how much slower the slowest was: what a bake of the clip pays.\n"
         << "- **total error**: the exported mesh against the converged solid (below). The Pareto front and picks use the\n"
         << "  **" << studyErrorName(result.error) << "** error.\n"
         << "- **integration error**: against this very lattice converged in time (Verlet at 1/"
