@@ -472,8 +472,8 @@ void TestStudy::theCostIsWhatTheBakePaysWritingIncluded() {
     const StudyRow& unwritten = row(IntegratorKind::Verlet, 1.0 / 60, "3x3x3 bezier");
     QVERIFY2(priced.costPerSecond >= kWriteSeconds / result.clip.seconds(), qPrintable(QString::number(priced.costPerSecond)));
     QCOMPARE(priced.rmsError, unwritten.rmsError);  // writing changes what it costs, not what it is
-    QVERIFY(studyMarkdown(result, "x").find("and writing a test's slow file, the fastest") != std::string::npos);
-    QVERIFY(studyMarkdown(m_result, "x").find("physics and mesh deformation (one thread), the fastest") != std::string::npos);
+    QVERIFY(studyMarkdown(result, "x").find("and writing a test's slow file,\n  the fastest") != std::string::npos);
+    QVERIFY(studyMarkdown(m_result, "x").find("physics and mesh deformation (one thread),\n  the fastest") != std::string::npos);
 
     options.write = [](const ClipMeshFrames&) { return Status::error("the disk is full"); };
     const StudyResult failed = runStudy(m_scene, m_clips, options, log);
