@@ -5,31 +5,13 @@
 
 namespace softtouch::ui {
 
-namespace {
-/// The field's array in a material or a const one (one switch for both).
-template <typename Material>
-auto& fieldOf(Material& material, PaintField field) {
-    switch (field) {
-    case PaintField::Mass: return material.mass;
-    case PaintField::Stiffness: return material.stiffness;
-    case PaintField::Damping: return material.damping;
-    case PaintField::NodeDamping: return material.nodeDamping;
-    case PaintField::VolumePreservation: return material.volumePreservation;
-    case PaintField::GoalWeight: return material.goalWeight;
-    }
-    return material.stiffness;
-}
-}  // namespace
-
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field) {
-    std::vector<double>& values = fieldOf(material, field);
-    values.resize(material.mass.size(), 0.0);  // a map a material was made without (0 everywhere)
-    return values;
+    return channelValues(material, materialChannel(field));
 }
 
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field) {
     // Every material the editor holds has its maps sized (uniformMaterial, the project reader, resampling).
-    return fieldOf(material, field);
+    return material.*materialChannel(field).values;
 }
 
 std::pair<double, double> paintableRange(PaintField field, MaterialModel model) {
@@ -37,18 +19,7 @@ std::pair<double, double> paintableRange(PaintField field, MaterialModel model) 
     return {std::max(range.low, field == PaintField::Mass ? 1e-9 : 0.0), range.high};
 }
 
-const MaterialRange& fieldRange(PaintField field, MaterialModel model) {
-    const MaterialRanges& range = materialRanges(model);
-    switch (field) {
-    case PaintField::Mass: return range.mass;
-    case PaintField::Stiffness: return range.stiffness;
-    case PaintField::Damping: return range.damping;
-    case PaintField::NodeDamping: return range.nodeDamping;
-    case PaintField::VolumePreservation: return kVolumePreservationRange;
-    case PaintField::GoalWeight: return kGoalWeightRange;
-    }
-    return range.stiffness;
-}
+const MaterialRange& fieldRange(PaintField field, MaterialModel model) { return materialChannel(field).rangeFor(model); }
 
 void setLargestVolumePreservation(LatticeMaterial& material, double p) {
     const double largest = largestVolumePreservation(material);

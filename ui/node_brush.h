@@ -4,6 +4,7 @@
 /// properties panel and the tests share one implementation.
 
 #include "core/body/lattice_body.h"
+#include "core/body/material_channels.h"
 
 #include <Eigen/Core>
 #include <span>
@@ -12,15 +13,8 @@
 
 namespace softtouch::ui {
 
-/// Which painted value a brush changes.
-enum class PaintField {
-    Mass,
-    Stiffness,
-    Damping,     ///< Spring damping (relative velocity along a spring).
-    NodeDamping, ///< Node damping (each node's absolute velocity: the paper's D).
-    VolumePreservation, ///< How stiffly the mesh's volume around the node is kept, [0, 1].
-    GoalWeight,  ///< How closely the node follows a base animation, [0, 1] (core/animation/base_motion.h).
-};
+/// Which painted value a brush changes: a channel of the material (core/body/material_channels.h).
+using PaintField = MaterialChannelId;
 
 /// How a dab's effect fades from its centre to its rim.
 enum class BrushFalloff { Constant, Linear, Smooth };
@@ -34,14 +28,13 @@ struct BrushSettings {
     BrushFalloff falloff = BrushFalloff::Smooth; ///< Fade towards the rim.
 };
 
-/// The per-node array of a field (volume preservation and goal weight are sized to the nodes first when a
-/// material has none).
+/// The per-node array of a field (an optional channel is sized to the nodes first when a material has none).
 std::vector<double>& fieldValues(LatticeMaterial& material, PaintField field);
 const std::vector<double>& fieldValues(const LatticeMaterial& material, PaintField field);
 /// Human name and unit of a field under a material model ("stiffness", "N/m"; "Young's modulus", "Pa";
 /// "node damping rate", "1/s").
 const char* fieldName(PaintField field, MaterialModel model);
-/// The field's range and unit under a material model (materialRanges(), kVolumePreservationRange).
+/// The field's range and unit under a material model (MaterialChannel::rangeFor()).
 const MaterialRange& fieldRange(PaintField field, MaterialModel model);
 /// What a brush or a typed value may set in the field: fieldRange(), with mass kept above 0 (every other
 /// field may go down to its range's low end).

@@ -82,12 +82,8 @@ QWidget* ToolOptionsBar::buildDragPage() {
 QWidget* ToolOptionsBar::buildPaintPage() {
     m_brushField = new QComboBox;
     m_brushField->setObjectName("brushField");
-    m_brushField->addItem(tr("Stiffness"), int(PaintField::Stiffness));
-    m_brushField->addItem(tr("Mass"), int(PaintField::Mass));
-    m_brushField->addItem(tr("Spring damping"), int(PaintField::Damping));
-    m_brushField->addItem(tr("Node damping"), int(PaintField::NodeDamping));
-    m_brushField->addItem(tr("Volume preservation"), int(PaintField::VolumePreservation));
-    m_brushField->addItem(tr("Goal weight (base animation)"), int(PaintField::GoalWeight));
+    for (const MaterialChannel& channel : materialChannels())  // named by the shown material in refresh()
+        m_brushField->addItem(QString::fromUtf8(channel.rangeFor(MaterialModel::Continuum).label), int(channel.id));
     m_brushField->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
     m_brushField->setMinimumContentsLength(12);
     // Field widths are capped so the whole row fits a 1280-pixel window (test_editor checks it).
@@ -227,7 +223,7 @@ void ToolOptionsBar::refresh() {
     // scene opened after one that had keeps no goal-weight brush and legend).
     const bool animated = std::any_of(scene.objects.begin(), scene.objects.end(),
                                       [](const SceneObject& o) { return bool(o.baseAnimation); });
-    if (!animated && m_viewport->brush().field == PaintField::GoalWeight) {
+    if (!animated && materialChannel(m_viewport->brush().field).needsBaseAnimation) {
         m_viewport->setBrushField(PaintField::Stiffness);
         m_brushFieldShown.reset();
     }
@@ -236,13 +232,13 @@ void ToolOptionsBar::refresh() {
         const QSignalBlocker block(m_brushField);
         // The fields by the names the legend and Properties use for this material ("Young's modulus", "density").
         for (int i = 0; i < m_brushField->count(); ++i) {
-            const auto f = PaintField(m_brushField->itemData(i).toInt());
-            QString name = QString::fromUtf8(fieldName(f, material.model));
+            const MaterialChannel& channel = materialChannel(PaintField(m_brushField->itemData(i).toInt()));
+            QString name = QString::fromUtf8(channel.rangeFor(material.model).label);
             name[0] = name[0].toUpper();
-            if (f == PaintField::GoalWeight)
+            if (channel.needsBaseAnimation)
                 name += tr(" (base animation)");
             m_brushField->setItemText(i, name);
-            if (auto* items = qobject_cast<QStandardItemModel*>(m_brushField->model()); items && f == PaintField::GoalWeight)
+            if (auto* items = qobject_cast<QStandardItemModel*>(m_brushField->model()); items && channel.needsBaseAnimation)
                 items->item(i)->setEnabled(animated);
         }
         m_brushField->setCurrentIndex(m_brushField->findData(int(field)));
@@ -263,7 +259,7 @@ void ToolOptionsBar::refresh() {
     if (fieldChanged || materialMoved) {
         m_brushFieldShown = shown;
         m_offering = true;
-        if (field == PaintField::VolumePreservation || field == PaintField::GoalWeight)
+        if (materialChannel(field).scaling == ChannelScaling::Fraction)
             m_brushValue->setValue(1.0);  // a fraction: paint "keep this part's volume", "follow exactly"
         else if (mean > 0.0)
             m_brushValue->setValue(2.0 * mean);  // valueChanged carries it to the brush

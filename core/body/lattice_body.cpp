@@ -1,5 +1,7 @@
 #include "core/body/lattice_body.h"
 
+#include "core/body/material_channels.h"
+
 #include "core/geometry/mesh_volume.h"
 
 #include <algorithm>
@@ -18,12 +20,11 @@ constexpr double kFishDensity = 2.64, kFishModulus = 1733.0, kFishViscosity = 4.
 LatticeMaterial uniformMaterial(const Lattice& lattice, double massPerNode, double stiffness, double damping) {
     const std::size_t n = std::size_t(lattice.nodeCount());
     LatticeMaterial m;
+    for (const MaterialChannel& channel : materialChannels())
+        (m.*channel.values).assign(n, 0.0);
     m.mass.assign(n, massPerNode);
     m.stiffness.assign(n, stiffness);
     m.damping.assign(n, damping);
-    m.nodeDamping.assign(n, 0.0);
-    m.volumePreservation.assign(n, 0.0);
-    m.goalWeight.assign(n, 0.0);
     m.anchor.assign(n, AnchorMode::Free);
     m.isVoid.assign(n, 0);
     return m;
@@ -243,17 +244,12 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
                                  std::to_string(n) + " lattice nodes");
         return Status::success();
     };
-    if (Status s = sized(m.mass.size(), "mass"); !s) return s;
-    if (Status s = sized(m.stiffness.size(), "stiffness"); !s) return s;
-    if (Status s = sized(m.damping.size(), "damping"); !s) return s;
-    if (Status s = sized(m.nodeDamping.size(), "node damping"); !s) return s;
+    const std::span<const MaterialChannel> channels = materialChannels();
+    for (const MaterialChannel& channel : channels)
+        if (const std::size_t size = (m.*channel.values).size(); size != 0 || !channel.optional)
+            if (Status s = sized(size, channel.rangeFor(m.model).label); !s) return s;
     if (Status s = sized(m.anchor.size(), "anchor"); !s) return s;
     if (Status s = sized(m.isVoid.size(), "void"); !s) return s;
-    if (!m.volumePreservation.empty())
-        if (Status s = sized(m.volumePreservation.size(), "volume preservation"); !s) return s;
-    if (!m.goalWeight.empty())
-        if (Status s = sized(m.goalWeight.size(), "goal weight"); !s) return s;
-    const MaterialRanges& range = materialRanges(m.model);
     auto formatNumber = [](double x) {
         std::ostringstream out;
         out << x;
@@ -272,15 +268,11 @@ Status validateMaterial(const Lattice& lattice, const LatticeMaterial& m) {
     for (std::size_t i = 0; i < n; ++i) {
         const auto c = lattice.coords(int(i));
         const std::string node = "node (" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
-        if (!m.isVoid[i])
-            if (Status s = check(m.mass[i], range.mass, node); !s) return s;
-        if (Status s = check(m.stiffness[i], range.stiffness, node); !s) return s;
-        if (Status s = check(m.damping[i], range.damping, node); !s) return s;
-        if (Status s = check(m.nodeDamping[i], range.nodeDamping, node); !s) return s;
-        if (!m.volumePreservation.empty())
-            if (Status s = check(m.volumePreservation[i], kVolumePreservationRange, node); !s) return s;
-        if (!m.goalWeight.empty())
-            if (Status s = check(m.goalWeight[i], kGoalWeightRange, node); !s) return s;
+        for (const MaterialChannel& channel : channels) {
+            const std::vector<double>& values = m.*channel.values;
+            if (!values.empty() && (channel.checkedOnVoidNodes || !m.isVoid[i]))
+                if (Status s = check(values[i], channel.rangeFor(m.model), node); !s) return s;
+        }
     }
     for (int a = 0; a < 3; ++a) {
         const double s = m.kindScale[std::size_t(a)];
@@ -482,14 +474,10 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
                                  bool keepContinuum) {
     LatticeMaterial out = material;
     const std::size_t n = std::size_t(to.nodeCount());
-    out.mass.assign(n, 0.0);
-    out.stiffness.assign(n, 0.0);
-    out.damping.assign(n, 0.0);
-    out.nodeDamping.assign(n, 0.0);
+    for (const MaterialChannel& channel : materialChannels())
+        (out.*channel.values).assign(n, 0.0);
     out.anchor.assign(n, AnchorMode::Free);
     out.isVoid.assign(n, 0);
-    out.volumePreservation.assign(n, 0.0);
-    out.goalWeight.assign(n, 0.0);
     // Spacing ratio (geometric mean over the axes) and volume share ratio of one node.
     // A continuum's values are per volume or per area already: nothing to rescale.
     keepContinuum = keepContinuum && material.model == MaterialModel::LatticeSprings;
@@ -502,15 +490,16 @@ LatticeMaterial resampleMaterial(const Lattice& from, const LatticeMaterial& mat
     for (int node = 0; node < to.nodeCount(); ++node) {
         const Vec3 p = to.restNodeParameters(node);
         const auto source = std::size_t(from.index(nearest(from, 0, p.x()), nearest(from, 1, p.y()), nearest(from, 2, p.z())));
-        const auto k = std::size_t(node);
-        out.mass[k] = material.mass[source] * (keepContinuum ? volume : 1.0);
-        out.stiffness[k] = material.stiffness[source] * (keepContinuum ? spacing : 1.0);
-        out.damping[k] = material.damping[source] * (keepContinuum ? spacing : 1.0);
-        out.nodeDamping[k] = material.nodeDamping[source] * (keepContinuum ? volume : 1.0);  // N·s/m per node, as mass
-        if (!material.volumePreservation.empty())
-            out.volumePreservation[k] = material.volumePreservation[source];  // a fraction: the same on any lattice
-        if (!material.goalWeight.empty())
-            out.goalWeight[k] = material.goalWeight[source];
+        for (const MaterialChannel& channel : materialChannels()) {
+            const std::vector<double>& values = material.*channel.values;
+            if (values.empty())  // an optional channel the material has none of: 0 everywhere
+                continue;
+            const double scale = !keepContinuum                                      ? 1.0
+                                 : channel.scaling == ChannelScaling::NodeVolume ? volume
+                                 : channel.scaling == ChannelScaling::Spacing    ? spacing
+                                                                                 : 1.0;
+            (out.*channel.values)[std::size_t(node)] = values[source] * scale;
+        }
     }
     resampleNodeFlags(from, material.anchor, to, out.anchor, AnchorMode::Free);
     resampleNodeFlags(from, material.isVoid, to, out.isVoid, std::uint8_t(0));

@@ -3,6 +3,7 @@
 #include "io/documents/preset_file.h"
 
 #include "core/base/ranges.h"
+#include "core/body/material_channels.h"
 
 #include "io/files/file_text.h"
 
@@ -175,12 +176,10 @@ void applyPreset(const JsonValue& v, LatticeMaterial& m, std::optional<double>& 
 
 /// A material switched to another model by its file's "model" starts from that model's defaults.
 void resetMaterialValues(LatticeMaterial& m, MaterialModel model) {
-    const DefaultMaterialValues& d = defaultMaterialValues(model);
     m.model = model;
-    m.mass.assign(m.mass.size(), d.mass);
-    m.stiffness.assign(m.stiffness.size(), d.stiffness);
-    m.damping.assign(m.damping.size(), d.damping);
-    m.nodeDamping.assign(m.nodeDamping.size(), d.nodeDamping);
+    for (const MaterialChannel& channel : materialChannels())
+        if (channel.defaultValue)  // the model's own values; fractions mean the same under both
+            (m.*channel.values).assign((m.*channel.values).size(), channel.defaultFor(model));
 }
 
 }  // namespace
@@ -221,28 +220,27 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
                                  bodyElementName(BodyElement::Solid) + "\", got \"" + *element + "\"");
     }
     const MaterialRanges& range = materialRanges(m.model);
-    const MaterialRanges& other = m.model == MaterialModel::Continuum ? springs : continuum;
-    for (auto [mine, theirs] : {std::pair{range.mass.name, other.mass.name},
-                                {range.stiffness.name, other.stiffness.name},
-                                {range.damping.name, other.damping.name},
-                                {range.nodeDamping.name, other.nodeDamping.name}}) {
-        if (v[theirs].exists())
+    const MaterialModel otherModel = m.model == MaterialModel::Continuum ? MaterialModel::LatticeSprings : MaterialModel::Continuum;
+    for (const MaterialChannel& channel : materialChannels()) {
+        const char* mine = channel.rangeFor(m.model).name;
+        const char* theirs = channel.rangeFor(otherModel).name;
+        if (mine != theirs && v[theirs].exists())
             v[theirs].problem(std::string("a ") + range.model + " material gives \"" + mine + "\", not \"" + theirs +
                               "\" (set \"model\" to change what the values mean)");
     }
-    auto readField = [&](const MaterialRange& r, std::vector<double>& out) {
-        readPerNode(v[r.name], out, r.low, r.high, r.unit);
-    };
     if (v[range.mass.name].exists() && v["totalMass"].exists())
         v["totalMass"].problem(std::string("give either ") + range.mass.name + " (per node) or totalMass, not both");
-    readField(range.mass, m.mass);
     if (v[range.mass.name].exists())
         totalMass.reset();
     if (auto t = v["totalMass"].number(1e-9, 1e15, "kg"))
         totalMass = *t;
-    readField(range.stiffness, m.stiffness);
-    readField(range.damping, m.damping);
-    readField(range.nodeDamping, m.nodeDamping);  // one number (every file before version 4) or a painted map
+    // Every channel is one number or a painted map (node damping was one number in every file before version 4, volume
+    // preservation before it was painted); an optional channel a material has none of yet is 0 where not given.
+    for (const MaterialChannel& channel : materialChannels()) {
+        const MaterialRange& r = channel.rangeFor(m.model);
+        std::vector<double>& values = channel.optional ? channelValues(m, channel) : m.*channel.values;
+        readPerNode(v[r.name], values, r.low, r.high, r.unit);
+    }
     if (const JsonValue k = v["springKindScale"]; k.expectObject()) {
         k.checkKeys({"edge", "face", "body"});
         const char* names[3] = {"edge", "face", "body"};
@@ -271,14 +269,6 @@ void readMaterial(const JsonValue& v, LatticeMaterial& m, std::optional<double>&
     };
     readLimit("stretchLimit", kMinStretchLimit, kMaxStretchLimit, m.strainLimits.stretch);
     readLimit("squashLimit", kMinSquashLimit, kMaxSquashLimit, m.strainLimits.squash);
-    // Fractions painted per node, one number or a map like the others (0 where a material has none yet):
-    // how closely each node follows a base animation (core/animation/base_motion.h), and volume preservation (one
-    // number in every file before it was painted; all 0 is off).
-    for (auto [fraction, values] : {std::pair{&kGoalWeightRange, &m.goalWeight},
-                                    std::pair{&kVolumePreservationRange, &m.volumePreservation}}) {
-        values->resize(m.mass.size(), 0.0);
-        readField(*fraction, *values);
-    }
 }
 
 /// A "totalMass" spread evenly over the non-void nodes (once voids are known): the same kg per node,
@@ -299,23 +289,21 @@ void spreadTotalMass(const Lattice& lattice, LatticeMaterial& material, const st
 void writeMaterial(const Lattice& lattice, const LatticeMaterial& m, json& object) {
     const MaterialRanges& key = materialRanges(m.model);
     object["material"] = {{"model", key.model},
-                          {key.mass.name, perNode(m.mass)},
-                          {key.stiffness.name, perNode(m.stiffness)},
-                          {key.damping.name, perNode(m.damping)},
                           {"springKindScale", {{"edge", m.kindScale[0]}, {"face", m.kindScale[1]}, {"body", m.kindScale[2]}}},
                           {"anisotropy", vec(m.anisotropy)},
-                          {kHeavyAnchorRatio.name, m.heavyAnchorRatio},
-                          {key.nodeDamping.name, perNode(m.nodeDamping)}};
+                          {kHeavyAnchorRatio.name, m.heavyAnchorRatio}};
+    // An optional channel only where some node has it: files stay as they were before it existed.
+    for (const MaterialChannel& channel : materialChannels()) {
+        const std::vector<double>& values = m.*channel.values;
+        if (!channel.optional || std::any_of(values.begin(), values.end(), [](double x) { return x != 0.0; }))
+            object["material"][channel.rangeFor(m.model).name] = perNode(values);
+    }
     if (m.element != BodyElement::Springs)  // springs, the default, unwritten: older files stay as they were
         object["material"]["element"] = bodyElementName(m.element);
     if (m.strainLimits.stretch > 0.0)
         object["material"]["stretchLimit"] = m.strainLimits.stretch;
     if (m.strainLimits.squash > 0.0)
         object["material"]["squashLimit"] = m.strainLimits.squash;
-    if (largestVolumePreservation(m) > 0.0)
-        object["material"][kVolumePreservationRange.name] = perNode(m.volumePreservation);
-    if (std::any_of(m.goalWeight.begin(), m.goalWeight.end(), [](double w) { return w > 0.0; }))
-        object["material"][kGoalWeightRange.name] = perNode(m.goalWeight);
     std::vector<int> pinned, heavy, voids;
     for (int n = 0; n < lattice.nodeCount(); ++n) {
         if (m.anchor[std::size_t(n)] == AnchorMode::Pinned) pinned.push_back(n);

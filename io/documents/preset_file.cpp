@@ -4,12 +4,14 @@
 #include "io/documents/preset_file.h"
 
 #include "core/base/ranges.h"
+#include "core/body/material_channels.h"
 #include "core/solver/simulator.h"
 
 #include "io/files/atomic_file.h"
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace softtouch::io {
 namespace fs = std::filesystem;
@@ -68,13 +70,10 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
     for (int n : nodes) {
         if (n < 0 || n >= lattice.nodeCount())
             return Status::error("node " + std::to_string(n) + " is not in the lattice");
-        material.mass[std::size_t(n)] = m.mass[std::size_t(n)];
-        material.stiffness[std::size_t(n)] = m.stiffness[std::size_t(n)];
-        material.damping[std::size_t(n)] = m.damping[std::size_t(n)];
-        material.nodeDamping[std::size_t(n)] = m.nodeDamping[std::size_t(n)];
-        if (!m.volumePreservation.empty() || !material.volumePreservation.empty()) {
-            material.volumePreservation.resize(material.mass.size(), 0.0);
-            material.volumePreservation[std::size_t(n)] = m.volumePreservation.empty() ? 0.0 : m.volumePreservation[std::size_t(n)];
+        for (const MaterialChannel& channel : materialChannels()) {
+            const std::vector<double>& given = m.*channel.values;
+            if (channel.inPresets && (!given.empty() || !(material.*channel.values).empty()))
+                channelValues(material, channel)[std::size_t(n)] = given.empty() ? 0.0 : given[std::size_t(n)];
         }
     }
     return Status::success();
@@ -82,46 +81,46 @@ Status applyMaterialPreset(const MaterialPreset& preset, const Lattice& lattice,
 
 Status saveMaterialPreset(const std::string& name, const std::string& description, const LatticeMaterial& material,
                           const fs::path& path) {
-    double total = 0.0, stiffness = 0.0, damping = 0.0, nodeDamping = 0.0;
     int count = 0;
-    std::optional<double> sameNodeDamping;  // every solid node's, when uniform: written exactly, not as a mean
-    bool uniformNodeDamping = true;
-    for (std::size_t n = 0; n < material.mass.size(); ++n) {
-        if (material.isVoid[n])
-            continue;
-        total += material.mass[n];
-        stiffness += material.stiffness[n];
-        damping += material.damping[n];
-        nodeDamping += material.nodeDamping[n];
-        uniformNodeDamping = uniformNodeDamping && (!sameNodeDamping || *sameNodeDamping == material.nodeDamping[n]);
-        sameNodeDamping = material.nodeDamping[n];
-        ++count;
-    }
+    for (std::size_t n = 0; n < material.mass.size(); ++n)
+        count += material.isVoid[n] ? 0 : 1;
     if (count == 0)
         return Status::error(path.string() + ": the material has no simulated node to take values from");
     const bool continuum = material.model == MaterialModel::Continuum;
     const MaterialRanges& key = materialRanges(material.model);
     json values = {{"model", key.model},
-                   {key.stiffness.name, stiffness / count},
-                   {key.damping.name, damping / count},
                    {"springKindScale",
                     {{"edge", material.kindScale[0]}, {"face", material.kindScale[1]}, {"body", material.kindScale[2]}}},
                    {"anisotropy", vec(material.anisotropy)},
-                   {"heavyAnchorRatio", material.heavyAnchorRatio},
-                   {key.nodeDamping.name, uniformNodeDamping ? *sameNodeDamping : nodeDamping / count}};
-    // A lattice-springs preset keeps the body's total mass; a continuum one its (mean) density, which
-    // means the same on every object.
-    if (continuum)
-        values[key.mass.name] = total / count;
-    else
-        values["totalMass"] = total;
+                   {"heavyAnchorRatio", material.heavyAnchorRatio}};
+    // A preset holds one value a channel: every solid node's when they agree (written exactly), else their mean.
+    for (const MaterialChannel& channel : materialChannels()) {
+        const std::vector<double>& map = material.*channel.values;
+        if (!channel.inPresets || map.empty())
+            continue;
+        double sum = 0.0;
+        std::optional<double> same;
+        bool uniform = true;
+        for (std::size_t n = 0; n < map.size(); ++n) {
+            if (material.isVoid[n])
+                continue;
+            sum += map[n];
+            uniform = uniform && (!same || *same == map[n]);
+            same = map[n];
+        }
+        if (channel.optional && !(std::abs(sum) > 0.0))
+            continue;  // a channel the material does not use (all 0): presets stay as they were before it existed
+        // A lattice-springs preset keeps the body's total mass; a continuum one its density, which means the same
+        // on every object.
+        if (channel.id == MaterialChannelId::Mass && !continuum)
+            values["totalMass"] = sum;
+        else
+            values[channel.rangeFor(material.model).name] = uniform ? *same : sum / count;
+    }
     if (material.strainLimits.stretch > 0.0)
         values["stretchLimit"] = material.strainLimits.stretch;
     if (material.strainLimits.squash > 0.0)
         values["squashLimit"] = material.strainLimits.squash;
-    // A preset holds one value: a painted map's mean over the solid nodes.
-    if (largestVolumePreservation(material) > 0.0)
-        values[kVolumePreservationRange.name] = solidMean(material.volumePreservation, material);
     const json doc = {{"format", kPresetFormat},
                       {"version", kPresetVersion},
                       {"kind", "material"},
