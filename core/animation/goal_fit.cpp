@@ -2,6 +2,9 @@
 
 #include <Eigen/SVD>
 
+#include <algorithm>
+#include <array>
+
 namespace softtouch {
 
 Result<GoalFit> GoalFit::create(const Lattice& lattice, std::span<const Vec3f> restPositions,
@@ -24,7 +27,7 @@ Result<GoalFit> GoalFit::create(const Lattice& lattice, std::span<const Vec3f> r
                 }
     }
     g.m_weights.resize(vertices, n);
-    g.m_weights.setFromTriplets(entries.begin(), entries.end());
+    g.m_weights.setFromTriplets(entries.begin(), entries.end());  // compressed: fit() reads its arrays
     Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(g.m_weights.transpose()) * g.m_weights;
     g.m_lambda = kGoalFitRidge * normal.diagonal().sum() / double(n);
     Eigen::SparseMatrix<double> identity(n, n);
@@ -56,7 +59,53 @@ void GoalFit::fit(std::span<const Vec3f> positions, std::vector<Vec3>& nodes, Ma
     // The affine fit T (4×3): p ≈ [p_rest 1] T.
     const Eigen::Matrix<double, 4, 3> t = m_affine.solve(m_restHomogeneous.transpose() * p);
     const Eigen::MatrixX3d prior = m_restNodes * t;
-    const Eigen::MatrixX3d x = m_normal->solve(Eigen::MatrixX3d(m_weights.transpose() * p) + m_lambda * prior);
+    // Bᵀp in one pass over B, a node's three sums together, four nodes at a time. Eigen's product makes the same
+    // sums in the same order (bit for bit) but one column of p at a time, reading B three times, and each sum waits
+    // on its previous add: on a Bezier 8x8x8 net every vertex weighs every node, so B is 3,198 × 512 dense on the
+    // guppy and those sums were most of a step. Four nodes' sums are twelve chains that do not wait on each other.
+    const int* starts = m_weights.outerIndexPtr();
+    const int* vertexOf = m_weights.innerIndexPtr();
+    const double* weight = m_weights.valuePtr();
+    const Eigen::Index n = m_weights.cols();
+    Eigen::MatrixX3d weighted(n, 3);
+    Eigen::Index node = 0;
+    for (; node + 4 <= n; node += 4) {
+        std::array<int, 4> at{}, end{};
+        std::array<double, 4> x{}, y{}, z{};
+        for (int k = 0; k < 4; ++k) {
+            at[std::size_t(k)] = starts[node + k];
+            end[std::size_t(k)] = starts[node + k + 1];
+        }
+        const int common = std::min({end[0] - at[0], end[1] - at[1], end[2] - at[2], end[3] - at[3]});
+        for (int e = 0; e < common; ++e)
+            for (std::size_t k = 0; k < 4; ++k) {
+                const int i = at[k] + e;
+                const Vec3f& q = positions[std::size_t(vertexOf[i])];
+                x[k] += weight[i] * double(q.x());
+                y[k] += weight[i] * double(q.y());
+                z[k] += weight[i] * double(q.z());
+            }
+        for (std::size_t k = 0; k < 4; ++k) {
+            for (int i = at[k] + common; i < end[k]; ++i) {
+                const Vec3f& q = positions[std::size_t(vertexOf[i])];
+                x[k] += weight[i] * double(q.x());
+                y[k] += weight[i] * double(q.y());
+                z[k] += weight[i] * double(q.z());
+            }
+            weighted.row(node + Eigen::Index(k)) << x[k], y[k], z[k];
+        }
+    }
+    for (; node < n; ++node) {
+        double x = 0.0, y = 0.0, z = 0.0;
+        for (int i = starts[node]; i < starts[node + 1]; ++i) {
+            const Vec3f& q = positions[std::size_t(vertexOf[i])];
+            x += weight[i] * double(q.x());
+            y += weight[i] * double(q.y());
+            z += weight[i] * double(q.z());
+        }
+        weighted.row(node) << x, y, z;
+    }
+    const Eigen::MatrixX3d x = m_normal->solve(weighted + m_lambda * prior);
     nodes.resize(std::size_t(x.rows()));
     for (Eigen::Index i = 0; i < x.rows(); ++i)
         nodes[std::size_t(i)] = x.row(i).transpose();
