@@ -165,6 +165,14 @@ double BodyModel::maxStiffnessOverMass() const {
     return m_maxStiffnessOverMass;
 }
 
+const ElementViscosityModes& BodyModel::elementViscosityModes() const {
+    std::call_once(m_viscosityModesOnce, [this] {
+        if (element)
+            m_elementViscosityModes = softtouch::elementViscosityModes(*element);
+    });
+    return m_elementViscosityModes;
+}
+
 Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d) {
     const std::size_t n = d.restPositions.size();
     if (n == 0)
@@ -257,7 +265,8 @@ Result<std::shared_ptr<const BodyModel>> buildBodyModel(const BodyDescription& d
     if (d.element) {
         model->element = d.element;
         model->maxNodeDampingRate = d.element->maxNodeDampingRate;
-        model->maxDampingRatio = d.element->maxDampingRatio;
+        // Its viscosity does not bound the explicit step: the step takes it implicitly (ElementBody::viscosityBound).
+        model->maxDampingRatio = 0.0;
     }
     model->voidFollowers = d.voidFollowers;
     model->springTable = SpringTable::build(model->springs, model->inverseMass);

@@ -100,6 +100,10 @@ struct BodyModel {
     /// XPBD runs, such as the one a paint dab rebuilds on the bundled fish, does not pay for it. An
     /// explicit scheme's Simulator asks at construction, never inside a real-time loop. Thread-safe.
     double maxStiffnessOverMass() const;
+    /// On a viscous solid element body, the modes of its viscosity bound (elementViscosityModes()), which its
+    /// explicit substeps take part of implicitly; empty otherwise. Computed on first use, as
+    /// maxStiffnessOverMass() (an explicit scheme's Simulator asks at construction). Thread-safe.
+    const ElementViscosityModes& elementViscosityModes() const;
     /// The contact points; none (size 0) when colliders are tested at the nodes.
     const ContactPoints& contacts() const {
         static const ContactPoints none;
@@ -109,6 +113,8 @@ struct BodyModel {
 private:
     mutable std::once_flag m_stepBoundOnce;
     mutable double m_maxStiffnessOverMass = 0.0;
+    mutable std::once_flag m_viscosityModesOnce;
+    mutable ElementViscosityModes m_elementViscosityModes;
 };
 
 /// Validates a description and builds the model (drops void springs, computes inverse masses and

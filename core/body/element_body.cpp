@@ -314,8 +314,6 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
         if (held[i])
             continue;
         body->maxNodeDampingRate = std::max(body->maxNodeDampingRate, material.nodeDamping[i]);
-        if (material.stiffness[i] > 0.0)
-            body->maxDampingRatio = std::max(body->maxDampingRatio, material.damping[i] / material.stiffness[i]);
     }
 
     // Stiffness: the reduced rule (degree points a span) with 1 − share, the exact one (degree + 1) with share.
@@ -362,6 +360,8 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
     if (body->massFactor.info() != Eigen::Success)
         return Status::error("the solid element's mass matrix is not positive definite (is the density positive everywhere?)");
     body->inverseFactor = body->massFactor.matrixL().solve(Eigen::MatrixXd::Identity(free, free));
+    if (body->viscous)
+        body->viscosityBound = elementViscosityBound(*body);
     return std::shared_ptr<const ElementBody>(std::move(body));
 }
 
@@ -488,29 +488,73 @@ Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd
 
 void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std::span<Vec3> acceleration,
                       Eigen::MatrixXd& work) {
+    solveElementMass(body, body.massFactor, force, acceleration, work);
+}
+
+Eigen::MatrixXd elementFreeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) { return freeBlock(body, nodeMatrix); }
+
+ElementViscosityModes elementViscosityModes(const ElementBody& body) {
+    ElementViscosityModes out;
+    if (!body.viscous)
+        return out;
+    // K̃ φ = k M φ over the free nodes (every component alike), φ M-normalised: K̃ = M Φ diag(k) Φᵀ M.
+    const Eigen::MatrixXd mass = freeBlock(body, body.mass);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(freeBlock(body, body.viscosityBound), mass);
+    out.massModes = mass * modes.eigenvectors();
+    out.rates = modes.eigenvalues();
+    return out;
+}
+
+Eigen::MatrixXd elementStepViscosity(const ElementBody& body, const ElementViscosityModes& modes, double h) {
+    const Eigen::Index free = Eigen::Index(body.freeNodes.size());
+    if (modes.rates.size() != free)
+        return Eigen::MatrixXd::Zero(free, free);
+    const Eigen::VectorXd kept = (modes.rates.array() - kExplicitViscosityShare / h).max(0.0).matrix();
+    return modes.massModes * kept.asDiagonal() * modes.massModes.transpose();
+}
+
+double elementStepViscosityProduct(const ElementBody& body, const ElementViscosityModes& modes, double h,
+                                   std::span<const Vec3> v) {
+    // Σ_j kept_j |φ_jᵀ M v|², mode by mode (no scratch: the energy account calls it inside a step).
+    const double floor = kExplicitViscosityShare / h;
+    double sum = 0.0;
+    for (Eigen::Index j = 0; j < modes.rates.size(); ++j) {
+        const double kept = modes.rates[j] - floor;
+        if (!(kept > 0.0))
+            continue;
+        Vec3 projected = Vec3::Zero();
+        for (std::size_t s = 0; s < body.freeNodes.size(); ++s)
+            projected += modes.massModes(Eigen::Index(s), j) * v[body.freeNodes[s]];
+        sum += kept * projected.squaredNorm();
+    }
+    return sum;
+}
+
+void solveElementMass(const ElementBody& body, const Eigen::LLT<Eigen::MatrixXd>& factor, std::span<const Vec3> force,
+                      std::span<Vec3> acceleration, Eigen::MatrixXd& work) {
     const Eigen::Index free = Eigen::Index(body.freeNodes.size());
     work.resize(free, 3);
     for (Eigen::Index s = 0; s < free; ++s)
         work.row(s) = force[body.freeNodes[std::size_t(s)]].transpose();
-    body.massFactor.solveInPlace(work);
+    factor.solveInPlace(work);
     for (Eigen::Index s = 0; s < free; ++s)
         acceleration[body.freeNodes[std::size_t(s)]] = work.row(s).transpose();
 }
 
 namespace {
 
-/// Σ_q w_q Bᵀ C B over the free nodes at rest, B the Voigt strain of the nodes' displacements, each point's
-/// factor from `factor` (a rule's stiffness or viscosity). At rest every point's rotation is the box's, so the
-/// matrix is the box frame's turned by it, and the box frame's is nine weighted products of the gradients,
-/// G^(kl) = Σ_q w_q ∂_k N_i ∂_l N_j, combined through T = Pᵀ C P (as the reference's).
+using GradientProducts = std::array<std::array<Eigen::MatrixXd, 3>, 3>;
+
+/// G^(kl) = Σ_q w_q ∂_k N_i ∂_l N_j over every node, each point's w_q from `factor` (a rule's stiffness or
+/// viscosity); with `diagonalOnly` only G^(kk) (the others stay empty).
 template <typename Factor>
-Eigen::MatrixXd restMatrix(const ElementBody& body, Factor&& factor) {
-    const Eigen::Index dof = Eigen::Index(3 * body.freeNodes.size());
+GradientProducts gradientProducts(const ElementBody& body, Factor&& factor, bool diagonalOnly) {
     const Eigen::Index n = Eigen::Index(body.nodeCount());
-    std::array<std::array<Eigen::MatrixXd, 3>, 3> g;
-    for (auto& row : g)
-        for (Eigen::MatrixXd& m : row)
-            m = Eigen::MatrixXd::Zero(n, n);
+    GradientProducts g;
+    for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+            if (!diagonalOnly || k == l)
+                g[std::size_t(k)][std::size_t(l)] = Eigen::MatrixXd::Zero(n, n);
     const auto [nu, nv, nw] = body.counts;
     for (const ElementRule& rule : body.rules) {
         const Eigen::Index points = Eigen::Index(rule.pointCount());
@@ -545,8 +589,20 @@ Eigen::MatrixXd restMatrix(const ElementBody& body, Factor&& factor) {
         }
         for (int k = 0; k < 3; ++k)
             for (int l = 0; l < 3; ++l)
-                g[std::size_t(k)][std::size_t(l)] += weightedProduct(gradient[std::size_t(k)], weight, gradient[std::size_t(l)]);
+                if (!diagonalOnly || k == l)
+                    g[std::size_t(k)][std::size_t(l)] += weightedProduct(gradient[std::size_t(k)], weight, gradient[std::size_t(l)]);
     }
+    return g;
+}
+
+/// Σ_q w_q Bᵀ C B over the free nodes at rest, B the Voigt strain of the nodes' displacements, each point's
+/// factor from `factor` (a rule's stiffness or viscosity). At rest every point's rotation is the box's, so the
+/// matrix is the box frame's turned by it, and the box frame's is the nine gradient products combined through
+/// T = Pᵀ C P (as the reference's).
+template <typename Factor>
+Eigen::MatrixXd restMatrix(const ElementBody& body, Factor&& factor) {
+    const Eigen::Index dof = Eigen::Index(3 * body.freeNodes.size());
+    const GradientProducts g = gradientProducts(body, factor, false);
     const Eigen::Matrix<double, 9, 9> t = gradientElasticity(body.elasticity);
     const Mat3& r = body.frame;
     Eigen::MatrixXd out(dof, dof);
@@ -577,6 +633,18 @@ Eigen::MatrixXd elementRestStiffness(const ElementBody& body) {
 
 Eigen::MatrixXd elementRestViscosity(const ElementBody& body) {
     return restMatrix(body, [](const ElementRule& rule, std::size_t p) { return rule.viscosity[p]; });
+}
+
+Eigen::MatrixXd elementViscosityBound(const ElementBody& body) {
+    // A point's viscous power is η εᵀ C ε with ε = sym(Rᵀ Ḟ) in Voigt form; in Mandel form (shears times √2,
+    // so that |ε| is the Frobenius norm) it is at most η λ |ε|² ≤ η λ |Ḟ|², λ the largest eigenvalue of C
+    // there, and |Ḟ|² = Σ_k |Σ_i v_i ∂_k N_i|² is the same for every component and rotation.
+    Eigen::Matrix<double, 6, 1> mandel;
+    mandel << 1.0, 1.0, 1.0, std::sqrt(2.0), std::sqrt(2.0), std::sqrt(2.0);
+    const Eigen::Matrix<double, 6, 6> c = mandel.asDiagonal() * body.elasticity * mandel.asDiagonal();
+    const double lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(c, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    const GradientProducts g = gradientProducts(body, [](const ElementRule& rule, std::size_t p) { return rule.viscosity[p]; }, true);
+    return 0.5 * lambda * (g[0][0] + g[1][1] + g[2][2]);
 }
 
 }  // namespace softtouch

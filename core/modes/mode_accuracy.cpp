@@ -13,19 +13,22 @@ namespace softtouch {
 namespace {
 
 /// One step of `kind` on the unit-mass oscillator q̈ = −ω² q − (a + s) q̇, where a is the rate of node
-/// (absolute) damping and s that of spring (relative) damping, mirroring each scheme's code.
-Eigen::Vector2d stepOscillator(IntegratorKind kind, double omega, double a, double s, double h, Eigen::Vector2d state) {
+/// (absolute) damping and s that of spring (relative) damping, mirroring each scheme's code. The explicit
+/// schemes solve with a mass 1 + h·stepMassRate (a viscous solid element's, elementStepViscosity()).
+Eigen::Vector2d stepOscillator(IntegratorKind kind, double omega, double a, double s, double stepMassRate, double h,
+                               Eigen::Vector2d state) {
     const double q = state[0], v = state[1];
     const double k = omega * omega;
+    const double mass = 1.0 + h * stepMassRate;
     switch (kind) {
     case IntegratorKind::SymplecticEuler: {  // explicit_integrators.cpp: v += h f(x, v); x += h v
-        const double vNext = v + h * (-k * q - (a + s) * v);
+        const double vNext = v + h * (-k * q - (a + s) * v) / mass;
         return {q + h * vNext, vNext};
     }
     case IntegratorKind::Verlet: {  // central differences, node damping central, spring damping backward
         const double previous = q - h * v;
-        const double c = 0.5 * h * a;
-        const double next = (2.0 * q - previous + h * h * (-k * q - s * v) + c * previous) / (1.0 + c);
+        const double c = 0.5 * h * a / mass;
+        const double next = (2.0 * q - previous + h * h * (-k * q - s * v) / mass + c * previous) / (1.0 + c);
         return {next, (next - q) / h};
     }
     case IntegratorKind::ImplicitEuler: {  // v' = v + h f(x', v'), x' = x + h v' (exact for a linear body)
@@ -72,15 +75,15 @@ RootPair rootsOf(double trace, double determinant) {
 
 }  // namespace
 
-ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double h) {
+ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double h, double stepMassRate) {
     ModeAccuracy r;
     r.stepSeconds = h;
     const double omega = 2.0 * std::numbers::pi * mode.frequencyHz;
     const double a = 2.0 * mode.nodeDampingRatio * omega;
     const double s = 2.0 * mode.springDampingRatio * omega;
     Eigen::Matrix2d A;
-    A.col(0) = stepOscillator(kind, omega, a, s, h, {1.0, 0.0});
-    A.col(1) = stepOscillator(kind, omega, a, s, h, {0.0, 1.0});
+    A.col(0) = stepOscillator(kind, omega, a, s, stepMassRate, h, {1.0, 0.0});
+    A.col(1) = stepOscillator(kind, omega, a, s, stepMassRate, h, {0.0, 1.0});
     const double zeta = mode.dampingRatio;
     r.exactAmplitudePerPeriod = zeta < 1.0 ? std::exp(-2.0 * std::numbers::pi * zeta / std::sqrt(1.0 - zeta * zeta)) : 0.0;
     const RootPair roots = rootsOf(A.trace(), A.determinant());
@@ -294,6 +297,16 @@ ModeAccuracy measuredXpbd(const std::shared_ptr<const BodyModel>& model, const S
     return r;
 }
 
+/// φᵀK̃_s φ / φᵀMφ for the mode's shape φ, 1/s: on a viscous solid element an explicit substep of h solves with
+/// M + h K̃_s (elementStepViscosity()), so the mode moves as if 1 + h times this heavier; 0 otherwise.
+double stepMassRate(const BodyModel& model, const SimulationSettings& settings, const VibrationMode& mode, double h) {
+    const bool explicitScheme = settings.integrator == IntegratorKind::SymplecticEuler || settings.integrator == IntegratorKind::Verlet;
+    if (!explicitScheme || !model.element || !model.element->viscous)
+        return 0.0;
+    const double mass = massInnerProduct(model, mode.shape, mode.shape);
+    return mass > 0.0 ? elementStepViscosityProduct(*model.element, model.elementViscosityModes(), h, mode.shape) / mass : 0.0;
+}
+
 }  // namespace
 
 std::vector<ModeAccuracy> schemeAccuracies(const std::shared_ptr<const BodyModel>& model, const SimulationSettings& settings,
@@ -305,7 +318,7 @@ std::vector<ModeAccuracy> schemeAccuracies(const std::shared_ptr<const BodyModel
     std::vector<ModeAccuracy> out;
     for (const VibrationMode& mode : modes) {
         if (!xpbd || mode.frequencyHz <= 0.0) {
-            out.push_back(modeAccuracy(settings.integrator, mode, h));
+            out.push_back(modeAccuracy(settings.integrator, mode, h, stepMassRate(*model, settings, mode, h)));
             continue;
         }
         if (substeps == 0)

@@ -48,8 +48,9 @@ struct ModeAccuracy {
 double dampingRatioKeeping(double perPeriod);
 
 /// Analyses one mode under `kind` at (sub)step h (Simulator::substepsFor() says how many a step takes),
-/// in closed form (for XPBD: as if each substep were solved exactly).
-ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double stepSeconds);
+/// in closed form (for XPBD: as if each substep were solved exactly). `stepMassRate` (1/s): on a viscous solid
+/// element, the explicit schemes' substep moves the mode as if 1 + h times it heavier (schemeAccuracies() gives it).
+ModeAccuracy modeAccuracy(IntegratorKind kind, const VibrationMode& mode, double stepSeconds, double stepMassRate = 0.0);
 
 /// The figures the editor and `softtouch-cli modes` show for one mode of `model` under `settings`:
 /// modeAccuracy() at the scheme's (sub)step, or for XPBD measured on the scheme (see above), at the

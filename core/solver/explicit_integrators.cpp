@@ -1,7 +1,12 @@
 // Symplectic Euler and central-difference (Verlet) integration.
 #include "core/solver/integrator.h"
 
+#include "core/body/element_body.h"
+
 #include <Eigen/Core>
+
+#include <array>
+#include <memory>
 
 namespace softtouch {
 namespace {
@@ -85,16 +90,44 @@ private:
     std::vector<Vec3> m_sharedVelocity;  ///< m/s per drag, Σ share · v over the free support at the start.
 };
 
-/// Turns the forces on the free nodes into accelerations in place: f/m per node, or the solve with a solid
-/// element's consistent mass. `work` is the caller's, so a step allocates nothing once it has its size.
-void accelerations(const BodyModel& model, std::span<Vec3> force, Eigen::MatrixXd& work) {
-    if (model.element) {
-        solveElementMass(*model.element, force, force, work);
-        return;
+/// Turns the forces on the free nodes into accelerations in place: f/m per node, or on a solid element the
+/// solve with M + h K̃_s, its consistent mass and the share of its viscosity the substep takes implicitly
+/// (elementStepViscosity()), whatever its viscosity: the substep is then stable at the undamped bound, which the Simulator's step bound
+/// assumes. Keeps the factors of the last few substep lengths (a drag or a stiffer state changes the substeps and
+/// may change them back).
+class Accelerations {
+public:
+    void operator()(const BodyModel& model, std::span<Vec3> force, double h) {
+        if (model.element) {
+            const ElementBody& e = *model.element;
+            solveElementMass(e, e.viscous ? factorFor(model, h) : e.massFactor, force, force, m_work);
+            return;
+        }
+        for (std::size_t i = 0; i < model.nodeCount(); ++i)
+            force[i] *= model.inverseMass[i];
     }
-    for (std::size_t i = 0; i < model.nodeCount(); ++i)
-        force[i] *= model.inverseMass[i];
-}
+
+private:
+    struct Factor {
+        std::shared_ptr<const ElementBody> body;  // held, so a new body at the same address is not taken for it
+        double h = 0.0;
+        Eigen::LLT<Eigen::MatrixXd> llt;
+    };
+    const Eigen::LLT<Eigen::MatrixXd>& factorFor(const BodyModel& model, double h) {
+        for (Factor& f : m_factors)
+            if (f.body == model.element && f.h == h)
+                return f.llt;
+        Factor& slot = m_factors[m_next];
+        m_next = (m_next + 1) % m_factors.size();
+        slot = {model.element, h,
+                Eigen::LLT<Eigen::MatrixXd>(elementFreeBlock(*model.element, model.element->mass) +
+                                            h * elementStepViscosity(*model.element, model.elementViscosityModes(), h))};
+        return slot.llt;
+    }
+    std::array<Factor, 4> m_factors;
+    std::size_t m_next = 0;
+    Eigen::MatrixXd m_work;
+};
 
 /// Semi-implicit (symplectic) Euler: velocities first, then positions with the new velocities.
 /// Conserves momentum exactly and energy on average; stable for h < 2/omega_max.
@@ -109,7 +142,7 @@ public:
         m_meter.begin(model, external, state);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;
         double nodeLoss = 0.0;
-        accelerations(model, m_force, m_solve);
+        m_accelerations(model, m_force, h);
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
             if (model.inverseMass[i] == 0.0)
                 continue;
@@ -129,7 +162,7 @@ private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
     WorkMeter m_meter;
-    Eigen::MatrixXd m_solve;
+    Accelerations m_accelerations;
 };
 
 /// Central differences, as in the paper: M (x+ − 2x + x−)/h² + D (x+ − x−)/2h + f_int(x) = F.
@@ -150,7 +183,7 @@ public:
         accumulateForces(model, external, state.position, state.velocity, m_force, m_scratch, terms, m_meter.pulls(external),
                          m_meter.elementDamping(model));
         m_meter.begin(model, external, state);
-        accelerations(model, m_force, m_solve);
+        m_accelerations(model, m_force, h);
         const bool nodeDamping = m_meter.on && model.anyNodeDamping;
         double nodeLoss = 0.0;
         for (std::size_t i = 0; i < model.nodeCount(); ++i) {
@@ -177,7 +210,7 @@ private:
     std::vector<Vec3> m_force;
     SpringScratch m_scratch;
     WorkMeter m_meter;
-    Eigen::MatrixXd m_solve;
+    Accelerations m_accelerations;
 };
 
 }  // namespace

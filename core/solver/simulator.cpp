@@ -1,3 +1,4 @@
+#include "core/body/element_body.h"
 #include "core/body/strain_limits.h"
 #include "core/geometry/mesh.h"
 #include "core/solver/simulator.h"
@@ -120,8 +121,16 @@ Simulator::EnergyParts Simulator::energyParts(const ExternalForces& external, do
     }
     parts.springPower = springPower;
     parts.conservativePower = springPower + gravityPower;
-    parts.modified = energy + 0.5 * h * parts.conservativePower;
+    parts.modified = energy + 0.5 * h * parts.conservativePower + stepMassEnergy(h);
     return parts;
+}
+
+double Simulator::stepMassEnergy(double h) const {
+    // A solid element's substep solves with M + h K̃_s (the viscosity it takes implicitly): the scheme is
+    // symplectic Euler on that mass, whose kinetic energy has the extra (h/2) vᵀK̃_s v.
+    if (!m_model->element || !m_model->element->viscous)
+        return 0.0;
+    return 0.5 * h * elementStepViscosityProduct(*m_model->element, m_model->elementViscosityModes(), h, m_state.velocity);
 }
 
 double Simulator::accountedEnergy(const ExternalForces& external) {
@@ -207,10 +216,10 @@ void Simulator::startAccountAt(const EnergyParts& parts) {
 }
 
 void Simulator::rebaseAccount(const ExternalForces& external, double h) {
-    // H̃ = E + (h/2) vᵀf: at a new h the same state has a different H̃, so the start moves by the
-    // difference (the account keeps what it has seen so far).
+    // H̃ = E + (h/2) vᵀf (and a solid element's (h/2) vᵀK̃_s v): at a new h the same state has a different H̃,
+    // so the start moves by the difference (the account keeps what it has seen so far).
     const EnergyParts parts = energyParts(external, m_accountStep);
-    m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower;
+    m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
     m_accountStep = h;
 }
 
@@ -261,10 +270,10 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, 
             m_account = EnergyAccount{};
             m_dissipatedAtCheck = 0.0;
             startAccountAt(parts);
-            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower;
+            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
             m_accountStep = h;
         } else if (h != m_accountStep) {
-            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower;
+            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
             m_accountStep = h;
         }
         return true;

@@ -151,12 +151,15 @@ private:
     bool forcesChanged(const ExternalForces& external) const;
     /// The current state's energies for the account at substep h.
     struct EnergyParts {
-        double modified = 0.0;          ///< H̃ = kinetic + spring + gravity + (h/2) vᵀf_c, J.
+        double modified = 0.0;          ///< H̃ = kinetic + spring + gravity + (h/2) vᵀf_c + stepMassEnergy(h), J.
         double elastic = 0.0;           ///< Kinetic + spring, J.
         double springPower = 0.0;       ///< vᵀ f of the springs' elastic forces, W.
         double conservativePower = 0.0; ///< vᵀ f_c, springs plus gravity, W.
     };
     EnergyParts energyParts(const ExternalForces& external, double h);
+    /// (h/2) vᵀK̃_s v: the kinetic energy a viscous solid element's substep of h adds with the viscosity it takes
+    /// implicitly (elementStepViscosity()), J; 0 for any other body.
+    double stepMassEnergy(double h) const;
     /// H̃ of node i alone: its kinetic, gravity and (h/2) v·mg terms plus each of its springs' energy
     /// and (h/2) vᵀf share. A contact moving node i changes H̃ by exactly the change of this.
     double nodeEnergy(std::size_t i, const Vec3& gravity, double h) const;
