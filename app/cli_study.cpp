@@ -44,13 +44,8 @@ public:
         std::error_code ec;
         m_folder = std::filesystem::temp_directory_path(ec) / ("softtouch-study-" + std::to_string(::getpid()));
         std::filesystem::create_directories(m_folder, ec);
-        for (const SceneObject& object : scene.objects) {  // concatenated in scene order, as bake does
-            const auto base = std::uint32_t(m_rest.positions.size());
-            m_rest.positions.insert(m_rest.positions.end(), object.mesh->positions.begin(), object.mesh->positions.end());
-            m_rest.normals.insert(m_rest.normals.end(), object.mesh->normals.begin(), object.mesh->normals.end());
-            for (const auto& t : object.mesh->triangles)
-                m_rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-        }
+        for (const SceneObject& object : scene.objects)
+            (void)io::appendToRestMesh(m_rest, *object.mesh);
         if (m_rest.normals.size() != m_rest.positions.size())
             m_rest.computeNormals();
     }

@@ -103,6 +103,16 @@ std::vector<MeshSource> meshSources(const Project& project) {
     return sources;
 }
 
+std::uint32_t appendToRestMesh(Mesh& rest, const Mesh& object) {
+    const auto base = std::uint32_t(rest.positions.size());
+    rest.positions.insert(rest.positions.end(), object.positions.begin(), object.positions.end());
+    if (!object.normals.empty())
+        rest.normals.insert(rest.normals.end(), object.normals.begin(), object.normals.end());
+    for (const auto& t : object.triangles)
+        rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    return base;
+}
+
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     BakeResult result;
     FrameRequest request;
@@ -146,11 +156,7 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
         ClipObject clipObject{object.name, base, std::uint32_t(m.positions.size()),
                               std::uint32_t(rest.triangles.size()), std::uint32_t(m.triangles.size()), object.lattice};
         setup.objects.push_back(std::move(clipObject));
-        rest.positions.insert(rest.positions.end(), m.positions.begin(), m.positions.end());
-        if (!m.normals.empty())
-            rest.normals.insert(rest.normals.end(), m.normals.begin(), m.normals.end());
-        for (const auto& t : m.triangles)
-            rest.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        appendToRestMesh(rest, m);
         if (options.objectGroups)  // the OBJ writers name each object's faces after it
             rest.parts.push_back({object.name, base, std::uint32_t(m.positions.size())});
     }

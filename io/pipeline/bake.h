@@ -75,6 +75,11 @@ struct BakeResult {
 /// Plays `scene` (io/pipeline/frame_source.h) and writes the cache or export and the rest mesh.
 Result<BakeResult> bake(const Scene& scene, const BakeOptions& options);
 
+/// Appends an object's mesh to the rest mesh a bake writes (its vertices, its normals where it has them, its
+/// triangles renumbered): objects appended in scene order give the cache's vertex order. Returns the first
+/// vertex's index. The caller computes normals once all are in, where some object had none.
+std::uint32_t appendToRestMesh(Mesh& rest, const Mesh& object);
+
 /// Where object `name`'s own cache goes when each object is baked to its own: "-NAME" added to the file's
 /// stem (to a base path that has no extension), the name's characters other than letters, digits, '-' and
 /// '_' written as '_'.
