@@ -7,6 +7,70 @@
 
 namespace softtouch {
 
+namespace {
+
+/// (BᵀB + λ I)⁻¹ rhs for the three columns together: SimplicialLDLT::solve's steps (P, L, D⁻¹, Lᵀ, P⁻¹) with, in each
+/// column, the same operations in the same order as Eigen's sparse triangular solves make them, so the result is bit
+/// for bit solve()'s. Eigen solves one column at a time, each pass over the factor a chain of dependent updates; on
+/// the guppy's 512-node Bezier net the factor is dense and the two solves were a third of a step.
+Eigen::MatrixX3d solveNormal(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& normal, const Eigen::MatrixX3d& rhs) {
+    Eigen::MatrixX3d x = normal.permutationP().size() > 0 ? Eigen::MatrixX3d(normal.permutationP() * rhs) : rhs;
+    const Eigen::SparseMatrix<double>& l = normal.matrixL().nestedExpression();  // strictly lower, unit diagonal
+    const int* starts = l.outerIndexPtr();
+    const int* rows = l.innerIndexPtr();
+    const double* value = l.valuePtr();
+    const Eigen::Index n = x.rows();
+    // L y = P rhs, column-oriented (Eigen's Lower/ColMajor solve): entry i, once final, is scattered down its column,
+    // in each column of x only where it is not 0.
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const double t0 = x(i, 0), t1 = x(i, 1), t2 = x(i, 2);
+        int k = starts[i];
+        const int end = starts[i + 1];
+        while (k < end && rows[k] < i)
+            ++k;
+        if (k < end && rows[k] == i)
+            ++k;
+        for (; k < end; ++k) {
+            const Eigen::Index r = rows[k];
+            if (t0 != 0.0)
+                x(r, 0) -= t0 * value[k];
+            if (t1 != 0.0)
+                x(r, 1) -= t1 * value[k];
+            if (t2 != 0.0)
+                x(r, 2) -= t2 * value[k];
+        }
+    }
+    // D⁻¹ as Eigen applies it: the inverse diagonal times each entry.
+    const Eigen::VectorXd& d = normal.vectorD();
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const double inverse = 1.0 / d(i);
+        x.row(i) = (inverse * x.row(i).array()).matrix();
+    }
+    // Lᵀ z = y, row-oriented (Eigen's Upper/RowMajor solve on the transposed factor): from the last row up, each
+    // entry's sum of the rows below it, in the factor's stored order.
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+        double t0 = x(i, 0), t1 = x(i, 1), t2 = x(i, 2);
+        int k = starts[i];
+        const int end = starts[i + 1];
+        while (k < end && rows[k] < i)
+            ++k;
+        if (k < end && rows[k] == i)
+            ++k;
+        for (; k < end; ++k) {
+            const Eigen::Index r = rows[k];
+            t0 -= value[k] * x(r, 0);
+            t1 -= value[k] * x(r, 1);
+            t2 -= value[k] * x(r, 2);
+        }
+        x(i, 0) = t0;
+        x(i, 1) = t1;
+        x(i, 2) = t2;
+    }
+    return normal.permutationPinv().size() > 0 ? Eigen::MatrixX3d(normal.permutationPinv() * x) : x;
+}
+
+}  // namespace
+
 Result<GoalFit> GoalFit::create(const Lattice& lattice, std::span<const Vec3f> restPositions,
                                 std::span<const Vec3> parameters) {
     const auto vertices = Eigen::Index(restPositions.size());
@@ -105,7 +169,7 @@ void GoalFit::fit(std::span<const Vec3f> positions, std::vector<Vec3>& nodes, Ma
         }
         weighted.row(node) << x, y, z;
     }
-    const Eigen::MatrixX3d x = m_normal->solve(weighted + m_lambda * prior);
+    const Eigen::MatrixX3d x = solveNormal(*m_normal, weighted + m_lambda * prior);
     nodes.resize(std::size_t(x.rows()));
     for (Eigen::Index i = 0; i < x.rows(); ++i)
         nodes[std::size_t(i)] = x.row(i).transpose();
