@@ -20,17 +20,20 @@ Eigen::MatrixX3d solveNormal(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<dou
     const int* rows = l.innerIndexPtr();
     const double* value = l.valuePtr();
     const Eigen::Index n = x.rows();
+    // Column i's first entry below the diagonal, as Eigen's iterators reach it (past any above it and the diagonal).
+    const auto belowDiagonal = [&](Eigen::Index i) {
+        int k = starts[i];
+        while (k < starts[i + 1] && rows[k] < i)
+            ++k;
+        if (k < starts[i + 1] && rows[k] == i)
+            ++k;
+        return k;
+    };
     // L y = P rhs, column-oriented (Eigen's Lower/ColMajor solve): entry i, once final, is scattered down its column,
     // in each column of x only where it is not 0.
     for (Eigen::Index i = 0; i < n; ++i) {
         const double t0 = x(i, 0), t1 = x(i, 1), t2 = x(i, 2);
-        int k = starts[i];
-        const int end = starts[i + 1];
-        while (k < end && rows[k] < i)
-            ++k;
-        if (k < end && rows[k] == i)
-            ++k;
-        for (; k < end; ++k) {
+        for (int k = belowDiagonal(i), end = starts[i + 1]; k < end; ++k) {
             const Eigen::Index r = rows[k];
             if (t0 != 0.0)
                 x(r, 0) -= t0 * value[k];
@@ -50,13 +53,7 @@ Eigen::MatrixX3d solveNormal(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<dou
     // entry's sum of the rows below it, in the factor's stored order.
     for (Eigen::Index i = n - 1; i >= 0; --i) {
         double t0 = x(i, 0), t1 = x(i, 1), t2 = x(i, 2);
-        int k = starts[i];
-        const int end = starts[i + 1];
-        while (k < end && rows[k] < i)
-            ++k;
-        if (k < end && rows[k] == i)
-            ++k;
-        for (; k < end; ++k) {
+        for (int k = belowDiagonal(i), end = starts[i + 1]; k < end; ++k) {
             const Eigen::Index r = rows[k];
             t0 -= value[k] * x(r, 0);
             t1 -= value[k] * x(r, 1);

@@ -92,9 +92,9 @@ private:
 
 /// Turns the forces on the free nodes into accelerations in place: f/m per node, or on a solid element the
 /// solve with M + h K̃_s, its consistent mass and the share of its viscosity the substep takes implicitly
-/// (elementStepViscosity()), whatever its viscosity: the substep is then stable at the undamped bound, which the Simulator's step bound
-/// assumes. Keeps the factors of the last few substep lengths (a drag or a stiffer state changes the substeps and
-/// may change them back).
+/// (elementStepViscosity()): whatever the viscosity, the substep is then stable at the undamped bound, which the
+/// Simulator's step bound assumes. Keeps the factors of the last few substep lengths (a drag or a stiffer state
+/// changes the substeps and may change them back); a new length factors once, in the step that first takes it.
 class Accelerations {
 public:
     void operator()(const BodyModel& model, std::span<Vec3> force, double h) {

@@ -49,8 +49,10 @@ constexpr double kXpbdSwing = 2.0;
 Simulator::Simulator(std::shared_ptr<const BodyModel> model, const SimulationSettings& settings)
     : m_model(std::move(model)), m_settings(settings), m_integrator(makeIntegrator(settings.integrator)) {
     m_state = restState(*m_model);
-    if (m_integrator->isExplicit())
-        (void)m_model->maxStiffnessOverMass();  // the substep bound, here rather than in a step (allocates)
+    if (m_integrator->isExplicit()) {  // here rather than in a step (they allocate)
+        (void)m_model->maxStiffnessOverMass();   // the substep bound
+        (void)m_model->elementViscosityModes();  // what a solid element's substeps take implicitly
+    }
     m_integrator->setMeasuresWork(accountsEnergy());
     if (accountsEnergy()) {
         // The energy of the stiffest motion at a millionth of the body's size: growth of a few percent of
