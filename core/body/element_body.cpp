@@ -265,8 +265,9 @@ ElementRule makeRule(const Lattice& lattice, const LatticeMaterial& material, do
     return rule;
 }
 
-/// A node matrix's block over the free nodes, one entry per pair.
-Eigen::MatrixXd freeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) {
+}  // namespace
+
+Eigen::MatrixXd elementFreeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) {
     const Eigen::Index free = Eigen::Index(body.freeNodes.size());
     Eigen::MatrixXd out(free, free);
     for (Eigen::Index a = 0; a < free; ++a)
@@ -274,8 +275,6 @@ Eigen::MatrixXd freeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMa
             out(a, b) = nodeMatrix(body.freeNodes[std::size_t(a)], body.freeNodes[std::size_t(b)]);
     return out;
 }
-
-}  // namespace
 
 Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& lattice, const LatticeMaterial& material,
                                                             std::span<const std::uint8_t> held) {
@@ -356,7 +355,7 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
     body->nodeDamped = body->nodeDamping.cwiseAbs().maxCoeff() > 0.0;
 
     const Eigen::Index free = Eigen::Index(body->freeNodes.size());
-    body->massFactor.compute(freeBlock(*body, body->mass));
+    body->massFactor.compute(elementFreeBlock(*body, body->mass));
     if (body->massFactor.info() != Eigen::Success)
         return Status::error("the solid element's mass matrix is not positive definite (is the density positive everywhere?)");
     body->inverseFactor = body->massFactor.matrixL().solve(Eigen::MatrixXd::Identity(free, free));
@@ -478,7 +477,7 @@ void addElementMatrixTimes(const ElementBody& body, const Eigen::MatrixXd& nodeM
 }
 
 Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) {
-    const Eigen::MatrixXd block = freeBlock(body, nodeMatrix);
+    const Eigen::MatrixXd block = elementFreeBlock(body, nodeMatrix);
     Eigen::MatrixXd out = Eigen::MatrixXd::Zero(3 * block.rows(), 3 * block.cols());
     for (Eigen::Index a = 0; a < block.rows(); ++a)
         for (Eigen::Index b = 0; b < block.cols(); ++b)
@@ -491,15 +490,13 @@ void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std:
     solveElementMass(body, body.massFactor, force, acceleration, work);
 }
 
-Eigen::MatrixXd elementFreeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix) { return freeBlock(body, nodeMatrix); }
-
 ElementViscosityModes elementViscosityModes(const ElementBody& body) {
     ElementViscosityModes out;
     if (!body.viscous)
         return out;
     // K̃ φ = k M φ over the free nodes (every component alike), φ M-normalised: K̃ = M Φ diag(k) Φᵀ M.
-    const Eigen::MatrixXd mass = freeBlock(body, body.mass);
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(freeBlock(body, body.viscosityBound), mass);
+    const Eigen::MatrixXd mass = elementFreeBlock(body, body.mass);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(elementFreeBlock(body, body.viscosityBound), mass);
     out.massModes = mass * modes.eigenvectors();
     out.rates = modes.eigenvalues();
     return out;

@@ -220,7 +220,10 @@ void Simulator::startAccountAt(const EnergyParts& parts) {
 void Simulator::rebaseAccount(const ExternalForces& external, double h) {
     // H̃ = E + (h/2) vᵀf (and a solid element's (h/2) vᵀK̃_s v): at a new h the same state has a different H̃,
     // so the start moves by the difference (the account keeps what it has seen so far).
-    const EnergyParts parts = energyParts(external, m_accountStep);
+    moveAccountStep(energyParts(external, m_accountStep), h);
+}
+
+void Simulator::moveAccountStep(const EnergyParts& parts, double h) {
     m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
     m_accountStep = h;
 }
@@ -272,11 +275,9 @@ bool Simulator::checkEnergy(const ExternalForces& external, StepReport& report, 
             m_account = EnergyAccount{};
             m_dissipatedAtCheck = 0.0;
             startAccountAt(parts);
-            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
-            m_accountStep = h;
+            moveAccountStep(parts, h);
         } else if (h != m_accountStep) {
-            m_account.start += 0.5 * (h - m_accountStep) * parts.conservativePower + stepMassEnergy(h) - stepMassEnergy(m_accountStep);
-            m_accountStep = h;
+            moveAccountStep(parts, h);
         }
         return true;
     }

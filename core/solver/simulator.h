@@ -175,6 +175,8 @@ private:
     void rollBack(const ExternalForces& external, const std::string& why, StepReport& report);
     /// Moves the account to a new substep h (H̃ depends on it) without restarting it.
     void rebaseAccount(const ExternalForces& external, double h);
+    /// The same, from `parts` taken at the account's substep.
+    void moveAccountStep(const EnergyParts& parts, double h);
     /// Takes the current state as the known-good checkpoint.
     void checkpoint();
     /// The energy guard runs: an explicit scheme with checks on.
