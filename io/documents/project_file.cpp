@@ -5,6 +5,7 @@
 #include "io/import/animation_import.h"
 
 #include "core/base/ranges.h"
+#include "core/geometry/node_field_fit.h"
 #include "core/geometry/mesh_surface.h"
 #include "core/geometry/mesh_volume.h"
 #include "core/solver/integrator.h"
@@ -139,10 +140,58 @@ bool readRestShape(const JsonValue& v, const SceneObject& object, Mesh& mesh, st
     return true;
 }
 
+/// An object's "goalWeightPoints": goal weights given at points, [[x, y, z, w], ...] in scene coordinates (a vertex group
+/// painted in another tool, at the mesh's vertices), fitted to the lattice's nodes (core/geometry/node_field_fit.h).
+/// The nodes' weights are what the object keeps: a save writes them as the material's "goalWeight".
+void readGoalWeightPoints(const JsonValue& v, const JsonValue& material, SceneObject& object) {
+    if (!v.exists())
+        return;
+    if (!object.baseAnimation) {
+        v.problem("goal weights need the object's own animation (\"animation\") to follow");
+        return;
+    }
+    if (material["goalWeight"].exists()) {
+        v.problem("give the goal weights once: here at points or as the material's \"goalWeight\", not both");
+        return;
+    }
+    if (!v.isArray() || v.size() == 0) {
+        v.problem("expected a non-empty array of [x, y, z, weight], weight in [0, 1]");
+        return;
+    }
+    std::vector<PointValue> points;
+    points.reserve(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const JsonValue item = v.at(i);
+        if (item.size() != 4) {
+            item.problem("expected [x, y, z, weight]");
+            return;
+        }
+        PointValue p;
+        for (int c = 0; c < 3; ++c) {
+            const auto x = item.at(std::size_t(c)).number(-ranges::kMaxMeshSize, ranges::kMaxMeshSize, "m", true);
+            if (!x)
+                return;
+            p.point[c] = *x;
+        }
+        const auto w = item.at(3).number(kGoalWeightRange.low, kGoalWeightRange.high, "", true);
+        if (!w)
+            return;
+        p.value = *w;
+        points.push_back(p);
+    }
+    auto field = fitNodeField(object.lattice, points);
+    if (!field) {
+        v.problem(field.message());
+        return;
+    }
+    object.material.goalWeight = std::move(field.value());
+}
+
 void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, JsonIssues& issues) {
     if (!v.expectObject(true))
         return;
-    v.checkKeys({"name", "mesh", "animation", "position", "restShape", "lattice", "material", "anchors", "voids", "drivers"});
+    v.checkKeys({"name", "mesh", "animation", "position", "restShape", "lattice", "material", "goalWeightPoints", "anchors", "voids",
+                 "drivers"});
     SceneObject object;
     object.name = v["name"].string().value_or("object " + std::to_string(project.scene.objects.size()));
     const auto meshRef = v["mesh"].string(true);
@@ -205,6 +254,7 @@ void readObject(const JsonValue& v, const fs::path& baseDir, Project& project, J
     std::optional<double> totalMass;
     readMaterial(v["material"], object.material, totalMass, true, baseDir);
 
+    readGoalWeightPoints(v["goalWeightPoints"], v["material"], object);
     readAnchors(v["anchors"], object.lattice, object.material.anchor);
     if (const JsonValue voids = v["voids"]; voids.expectObject()) {
         voids.checkKeys({"auto", "nodes", "region"});

@@ -1,6 +1,7 @@
 // Mathematical facts of the Bezier / B-spline map and its binding.
 #include "core/geometry/binding.h"
 #include "core/geometry/lattice.h"
+#include "core/geometry/node_field_fit.h"
 #include "helpers/test_support.h"
 
 #include <Eigen/Geometry>
@@ -59,6 +60,7 @@ private slots:
     void bsplineSupportIsLocal();
     void boxFitHandlesDegenerateMeshes();
     void badShapesAreRejected();
+    void nodeFieldFromPoints();
 };
 
 void TestLattice::bernsteinMatchesPaperFormula() {
@@ -238,6 +240,47 @@ void TestLattice::badShapesAreRejected() {
     const auto result = Lattice::create({LatticeKind::Bezier, {4, 4, 4}}, flat);
     QVERIFY(!result.ok());
     QVERIFY(result.message().find("size") != std::string::npos);
+}
+
+// A vertex group carried onto the nodes (goalWeightPoints): 1 everywhere is 1 on every node, exactly; a ramp
+// along u gives nodes that rise along u and stay within the points' range; a B-spline node no point reaches
+// takes its nearest point's value; bad input is an error, not a field.
+void TestLattice::nodeFieldFromPoints() {
+    OrientedBox box;
+    box.size = Vec3(2.0, 1.0, 0.5);
+    std::vector<PointValue> ones, ramp;
+    for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 6; ++j)
+            for (int k = 0; k <= 4; ++k) {
+                const Vec3 p = box.toWorld(Vec3(i / 20.0, j / 6.0, k / 4.0));
+                ones.push_back({p, 1.0});
+                ramp.push_back({p, i / 20.0});
+            }
+    for (const LatticeShape shape : {LatticeShape{LatticeKind::Bezier, {4, 4, 4}}, LatticeShape{LatticeKind::BSpline, {9, 5, 4}}}) {
+        const Lattice lattice = Lattice::create(shape, box).value();
+        const auto all = fitNodeField(lattice, ones);
+        QVERIFY2(all.ok(), all.message().c_str());
+        for (double w : all.value())
+            QCOMPARE(w, 1.0);
+        const std::vector<double> field = fitNodeField(lattice, ramp).value();
+        for (int k = 0; k < lattice.count(2); ++k)
+            for (int j = 0; j < lattice.count(1); ++j)
+                for (int i = 0; i < lattice.count(0); ++i) {
+                    const double w = field[std::size_t(lattice.index(i, j, k))];
+                    QVERIFY(w >= 0.0 && w <= 1.0);
+                    if (i > 0)
+                        QVERIFY2(w > field[std::size_t(lattice.index(i - 1, j, k))], qPrintable(QString("node %1 %2 %3").arg(i).arg(j).arg(k)));
+                }
+        // The end nodes lean to the ends' values: the field is the points', not a blur of it.
+        QVERIFY(field[0] < 0.2 && field[std::size_t(lattice.index(lattice.count(0) - 1, 0, 0))] > 0.8);
+    }
+    // Points in one corner of a B-spline box: the far nodes weigh none of them and take the nearest point's value.
+    const Lattice fine = Lattice::create({LatticeKind::BSpline, {9, 9, 9}}, box).value();
+    const std::vector<PointValue> corner{{box.toWorld(Vec3(0.01, 0.01, 0.01)), 0.25}, {box.toWorld(Vec3(0.02, 0.01, 0.01)), 0.75}};
+    const std::vector<double> far = fitNodeField(fine, corner).value();
+    QCOMPARE(far[std::size_t(fine.index(8, 8, 8))], 0.75);
+    QVERIFY(!fitNodeField(fine, {}).ok());
+    QVERIFY(!fitNodeField(fine, std::vector<PointValue>{{Vec3(0, 0, 0), std::nan("")}}).ok());
 }
 
 QTEST_GUILESS_MAIN(TestLattice)

@@ -64,6 +64,13 @@ void addRigRows() {
     QTest::newRow("morph targets") << int(RigKind::Morph);
 }
 
+/// `json` written as NAME in `dir`; its path.
+std::filesystem::path writeProject(const QTemporaryDir& dir, const char* name, const nlohmann::json& json) {
+    const std::filesystem::path path = dir.filePath(name).toStdString();
+    std::ofstream(path) << json.dump();
+    return path;
+}
+
 std::string projectFor(const std::string& glb, const std::string& extra = "") {
     return R"({"format": "softtouch-project", "version": 4,
       "objects": [{"name": "rig", "mesh": ")" + glb + R"(",
@@ -275,6 +282,101 @@ private slots:
         QCOMPARE(int(frames.size()), 24);
         QVERIFY(seam <= median);
         QVERIFY(wobble >= 0.02 * diagonal);
+    }
+
+    // Goal weights at points (a vertex group from another tool, "goalWeightPoints") are fitted to the nodes on load.
+    // At 1 on every vertex, every node is exactly 1 and the bake is the base animation itself; a map painted on
+    // the tail's half frees the tail's nodes and keeps the head's; a save writes the nodes' weights, which read
+    // back the same. A file that gives the weights twice, on an object with no animation, or out of range is
+    // refused at the field.
+    void goalWeightPointsAreFittedToTheNodes() {
+        QTemporaryDir dir;
+        std::ifstream in(kPresets / "scenes/guppy-rigged.softtouch");
+        nlohmann::json json = nlohmann::json::parse(in);
+        nlohmann::json& object = json["objects"][0];
+        object["mesh"] = (kPresets / "meshes/guppy-rigged.glb").string();
+        object["material"]["preset"] = (kPresets / "materials/fish-body.stpreset").string();
+        object["material"].erase("goalWeight");
+        auto plain = loadProject(writeProject(dir, "plain.softtouch", json));
+        QVERIFY2(plain.ok(), plain.message().c_str());
+        const std::vector<Vec3f>& rest = plain->scene.objects[0].mesh->positions;
+        const auto withWeights = [&](auto weightAt) {
+            nlohmann::json points = nlohmann::json::array();
+            for (const Vec3f& p : rest)
+                points.push_back({p.x(), p.y(), p.z(), weightAt(p)});
+            nlohmann::json text = json;
+            text["objects"][0]["goalWeightPoints"] = points;
+            return text;
+        };
+
+        auto pinned = loadProject(writeProject(dir, "pinned.softtouch", withWeights([](const Vec3f&) { return 1.0; })));
+        QVERIFY2(pinned.ok(), pinned.message().c_str());
+        for (double w : pinned->scene.objects[0].material.goalWeight)
+            QCOMPARE(w, 1.0);
+        BakeOptions options;
+        options.output = dir.filePath("pinned.pc2").toStdString();
+        QVERIFY(bake(pinned->scene, options).ok());
+        auto cache = readPc2(options.output);
+        QVERIFY2(cache.ok(), cache.message().c_str());
+        const BaseAnimation& base = *pinned->scene.objects[0].baseAnimation;
+        const double diagonal = pinned->scene.objects[0].mesh->bounds().diagonal();
+        std::vector<Vec3f> expected(rest.size());
+        double worst = 0.0;
+        for (std::size_t f = 0; f < cache->frames.size(); ++f) {
+            base.positionsAt(double(f) / 24.0, expected);
+            for (std::size_t v = 0; v < rest.size(); ++v)
+                worst = std::max(worst, double((cache->frames[f][v] - expected[v]).norm()));
+        }
+        QVERIFY2(worst <= 1e-6 * diagonal, qPrintable(QString("worst %1 of the diagonal").arg(worst / diagonal)));
+
+        // The guppy swims along x, its head at +x: a map of 1 on the head's half and 0 on the tail's.
+        const Eigen::AlignedBox3f bounds = [&] {
+            Eigen::AlignedBox3f b;
+            for (const Vec3f& p : rest)
+                b.extend(p);
+            return b;
+        }();
+        const float middle = bounds.center().x();
+        auto painted = loadProject(writeProject(dir, "painted.softtouch", withWeights([&](const Vec3f& p) { return p.x() > middle ? 1.0 : 0.0; })));
+        QVERIFY2(painted.ok(), painted.message().c_str());
+        const SceneObject& guppy = painted->scene.objects[0];
+        const std::vector<double>& goal = guppy.material.goalWeight;
+        // Every row along the fish rises from tail to head; the end columns lean to the map's values (a Bezier
+        // node weighs every vertex, so a corner the mesh does not reach mixes in the far half).
+        double tails = 0.0, heads = 0.0;
+        const int rows = guppy.lattice.count(1) * guppy.lattice.count(2), last = guppy.lattice.count(0) - 1;
+        for (int k = 0; k < guppy.lattice.count(2); ++k)
+            for (int j = 0; j < guppy.lattice.count(1); ++j) {
+                for (int i = 1; i <= last; ++i)
+                    QVERIFY(goal[std::size_t(guppy.lattice.index(i, j, k))] > goal[std::size_t(guppy.lattice.index(i - 1, j, k))]);
+                tails += goal[std::size_t(guppy.lattice.index(0, j, k))] / rows;
+                heads += goal[std::size_t(guppy.lattice.index(last, j, k))] / rows;
+            }
+        QVERIFY2(tails < 0.2 && heads > 0.8, qPrintable(QString("tail column %1, head column %2").arg(tails).arg(heads)));
+        const std::filesystem::path saved = dir.filePath("saved.softtouch").toStdString();
+        QVERIFY(saveProject(painted.value(), saved).ok());
+        QVERIFY(!nlohmann::json::parse(std::ifstream(saved))["objects"][0].contains("goalWeightPoints"));
+        auto again = loadProject(saved);
+        QVERIFY2(again.ok(), again.message().c_str());
+        QCOMPARE(again->scene.objects[0].material.goalWeight, goal);
+
+        const auto refused = [&](const nlohmann::json& text, const std::string& where, const std::string& what) {
+            auto project = loadProject(writeProject(dir, "refused.softtouch", text));
+            QVERIFY(!project.ok());
+            QVERIFY2(project.message().find(where) != std::string::npos && project.message().find(what) != std::string::npos,
+                     project.message().c_str());
+        };
+        nlohmann::json twice = withWeights([](const Vec3f&) { return 0.5; });
+        twice["objects"][0]["material"]["goalWeight"] = 0.5;
+        refused(twice, "/objects/0/goalWeightPoints", "not both");
+        nlohmann::json still = withWeights([](const Vec3f&) { return 0.5; });
+        still["objects"][0].erase("animation");
+        still["objects"][0]["mesh"] = (kPresets / "meshes/guppy.obj").string();
+        refused(still, "/objects/0/goalWeightPoints", "animation");
+        refused(withWeights([](const Vec3f&) { return 1.5; }), "/objects/0/goalWeightPoints/0/3", "1");
+        nlohmann::json shortItem = withWeights([](const Vec3f&) { return 0.5; });
+        shortItem["objects"][0]["goalWeightPoints"][7] = {0.0, 0.0, 0.0};
+        refused(shortItem, "/objects/0/goalWeightPoints/7", "[x, y, z, weight]");
     }
 
     // COLLADA, written here by hand (assimp's own COLLADA export of an animation is not read back by its
