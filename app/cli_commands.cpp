@@ -12,9 +12,11 @@
 #include "io/pipeline/bake.h"
 #include "io/pipeline/batch_plan.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 
 namespace softtouch::cli {
@@ -103,8 +105,24 @@ int runBake(const std::vector<std::string>& args) {
     options.objects = objects;
     options.objectGroups = groups;
     if (!quiet) {
-        options.progress = [](int done, int total) {
-            if (done == total || done % 24 == 0)
+        // A tenth of a second apart at most: a frame that takes long (a fine step, a big mesh) still shows, and
+        // a program reading the pipe (the Blender add-on's progress bar) sees the bake move.
+        auto shown = std::make_shared<std::chrono::steady_clock::time_point>();
+        const auto due = [shown] {
+            const auto now = std::chrono::steady_clock::now();
+            if (now - *shown < std::chrono::milliseconds(100))
+                return false;
+            *shown = now;
+            return true;
+        };
+        // A clip of the library is simulated whole first, then written.
+        options.simulating = [due](double done) {
+            if (due())
+                std::fprintf(stderr, "\rsimulating clip %d%%", int(100.0 * done));
+            return true;
+        };
+        options.progress = [due](int done, int total) {
+            if (done == total || due())
                 std::fprintf(stderr, "\rbaking frame %d/%d", done, total);
             if (done == total)
                 std::fputc('\n', stderr);

@@ -290,7 +290,10 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
     const int last = close ? n : n - 1;
     int pre = close && clip.startSeconds - double(clip.blendFrames) / clip.fps >= -1e-9 ? clip.blendFrames : 0;
     auto timeOf = [&](int j) { return std::max(0.0, clip.startSeconds + double(j) / clip.fps); };
-    auto stopped = [&](int j) { return keepGoing && !keepGoing(double(j + pre) / double(last + pre + 1)); };
+    // Before frame j the simulation stands at frame j - 1's time (at 0 before the first).
+    auto stopped = [&](int j) {
+        return keepGoing && !keepGoing((j == -pre ? 0.0 : timeOf(j - 1)) / std::max(timeOf(last), 1e-12));
+    };
 
     std::vector<std::vector<Vec3>> rest;
     for (std::size_t i = 0; i < sim.objectCount(); ++i)

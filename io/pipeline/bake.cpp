@@ -120,9 +120,10 @@ Result<BakeResult> bake(const Scene& scene, const BakeOptions& options) {
     request.clip = options.clip;
     request.frames = options.frames;
     request.fps = options.fps;
+    request.clipProgress = options.simulating;
     auto created = FrameSource::create(scene, request, &result.warnings);
     if (!created)
-        return Status::error(created.message());
+        return created.status();
     FrameSource& source = created.value();
     const SceneSimulation& sim = source.simulation();
     const int frames = source.frameCount();

@@ -54,6 +54,9 @@ struct BakeOptions {
     std::vector<MeshSource> meshSources;
     /// Called after each frame with (frames done, total); returning false cancels the bake.
     std::function<bool(int, int)> progress;
+    /// A clip of the library is simulated whole before its first frame is written: called with the fraction
+    /// simulated before each of its frames; returning false cancels the bake.
+    std::function<bool(double)> simulating;
 };
 
 /// What a bake wrote.

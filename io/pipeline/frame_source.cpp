@@ -35,9 +35,9 @@ Result<FrameSource> FrameSource::create(const Scene& scene, const FrameRequest& 
         // A bake of fewer frames than a clip has, not cycling it, costs those frames (bake --frames 12 of a
         // 100,000-frame clip took 40 s and 511 MB when the whole clip was evaluated first).
         const int wanted = request.frames > 0 && request.frames < clip->frames ? request.frames : 0;
-        auto evaluated = evaluateClip(scene, *request.clips, *clip, warnings, wanted);
+        auto evaluated = evaluateClip(scene, *request.clips, *clip, warnings, wanted, request.clipProgress);
         if (!evaluated)
-            return Status::error(evaluated.message());
+            return evaluated.status();
         source.m_clipFrames = std::move(evaluated.value());
         if (source.m_clipFrames.nodes.empty())
             return Status::error("clip '" + clip->name + "' has no frames");

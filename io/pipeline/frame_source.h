@@ -8,6 +8,7 @@
 #include "core/geometry/binding.h"
 #include "core/scene/scene.h"
 
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -22,6 +23,9 @@ struct FrameRequest {
     int frames = 0;                     ///< Frames; 0 takes the clip's (or the scene's) length. Past a clip's
                                         ///< end a loop cycles and other clips hold their last frame.
     double fps = 0.0;                   ///< Frame rate; 0 takes the clip's (or the scene's). A clip refuses another.
+    /// A clip is simulated whole by create(): asked with the fraction done before each of its frames; false
+    /// cancels (create() then fails as cancelled). Empty: not asked.
+    std::function<bool(double)> clipProgress;
 };
 
 /// A scene's frames, visited in increasing order.
