@@ -5,9 +5,11 @@
 // screenshot) — nothing read from the source or build tree.
 #include <QDir>
 #include <QDirIterator>
+#include <QFileInfo>
 #include <QFile>
 #include <QImage>
 #include <QProcess>
+#include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -132,6 +134,23 @@ void TestInstall::installedBuildRunsOnItsOwn() {
     QVERIFY2(preview.exitCode == 0 && preview.text.contains("lattice clip guppy.lattice.bin: 4 frames") &&
                  QFile::exists(work + "/page/index.html"),
              qPrintable(preview.text));
+
+    // The Blender add-on where Blender finds it, running the programs of its own install (blender, when present).
+    const QString addon = prefix + "/share/blender/scripts/addons/softtouch_wobble";
+    QVERIFY(QFile::exists(addon + "/__init__.py") && QFile::exists(addon + "/bake.py"));
+    if (const QString blender = QStandardPaths::findExecutable("blender"); !blender.isEmpty()) {
+        QProcess process;
+        QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+        env.insert("BLENDER_USER_SCRIPTS", prefix + "/share/blender/scripts");
+        env.remove("SOFTTOUCH_CLI");
+        process.setProcessEnvironment(env);
+        process.start(blender, {"-b", "--factory-startup", "--python-expr",
+                                "import addon_utils; m = addon_utils.enable('softtouch_wobble', default_set=True); "
+                                "from softtouch_wobble import programs; print('runs', programs.find_cli())"});
+        QVERIFY(process.waitForFinished(120000));
+        const QString out = QString::fromUtf8(process.readAllStandardOutput());
+        QVERIFY2(out.contains("runs " + QFileInfo(cli).absoluteFilePath() + "\n"), qPrintable(out.right(800)));
+    }
 
     // The editor on its installed default scene (this suite runs under Xvfb).
     const Output editor = run(prefix + "/bin/softtouch", {"--screenshot", work + "/editor.png"}, work);

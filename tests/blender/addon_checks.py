@@ -1,0 +1,197 @@
+# The Blender add-on (blender/softtouch_wobble) as a user runs it, headless: one check per run, its findings
+# printed as one JSON line for tests/blender/test_blender_addon.cpp to judge.
+# Usage: BLENDER_USER_SCRIPTS=DIR (with addons/softtouch_wobble in it) SOFTTOUCH_CLI=softtouch-cli
+#        blender -b --factory-startup --python addon_checks.py -- CHECK WORKDIR
+# CHECK: register, bake, pinned, bad-preset, cancel.
+import addon_utils
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import time
+
+import bpy
+import numpy as np
+
+check, work = sys.argv[sys.argv.index('--') + 1:][:2]
+GUPPY = os.path.join(os.path.dirname(os.path.abspath(__file__)), '../../presets/meshes/guppy-rigged.glb')
+FRAMES = (0, 5, 11, 17, 23)  # five frames of the one-second swim at 24 fps
+
+
+def report(**found):
+    print(json.dumps(found))
+    sys.exit(0)
+
+
+def enable():
+    return addon_utils.enable('softtouch_wobble', default_set=True, handle_error=lambda e: report(error=str(e)))
+
+
+def guppy_scene():
+    """The rigged guppy as Blender imports it, its swim (frames 0-24, 24 = 0) as the scene's range 0-23."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    enable()
+    # 'SMOOTH': Blender 3.4's importer with its default shading calls numpy's removed np.bool.
+    bpy.ops.import_scene.gltf(filepath=GUPPY, import_shading='SMOOTH')
+    obj = next(o for o in bpy.context.scene.objects if o.type == 'MESH')
+    bpy.context.view_layer.objects.active = obj
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 0, 23
+    obj.softtouch.folder = os.path.join(work, 'softtouch') + '/'
+    obj.softtouch.loop = True
+    return obj, scene
+
+
+def keys():
+    """Every key of every action: where it is and how it bends."""
+    return [[a.name, fc.data_path, fc.array_index,
+             [[*k.co, *k.handle_left, *k.handle_right, k.interpolation] for k in fc.keyframe_points]]
+            for a in bpy.data.actions for fc in a.fcurves]
+
+
+def evaluated(obj, scene, frame, wobble=True):
+    """World positions of the evaluated mesh at `frame`, with or without the add-on's modifier."""
+    modifier = obj.modifiers.get('SoftTouch wobble')
+    if modifier is not None:
+        modifier.show_viewport = wobble
+    scene.frame_set(frame)
+    e = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = e.to_mesh()
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get('co', co)
+    e.to_mesh_clear()
+    m = np.array(e.matrix_world)
+    if modifier is not None:
+        modifier.show_viewport = True
+    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+
+
+def diagonal(points):
+    return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+
+
+def ramp_group(obj, name, weight):
+    group = obj.vertex_groups.new(name=name)
+    for v in obj.data.vertices:
+        group.add([v.index], weight(v.co), 'REPLACE')
+    obj.softtouch.goal_group = name
+
+
+def files(folder):
+    return sorted(os.path.relpath(os.path.join(d, f), folder) for d, _, fs in os.walk(folder) for f in fs + _)
+
+
+def bake():
+    try:
+        bpy.ops.softtouch.bake_wobble()
+        return []
+    except RuntimeError as e:
+        return [line for line in str(e).splitlines() if line.startswith('Error:')]
+
+
+def read_pc2(path):
+    with open(path, 'rb') as f:
+        data = f.read()
+    points, samples = np.frombuffer(data, '<i4', 1, 16)[0], np.frombuffer(data, '<i4', 1, 28)[0]
+    return np.frombuffer(data, '<f4', samples * points * 3, 32).reshape(samples, points, 3).astype(np.float64)
+
+
+def read_obj(path):
+    with open(path) as f:
+        return np.array([[float(x) for x in line.split()[1:4]] for line in f if line.startswith('v ')])
+
+
+if check == 'register':
+    module = enable()
+    found = {'module': module.__name__, 'version': list(module.bl_info['version']),
+             'blender': list(module.bl_info['blender']), 'panel': hasattr(bpy.types, 'VIEW3D_PT_softtouch'),
+             'operators': [op for op in ('bake_wobble', 'reload', 'open_in_softtouch') if hasattr(bpy.ops.softtouch, op)]}
+    # Settings live on the object: a saved .blend reopens with them.
+    obj, scene = guppy_scene()
+    s = obj.softtouch
+    s.preset, s.nodes, s.integrator, s.steps_per_second, s.goal_group, s.loop = 'jelly', (6, 4, 3), 'implicit-euler', 480, 'tail', True
+    path = os.path.join(work, 'saved.blend')
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    s.preset, s.nodes = 'rubber', (4, 4, 4)  # changed after the save: the reopened file has the saved values
+    bpy.ops.wm.open_mainfile(filepath=path)
+    s = next(o for o in bpy.context.scene.objects if o.type == 'MESH').softtouch
+    found['reopened'] = [s.preset, list(s.nodes), s.integrator, s.steps_per_second, s.goal_group, s.loop]
+    report(**found)
+
+if check in ('bake', 'pinned'):
+    obj, scene = guppy_scene()
+    if check == 'bake':
+        # Placed in the scene, turned and scaled: the cache is in the object's own space, the bake in the world's.
+        obj.parent.location, obj.parent.rotation_euler, obj.parent.scale = (0.4, -0.3, 0.2), (0.2, 0.0, 0.7), (1.5, 1.5, 1.5)
+    rest = np.array([v.co for v in obj.data.vertices])
+    low, high = rest[:, 1].min(), rest[:, 1].max()  # the guppy lies along Blender's y
+    if check == 'pinned':
+        ramp_group(obj, 'goal', lambda co: 1.0)
+    else:
+        ramp_group(obj, 'goal', lambda co: float(np.clip((co.y - low) / (high - low), 0.0, 1.0)))
+    before = keys()
+    errors = bake()
+    if errors:
+        report(errors=errors)
+    modifiers = [[m.name, m.type] for m in obj.modifiers]
+    found = {'modifiers': modifiers, 'keysUnchanged': keys() == before, 'frames': list(FRAMES)}
+    armature_only = [evaluated(obj, scene, f, wobble=False) for f in FRAMES]
+    wobbled = [evaluated(obj, scene, f) for f in FRAMES]
+    d = diagonal(armature_only[0])
+    found['diagonal'] = d
+    found['wobble'] = max(float(np.linalg.norm(w - a, axis=1).max()) for w, a in zip(wobbled, armature_only)) / d
+    if check == 'bake':
+        # softtouch-cli's own bake of the project the add-on wrote, matched to Blender's vertices by place at the
+        # first frame (nearest, brute force), in glTF's axes (x, z, -y).
+        folder = os.path.join(work, 'softtouch')
+        reference = os.path.join(work, 'reference.pc2')
+        subprocess.run([os.environ['SOFTTOUCH_CLI'], 'bake', os.path.join(folder, obj.name + '.softtouch'), '--clip',
+                        'wobble', '--out', reference, '--quiet'], check=True)
+        frames, st_rest = read_pc2(reference), read_obj(os.path.splitext(reference)[0] + '.obj')
+        to_gltf = lambda p: np.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1)
+        first = to_gltf(armature_only[0])
+        order = np.array([int(np.argmin(((st_rest - p) ** 2).sum(axis=1))) for p in first])
+        found['matchedBy'] = float(np.linalg.norm(st_rest[order] - first, axis=1).max()) / d
+        found['worst'] = max(float(np.linalg.norm(to_gltf(w) - frames[f][order], axis=1).max())
+                             for f, w in zip(FRAMES, wobbled)) / d
+        found['cacheFrames'] = int(frames.shape[0])
+    else:
+        found['worst'] = max(float(np.linalg.norm(w - a, axis=1).max()) for w, a in zip(wobbled, armature_only)) / d
+    report(**found)
+
+if check == 'bad-preset':
+    # A good bake first: the failed one must leave its cache and modifier as they were.
+    obj, scene = guppy_scene()
+    errors = bake()
+    folder = os.path.join(work, 'softtouch')
+    cache = os.path.join(folder, obj.name + '.pc2')
+    digest = lambda: hashlib.sha256(open(cache, 'rb').read()).hexdigest()
+    modifier = lambda: [[m.name, m.type, getattr(m, 'filepath', ''), getattr(m, 'frame_start', 0)] for m in obj.modifiers]
+    good = {'files': files(folder), 'cache': digest(), 'modifiers': modifier(), 'keys': keys()}
+    presets = os.path.join(os.environ['XDG_DATA_HOME'], 'SoftTouch', 'SoftTouch', 'presets')
+    os.makedirs(presets, exist_ok=True)
+    with open(os.path.join(presets, 'broken.stpreset'), 'w') as f:
+        f.write('{"format": "softtouch-preset", "version": 2, "name": "Broken", "material": {"stiffness": -5}}')
+    obj.softtouch.preset = 'broken'
+    found = {'firstErrors': errors, 'errors': bake()}
+    after = {'files': files(folder), 'cache': digest(), 'modifiers': modifier(), 'keys': keys()}
+    found['unchanged'] = after == good
+    found['files'] = after['files']
+    report(**found)
+
+if check == 'cancel':
+    from softtouch_wobble import bake as addon_bake
+    obj, scene = guppy_scene()
+    obj.softtouch.steps_per_second = 100000  # some twenty seconds: cancelled a second in, while it runs
+    job = addon_bake.BakeJob(bpy.context, obj)
+    job.start()
+    staged = sorted(os.listdir(job.staging))
+    time.sleep(1.0)
+    progress, state = job.progress, job.poll()
+    job.cancel()
+    folder = os.path.join(work, 'softtouch')
+    report(progress=progress, state=state, staged=staged, errors=job.errors, exited=job.process.poll() is not None,
+           modifiers=[m.name for m in obj.modifiers], folderLeft=os.path.exists(folder))
+
+report(error='unknown check ' + check)
