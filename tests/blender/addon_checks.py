@@ -1,8 +1,8 @@
-# The Blender add-on (blender/softtouch_wobble) as a user runs it, headless: one check per run, its findings
+# The Blender add-on (blender/addons/softtouch_wobble) as a user runs it, headless: one check per run, its findings
 # printed as one JSON line for tests/blender/test_blender_addon.cpp to judge.
-# Usage: BLENDER_USER_SCRIPTS=DIR (with addons/softtouch_wobble in it) SOFTTOUCH_CLI=softtouch-cli
+# Usage: BLENDER_USER_SCRIPTS=blender (the checkout's, with addons/softtouch_wobble) SOFTTOUCH_CLI=softtouch-cli
 #        blender -b --factory-startup --python addon_checks.py -- CHECK WORKDIR
-# CHECK: register, bake, pinned, bad-preset, cancel.
+# CHECK: register, bake, pinned, reload, bad-preset, cancel.
 import addon_utils
 import hashlib
 import json
@@ -119,45 +119,68 @@ if check == 'register':
     found['reopened'] = [s.preset, list(s.nodes), s.integrator, s.steps_per_second, s.goal_group, s.loop]
     report(**found)
 
-if check in ('bake', 'pinned'):
+def against_cli(obj, scene, project, armature_only, wobbled, d):
+    """softtouch-cli's own bake of `project`, matched to Blender's vertices by place at the first frame (nearest,
+    brute force), in glTF's axes (x, z, -y): how far the modifier's mesh is from it, and how well the match held."""
+    reference = os.path.join(work, 'reference.pc2')
+    subprocess.run([os.environ['SOFTTOUCH_CLI'], 'bake', project, '--clip', 'wobble', '--out', reference, '--quiet'],
+                   check=True)
+    frames, st_rest = read_pc2(reference), read_obj(os.path.splitext(reference)[0] + '.obj')
+    to_gltf = lambda p: np.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1)
+    first = to_gltf(armature_only[0])
+    order = np.array([int(np.argmin(((st_rest - p) ** 2).sum(axis=1))) for p in first])
+    return {'matchedBy': float(np.linalg.norm(st_rest[order] - first, axis=1).max()) / d,
+            'worst': max(float(np.linalg.norm(to_gltf(w) - frames[f][order], axis=1).max())
+                         for f, w in zip(FRAMES, wobbled)) / d,
+            'cacheFrames': int(frames.shape[0])}
+
+
+if check in ('bake', 'pinned', 'reload'):
     obj, scene = guppy_scene()
     if check == 'bake':
         # Placed in the scene, turned and scaled: the cache is in the object's own space, the bake in the world's.
         obj.parent.location, obj.parent.rotation_euler, obj.parent.scale = (0.4, -0.3, 0.2), (0.2, 0.0, 0.7), (1.5, 1.5, 1.5)
     rest = np.array([v.co for v in obj.data.vertices])
-    low, high = rest[:, 1].min(), rest[:, 1].max()  # the guppy lies along Blender's y
+    low, high = rest[:, 0].min(), rest[:, 0].max()  # the guppy lies along x, its head at +x
     if check == 'pinned':
         ramp_group(obj, 'goal', lambda co: 1.0)
     else:
-        ramp_group(obj, 'goal', lambda co: float(np.clip((co.y - low) / (high - low), 0.0, 1.0)))
+        ramp_group(obj, 'goal', lambda co: float(np.clip((co.x - low) / (high - low), 0.0, 1.0)))
     before = keys()
     errors = bake()
     if errors:
         report(errors=errors)
+    project = os.path.join(work, 'softtouch', obj.name + '.softtouch')
+    if check == 'reload':
+        # What the editor's Save would leave: node weights instead of the points, and the user's edits (a finer
+        # lattice, another material). Reload bakes that, without writing the project again.
+        with open(project) as f:
+            edited = json.load(f)
+        o = edited['objects'][0]
+        del o['goalWeightPoints']
+        o['material'] = {'preset': o['material']['preset'].replace('fish-body', 'jelly'), 'goalWeight': 0.4}
+        o['lattice']['nodes'] = [5, 4, 4]
+        with open(project, 'w') as f:
+            json.dump(edited, f)
+        try:
+            bpy.ops.softtouch.reload()
+        except RuntimeError as e:
+            report(errors=str(e).splitlines())
+        with open(project) as f:
+            kept = json.load(f) == edited
     modifiers = [[m.name, m.type] for m in obj.modifiers]
     found = {'modifiers': modifiers, 'keysUnchanged': keys() == before, 'frames': list(FRAMES)}
+    if check == 'reload':
+        found['projectKept'] = kept
     armature_only = [evaluated(obj, scene, f, wobble=False) for f in FRAMES]
     wobbled = [evaluated(obj, scene, f) for f in FRAMES]
     d = diagonal(armature_only[0])
     found['diagonal'] = d
     found['wobble'] = max(float(np.linalg.norm(w - a, axis=1).max()) for w, a in zip(wobbled, armature_only)) / d
-    if check == 'bake':
-        # softtouch-cli's own bake of the project the add-on wrote, matched to Blender's vertices by place at the
-        # first frame (nearest, brute force), in glTF's axes (x, z, -y).
-        folder = os.path.join(work, 'softtouch')
-        reference = os.path.join(work, 'reference.pc2')
-        subprocess.run([os.environ['SOFTTOUCH_CLI'], 'bake', os.path.join(folder, obj.name + '.softtouch'), '--clip',
-                        'wobble', '--out', reference, '--quiet'], check=True)
-        frames, st_rest = read_pc2(reference), read_obj(os.path.splitext(reference)[0] + '.obj')
-        to_gltf = lambda p: np.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1)
-        first = to_gltf(armature_only[0])
-        order = np.array([int(np.argmin(((st_rest - p) ** 2).sum(axis=1))) for p in first])
-        found['matchedBy'] = float(np.linalg.norm(st_rest[order] - first, axis=1).max()) / d
-        found['worst'] = max(float(np.linalg.norm(to_gltf(w) - frames[f][order], axis=1).max())
-                             for f, w in zip(FRAMES, wobbled)) / d
-        found['cacheFrames'] = int(frames.shape[0])
+    if check == 'pinned':
+        found['worst'] = found['wobble']
     else:
-        found['worst'] = max(float(np.linalg.norm(w - a, axis=1).max()) for w, a in zip(wobbled, armature_only)) / d
+        found.update(against_cli(obj, scene, project, armature_only, wobbled, d))
     report(**found)
 
 if check == 'bad-preset':

@@ -11,7 +11,7 @@ bl_info = {
     'blender': (3, 4, 0),
     'location': "3D View > Sidebar > SoftTouch",
     'description': 'Soft-body secondary motion on an animated mesh, baked by SoftTouch',
-    'warning': 'Runs softtouch-cli; tested with Blender 3.4',
+    'warning': '',
     'doc_url': '',
     'category': 'Animation',
 }

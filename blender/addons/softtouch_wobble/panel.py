@@ -21,43 +21,45 @@ class VIEW3D_PT_softtouch(bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
 
-        row = layout.row()
+        col = layout.column()
+        row = col.row()
         row.label(text='Material')
         row.menu(operators.SOFTTOUCH_MT_presets.bl_idname, text=s.preset)
-        col = layout.column(align=True)
         col.prop(s, 'lattice_kind')
-        col.prop(s, 'nodes')
-        col = layout.column(align=True)
+        row = col.row(align=True)
+        row.prop(s, 'nodes', text='Nodes')
         col.prop(s, 'integrator')
         col.prop(s, 'steps_per_second')
+        col.prop(s, 'gravity')
 
-        col = layout.column(align=True)
-        col.prop_search(s, 'goal_group', obj, 'vertex_groups')
+        layout.label(text='Follow the animation')
+        col = layout.column()
+        col.prop_search(s, 'goal_group', obj, 'vertex_groups', text='Group')
         if not s.goal_group:
-            col.prop(s, 'goal_default')
-        col.prop(s, 'goal_frequency')
-        col.prop(s, 'goal_damping_ratio')
-        layout.prop(s, 'gravity')
+            col.prop(s, 'goal_default', text='Weight')
+        col.prop(s, 'goal_frequency', text='Frequency')
+        col.prop(s, 'goal_damping_ratio', text='Damping')
 
-        col = layout.column(align=True)
+        layout.label(text='Frames')
+        col = layout.column()
         col.prop(s, 'use_scene_range')
         if not s.use_scene_range:
             col.prop(s, 'frame_start')
             col.prop(s, 'frame_end')
         col.prop(s, 'loop')
-        layout.prop(s, 'folder')
+        col.prop(s, 'folder')
 
+        layout.use_property_split = False
         job = operators.running.get(obj.name)
         if job is not None:
-            layout.label(text=f'Baking... {int(100 * job.progress)}% (Esc cancels)', icon='TIME')
+            layout.label(text=f'Baking: {int(100 * job.progress)}% (Esc cancels)', icon='TIME')
         else:
             layout.operator(operators.SOFTTOUCH_OT_bake_wobble.bl_idname, icon='MOD_SOFT')
-        row = layout.row(align=True)
-        row.operator(operators.SOFTTOUCH_OT_open_in_softtouch.bl_idname, icon='WINDOW')
-        row.operator(operators.SOFTTOUCH_OT_reload.bl_idname, icon='FILE_REFRESH')
         modifier = obj.modifiers.get('SoftTouch wobble')
         if modifier is not None:
-            layout.prop(modifier, 'show_viewport', text='Show wobble')
+            layout.prop(modifier, 'show_viewport', text='Show the wobble')
+        layout.operator(operators.SOFTTOUCH_OT_open_in_softtouch.bl_idname, icon='WINDOW')
+        layout.operator(operators.SOFTTOUCH_OT_reload.bl_idname, text='Reload from SoftTouch', icon='FILE_REFRESH')
 
 
 def register():

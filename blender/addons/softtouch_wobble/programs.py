@@ -2,7 +2,8 @@
 its own.
 
 softtouch-cli is looked for in this order: the add-on's preference, $SOFTTOUCH_CLI, beside the add-on (the same
-install's: <prefix>/bin for <prefix>/share/blender/scripts/addons/softtouch_wobble, build/bin in the source tree),
+install's: <prefix>/bin for <prefix>/share/blender/scripts/addons/softtouch_wobble, build/bin for the source
+tree's blender/addons/softtouch_wobble),
 then the PATH. The editor, softtouch, sits beside it.
 """
 import os
@@ -12,8 +13,8 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def _candidates():
-    # Installed: <prefix>/share/blender/scripts/addons/softtouch_wobble; the source tree: blender/softtouch_wobble.
-    for up in ('../../../../../bin', '../../build/bin'):
+    # Installed: <prefix>/share/blender/scripts/addons/softtouch_wobble; the source tree: blender/addons/softtouch_wobble.
+    for up in ('../../../../../bin', '../../../build/bin'):
         yield os.path.normpath(os.path.join(_HERE, up, 'softtouch-cli'))
 
 
