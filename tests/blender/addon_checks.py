@@ -2,7 +2,7 @@
 # printed as one JSON line for tests/blender/test_blender_addon.cpp to judge.
 # Usage: BLENDER_USER_SCRIPTS=blender (the checkout's, with addons/softtouch_wobble) SOFTTOUCH_CLI=softtouch-cli
 #        blender -b --factory-startup --python addon_checks.py -- CHECK WORKDIR
-# CHECK: register, bake, pinned, reload, bad-preset, cancel.
+# CHECK: register, bake, pinned, reload, open, bad-preset, cancel.
 import addon_utils
 import hashlib
 import json
@@ -202,6 +202,22 @@ if check == 'bad-preset':
     found['unchanged'] = after == good
     found['files'] = after['files']
     report(**found)
+
+if check == 'open':
+    # The editor here is a stand-in that writes down what it was started with (SOFTTOUCH_CLI's folder holds it).
+    obj, scene = guppy_scene()
+    ramp_group(obj, 'goal', lambda co: 0.5)
+    bpy.ops.softtouch.open_in_softtouch()
+    started = os.path.join(work, 'editor-started-with')
+    waited = time.time()
+    while not os.path.exists(started) and time.time() - waited < 30:
+        time.sleep(0.05)
+    folder = os.path.join(work, 'softtouch')
+    project = os.path.join(folder, obj.name + '.softtouch')
+    validated = subprocess.run([os.environ['SOFTTOUCH_CLI'], 'validate', project], capture_output=True, text=True)
+    report(startedWith=open(started).read().strip() if os.path.exists(started) else None, project=project,
+           files=files(folder), validated=validated.returncode == 0, validation=validated.stdout + validated.stderr,
+           modifiers=[m.name for m in obj.modifiers])
 
 if check == 'cancel':
     from softtouch_wobble import bake as addon_bake

@@ -22,11 +22,11 @@ const QString kSource = QStringLiteral(SOFTTOUCH_SOURCE_DIR);
 /// One check of addon_checks.py in a fresh Blender, with the source tree's blender/ as its scripts folder (its
 /// addons/softtouch_wobble, as a user of a checkout sets it up) and the build's softtouch-cli; what it found, or
 /// {"error": ...}.
-QJsonObject runCheck(const QString& check, const QTemporaryDir& work) {
+QJsonObject runCheck(const QString& check, const QTemporaryDir& work, const QString& cli = SOFTTOUCH_BIN_DIR "/softtouch-cli") {
     const QString blender = QStandardPaths::findExecutable("blender");
     QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
     env.insert("BLENDER_USER_SCRIPTS", kSource + "/blender");  // as docs/blender.md has a source checkout do it
-    env.insert("SOFTTOUCH_CLI", QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli"));
+    env.insert("SOFTTOUCH_CLI", cli);
     env.insert("XDG_DATA_HOME", work.filePath("data"));  // the user's presets, empty but for what a check writes
     env.insert("HOME", work.path());
     QProcess process;
@@ -62,6 +62,7 @@ private slots:
     void bakeIsTheCliBakeOfTheWrittenProject();
     void goalOfOneIsTheRigsOwnMotion();
     void reloadBakesTheProjectAsTheEditorSavedIt();
+    void openInSoftTouchStartsTheEditorOnTheProject();
     void badPresetIsOneErrorAndChangesNothing();
     void cancelLeavesNothing();
 };
@@ -122,6 +123,25 @@ void TestBlenderAddon::reloadBakesTheProjectAsTheEditorSavedIt() {
     QVERIFY(found["matchedBy"].toDouble() <= 1e-6);
     QVERIFY(found["worst"].toDouble() <= 1e-6);
     QVERIFY(found["keysUnchanged"].toBool());
+}
+
+void TestBlenderAddon::openInSoftTouchStartsTheEditorOnTheProject() {
+    QTemporaryDir work;
+    // The editor beside softtouch-cli is a stand-in that writes down its arguments; the program is the real one.
+    const QString bin = work.filePath("bin");
+    QDir().mkpath(bin);
+    QVERIFY(QFile::link(QStringLiteral(SOFTTOUCH_BIN_DIR "/softtouch-cli"), bin + "/softtouch-cli"));
+    QFile editor(bin + "/softtouch");
+    QVERIFY(editor.open(QIODevice::WriteOnly));
+    editor.write(QString("#!/bin/sh\necho \"$@\" > '%1'\n").arg(work.filePath("editor-started-with")).toUtf8());
+    editor.close();
+    QVERIFY(editor.setPermissions(editor.permissions() | QFileDevice::ExeOwner));
+    const QJsonObject found = runCheck("open", work, bin + "/softtouch-cli");
+    QVERIFY2(!found.contains("error"), qPrintable(found["error"].toString()));
+    QCOMPARE(found["startedWith"].toString(), found["project"].toString());
+    QCOMPARE(strings(found["files"]), (QStringList{"guppy.glb", "guppy.softtouch"}));
+    QVERIFY2(found["validated"].toBool(), qPrintable(found["validation"].toString()));
+    QCOMPARE(strings(found["modifiers"]), QStringList{"Armature"});  // nothing baked yet
 }
 
 void TestBlenderAddon::badPresetIsOneErrorAndChangesNothing() {

@@ -82,6 +82,7 @@ class _BakeOperator:
         if event.type != 'TIMER':
             return {'PASS_THROUGH'}
         context.window_manager.progress_update(int(100 * self.job.progress))
+        context.workspace.status_text_set(f'SoftTouch: baking the wobble, {int(100 * self.job.progress)}% (Esc cancels)')
         for area in context.screen.areas:
             if area.type == 'VIEW_3D':
                 area.tag_redraw()
