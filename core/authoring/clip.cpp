@@ -290,9 +290,12 @@ Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, 
     const int last = close ? n : n - 1;
     int pre = close && clip.startSeconds - double(clip.blendFrames) / clip.fps >= -1e-9 ? clip.blendFrames : 0;
     auto timeOf = [&](int j) { return std::max(0.0, clip.startSeconds + double(j) / clip.fps); };
-    // Before frame j the simulation stands at frame j - 1's time (at 0 before the first).
+    // The work before frame j: the simulation up to frame j - 1's time (0 before the first), and a frame's time for
+    // each frame sampled. Strictly rising, and the settling before `start` counts as the time it takes.
+    const double total = timeOf(last) + double(last + pre + 1) / clip.fps;
     auto stopped = [&](int j) {
-        return keepGoing && !keepGoing((j == -pre ? 0.0 : timeOf(j - 1)) / std::max(timeOf(last), 1e-12));
+        const double done = (j == -pre ? 0.0 : timeOf(j - 1)) + double(j + pre) / clip.fps;
+        return keepGoing && !keepGoing(done / total);
     };
 
     std::vector<std::vector<Vec3>> rest;

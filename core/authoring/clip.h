@@ -94,9 +94,9 @@ struct NodeFrames {
 /// `firstFrames` > 0: only the clip's first frames are wanted (`bake --frames 12` of a long clip). A clip
 /// whose loop is not blended then evaluates only those (its frames do not depend on later ones); a blended
 /// loop is evaluated whole, because its closure reaches across the clip. `keepGoing`, when set, is asked
-/// before each frame with the fraction of the clip's time simulated (the settling before `start` included, so a
-/// loop's pre-roll counts): false stops the evaluation, which then fails as cancelled (Status::cancelled), so a
-/// long clip can be stopped between frames.
+/// before each frame with the fraction of the work done, rising from 0: the time simulated (the settling before
+/// `start` included, so a loop's pre-roll counts) and a frame's time per frame sampled. False stops the
+/// evaluation, which then fails as cancelled (Status::cancelled), so a long clip can be stopped between frames.
 Result<NodeFrames> evaluateClip(const Scene& scene, const ClipLibrary& library, const Clip& clip,
                                 std::vector<std::string>* problems = nullptr, int firstFrames = 0,
                                 const std::function<bool(double)>& keepGoing = {});
