@@ -40,7 +40,14 @@ void FrameRuler::setSpan(int lastFrame, double fps, double originSeconds) {
     m_frame = 0;
     m_inOut.reset();
     update();
+    emit spanChanged();
     emit playheadMoved(m_frame);
+}
+
+void FrameRuler::setGutter(double pixels) {
+    m_gutter = std::max(0.0, pixels);
+    update();
+    emit spanChanged();
 }
 
 void FrameRuler::setFrame(int frame) {
@@ -71,11 +78,11 @@ void FrameRuler::setKeys(std::vector<double> seconds, std::vector<KeyInterpolati
 }
 
 double FrameRuler::xOfFrame(double f) const {
-    return kMargin + f * (width() - 2.0 * kMargin) / std::max(1, m_lastFrame);
+    return m_gutter + kMargin + f * (width() - m_gutter - 2.0 * kMargin) / std::max(1, m_lastFrame);
 }
 
 int FrameRuler::frameAt(double x) const {
-    const double f = (x - kMargin) * std::max(1, m_lastFrame) / std::max(1.0, width() - 2.0 * kMargin);
+    const double f = (x - m_gutter - kMargin) * std::max(1, m_lastFrame) / std::max(1.0, width() - m_gutter - 2.0 * kMargin);
     return std::clamp(int(std::lround(f)), 0, m_lastFrame);
 }
 
@@ -99,8 +106,13 @@ void FrameRuler::paintEvent(QPaintEvent*) {
     QPainter painter(this);
     painter.setRenderHint(QPainter::Antialiasing);
     painter.fillRect(rect(), palette().base());
+    if (m_gutter > 0.0) {  // the dope sheet's names below; here, what the row of ticks is
+        painter.fillRect(QRectF(0, 0, m_gutter, height()), palette().window());
+        painter.setPen(palette().color(QPalette::PlaceholderText));
+        painter.drawText(QRectF(4, kKeysY - 9, m_gutter - 6, 18), Qt::AlignLeft | Qt::AlignVCenter, tr("keys"));
+    }
     // Frame numbers every `step` frames, at least 48 px apart; a small tick on every frame when there is room.
-    const double perFrame = (width() - 2.0 * kMargin) / std::max(1, m_lastFrame);
+    const double perFrame = (width() - m_gutter - 2.0 * kMargin) / std::max(1, m_lastFrame);
     int step = 1;
     for (const int s : {1, 2, 5, 10, 12, 24, 25, 50, 100, 120, 240, 250, 500, 1000, 2500, 5000, 10000, 100000, 1000000})
         if ((step = s) * perFrame >= 48.0)
@@ -153,21 +165,7 @@ void FrameRuler::paintEvent(QPaintEvent*) {
             painter.setBrush(QColor(120, 120, 120));
             painter.drawRect(QRectF(p.x(), p.y() - 1.5, keyPoint(k + 1).x() - p.x(), 3));
         }
-        QPainterPath shape;
-        if (how == KeyInterpolation::Linear) {
-            shape.addEllipse(p, 5.5, 5.5);
-        } else if (how == KeyInterpolation::Constant) {
-            shape.addRect(QRectF(p.x() - 5, p.y() - 5, 10, 10));
-        } else {
-            shape.moveTo(p + QPointF(0, -6));
-            shape.lineTo(p + QPointF(6, 0));
-            shape.lineTo(p + QPointF(0, 6));
-            shape.lineTo(p + QPointF(-6, 0));
-            shape.closeSubpath();
-        }
-        painter.setPen(QPen(Qt::black, 1));
-        painter.setBrush(k == m_selectedKey ? QColor(255, 160, 40) : QColor(235, 235, 235));
-        painter.drawPath(shape);
+        drawKeyGlyph(painter, p, how, k == m_selectedKey);
     }
     // The playhead, with its frame.
     const double x = xOfFrame(m_frame);
@@ -251,6 +249,24 @@ void FrameRuler::keyPressEvent(QKeyEvent* event) {
         return;
     }
     QWidget::keyPressEvent(event);
+}
+
+void drawKeyGlyph(QPainter& painter, QPointF p, KeyInterpolation how, bool selected, bool editable) {
+    QPainterPath shape;
+    if (how == KeyInterpolation::Linear) {
+        shape.addEllipse(p, 5.5, 5.5);
+    } else if (how == KeyInterpolation::Constant) {
+        shape.addRect(QRectF(p.x() - 5, p.y() - 5, 10, 10));
+    } else {
+        shape.moveTo(p + QPointF(0, -6));
+        shape.lineTo(p + QPointF(6, 0));
+        shape.lineTo(p + QPointF(0, 6));
+        shape.lineTo(p + QPointF(-6, 0));
+        shape.closeSubpath();
+    }
+    painter.setPen(QPen(editable ? Qt::black : QColor(120, 120, 120), 1));
+    painter.setBrush(selected ? QColor(255, 160, 40) : editable ? QColor(235, 235, 235) : QColor(175, 175, 175));
+    painter.drawPath(shape);
 }
 
 QString keyInterpolationLabel(KeyInterpolation interpolation) {

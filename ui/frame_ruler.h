@@ -8,6 +8,8 @@
 
 #include <QWidget>
 
+class QPainter;
+
 #include <optional>
 #include <utility>
 #include <vector>
@@ -16,6 +18,10 @@ namespace softtouch::ui {
 
 /// A key interpolation as the editor's menus name it ("Smooth", "Linear", "Constant (hold)").
 QString keyInterpolationLabel(KeyInterpolation interpolation);
+
+/// Draws a key as the ruler and the dope sheet show it, its shape saying how it moves on to the next: smooth a
+/// diamond, linear a circle, constant a square. Selected keys are filled orange, keys not editable there grey.
+void drawKeyGlyph(QPainter& painter, QPointF at, KeyInterpolation how, bool selected, bool editable = true);
 
 class FrameRuler : public QWidget {
     Q_OBJECT
@@ -58,16 +64,23 @@ public:
     /// The selected key (-1: none).
     int selectedKey() const { return m_selectedKey; }
 
+    /// Room left of the frames, pixels, where the dope sheet under the ruler names its rows (0: none).
+    void setGutter(double pixels);
+    double gutter() const { return m_gutter; }
     /// Where frame f is drawn, pixels from the left; and the frame nearest to x.
     double xOfFrame(double f) const;
     int frameAt(double x) const;
     /// Where key k is drawn (its tick's centre).
     QPointF keyPoint(int k) const;
+    /// The frame (fractional) at which `seconds` of key time is drawn.
+    double frameOfSeconds(double seconds) const { return (seconds - m_origin) * m_fps; }
 
     QSize sizeHint() const override;
     QSize minimumSizeHint() const override;
 
 signals:
+    /// Another span is shown (setSpan): whatever is drawn on the ruler's frames is to be drawn again.
+    void spanChanged();
     /// The playhead is at `frame`: scrubbed, played, stepped, or back at 0 on another span.
     void playheadMoved(int frame);
     /// The user scrubbed to `frame`.
@@ -95,8 +108,8 @@ private:
     enum class Drag { None, Scrub, Key, In, Out };
     /// The key tick under `pos`, -1 when none.
     int keyAt(const QPointF& pos) const;
-    double frameOfSeconds(double seconds) const { return (seconds - m_origin) * m_fps; }
 
+    double m_gutter = 0.0;
     int m_lastFrame = 0;
     double m_fps = 24.0;
     double m_origin = 0.0;

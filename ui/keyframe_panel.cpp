@@ -14,7 +14,9 @@
 #include <QPushButton>
 #include <QSpinBox>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace softtouch::ui {
 
@@ -176,6 +178,58 @@ bool KeyframePanel::setInterpolation(int index, KeyInterpolation interpolation) 
         return false;
     return edit(tr("Set key interpolation to %1").arg(keyInterpolationName(interpolation)),
                 [&](KeyframeAnimation& a) { return a.setInterpolation(std::size_t(index), interpolation); });
+}
+
+bool KeyframePanel::moveKeys(const QList<int>& indices, double seconds, bool copy) {
+    if (indices.isEmpty())
+        return false;
+    const QString text = copy ? tr("Copy %n key(s)", "", int(indices.size())) : tr("Move %n key(s)", "", int(indices.size()));
+    return edit(text, [&](KeyframeAnimation& a) -> Status {
+        std::vector<LatticeKey> moved;
+        for (int i : indices) {
+            if (i < 0 || std::size_t(i) >= a.keys().size())
+                return Status::error("no key " + std::to_string(i));
+            moved.push_back(a.keys()[std::size_t(i)]);
+        }
+        if (!copy) {  // all taken out first, so a key may land where another of the selection was
+            QList<int> down = indices;
+            std::sort(down.begin(), down.end(), std::greater<>());
+            for (int i : down)
+                if (Status s = a.deleteKey(std::size_t(i)); !s)
+                    return s;
+        }
+        for (LatticeKey& key : moved) {
+            key.seconds += seconds;
+            if (auto inserted = a.insertKey(std::move(key)); !inserted)
+                return Status::error(inserted.message());
+        }
+        return Status::success();
+    });
+}
+
+bool KeyframePanel::deleteKeys(const QList<int>& indices) {
+    if (indices.isEmpty())
+        return false;
+    QList<int> down = indices;
+    std::sort(down.begin(), down.end(), std::greater<>());
+    return edit(tr("Delete %n key(s)", "", int(indices.size())), [&](KeyframeAnimation& a) -> Status {
+        for (int i : down)
+            if (Status s = a.deleteKey(std::size_t(i)); !s)
+                return s;
+        return Status::success();
+    });
+}
+
+bool KeyframePanel::setInterpolation(const QList<int>& indices, KeyInterpolation interpolation) {
+    if (indices.isEmpty())
+        return false;
+    return edit(tr("Set %n key(s) to %1", "", int(indices.size())).arg(keyInterpolationName(interpolation)),
+                [&](KeyframeAnimation& a) -> Status {
+                    for (int i : indices)
+                        if (Status s = a.setInterpolation(std::size_t(i), interpolation); !s)
+                            return s;
+                    return Status::success();
+                });
 }
 
 void KeyframePanel::showKey(int index) {

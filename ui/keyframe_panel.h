@@ -6,6 +6,7 @@
 
 #include "ui/viewport.h"
 
+#include <QList>
 #include <QWidget>
 
 #include <functional>
@@ -42,6 +43,11 @@ public:
     bool deleteKey(int index);
     /// Sets how key `index` moves on to the next (one undo step).
     bool setInterpolation(int index, KeyInterpolation interpolation);
+    /// The dope sheet's edits of several keys at once, each one undo step: move (or copy) them by `seconds` (a
+    /// key landing where another is merges into it, as a copy does), delete them, set how each moves on.
+    bool moveKeys(const QList<int>& indices, double seconds, bool copy);
+    bool deleteKeys(const QList<int>& indices);
+    bool setInterpolation(const QList<int>& indices, KeyInterpolation interpolation);
     /// Shows key `index`'s pose.
     void showKey(int index);
     /// Adds a clip of the keys from the first to the last key at the scene's fps; goals simulate them.

@@ -2,6 +2,7 @@
 
 #include "core/geometry/mesh_surface.h"
 #include "io/import/mesh_import.h"
+#include "ui/dope_sheet.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
 #include "ui/haptic_controller.h"
@@ -141,7 +142,7 @@ void MainWindow::buildDocks() {
     m_timeline->setCurrentObjectSource([this] { return m_viewport->currentObject(); });
     m_study->setClipSource([this] { return m_timeline->exportedClipName(); });
     auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
-    timelineDock->setMaximumHeight(220);
+    timelineDock->setMaximumHeight(300);  // the ruler and a dope sheet of a few rows
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
     auto* keysDock = dock(tr("Keys"), "keysDock", m_keyframes, Qt::BottomDockWidgetArea);
     keysDock->setMaximumHeight(220);
@@ -173,6 +174,18 @@ void MainWindow::buildDocks() {
     connect(ruler, &FrameRuler::keyInterpolationChosen, m_keyframes,
             [this](int index, KeyInterpolation how) { m_keyframes->setInterpolation(index, how); });
     showKeys();
+    // The dope sheet under the ruler: every object's keys and the keyed clips; the current object's keys are
+    // edited there several at a time, each edit one undo step of the keys panel.
+    DopeSheet* sheet = m_timeline->dopeSheet();
+    connect(m_viewport, &Viewport::selectionChanged, m_timeline, &TimelinePanel::refreshDopeSheet);
+    connect(sheet, &DopeSheet::keySelected, m_keyframes, &KeyframePanel::showKey);
+    connect(sheet, &DopeSheet::keysMoved, m_keyframes,
+            [this](const QList<int>& keys, double seconds, bool copy) { m_keyframes->moveKeys(keys, seconds, copy); });
+    connect(sheet, &DopeSheet::keysDeleted, m_keyframes, [this](const QList<int>& keys) { m_keyframes->deleteKeys(keys); });
+    connect(sheet, &DopeSheet::keysInterpolationChosen, m_keyframes,
+            [this](const QList<int>& keys, KeyInterpolation how) { m_keyframes->setInterpolation(keys, how); });
+    connect(sheet, &DopeSheet::objectChosen, m_viewport, &Viewport::setCurrentObject);
+    m_timeline->refreshDopeSheet();
 }
 
 void MainWindow::buildActions() {

@@ -3,8 +3,10 @@
 #include "io/pipeline/bake.h"
 #include "render/preview_page.h"
 #include "render/video_render.h"
+#include "ui/dope_sheet.h"
 #include "ui/edit_commands.h"
 #include "ui/frame_ruler.h"
+#include "ui/keyframe_panel.h"
 
 #include <QApplication>
 #include <QCheckBox>
@@ -108,6 +110,9 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     right->addLayout(transport);
     m_ruler = new FrameRuler;
     right->addWidget(m_ruler);
+    m_ruler->setGutter(72);  // the dope sheet's row names, left of the frames
+    m_dopeSheet = new DopeSheet(m_ruler);
+    right->addWidget(m_dopeSheet);
     m_playTimer = new QTimer(this);
     m_playTimer->setInterval(15);
     connect(first, &QPushButton::clicked, this, [this] { showFrame(0); });
@@ -186,6 +191,14 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
     connect(exportButton, &QPushButton::clicked, this, [this] { exportClip(m_clips->currentRow()); });
     connect(renderButton, &QPushButton::clicked, this, [this] { renderClip(m_clips->currentRow()); });
     connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshLists);
+    connect(document, &Document::clipsChanged, this, &TimelinePanel::refreshDopeSheet);
+    connect(document, &Document::sceneReplaced, this, &TimelinePanel::refreshDopeSheet);
+    connect(document, &Document::latticeChanged, this, &TimelinePanel::refreshDopeSheet);
+    connect(m_dopeSheet, &DopeSheet::clipChosen, this, [this](int clip) { m_clips->setCurrentRow(clip); });
+    connect(m_dopeSheet, &DopeSheet::clipLoopChosen, this, [this](int clip, bool loop) {
+        setClipLoop(clip, loop);
+        showLoopState();
+    });
     connect(document, &Document::sceneReplaced, this, [this] {
         // Another project: nothing of the old one's clips, takes or exports is on show any more.
         m_time->setText(idleText());
@@ -203,6 +216,40 @@ TimelinePanel::TimelinePanel(Document* document, SimulationController* simulatio
 }
 
 double TimelinePanel::fps() const { return m_document->scene().world.fps; }
+
+void TimelinePanel::refreshDopeSheet() {
+    const Scene& scene = m_document->scene();
+    const ClipLibrary& library = m_document->project().clips;
+    const NamedKeyframes* keys = library.findKeyframes(KeyframePanel::kSetName);
+    const int current = m_currentObject ? m_currentObject() : 0;
+    std::vector<DopeSheet::Row> rows;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        DopeSheet::Row row;
+        row.label = QString::fromStdString(scene.objects[i].name);
+        row.object = int(i);
+        row.current = int(i) == current;
+        if (keys && i < keys->objects.size())
+            for (const LatticeKey& k : keys->objects[i].keys()) {
+                row.keys.push_back(k.seconds);
+                row.interpolation.push_back(k.interpolation);
+            }
+        rows.push_back(std::move(row));
+    }
+    // The clips of those keys, as the stretch of key time each plays.
+    for (std::size_t c = 0; c < library.clips.size(); ++c) {
+        const Clip& clip = library.clips[c];
+        if (clip.source != ClipSource::Keyframes || clip.sourceName != KeyframePanel::kSetName)
+            continue;
+        DopeSheet::Row row;
+        row.label = QString::fromStdString(clip.name);
+        row.clip = int(c);
+        row.fromSeconds = clip.startSeconds;
+        row.toSeconds = clip.startSeconds + clip.frames / clip.fps;
+        row.loop = clip.loop;
+        rows.push_back(std::move(row));
+    }
+    m_dopeSheet->setRows(std::move(rows));
+}
 
 int TimelinePanel::takeCount() const { return int(m_document->project().clips.sessions.size()); }
 

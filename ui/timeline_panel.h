@@ -24,6 +24,7 @@ class QTimer;
 
 namespace softtouch::ui {
 
+class DopeSheet;
 class FrameRuler;
 
 /// How an export writes: which objects (a scene of several), and a GLB packed for shipping.
@@ -70,6 +71,11 @@ public slots:
 
     /// The frame ruler (keys shown on it are the keys panel's; the main window wires them).
     FrameRuler* ruler() const { return m_ruler; }
+    /// The dope sheet under the ruler: every object's keys and the keyed clips (its key edits are the keys
+    /// panel's, wired by the main window; showing a clip and its loop are this panel's).
+    DopeSheet* dopeSheet() const { return m_dopeSheet; }
+    /// Shows the scene's keys and keyed clips in the dope sheet again (the current object's keys editable).
+    void refreshDopeSheet();
     /// Plays the selected clip or take from the playhead, in a loop when looping is on; again: pauses.
     void togglePlayback();
     bool isPlaying() const;
@@ -151,6 +157,7 @@ private:
     bool m_loopForCut = false;  ///< The Loop box's choice for "Clip from take" (see showLoopState()).
     QCheckBox* m_loop = nullptr;
     FrameRuler* m_ruler = nullptr;
+    DopeSheet* m_dopeSheet = nullptr;
     QPushButton* m_play = nullptr;
     QCheckBox* m_loopPlayback = nullptr;
     QTimer* m_playTimer = nullptr;

@@ -190,6 +190,8 @@ private slots:
     void spaceAfterADialogPlaysRatherThanReopeningIt();
     void rulerTicksRetimeCopyAndDeleteKeys();
     void keysHoldOrGoStraightAsTheRulerMenuSays();
+    void dopeSheetShowsEveryObjectsKeysAndTheirClips();
+    void dopeSheetEditsSeveralKeysAsOne();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();
     void scriptedDeviceDrivesTheFishAtHapticRate();
