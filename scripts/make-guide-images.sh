@@ -23,6 +23,8 @@ shot "$out/guide-paint.png" --tool paint --seconds 1.0 presets/scenes/angelfish-
 shot "$out/guide-pose.png" --tool pose --window 1280x800 --select 0,4,8,12,16,20,24,28,32,36,40,44,48,52,56,60 --keys rz25 "$scene"
 # 3c. The timeline: the swim clip selected, at frame 12, on the frame ruler.
 shot "$out/guide-timeline.png" --window 1280x800 --clip swim@12 "$scene"
+# 3c'. The dope sheet: the keyed guppy's keys every six frames and their looping clip, at frame 6.
+shot "$out/guide-dope-sheet.png" --window 1280x800 --clip "swim keys@6" presets/scenes/guppy-keyed.softtouch
 # 3d. Two objects: the angelfish pair seen from above, half a second into their swim, the first current.
 shot "$out/guide-objects.png" --window 1280x800 --seconds 0.5 --camera 0,60 presets/scenes/angelfish-pair.softtouch
 # 4. Wireframe.
