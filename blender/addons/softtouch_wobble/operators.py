@@ -1,4 +1,5 @@
 """Bake wobble, Reload, Open in SoftTouch and the preset menu."""
+import atexit
 import os
 import subprocess
 
@@ -8,6 +9,14 @@ from . import bake, programs
 
 # The bake running per object name: one at a time each; the panel shows its progress.
 running = {}
+
+
+@atexit.register
+def _cancel_running():
+    """Blender closing mid-bake stops the bakes and takes their staged files away."""
+    for job in list(running.values()):
+        job.cancel()
+    running.clear()
 
 
 def _mesh(context):
@@ -173,5 +182,6 @@ def register():
 
 
 def unregister():
+    _cancel_running()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)
