@@ -138,8 +138,15 @@ def against_cli(obj, scene, project, armature_only, wobbled, d):
 if check in ('bake', 'pinned', 'reload'):
     obj, scene = guppy_scene()
     if check == 'bake':
-        # Placed in the scene, turned and scaled: the cache is in the object's own space, the bake in the world's.
-        obj.parent.location, obj.parent.rotation_euler, obj.parent.scale = (0.4, -0.3, 0.2), (0.2, 0.0, 0.7), (1.5, 1.5, 1.5)
+        # Placed in the scene, turned, scaled and moving: the cache is in the object's own space, frame by frame,
+        # the bake in the world's. The rig's move is keyed on its own action, beside the bones' keys.
+        rig = obj.parent
+        rig.rotation_mode = 'XYZ'
+        rig.rotation_euler, rig.scale = (0.2, 0.0, 0.7), (1.5, 1.5, 1.5)
+        for frame, place in ((0, (0.4, -0.3, 0.2)), (24, (0.7, -0.1, 0.3))):
+            rig.location = place
+            rig.keyframe_insert('location', frame=frame)
+        obj.softtouch.loop = False  # a move across the scene is no cycle: baked once, from rest
     rest = np.array([v.co for v in obj.data.vertices])
     low, high = rest[:, 0].min(), rest[:, 0].max()  # the guppy lies along x, its head at +x
     if check == 'pinned':

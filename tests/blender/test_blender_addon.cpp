@@ -1,7 +1,7 @@
 // The Blender add-on (blender/addons/softtouch_wobble) driven headless in Debian's Blender 3.4 as a user drives it, on the
 // rigged guppy imported from presets/meshes/guppy-rigged.glb (addon_checks.py): it registers and its settings
 // live in the .blend; Bake wobble plays, through a Mesh Cache modifier after the armature, exactly what
-// softtouch-cli bakes of the project it wrote, on a rig placed, turned and scaled in the scene; a goal of 1 is the
+// softtouch-cli bakes of the project it wrote, on a rig turned, scaled and moving through the scene; a goal of 1 is the
 // rig's own motion; the action's keys are never touched; a bad preset is one error line and leaves the previous
 // bake as it was; a cancelled bake leaves no modifier and no files.
 
@@ -89,7 +89,7 @@ void TestBlenderAddon::bakeIsTheCliBakeOfTheWrittenProject() {
     QTemporaryDir work;
     const QJsonObject found = runCheck("bake", work);
     QVERIFY2(!found.contains("error") && !found.contains("errors"), qPrintable(QJsonDocument(found).toJson()));
-    qInfo("guppy, goal ramp from tail (0) to head (1), rig moved, turned and scaled: %d frames baked; at frames "
+    qInfo("guppy, goal ramp from tail (0) to head (1), rig turned, scaled and moving: %d frames baked; at frames "
           "0, 5, 11, 17, 23 the modifier's mesh is %.3g of the diagonal from softtouch-cli's bake of the written project; "
           "the wobble moves it up to %.3g of the diagonal from the armature's",
           found["cacheFrames"].toInt(), found["worst"].toDouble(), found["wobble"].toDouble());
