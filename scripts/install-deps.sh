@@ -41,12 +41,14 @@ build_extra=(
 # To test, measure and package as well.
 test_packages=(
     dpkg-dev                # dpkg-shlibdeps: the Depends of the .deb CPack makes (tests/install)
+    file                    # CPack's DEB generator tells binaries apart with it before dpkg-shlibdeps
     glslang-tools           # tests compile the lattice cache's GLSL/HLSL shaders (io/shaders/)
     clang libclang-rt-14-dev  # libFuzzer targets (fuzz/, scripts/fuzz.sh; CI runs them)
     slurm-wlm munge         # the farm test starts a one-node Slurm (tests/farm/, docs/farm.md)
     strace                  # tests/cli/test_cli_hostile lists every path a hostile input touches
     chromium                # the clip preview page's test plays it in headless Chromium (tests/web/)
-    blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/)
+    blender                 # tests import every GLB kind in Blender 3.4, as a user would (tests/web/), and run
+                            # the add-on (tests/blender/)
     python3-numpy           # Blender's glTF importer needs it (a Recommends of blender)
 )
 case "$part" in
