@@ -8,6 +8,7 @@
 #include <QMenu>
 #include <QMouseEvent>
 #include <QPainter>
+#include <QWheelEvent>
 
 #include <algorithm>
 #include <cmath>
@@ -25,13 +26,14 @@ constexpr double kSheetKeyGrab = 7.0;  ///< How near a key the cursor must be, p
 DopeSheet::DopeSheet(const FrameRuler* ruler, QWidget* parent) : QWidget(parent), m_ruler(ruler) {
     setObjectName("dopeSheet");
     setFocusPolicy(Qt::ClickFocus);
-    setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Fixed);
+    // Every row when there is room; in a short dock it gives way first (down to one row), not the ruler above it.
+    setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Preferred);
     connect(ruler, &FrameRuler::spanChanged, this, qOverload<>(&QWidget::update));
     connect(ruler, &FrameRuler::playheadMoved, this, qOverload<>(&QWidget::update));
 }
 
 QSize DopeSheet::sizeHint() const { return {480, int(2 * kSheetTop + kSheetRowHeight * double(std::max<std::size_t>(1, m_rows.size())))}; }
-QSize DopeSheet::minimumSizeHint() const { return {160, sizeHint().height()}; }
+QSize DopeSheet::minimumSizeHint() const { return {160, int(2 * kSheetTop + kSheetRowHeight)}; }
 
 void DopeSheet::setRows(std::vector<Row> rows) {
     const bool resized = rows.size() != m_rows.size();
@@ -46,6 +48,7 @@ void DopeSheet::setRows(std::vector<Row> rows) {
     });
     if (resized)
         updateGeometry();
+    clampScroll();
     update();
 }
 
@@ -60,7 +63,27 @@ QList<int> DopeSheet::selectedKeys() const {
 
 double DopeSheet::xOfSeconds(double seconds) const { return m_ruler->xOfFrame(m_ruler->frameOfSeconds(seconds)); }
 
-QRectF DopeSheet::rowRect(int row) const { return {0.0, kSheetTop + kSheetRowHeight * row, double(width()), kSheetRowHeight}; }
+QRectF DopeSheet::rowRect(int row) const {
+    return {0.0, kSheetTop + kSheetRowHeight * (row - m_firstRow), double(width()), kSheetRowHeight};
+}
+
+int DopeSheet::visibleRows() const { return std::max(1, int((height() - 2 * kSheetTop) / kSheetRowHeight)); }
+
+void DopeSheet::clampScroll() { m_firstRow = std::clamp(m_firstRow, 0, std::max(0, int(m_rows.size()) - visibleRows())); }
+
+void DopeSheet::wheelEvent(QWheelEvent* event) {
+    const int before = m_firstRow;
+    m_firstRow += event->angleDelta().y() < 0 ? 1 : event->angleDelta().y() > 0 ? -1 : 0;
+    clampScroll();
+    if (m_firstRow != before)
+        update();
+    event->setAccepted(m_firstRow != before);  // at either end the panel around it scrolls instead
+}
+
+void DopeSheet::resizeEvent(QResizeEvent* event) {
+    clampScroll();
+    QWidget::resizeEvent(event);
+}
 
 QPointF DopeSheet::keyPoint(int row, int key) const {
     return {xOfSeconds(m_rows[std::size_t(row)].keys[std::size_t(key)]), rowRect(row).center().y()};
@@ -74,7 +97,7 @@ QRectF DopeSheet::clipBar(int row) const {
 }
 
 int DopeSheet::rowAt(double y) const {
-    const int row = int(std::floor((y - kSheetTop) / kSheetRowHeight));
+    const int row = m_firstRow + int(std::floor((y - kSheetTop) / kSheetRowHeight));
     return row >= 0 && row < int(m_rows.size()) ? row : -1;
 }
 
@@ -115,7 +138,7 @@ void DopeSheet::paintEvent(QPaintEvent*) {
     painter.setRenderHint(QPainter::Antialiasing);
     painter.fillRect(rect(), palette().base());
     const double left = m_ruler->xOfFrame(0), right = m_ruler->xOfFrame(m_ruler->lastFrame());
-    for (int r = 0; r < int(m_rows.size()); ++r) {
+    for (int r = m_firstRow; r < int(m_rows.size()) && r < m_firstRow + visibleRows() + 1; ++r) {
         const Row& row = m_rows[std::size_t(r)];
         const QRectF band = rowRect(r);
         painter.fillRect(band, row.current ? QColor(255, 190, 90, 45) : r % 2 ? palette().alternateBase() : palette().base());
@@ -144,6 +167,14 @@ void DopeSheet::paintEvent(QPaintEvent*) {
                 p.setX(m_ruler->xOfFrame(m_ruler->frameOfSeconds(row.keys[std::size_t(k)]) + m_dragFrames));
             drawKeyGlyph(painter, p, row.interpolation[std::size_t(k)], selected, row.current);
         }
+    }
+    if (const int hidden = int(m_rows.size()) - m_firstRow - visibleRows(); hidden > 0 || m_firstRow > 0) {
+        // Rows out of sight: how many, and that the wheel brings them.
+        const QString note = tr("%1 more (wheel)").arg(std::max(0, hidden) + m_firstRow);
+        const QRectF box(width() - 110, height() - 15, 106, 14);
+        painter.fillRect(box, palette().window());
+        painter.setPen(palette().color(QPalette::PlaceholderText));
+        painter.drawText(box, Qt::AlignRight | Qt::AlignVCenter, note);
     }
     if (m_box) {
         painter.setPen(QPen(QColor(40, 90, 180), 1, Qt::DashLine));

@@ -5,7 +5,8 @@
 /// On the current object's row keys are selected (click, Shift+click, or a box dragged across them), moved
 /// together (drag; Ctrl+drag copies), deleted (Delete) and given an interpolation (right-click). Another
 /// object's row makes that object current; a clip's bar shows the clip, and its right-click menu makes it a
-/// loop or a one-shot. It draws and reports; the keys panel and the timeline make each edit (one undo step).
+/// loop or a one-shot. In a dock too short for every row the wheel scrolls them, and a note says how many are
+/// out of sight. It draws and reports; the keys panel and the timeline make each edit (one undo step).
 
 #include "core/authoring/keyframes.h"
 
@@ -72,8 +73,14 @@ protected:
     void mouseReleaseEvent(QMouseEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
     void contextMenuEvent(QContextMenuEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
+    void resizeEvent(QResizeEvent* event) override;
 
 private:
+    /// Rows that fit the widget's height (at least one).
+    int visibleRows() const;
+    /// Keeps the first row shown within what can scroll.
+    void clampScroll();
     double xOfSeconds(double seconds) const;
     int rowAt(double y) const;
     int keyAt(int row, const QPointF& pos) const;
@@ -90,6 +97,7 @@ private:
     QPointF m_pressAt;                    ///< Where the drag began.
     int m_dragFrames = 0;                 ///< How far the dragged keys would move, frames.
     std::optional<QRectF> m_box;          ///< The selection box being dragged.
+    int m_firstRow = 0;                   ///< The row shown at the top (the wheel scrolls rows that do not fit).
 };
 
 }  // namespace softtouch::ui

@@ -83,6 +83,20 @@ void TestEditor::dopeSheetShowsEveryObjectsKeysAndTheirClips() {
     QVERIFY(sheet->rows()[2].loop);
     QCOMPARE(undo->index(), undo0 + 1);
     QVERIFY(w.timeline()->findChild<QCheckBox*>("clipLoop")->isChecked());  // the timeline's Loop box agrees
+
+    // In a dock one row high the wheel brings the others into sight, a row a notch.
+    sheet->setFixedHeight(int(sheet->rowRect(0).height()) + 4);
+    QVERIFY(sheet->rowRect(2).top() >= sheet->height());
+    const QPointF middle = sheet->rect().center();
+    for (int notch = 0; notch < 2; ++notch) {
+        QWheelEvent down(middle, sheet->mapToGlobal(middle), QPoint(), QPoint(0, -120), Qt::NoButton, Qt::NoModifier,
+                         Qt::NoScrollPhase, false);
+        QApplication::sendEvent(sheet, &down);
+    }
+    QVERIFY(sheet->rowRect(2).top() >= 0.0 && sheet->rowRect(2).top() < sheet->height() / 2.0);
+    clipList->setCurrentRow(-1);
+    QTest::mouseClick(sheet, Qt::LeftButton, {}, sheet->clipBar(2).center().toPoint());  // what shows is what is hit
+    QCOMPARE(clipList->currentRow(), clip);
 }
 
 void TestEditor::dopeSheetEditsSeveralKeysAsOne() {
