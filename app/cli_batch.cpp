@@ -61,7 +61,7 @@ constexpr const char* kBatchParentVariable = "SOFTTOUCH_BATCH_PARENT";
 
 /// Runs one job in this process: load, apply the preset, bake or render, stamp. Returns the files written.
 Result<std::vector<fs::path>> runJob(const io::BatchManifest& manifest, const io::BatchJob& job) {
-    auto project = io::loadProject(job.scene);
+    auto project = io::loadProjectToRun(job.scene);
     if (!project)
         return Status::error(project.message());
     if (!job.preset.empty()) {

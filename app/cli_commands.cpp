@@ -130,7 +130,7 @@ int runBake(const std::vector<std::string>& args) {
         };
     }
 
-    auto project = io::loadProject(scenePath);
+    auto project = io::loadProjectToRun(scenePath);
     if (!project)
         return fail(project.message());
     options.clips = &project->clips;

@@ -71,7 +71,7 @@ int runHaptic(const std::vector<std::string>& args) {
         return *exit;
     const double duration = seconds.value_or(2.0);
 
-    auto project = io::loadProject(scenePath);
+    auto project = io::loadProjectToRun(scenePath);
     if (!project) return fail(project.message());
     const SceneObject& object = project->scene.objects.front();
 

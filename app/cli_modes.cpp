@@ -97,7 +97,7 @@ int runModes(const std::vector<std::string>& args) {
             asked = e;
     if (!elementName.empty() && !asked)
         return line.usage("--element is springs or solid, not '" + elementName + "'");
-    auto project = io::loadProject(scenePath);
+    auto project = io::loadProjectToRun(scenePath);
     if (!project)
         return fail(project.message());
     if (asked) {

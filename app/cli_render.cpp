@@ -47,7 +47,7 @@ int runRender(const std::vector<std::string>& args) {
         return line.usage("--size " + std::to_string(size.first) + "x" + std::to_string(size.second) +
                           ": MP4 (H.264 in yuv420p) needs an even width and height");
 
-    auto project = io::loadProject(scenePath);
+    auto project = io::loadProjectToRun(scenePath);
     if (!project)
         return fail(project.message());
     render::VideoRenderOptions options;

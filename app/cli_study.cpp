@@ -177,7 +177,7 @@ vibration.
         options.repeats = int(*repeats);
     if (!applyPath.empty() && !target)
         return line.usage("--apply needs --target: it writes the pick for that target");
-    auto project = io::loadProject(scenePath);
+    auto project = io::loadProjectToRun(scenePath);
     if (!project)
         return fail(project.message());
     if (options.quick)

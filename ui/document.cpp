@@ -92,6 +92,12 @@ Status Document::importMesh(const QString& path) {
     return Status::success();
 }
 
+void Document::newEmptyScene() {
+    io::Project project;
+    project.scene.world.simulation = newSceneSimulation(project.scene);
+    replaceProject(std::move(project));
+}
+
 Status Document::importAnimatedMesh(const QString& path, const io::AnimationRequest& request, QString* report) {
     auto animated = io::importAnimatedMesh(path.toStdString(), request);
     if (!animated)

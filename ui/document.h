@@ -39,6 +39,8 @@ public:
     /// lattice fitted to it, the default Continuum material and the new-scene integrator (Verlet unless
     /// the body is too stiff for it at 240 steps/s), written explicitly when saved.
     Status importMesh(const QString& path);
+    /// Starts an untitled, empty scene (File ▸ New): no objects yet, the world a new scene has; nothing to undo.
+    void newEmptyScene();
     /// Adds an object (one undo step) made from a mesh file with its own animation (io/import/animation_import.h):
     /// the take and range of `request` (by default the file's first take, whole, looping, sampled at 120 per
     /// second), on a fitted 4x4x4 Bezier lattice with the default material and goal weight ½ on every node

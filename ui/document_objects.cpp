@@ -89,6 +89,8 @@ Status Document::addMesh(const QString& path) {
     SceneObject object = std::move(made->objects.front());
     const Vec3 offset = placeBeside(object);
     const QString name = QFileInfo(path).fileName();
+    if (m_project.scene.objects.empty())  // the first body of an empty scene: the step a new scene of it would take
+        m_project.scene.world.simulation = made->world.simulation;
     return insertObject(std::move(object), std::filesystem::absolute(path.toStdString()).string(), offset, {},
                         m_project.scene.objects.size(), tr("Add mesh %1").arg(name));
 }
@@ -117,9 +119,6 @@ Status Document::duplicateObject(int object) {
 Status Document::deleteObject(int object) {
     if (object < 0 || std::size_t(object) >= m_project.scene.objects.size())
         return Status::error("no object " + std::to_string(object));
-    if (m_project.scene.objects.size() == 1)
-        return Status::error("a scene keeps at least one object; '" + m_project.scene.objects.front().name +
-                             "' is the last (File ▸ New starts over)");
     const auto i = std::size_t(object);
     io::Project after = m_project;
     const QString name = QString::fromStdString(after.scene.objects[i].name);

@@ -292,14 +292,14 @@ void KeyframePanel::refresh() {
     const QSignalBlocker block(m_list);
     const int selected = m_list->currentRow();
     m_list->clear();
-    // Frames first, as the ruler counts them (the scene's rate), then seconds.
+    // Frames, as the ruler counts them (the scene's rate), and how the key moves on: what fits a narrow dock.
+    // The seconds and the nodes in its tooltip.
     const double fps = m_document->scene().world.fps;
     const std::vector<LatticeKey> all = keys();
-    for (const LatticeKey& k : all)
-        m_list->addItem(tr("frame %1 (%2 s) · %n node(s) · %3", nullptr, int(k.nodes.size()))
-                            .arg(k.seconds * fps, 0, 'g', 6)
-                            .arg(k.seconds, 0, 'f', 3)
-                            .arg(keyInterpolationLabel(k.interpolation).toLower()));
+    for (const LatticeKey& k : all) {
+        m_list->addItem(tr("frame %1 · %2").arg(k.seconds * fps, 0, 'g', 6).arg(keyInterpolationLabel(k.interpolation).toLower()));
+        m_list->item(m_list->count() - 1)->setToolTip(tr("%1 s · %n node(s)", nullptr, int(k.nodes.size())).arg(k.seconds, 0, 'f', 3));
+    }
     if (selected >= 0 && selected < int(all.size())) {
         m_list->setCurrentRow(selected);
         showInterpolation(all[std::size_t(selected)].interpolation);

@@ -612,14 +612,10 @@ bool MainWindow::openFile(const QString& path) {
 Status MainWindow::newProject() {
     if (!maybeSave())
         return Status::cancelled("the unsaved changes were kept");
-    // The shipped meshes sit beside the shipped material presets (presets/meshes, presets/materials).
-    const QString mesh = QDir::cleanPath(m_options.presetFolder + "/../meshes/angelfish.obj");
-    Status s = m_options.presetFolder.isEmpty() || !QFileInfo::exists(mesh)
-                   ? Status::error("the bundled mesh " + mesh.toStdString() + " is missing")
-                   : m_document->importMesh(mesh);
-    if (!s)
-        showError(tr("Cannot start a new project"), QString::fromStdString(s.message()));
-    return s;
+    m_document->newEmptyScene();
+    m_viewport->setCurrentObject(0);
+    statusBar()->showMessage(tr("An empty scene: File ▸ Add Mesh… or Import Animated Mesh… puts a body in it."), 15000);
+    return Status::success();
 }
 
 void MainWindow::open() {

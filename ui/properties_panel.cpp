@@ -35,9 +35,22 @@ PropertiesPanel::PropertiesPanel(Document* document, SimulationController* simul
     auto* layout = new QVBoxLayout(this);
     layout->addWidget(new ColliderProperties(document, viewport));  // shown while the collider tool has one picked
     layout->addWidget(buildSimulation());
-    layout->addWidget(buildMaterial());
-    layout->addWidget(buildLattice());
-    layout->addWidget(buildSelection());
+    // The current object's sections: hidden in a scene with no objects, where a line says how to add one. They keep
+    // their room when hidden: the window sizes this dock while its first scene may still be empty, and a dock sized
+    // without them cut their fields off once they showed.
+    m_noObject = new QLabel(tr("No object yet: File ▸ Add Mesh… or Import Animated Mesh… puts a body in the scene."));
+    m_noObject->setObjectName("noObjectHint");
+    m_noObject->setWordWrap(true);
+    m_noObject->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);  // wrapped to the dock, not widening it
+    m_noObject->hide();
+    layout->addWidget(m_noObject);
+    m_objectSections = {buildMaterial(), buildLattice(), buildSelection()};
+    for (QWidget* section : m_objectSections) {
+        QSizePolicy policy = section->sizePolicy();
+        policy.setRetainSizeWhenHidden(true);
+        section->setSizePolicy(policy);
+        layout->addWidget(section);
+    }
     layout->addStretch();
     connect(document, &Document::sceneReplaced, this, [this] { m_modesShownFor = -1; });  // before refresh()
     connect(document, &Document::sceneReplaced, this, &PropertiesPanel::refresh);
@@ -527,7 +540,11 @@ void PropertiesPanel::refresh() {
     m_groundPlane->setChecked(!w.planes.empty());
     m_bodiesCollide->setChecked(w.bodyCollisions.enabled);
     m_bodiesCollide->setVisible(scene.objects.size() > 1);  // one object has nothing to collide with
-    if (std::size_t(object()) < scene.objects.size()) {
+    const bool hasObject = std::size_t(object()) < scene.objects.size();
+    for (QWidget* section : m_objectSections)
+        section->setVisible(hasObject);
+    m_noObject->setVisible(!hasObject);
+    if (hasObject) {
         const SceneObject& o = scene.objects[std::size_t(object())];
         const MaterialSummary s = summarise(o.lattice, o.material);
         m_element->setCurrentIndex(m_element->findData(int(o.material.element)));

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <utility>
+#include <vector>
 
 class QComboBox;
 class QDoubleSpinBox;
@@ -37,6 +38,8 @@ signals:
     void modesShown();
 
 private:
+    std::vector<QWidget*> m_objectSections;  ///< Material, lattice, selection: shown only with a current object.
+    QLabel* m_noObject = nullptr;            ///< What to do in a scene with no objects.
     QWidget* buildSimulation();
     QWidget* buildMaterial();
     QWidget* buildLattice();

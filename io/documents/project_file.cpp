@@ -447,8 +447,9 @@ std::optional<Project> readProject(const json& doc, const fs::path& path, JsonIs
     project.path = path;
     const fs::path baseDir = path.parent_path();
     const JsonValue objects = root["objects"];
-    if (!objects.isArray() || objects.size() == 0)
-        objects.problem("expected a non-empty array of objects");
+    // An empty scene is a project too (the editor's File ▸ New); a bake of it says there is nothing to simulate.
+    if (!objects.isArray())
+        objects.problem("expected an array of objects");
     // The world first: an object's body is built (and checked) only where the solver can run it.
     readWorld(root, baseDir, project.scene.world);
     for (std::size_t i = 0; i < objects.size(); ++i)
@@ -465,6 +466,13 @@ std::optional<Project> readProject(const json& doc, const fs::path& path, JsonIs
 }  // namespace
 
 Result<Project> loadProject(const fs::path& path) { return loadDocument<Project>(path, readProject); }
+
+Result<Project> loadProjectToRun(const fs::path& path) {
+    auto project = loadProject(path);
+    if (project && project->scene.objects.empty())
+        return Status::error(path.string() + ": /objects: the scene has no objects to simulate (add a mesh first)");
+    return project;
+}
 
 std::vector<std::string> validateFile(const fs::path& path) {
     JsonIssues issues(path.string());

@@ -871,8 +871,12 @@ void TestCli::failedBakeKeepsPreviousFile() {
     QCOMPARE(runCli({"bake", scene, "--out", out, "--frames", "3", "--quiet"}).exitCode, 0);
     const QByteArray before = fileBytes(out);
     const QByteArray restBefore = fileBytes(dir.filePath("keep.obj"));
+    // An empty scene (the editor's File ▸ New saves one) is a valid project with nothing to bake: refused, naming it.
     const QString bad = writeText(dir, "bad.softtouch", R"({"format": "softtouch-project", "version": 1, "objects": []})");
-    QVERIFY(runCli({"bake", bad, "--out", out, "--quiet"}).exitCode != 0);
+    QCOMPARE(runCli({"validate", bad}).exitCode, 0);
+    const Run empty = runCli({"bake", bad, "--out", out, "--quiet"});
+    QCOMPARE(empty.exitCode, 1);
+    QVERIFY2(empty.err.contains(bad + ": /objects: the scene has no objects to simulate"), qPrintable(empty.err));
     QCOMPARE(fileBytes(out), before);
 
     // A target that is a folder is refused before anything is written: the rest OBJ beside it stays

@@ -22,31 +22,72 @@ void TestEditor::opensDefaultScene() {
     w.simulation()->pause();
 }
 
-// File ▸ New (Ctrl+N): an untitled project from the bundled fish mesh, a fresh lattice and material,
-// nothing to undo; Save then asks where.
+// File ▸ New (Ctrl+N): an untitled, empty scene with nothing to undo (#42 item 10), which every tool, the
+// transport, a take and a key survive, saying what is missing; Add Mesh puts the first body in it and makes it
+// current, on the step a new scene of it would take. Deleting the last object empties the scene again, and an
+// empty project saves and opens.
 void TestEditor::fileNewStartsAnUntitledProject() {
     MainWindow& w = *m_window;
     QAction* action = w.findChild<QAction*>("actionNew");
     QVERIFY(action);
     QCOMPARE(action->shortcut(), QKeySequence(QKeySequence::New));
     QVERIFY(!w.document()->filePath().isEmpty());
-    const std::size_t clipsBefore = w.document()->project().clips.clips.size();
-    QVERIFY(clipsBefore > 0);
+    QVERIFY(!w.document()->project().clips.clips.empty());
     action->trigger();
     const Scene& scene = w.document()->scene();
-    QCOMPARE(scene.objects.size(), std::size_t(1));
-    QCOMPARE(QString::fromStdString(scene.objects[0].name), QString("angelfish"));
+    QVERIFY(scene.objects.empty());
     QVERIFY(w.document()->filePath().isEmpty());
-    QVERIFY(w.windowTitle().contains("unsaved"));
     QVERIFY(w.document()->project().clips.clips.empty());  // the swim clip was the old project's
     QVERIFY(!w.document()->undoStack()->canUndo());
+    QCOMPARE(scene.world.simulation.integrator, IntegratorKind::Verlet);
+    auto* hint = w.findChild<QLabel*>("noObjectHint");
+    QVERIFY(hint && hint->isVisible());
+
+    // Every tool, a click and a drag in the view, play, step, a take and a key: nothing to act on, nothing breaks.
+    Viewport* view = w.viewport();
+    for (const char* tool : {"Drag", "Paint", "Anchor", "Void", "Select", "Pose", "Lattice", "Collider"}) {
+        for (QAction* a : w.findChildren<QAction*>())
+            if (a->text().remove('&') == tool)
+                a->trigger();
+        const QPoint middle = view->rect().center();
+        QTest::mouseClick(view, Qt::LeftButton, {}, middle);
+        QTest::mousePress(view, Qt::LeftButton, {}, middle);
+        QTest::mouseMove(view, middle + QPoint(30, 20));
+        QTest::mouseRelease(view, Qt::LeftButton, {}, middle + QPoint(30, 20));
+    }
+    w.simulation()->play();
+    QTest::qWait(100);
+    w.simulation()->pause();
+    w.timeline()->toggleRecording();
+    w.timeline()->toggleRecording();
+    QVERIFY(!w.keyframes()->keyPose(0.0));
+    QVERIFY(w.document()->project().clips.sessions.empty());
+
+    // The first body: current, fitted, on a new scene's step; the tools act on it.
+    QVERIFY(w.addMeshFile(QStringLiteral(SOFTTOUCH_SOURCE_DIR "/presets/meshes/guppy.obj")).ok());
+    QCOMPARE(scene.objects.size(), std::size_t(1));
+    QCOMPARE(view->currentObject(), 0);
+    QVERIFY(!hint->isVisible());
     QCOMPARE(scene.objects[0].lattice.count(0), 4);
     QVERIFY(scene.objects[0].drivers.empty());
-    // It is a working project: it saves and opens again.
+    QVERIFY(w.keyframes()->keyPose(0.0));
+    // Deleting it empties the scene; undo brings it back.
+    QVERIFY(w.findChild<QAction*>("actionDeleteObject"));
+    w.findChild<QAction*>("actionDeleteObject")->trigger();
+    QVERIFY(scene.objects.empty());
+    QVERIFY(hint->isVisible());
+    w.document()->undoStack()->undo();
+    QCOMPARE(scene.objects.size(), std::size_t(1));
+    // It is a working project: it saves and opens again, and so does an empty one.
     const QString path = m_dir->filePath("new.softtouch");
     QVERIFY(w.document()->saveAs(path).ok());
     QVERIFY(w.openFile(path));
     QCOMPARE(w.document()->scene().objects.size(), std::size_t(1));
+    action->trigger();
+    const QString empty = m_dir->filePath("empty.softtouch");
+    QVERIFY(w.document()->saveAs(empty).ok());
+    QVERIFY(w.openFile(empty));
+    QVERIFY(w.document()->scene().objects.empty());
 }
 
 void TestEditor::saveAndReopenGivesTheSameScene() {
