@@ -180,6 +180,19 @@ bool KeyframePanel::setInterpolation(int index, KeyInterpolation interpolation) 
                 [&](KeyframeAnimation& a) { return a.setInterpolation(std::size_t(index), interpolation); });
 }
 
+namespace {
+
+/// Deletes keys `indices` of `a`, the highest first, so each index still names the key it did.
+Status deleteKeysAt(KeyframeAnimation& a, QList<int> indices) {
+    std::sort(indices.begin(), indices.end(), std::greater<>());
+    for (int i : indices)
+        if (Status s = a.deleteKey(std::size_t(i)); !s)
+            return s;
+    return Status::success();
+}
+
+}  // namespace
+
 bool KeyframePanel::moveKeys(const QList<int>& indices, double seconds, bool copy) {
     if (indices.isEmpty())
         return false;
@@ -192,11 +205,8 @@ bool KeyframePanel::moveKeys(const QList<int>& indices, double seconds, bool cop
             moved.push_back(a.keys()[std::size_t(i)]);
         }
         if (!copy) {  // all taken out first, so a key may land where another of the selection was
-            QList<int> down = indices;
-            std::sort(down.begin(), down.end(), std::greater<>());
-            for (int i : down)
-                if (Status s = a.deleteKey(std::size_t(i)); !s)
-                    return s;
+            if (Status s = deleteKeysAt(a, indices); !s)
+                return s;
         }
         for (LatticeKey& key : moved) {
             key.seconds += seconds;
@@ -210,14 +220,8 @@ bool KeyframePanel::moveKeys(const QList<int>& indices, double seconds, bool cop
 bool KeyframePanel::deleteKeys(const QList<int>& indices) {
     if (indices.isEmpty())
         return false;
-    QList<int> down = indices;
-    std::sort(down.begin(), down.end(), std::greater<>());
-    return edit(tr("Delete %n key(s)", "", int(indices.size())), [&](KeyframeAnimation& a) -> Status {
-        for (int i : down)
-            if (Status s = a.deleteKey(std::size_t(i)); !s)
-                return s;
-        return Status::success();
-    });
+    return edit(tr("Delete %n key(s)", "", int(indices.size())),
+                [&](KeyframeAnimation& a) { return deleteKeysAt(a, indices); });
 }
 
 bool KeyframePanel::setInterpolation(const QList<int>& indices, KeyInterpolation interpolation) {

@@ -5,9 +5,9 @@
 #include "io/import/animation_import.h"
 
 #include "core/base/ranges.h"
-#include "core/geometry/node_field_fit.h"
 #include "core/geometry/mesh_surface.h"
 #include "core/geometry/mesh_volume.h"
+#include "core/geometry/node_field_fit.h"
 #include "core/solver/integrator.h"
 #include "core/solver/simulator.h"
 

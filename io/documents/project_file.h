@@ -44,6 +44,7 @@ Result<Project> loadProject(const std::filesystem::path& path);
 /// loadProject() for a command that simulates it (bake, render, modes, ...): a project with no objects (an empty
 /// scene, as the editor's File ▸ New saves it) is refused, naming the file.
 Result<Project> loadProjectToRun(const std::filesystem::path& path);
+
 /// Every problem in a project, preset or trajectory file (decided by its "format"); empty when valid.
 std::vector<std::string> validateFile(const std::filesystem::path& path);
 /// Writes a project atomically (explicit box, per-node values, anchors and voids as node lists).
