@@ -3,6 +3,32 @@
 
 namespace softtouch::test::editor {
 
+void dragWith(QWidget* widget, QPoint from, QPoint to, Qt::KeyboardModifiers modifiers) {
+    QTest::mousePress(widget, Qt::LeftButton, modifiers, from);
+    QTest::mouseMove(widget, (from + to) / 2);
+    QTest::mouseMove(widget, to);
+    QTest::mouseRelease(widget, Qt::LeftButton, modifiers, to);
+}
+
+QStringList chooseFromMenu(QWidget* widget, QPoint at, const QString& menuName, const QString& text) {
+    QStringList offered;
+    // The menu is modal: it is answered from a timer while it runs.
+    QTimer::singleShot(100, widget, [&] {
+        auto* menu = qobject_cast<QMenu*>(QApplication::activePopupWidget());
+        if (!menu || menu->objectName() != menuName)
+            return;
+        for (QAction* action : menu->actions()) {
+            offered << action->text();
+            if (action->text() == text)
+                action->trigger();
+        }
+        menu->close();
+    });
+    QContextMenuEvent rightClick(QContextMenuEvent::Mouse, at, widget->mapToGlobal(at));
+    QApplication::sendEvent(widget, &rightClick);
+    return offered;
+}
+
 /// Largest distance between two vertex sets.
 double maxDistance(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b) {
     double d = 0.0;

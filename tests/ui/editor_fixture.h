@@ -45,6 +45,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QMenu>
 #include <QMessageBox>
 #include <QPointer>
 #include <QProcess>
@@ -108,6 +109,13 @@ private:
 
 /// Largest distance between two vertex sets.
 double maxDistance(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b);
+
+/// A left-button drag on `widget` from `from` through the middle to `to`, `modifiers` held throughout.
+void dragWith(QWidget* widget, QPoint from, QPoint to, Qt::KeyboardModifiers modifiers = {});
+
+/// Right-clicks `at` on `widget` and, in the menu named `menuName` that opens, triggers the item `text`. Returns
+/// every item that menu offered (none when no such menu opened).
+QStringList chooseFromMenu(QWidget* widget, QPoint at, const QString& menuName, const QString& text);
 
 bool sameMaterial(const LatticeMaterial& a, const LatticeMaterial& b);
 

@@ -670,11 +670,7 @@ void TestEditor::rulerTicksRetimeCopyAndDeleteKeys() {
     QVERIFY(ruler->lastFrame() >= int(1.5 * fps));
     const int undo0 = undo->index();
     const auto drag = [&](QPointF from, int toFrame, Qt::KeyboardModifiers modifiers) {
-        const QPoint a = from.toPoint(), b(int(std::lround(ruler->xOfFrame(toFrame))), a.y());
-        QTest::mousePress(ruler, Qt::LeftButton, modifiers, a);
-        QTest::mouseMove(ruler, (a + b) / 2);
-        QTest::mouseMove(ruler, b);
-        QTest::mouseRelease(ruler, Qt::LeftButton, modifiers, b);
+        dragWith(ruler, from.toPoint(), QPoint(int(std::lround(ruler->xOfFrame(toFrame))), from.toPoint().y()), modifiers);
     };
     // Drag the 1 s key to 1.5 s: one undo step, the keyed pose kept.
     drag(ruler->keyPoint(1), int(std::lround(1.5 * fps)), {});
@@ -725,21 +721,7 @@ void TestEditor::keysHoldOrGoStraightAsTheRulerMenuSays() {
     QVERIFY(keys->keyPose(2.0));
     const int undo0 = undo->index();
     // Right-click the 1 s key on the ruler and pick Constant (hold) from its menu.
-    QStringList offered;
-    QTimer::singleShot(100, this, [&] {
-        auto* menu = qobject_cast<QMenu*>(QApplication::activePopupWidget());
-        if (!menu || menu->objectName() != "keyMenu")
-            return;
-        for (QAction* action : menu->actions()) {
-            offered << action->text();
-            if (action->text() == "Constant (hold)")
-                action->trigger();
-        }
-        menu->close();
-    });
-    const QPoint at = ruler->keyPoint(1).toPoint();
-    QContextMenuEvent rightClick(QContextMenuEvent::Mouse, at, ruler->mapToGlobal(at));
-    QApplication::sendEvent(ruler, &rightClick);
+    const QStringList offered = chooseFromMenu(ruler, ruler->keyPoint(1).toPoint(), "keyMenu", "Constant (hold)");
     QVERIFY2(offered.contains("Linear") && offered.contains("Delete key"), qPrintable(offered.join(", ")));
     QCOMPARE(keys->keys()[1].interpolation, KeyInterpolation::Constant);
     QCOMPARE(undo->index(), undo0 + 1);

@@ -6,37 +6,6 @@
 
 #include "ui/dope_sheet.h"
 
-namespace {
-
-/// Presses at `from`, moves through the middle to `to` and releases there, with `modifiers` held.
-void drag(QWidget* widget, QPoint from, QPoint to, Qt::KeyboardModifiers modifiers = {}) {
-    QTest::mousePress(widget, Qt::LeftButton, modifiers, from);
-    QTest::mouseMove(widget, (from + to) / 2);
-    QTest::mouseMove(widget, to);
-    QTest::mouseRelease(widget, Qt::LeftButton, modifiers, to);
-}
-
-/// Right-clicks `at` and triggers the item `text` of the menu named `menuName` that opens.
-QStringList chooseFromMenu(QObject* context, QWidget* widget, QPoint at, const QString& menuName, const QString& text) {
-    QStringList offered;
-    QTimer::singleShot(100, context, [&] {
-        auto* menu = qobject_cast<QMenu*>(QApplication::activePopupWidget());
-        if (!menu || menu->objectName() != menuName)
-            return;
-        for (QAction* action : menu->actions()) {
-            offered << action->text();
-            if (action->text() == text)
-                action->trigger();
-        }
-        menu->close();
-    });
-    QContextMenuEvent rightClick(QContextMenuEvent::Mouse, at, widget->mapToGlobal(at));
-    QApplication::sendEvent(widget, &rightClick);
-    return offered;
-}
-
-}  // namespace
-
 void TestEditor::dopeSheetShowsEveryObjectsKeysAndTheirClips() {
     MainWindow& w = *m_window;
     KeyframePanel* keys = w.keyframes();
@@ -77,7 +46,7 @@ void TestEditor::dopeSheetShowsEveryObjectsKeysAndTheirClips() {
     QTest::mouseClick(sheet, Qt::LeftButton, {}, sheet->clipBar(2).center().toPoint());
     QCOMPARE(clipList->currentRow(), clip);
     const int undo0 = undo->index();
-    const QStringList offered = chooseFromMenu(this, sheet, sheet->clipBar(2).center().toPoint(), "clipRowMenu", "Loop");
+    const QStringList offered = chooseFromMenu(sheet, sheet->clipBar(2).center().toPoint(), "clipRowMenu", "Loop");
     QVERIFY2(offered.contains("Loop"), qPrintable(offered.join(", ")));
     QVERIFY(w.document()->project().clips.clips[std::size_t(clip)].loop);
     QVERIFY(sheet->rows()[2].loop);
@@ -128,7 +97,7 @@ void TestEditor::dopeSheetEditsSeveralKeysAsOne() {
     QTest::mouseClick(sheet, Qt::LeftButton, Qt::ShiftModifier, point(2));
     QCOMPARE(sheet->selectedKeys(), (QList<int>{1, 2}));
     const int undo0 = undo->index();
-    drag(sheet, point(1), at(1, 3));
+    dragWith(sheet, point(1), at(1, 3));
     std::vector<LatticeKey> moved = keys->keys();
     QCOMPARE(moved.size(), std::size_t(4));
     QCOMPARE(undo->index(), undo0 + 1);
@@ -140,16 +109,16 @@ void TestEditor::dopeSheetEditsSeveralKeysAsOne() {
     QCOMPARE(sheet->selectedKeys(), (QList<int>{1, 2}));  // still selected where they landed
 
     // Ctrl+drag copies the two back to where they were: six keys, one undo step.
-    drag(sheet, point(1), at(1, 0), Qt::ControlModifier);
+    dragWith(sheet, point(1), at(1, 0), Qt::ControlModifier);
     QCOMPARE(keys->keys().size(), std::size_t(6));
     QCOMPARE(undo->index(), undo0 + 2);
 
     // A box dragged across the first three keys (frames 0, 8 and 11) selects them; right-click, Linear: all three.
     const QPoint boxFrom(int(ruler->xOfFrame(0)) - 8, int(sheet->rowRect(0).top()) + 1);
     const QPoint boxTo(int(std::lround(ruler->xOfFrame(kApart + 4))), int(sheet->rowRect(0).bottom()) - 1);
-    drag(sheet, boxFrom, boxTo);
+    dragWith(sheet, boxFrom, boxTo);
     QCOMPARE(sheet->selectedKeys(), (QList<int>{0, 1, 2}));
-    const QStringList offered = chooseFromMenu(this, sheet, point(1), "keysMenu", "Linear");
+    const QStringList offered = chooseFromMenu(sheet, point(1), "keysMenu", "Linear");
     QVERIFY2(offered.contains("Delete 3 keys"), qPrintable(offered.join(", ")));
     for (int k = 0; k < 6; ++k)
         QCOMPARE(keys->keys()[std::size_t(k)].interpolation, k < 3 ? KeyInterpolation::Linear : KeyInterpolation::Smooth);
