@@ -235,7 +235,6 @@ class BakeJob:
         self.process = None
         self.progress = 0.0
         self.errors, self.notes = [], []
-        self._stderr = ''
 
     def start(self):
         """Exports, writes the project and starts softtouch-cli. Raises BakeError, leaving nothing behind."""
