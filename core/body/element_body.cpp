@@ -1,5 +1,6 @@
 #include "core/body/element_body.h"
 
+#include "core/body/element_stress.h"
 #include "core/body/lattice_body.h"
 #include "core/body/solid_element.h"
 #include "core/geometry/axis_quadrature.h"
@@ -17,212 +18,55 @@ namespace softtouch {
 
 namespace {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-
-/// Voigt strain (uu, vv, ww, 2vw, 2uw, 2uv) of a symmetric tensor.
-Vec6 voigtStrain(const Mat3& e) {
-    Vec6 v;
-    v << e(0, 0), e(1, 1), e(2, 2), e(1, 2) + e(2, 1), e(0, 2) + e(2, 0), e(0, 1) + e(1, 0);
-    return v;
-}
-
-/// The symmetric tensor of a Voigt stress.
-Mat3 stressTensor(const Vec6& s) {
-    Mat3 t;
-    t << s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2];
-    return t;
-}
-
-/// The stretch of F: FᵀF − I = V diag(g) Vᵀ, so S − I = V diag(g / (1 + √(1 + g))) Vᵀ with no cancellation
-/// for small strains, and the singular values s = √(1 + g).
-struct Stretch {
-    Mat3 basis;     ///< V.
-    Vec3 singular;  ///< s.
-    Mat3 strain;    ///< S − I.
+/// The points' scratch, the calling thread's (a body is stepped by one thread at a time, and several bodies may
+/// step at once on different threads).
+struct PointScratch {
+    std::array<std::vector<double>, 3> gradient;  ///< elementGradients()' columns.
+    std::array<std::vector<double>, 3> stress;    ///< The stresses' columns, elementScatter()'s.
 };
+PointScratch& pointScratch() {
+    thread_local PointScratch s;
+    return s;
+}
 
-Stretch stretchOf(const Mat3& f) {
-    const Mat3 green = f.transpose() * f - Mat3::Identity();
-    Eigen::SelfAdjointEigenSolver<Mat3> eigen;
-    eigen.computeDirect(green);
-    Stretch out;
-    out.basis = eigen.eigenvectors();
-    Vec3 change;
-    for (int a = 0; a < 3; ++a) {
-        const double g = std::max(eigen.eigenvalues()[a], -1.0 + 1e-12);  // a collapsed direction keeps a tiny length
-        out.singular[a] = std::sqrt(1.0 + g);
-        change[a] = g / (1.0 + out.singular[a]);
+/// Points [first, first + kStressLanes) of one field's matrix in columns laid out as elementGradients() writes
+/// them (`width` doubles a point, the field's three from 3 × `field`), as lanes (entry 3c + α the column c's
+/// component α); lanes past `count` hold the identity, or zero with `identity` false.
+std::array<Lanes, 9> loadLanes(const std::array<std::vector<double>, 3>& columns, std::size_t width, std::size_t field,
+                               std::size_t first, std::size_t count, bool identity) {
+    std::array<Lanes, 9> out;
+    for (int l = 0; l < kStressLanes; ++l) {
+        const std::size_t p = first + std::size_t(l);
+        for (int c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a)
+                out[std::size_t(3 * c + a)][std::size_t(l)] =
+                    p < count ? columns[std::size_t(c)][p * width + 3 * field + std::size_t(a)] : (identity && a == c ? 1.0 : 0.0);
     }
-    out.strain = out.basis * change.asDiagonal() * out.basis.transpose();
     return out;
 }
 
-/// P = 2 F Y with S Y + Y S = σ: the exact gradient of ½ εᵀ C ε in F (S's eigenbasis makes the Sylvester
-/// equation diagonal).
-Mat3 firstPiola(const Mat3& f, const Stretch& stretch, const Mat3& sigma) {
-    Mat3 y = stretch.basis.transpose() * sigma * stretch.basis;
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            y(a, b) /= stretch.singular[a] + stretch.singular[b];
-    return 2.0 * f * (stretch.basis * y * stretch.basis.transpose());
+/// Points [first, first + kStressLanes) of a per-point value; lanes past `count` hold zero.
+Lanes loadLanes(const std::vector<double>& values, std::size_t first, std::size_t count) {
+    Lanes out{};
+    for (int l = 0; l < kStressLanes; ++l)
+        if (first + std::size_t(l) < count)
+            out[std::size_t(l)] = values[first + std::size_t(l)];
+    return out;
 }
 
-/// The rotation of F's polar decomposition, F S⁻¹.
-Mat3 rotationOf(const Mat3& f, const Stretch& stretch) {
-    return f * (stretch.basis * stretch.singular.cwiseInverse().asDiagonal() * stretch.basis.transpose());
-}
-
-/// Scratch of the contractions, the calling thread's (a body is stepped by one thread at a time, and several
-/// bodies may step at once on different threads).
-struct Contraction {
-    std::array<std::vector<Vec3>, 2> a, d;
-    std::array<std::vector<Vec3>, 3> b, c, gradient, rate, stress;
-};
-Contraction& scratch() {
-    thread_local Contraction c;
-    return c;
-}
-
-void fit(std::vector<Vec3>& v, std::size_t size) {
-    if (v.size() < size)
-        v.resize(size);
-}
-
-/// The columns of the deformation gradient (∂x/∂X_u, ∂x/∂X_v, ∂x/∂X_w; box frame) of the node field `x` at every
-/// point of `rule` (index p + P_u (q + P_v r)), by three one-axis contractions.
-void gradients(const ElementBody& body, const ElementRule& rule, std::span<const Vec3> x, std::array<std::vector<Vec3>*, 3> out) {
-    const auto [nu, nv, nw] = body.counts;
-    const ElementAxisRule& u = rule.axes[0];
-    const ElementAxisRule& v = rule.axes[1];
-    const ElementAxisRule& w = rule.axes[2];
-    const int pu = int(u.value.rows()), pv = int(v.value.rows()), pw = int(w.value.rows());
-    Contraction& t = scratch();
-    // Along u: A_V[p, j, k] = Σ_i V_u(p, i) x[i, j, k], A_S likewise with the slope.
-    const std::size_t sizeA = std::size_t(pu * nv * nw), sizeB = std::size_t(pu * pv * nw), sizeP = rule.pointCount();
-    fit(t.a[0], sizeA);
-    fit(t.a[1], sizeA);
-    for (int k = 0; k < nw; ++k)
-        for (int j = 0; j < nv; ++j) {
-            const Vec3* row = x.data() + nu * (j + nv * k);
-            for (int p = 0; p < pu; ++p) {
-                Vec3 value = Vec3::Zero(), slope = Vec3::Zero();
-                for (int i = 0; i < nu; ++i) {
-                    value += u.value(p, i) * row[i];
-                    slope += u.slope(p, i) * row[i];
-                }
-                t.a[0][std::size_t(p + pu * (j + nv * k))] = value;
-                t.a[1][std::size_t(p + pu * (j + nv * k))] = slope;
+/// The lanes below `count` of a matrix at each lane, back into columns laid out as loadLanes() reads them
+/// (negated with `negate`).
+void storeLanes(const std::array<Lanes, 9>& m, std::size_t first, std::size_t count, std::array<std::vector<double>, 3>& columns,
+                std::size_t width, std::size_t field, bool negate = false) {
+    for (std::size_t c = 0; c < 3; ++c)
+        if (columns[c].size() < count * width)
+            columns[c].resize(count * width);
+    for (int l = 0; l < kStressLanes && first + std::size_t(l) < count; ++l)
+        for (int c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a) {
+                const double value = m[std::size_t(3 * c + a)][std::size_t(l)];
+                columns[std::size_t(c)][(first + std::size_t(l)) * width + 3 * field + std::size_t(a)] = negate ? -value : value;
             }
-        }
-    // Along v: B_VV = V_v A_V, B_VS = S_v A_V, B_SV = V_v A_S, at [p, q, k].
-    for (auto& b : t.b)
-        fit(b, sizeB);
-    for (int k = 0; k < nw; ++k)
-        for (int q = 0; q < pv; ++q)
-            for (int p = 0; p < pu; ++p) {
-                Vec3 vv = Vec3::Zero(), vs = Vec3::Zero(), sv = Vec3::Zero();
-                for (int j = 0; j < nv; ++j) {
-                    const std::size_t from = std::size_t(p + pu * (j + nv * k));
-                    vv += v.value(q, j) * t.a[0][from];
-                    vs += v.slope(q, j) * t.a[0][from];
-                    sv += v.value(q, j) * t.a[1][from];
-                }
-                const std::size_t to = std::size_t(p + pu * (q + pv * k));
-                t.b[0][to] = vv;
-                t.b[1][to] = vs;
-                t.b[2][to] = sv;
-            }
-    // Along w: the u column from B_SV, the v column from B_VS, the w column from B_VV with the slope.
-    for (auto* o : out)
-        fit(*o, sizeP);
-    for (int r = 0; r < pw; ++r)
-        for (int q = 0; q < pv; ++q)
-            for (int p = 0; p < pu; ++p) {
-                Vec3 cu = Vec3::Zero(), cv = Vec3::Zero(), cw = Vec3::Zero();
-                for (int k = 0; k < nw; ++k) {
-                    const std::size_t from = std::size_t(p + pu * (q + pv * k));
-                    cu += w.value(r, k) * t.b[2][from];
-                    cv += w.value(r, k) * t.b[1][from];
-                    cw += w.slope(r, k) * t.b[0][from];
-                }
-                const std::size_t point = std::size_t(p + pu * (q + pv * r));
-                (*out[0])[point] = cu;
-                (*out[1])[point] = cv;
-                (*out[2])[point] = cw;
-            }
-}
-
-/// The transpose of gradients(): the node forces −Σ_q P_q ∇N_i(q) of the stresses whose columns (weights
-/// included) are `column[c]` per point, subtracted from `force` on the free nodes.
-void scatter(const ElementBody& body, const ElementRule& rule, std::array<const std::vector<Vec3>*, 3> column,
-             std::span<Vec3> force) {
-    const auto [nu, nv, nw] = body.counts;
-    const ElementAxisRule& u = rule.axes[0];
-    const ElementAxisRule& v = rule.axes[1];
-    const ElementAxisRule& w = rule.axes[2];
-    const int pu = int(u.value.rows()), pv = int(v.value.rows()), pw = int(w.value.rows());
-    Contraction& t = scratch();
-    const std::size_t sizeC = std::size_t(pu * pv * nw), sizeD = std::size_t(pu * nv * nw);
-    // Along w: C_SV = V_wᵀ G_u, C_VS = V_wᵀ G_v, C_VV = S_wᵀ G_w, at [p, q, k].
-    for (auto& c : t.c)
-        fit(c, sizeC);
-    for (int k = 0; k < nw; ++k)
-        for (int q = 0; q < pv; ++q)
-            for (int p = 0; p < pu; ++p) {
-                Vec3 sv = Vec3::Zero(), vs = Vec3::Zero(), vv = Vec3::Zero();
-                for (int r = 0; r < pw; ++r) {
-                    const std::size_t point = std::size_t(p + pu * (q + pv * r));
-                    sv += w.value(r, k) * (*column[0])[point];
-                    vs += w.value(r, k) * (*column[1])[point];
-                    vv += w.slope(r, k) * (*column[2])[point];
-                }
-                const std::size_t to = std::size_t(p + pu * (q + pv * k));
-                t.c[0][to] = sv;
-                t.c[1][to] = vs;
-                t.c[2][to] = vv;
-            }
-    // Along v: D_S = V_vᵀ C_SV (still to meet the u slope), D_V = S_vᵀ C_VS + V_vᵀ C_VV, at [p, j, k].
-    fit(t.d[0], sizeD);
-    fit(t.d[1], sizeD);
-    for (int k = 0; k < nw; ++k)
-        for (int j = 0; j < nv; ++j)
-            for (int p = 0; p < pu; ++p) {
-                Vec3 ds = Vec3::Zero(), dv = Vec3::Zero();
-                for (int q = 0; q < pv; ++q) {
-                    const std::size_t from = std::size_t(p + pu * (q + pv * k));
-                    ds += v.value(q, j) * t.c[0][from];
-                    dv += v.slope(q, j) * t.c[1][from] + v.value(q, j) * t.c[2][from];
-                }
-                t.d[0][std::size_t(p + pu * (j + nv * k))] = ds;
-                t.d[1][std::size_t(p + pu * (j + nv * k))] = dv;
-            }
-    // Along u: f[i, j, k] = Σ_p S_u(p, i) D_S + V_u(p, i) D_V.
-    for (int k = 0; k < nw; ++k)
-        for (int j = 0; j < nv; ++j)
-            for (int i = 0; i < nu; ++i) {
-                const std::size_t node = std::size_t(i + nu * (j + nv * k));
-                if (body.slot[node] < 0)
-                    continue;
-                Vec3 f = Vec3::Zero();
-                for (int p = 0; p < pu; ++p) {
-                    const std::size_t from = std::size_t(p + pu * (j + nv * k));
-                    f += u.slope(p, i) * t.d[0][from] + u.value(p, i) * t.d[1][from];
-                }
-                force[node] -= f;
-            }
-}
-
-Mat3 columnsAt(const std::array<std::vector<Vec3>, 3>& columns, std::size_t point) {
-    Mat3 f;
-    f << columns[0][point], columns[1][point], columns[2][point];
-    return f;
-}
-
-/// The rotated Kelvin-Voigt stress R η C sym(Rᵀ Ḟ) of a point (its viscosity factor included).
-Mat3 viscousStress(const ElementBody& body, double viscosity, const Mat3& rotation, const Mat3& rate) {
-    const Mat3 turned = rotation.transpose() * rate;
-    const Vec6 sigma = viscosity * (body.elasticity * voigtStrain(0.5 * (turned + turned.transpose())));
-    return rotation * stressTensor(sigma);
 }
 
 /// A per-node field interpolated by the lattice's basis at parameters s.
@@ -253,8 +97,9 @@ ElementRule makeRule(const Lattice& lattice, const LatticeMaterial& material, do
                 axis.slope(p, sample.first + r) = sample.slope[std::size_t(r)] / size[a];
             }
         }
+        axis.finishAxis();
     }
-    for (std::size_t c = 0; c < q[2].point.size(); ++c)
+    for (std::size_t c = 0; c < q[2].point.size(); ++c)  // u fastest, as elementRulePoint()
         for (std::size_t b = 0; b < q[1].point.size(); ++b)
             for (std::size_t a = 0; a < q[0].point.size(); ++a) {
                 const Vec3 s(q[0].point[a], q[1].point[b], q[2].point[c]);
@@ -366,38 +211,39 @@ Result<std::shared_ptr<const ElementBody>> buildElementBody(const Lattice& latti
 
 void addElementForces(const ElementBody& body, std::span<const Vec3> position, std::span<const Vec3> velocity,
                       std::span<Vec3> force, bool viscous, bool nodeDamping, std::span<Vec3> dampingOut) {
-    Contraction& t = scratch();
+    PointScratch& t = pointScratch();
     const bool withViscosity = viscous && body.viscous;
     const bool measure = !dampingOut.empty();
     if (measure)
         std::fill(dampingOut.begin(), dampingOut.end(), Vec3::Zero());
+    // One contraction for the positions and velocities together, and one back for the stresses and, when they
+    // are measured, the viscous stresses alone.
+    const std::array<std::span<const Vec3>, 2> fields = {position, velocity};
+    const std::size_t inWidth = withViscosity ? 6 : 3, outWidth = withViscosity && measure ? 6 : 3;
+    const std::array<std::span<Vec3>, 2> forces = {force, dampingOut};
     for (const ElementRule& rule : body.rules) {
-        gradients(body, rule, position, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
-        if (withViscosity)
-            gradients(body, rule, velocity, {&t.rate[0], &t.rate[1], &t.rate[2]});
+        elementGradients(rule, body.counts, std::span(fields).first(inWidth / 3), t.gradient);
         const std::size_t points = rule.pointCount();
-        for (auto& s : t.stress)
-            fit(s, points);
-        // Node forces come from the stress columns; the viscous part also goes to dampingOut, through its own
-        // scatter, so t.c/t.d are reused after this loop and the columns are kept apart until then.
-        for (std::size_t p = 0; p < points; ++p) {
-            const Mat3 f = columnsAt(t.gradient, p);
-            const Stretch stretch = stretchOf(f);
-            const Vec6 sigma = rule.stiffness[p] * (body.elasticity * voigtStrain(stretch.strain));
-            Mat3 stress = firstPiola(f, stretch, stressTensor(sigma));
+        for (std::size_t first = 0; first < points; first += kStressLanes) {
+            const std::array<Lanes, 9> f = loadLanes(t.gradient, inWidth, 0, first, points, true);
+            StretchLanes stretch;
+            stretchLanes(f, stretch);
+            std::array<Lanes, 9> stress;
+            elasticStressLanes(body.elasticity, loadLanes(rule.stiffness, first, points), f, stretch, stress);
             if (withViscosity) {
-                const Mat3 damping = viscousStress(body, rule.viscosity[p], rotationOf(f, stretch), columnsAt(t.rate, p));
-                stress += damping;
-                if (measure)  // keep the viscous columns where the rates were (no longer needed)
-                    for (int c = 0; c < 3; ++c)
-                        t.rate[std::size_t(c)][p] = damping.col(c);
+                std::array<Lanes, 9> rotation, damping;
+                rotationLanes(f, stretch, rotation);
+                corotatedStressLanes(body.elasticity, loadLanes(rule.viscosity, first, points), rotation,
+                                     loadLanes(t.gradient, inWidth, 1, first, points, false), damping);
+                for (int e = 0; e < 9; ++e)
+                    for (int l = 0; l < kStressLanes; ++l)
+                        stress[std::size_t(e)][std::size_t(l)] += damping[std::size_t(e)][std::size_t(l)];
+                if (measure)
+                    storeLanes(damping, first, points, t.stress, outWidth, 1);
             }
-            for (int c = 0; c < 3; ++c)
-                t.stress[std::size_t(c)][p] = stress.col(c);
+            storeLanes(stress, first, points, t.stress, outWidth, 0);
         }
-        scatter(body, rule, {&t.stress[0], &t.stress[1], &t.stress[2]}, force);
-        if (withViscosity && measure)
-            scatter(body, rule, {&t.rate[0], &t.rate[1], &t.rate[2]}, dampingOut);
+        elementScatter(rule, body.counts, t.stress, body.slot, std::span(forces).first(outWidth / 3));
     }
     if (nodeDamping && body.nodeDamped) {
         addElementMatrixTimes(body, body.nodeDamping, -1.0, velocity, force);
@@ -407,48 +253,68 @@ void addElementForces(const ElementBody& body, std::span<const Vec3> position, s
 }
 
 void elementRotations(const ElementBody& body, std::span<const Vec3> position, std::vector<Mat3>& rotations) {
-    Contraction& t = scratch();
+    PointScratch& t = pointScratch();
     rotations.clear();
     for (const ElementRule& rule : body.rules) {
-        gradients(body, rule, position, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
-        for (std::size_t p = 0; p < rule.pointCount(); ++p) {
-            const Mat3 f = columnsAt(t.gradient, p);
-            rotations.push_back(rotationOf(f, stretchOf(f)));
+        elementGradients(rule, body.counts, std::span(&position, 1), t.gradient);
+        const std::size_t points = rule.pointCount();
+        for (std::size_t first = 0; first < points; first += kStressLanes) {
+            const std::array<Lanes, 9> f = loadLanes(t.gradient, 3, 0, first, points, true);
+            StretchLanes stretch;
+            stretchLanes(f, stretch);
+            std::array<Lanes, 9> rotation;
+            rotationLanes(f, stretch, rotation);
+            for (int l = 0; l < kStressLanes && first + std::size_t(l) < points; ++l) {
+                Mat3 r;
+                for (int e = 0; e < 9; ++e)
+                    r(e) = rotation[std::size_t(e)][std::size_t(l)];  // column-major, as Mat3
+                rotations.push_back(r);
+            }
         }
     }
 }
 
 void addElementTangent(const ElementBody& body, const std::vector<Mat3>& rotations, double a, double b,
                        std::span<const Vec3> p, std::span<Vec3> y) {
-    Contraction& t = scratch();
+    PointScratch& t = pointScratch();
     std::size_t first = 0;
     for (const ElementRule& rule : body.rules) {
-        gradients(body, rule, p, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
+        elementGradients(rule, body.counts, std::span(&p, 1), t.gradient);
         const std::size_t points = rule.pointCount();
-        for (auto& s : t.stress)
-            fit(s, points);
-        for (std::size_t q = 0; q < points; ++q) {
-            const Mat3& r = rotations[first + q];
-            const Mat3 turned = r.transpose() * columnsAt(t.gradient, q);
-            const double factor = a * rule.stiffness[q] + b * rule.viscosity[q];
-            const Mat3 stress = r * stressTensor(factor * (body.elasticity * voigtStrain(0.5 * (turned + turned.transpose()))));
-            for (int c = 0; c < 3; ++c)
-                t.stress[std::size_t(c)][q] = -stress.col(c);  // scatter() subtracts
+        for (std::size_t q = 0; q < points; q += kStressLanes) {
+            std::array<Lanes, 9> rotation{};
+            Lanes factor{};
+            for (int l = 0; l < kStressLanes && q + std::size_t(l) < points; ++l) {
+                const Mat3& r = rotations[first + q + std::size_t(l)];
+                for (int e = 0; e < 9; ++e)
+                    rotation[std::size_t(e)][std::size_t(l)] = r(e);
+                factor[std::size_t(l)] = a * rule.stiffness[q + std::size_t(l)] + b * rule.viscosity[q + std::size_t(l)];
+            }
+            std::array<Lanes, 9> stress;
+            corotatedStressLanes(body.elasticity, factor, rotation, loadLanes(t.gradient, 3, 0, q, points, false), stress);
+            storeLanes(stress, q, points, t.stress, 3, 0, true);  // elementScatter() subtracts
         }
-        scatter(body, rule, {&t.stress[0], &t.stress[1], &t.stress[2]}, y);
+        elementScatter(rule, body.counts, t.stress, body.slot, std::span(&y, 1));
         first += points;
     }
 }
 
 double elementEnergy(const ElementBody& body, std::span<const Vec3> position) {
-    Contraction& t = scratch();
+    PointScratch& t = pointScratch();
     double energy = 0.0;
     for (const ElementRule& rule : body.rules) {
-        gradients(body, rule, position, {&t.gradient[0], &t.gradient[1], &t.gradient[2]});
-        for (std::size_t p = 0; p < rule.pointCount(); ++p) {
-            const Vec6 strain = voigtStrain(stretchOf(columnsAt(t.gradient, p)).strain);
-            energy += 0.5 * rule.stiffness[p] * strain.dot(body.elasticity * strain);
+        elementGradients(rule, body.counts, std::span(&position, 1), t.gradient);
+        const std::size_t points = rule.pointCount();
+        Lanes lanes{};
+        for (std::size_t first = 0; first < points; first += kStressLanes) {
+            const std::array<Lanes, 9> f = loadLanes(t.gradient, 3, 0, first, points, true);
+            StretchLanes stretch;
+            stretchLanes(f, stretch);
+            std::array<Lanes, 9> stress;
+            elasticStressLanes(body.elasticity, loadLanes(rule.stiffness, first, points), f, stretch, stress, &lanes);
         }
+        for (const double e : lanes)
+            energy += e;
     }
     return energy;
 }
@@ -564,7 +430,7 @@ GradientProducts gradientProducts(const ElementBody& body, Factor&& factor, bool
         for (int r = 0; r < pw; ++r)
             for (int q = 0; q < pv; ++q)
                 for (int p = 0; p < pu; ++p) {
-                    const int point = p + pu * (q + pv * r);
+                    const int point = int(elementRulePoint(rule, p, q, r));
                     weight[point] = factor(rule, std::size_t(point));
                     for (int k = 0; k < nw; ++k)
                         for (int j = 0; j < nv; ++j)

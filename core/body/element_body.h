@@ -13,9 +13,13 @@
 ///
 /// The mass is the consistent ∫ ρ N_i N_j: a lumped one collapses this element's spectrum (docs/design/lattice.md),
 /// so every step solves with its Cholesky factor over the free nodes (built once: it never changes).
+///
+/// The work at the quadrature points is core/body/element_stress.h's, eight points at a time in SIMD lanes; the
+/// maps between the nodes and the points are core/body/element_rule.h's.
 
 #include "core/base/result.h"
 #include "core/base/types.h"
+#include "core/body/element_rule.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -29,24 +33,6 @@ namespace softtouch {
 
 class Lattice;
 struct LatticeMaterial;
-
-/// One axis of a tensor-product quadrature rule: the basis and its slope (per metre) at each point, one row per
-/// point, one column per node along the axis.
-struct ElementAxisRule {
-    Eigen::MatrixXd value;
-    Eigen::MatrixXd slope;
-};
-
-/// A tensor-product quadrature rule over the lattice box: per axis its points, and per point (u fastest) its
-/// weight × volume × the painted modulus and viscosity there. The deformation gradient at every point is three
-/// one-axis contractions of the node positions (sum factorisation): for a 4x4x4 Bezier lattice about a tenth of
-/// the work of summing each point's 64 nodes, and a 64th for 8x8x8.
-struct ElementRule {
-    std::array<ElementAxisRule, 3> axes;
-    std::vector<double> stiffness;  ///< Pa·m³ per point.
-    std::vector<double> viscosity;  ///< Pa·s·m³ per point.
-    std::size_t pointCount() const { return stiffness.size(); }
-};
 
 /// A lattice body's solid element, immutable once built (shared by every simulator of the body).
 struct ElementBody {
