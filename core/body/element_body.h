@@ -12,7 +12,8 @@
 /// sym(Rᵀ Ḟ), which only dissipates. Node damping is ∫ γ ρ N_i N_j on absolute velocities.
 ///
 /// The mass is the consistent ∫ ρ N_i N_j: a lumped one collapses this element's spectrum (docs/design/lattice.md),
-/// so every step solves with its Cholesky factor over the free nodes (built once: it never changes).
+/// so an explicit step multiplies the forces by its inverse over the free nodes (with the share of the viscosity the
+/// substep takes implicitly, elementStepViscosity()), inverted once per substep length.
 ///
 /// The work at the quadrature points is core/body/element_stress.h's, eight points at a time in SIMD lanes; the
 /// maps between the nodes and the points are core/body/element_rule.h's.
@@ -101,13 +102,12 @@ double elementPullInverseMass(const ElementBody& body, Shares&& shares, Eigen::V
 /// A node matrix's block over the free nodes, acting on each component alike: 3 × free square, laid out as
 /// elementRestStiffness().
 Eigen::MatrixXd elementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix);
-/// a = M⁻¹ f over the free nodes (written to `acceleration` at the free nodes only). `work` is the
-/// caller's scratch (3 × free nodes), so a step allocates nothing once it has its size.
-void solveElementMass(const ElementBody& body, std::span<const Vec3> force, std::span<Vec3> acceleration,
-                      Eigen::MatrixXd& work);
-/// The same with another factor over the free nodes (an explicit substep's M + h K̃_s, elementStepViscosity()).
-void solveElementMass(const ElementBody& body, const Eigen::LLT<Eigen::MatrixXd>& factor, std::span<const Vec3> force,
-                      std::span<Vec3> acceleration, Eigen::MatrixXd& work);
+/// out = A in over the free nodes (written at the free nodes only; `in` and `out` may be the same), for a
+/// free × free matrix A in slot order acting on each component alike: an explicit substep's inverse mass
+/// (M + h K̃_s)⁻¹ (elementStepViscosity()) turns forces into accelerations. `work` is the caller's scratch, so a
+/// step allocates nothing once it has its size.
+void applyElementFreeMatrix(const ElementBody& body, const Eigen::MatrixXd& matrix, std::span<const Vec3> in,
+                            std::span<Vec3> out, Eigen::MatrixXd& work);
 /// A node matrix's block over the free nodes (slot order), acting on each component alike.
 Eigen::MatrixXd elementFreeBlock(const ElementBody& body, const Eigen::MatrixXd& nodeMatrix);
 

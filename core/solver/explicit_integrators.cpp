@@ -91,16 +91,15 @@ private:
 };
 
 /// Turns the forces on the free nodes into accelerations in place: f/m per node, or on a solid element the
-/// solve with M + h K̃_s, its consistent mass and the share of its viscosity the substep takes implicitly
+/// product with (M + h K̃_s)⁻¹, its consistent mass and the share of its viscosity the substep takes implicitly
 /// (elementStepViscosity()): whatever the viscosity, the substep is then stable at the undamped bound, which the
-/// Simulator's step bound assumes. Keeps the factors of the last few substep lengths (a drag or a stiffer state
-/// changes the substeps and may change them back); a new length factors once, in the step that first takes it.
+/// Simulator's step bound assumes. Keeps the inverses of the last few substep lengths (a drag or a stiffer state
+/// changes the substeps and may change them back); a new length inverts once, in the step that first takes it.
 class Accelerations {
 public:
     void operator()(const BodyModel& model, std::span<Vec3> force, double h) {
         if (model.element) {
-            const ElementBody& e = *model.element;
-            solveElementMass(e, e.viscous ? factorFor(model, h) : e.massFactor, force, force, m_work);
+            applyElementFreeMatrix(*model.element, inverseFor(model, h), force, force, m_work);
             return;
         }
         for (std::size_t i = 0; i < model.nodeCount(); ++i)
@@ -108,23 +107,27 @@ public:
     }
 
 private:
-    struct Factor {
+    struct Inverse {
         std::shared_ptr<const ElementBody> body;  // held, so a new body at the same address is not taken for it
-        double h = 0.0;
-        Eigen::LLT<Eigen::MatrixXd> llt;
+        double h = 0.0;                           // 0 without viscosity: the mass alone, whatever the substep
+        Eigen::MatrixXd matrix;
     };
-    const Eigen::LLT<Eigen::MatrixXd>& factorFor(const BodyModel& model, double h) {
-        for (Factor& f : m_factors)
-            if (f.body == model.element && f.h == h)
-                return f.llt;
-        Factor& slot = m_factors[m_next];
-        m_next = (m_next + 1) % m_factors.size();
-        slot = {model.element, h,
-                Eigen::LLT<Eigen::MatrixXd>(elementFreeBlock(*model.element, model.element->mass) +
-                                            h * elementStepViscosity(*model.element, model.elementViscosityModes(), h))};
-        return slot.llt;
+    const Eigen::MatrixXd& inverseFor(const BodyModel& model, double h) {
+        const ElementBody& e = *model.element;
+        const double key = e.viscous ? h : 0.0;
+        for (Inverse& f : m_inverses)
+            if (f.body == model.element && f.h == key)
+                return f.matrix;
+        Inverse& slot = m_inverses[m_next];
+        m_next = (m_next + 1) % m_inverses.size();
+        Eigen::MatrixXd mass = elementFreeBlock(e, e.mass);
+        if (e.viscous)
+            mass += h * elementStepViscosity(e, model.elementViscosityModes(), h);
+        const Eigen::Index free = mass.rows();
+        slot = {model.element, key, Eigen::LLT<Eigen::MatrixXd>(mass).solve(Eigen::MatrixXd::Identity(free, free))};
+        return slot.matrix;
     }
-    std::array<Factor, 4> m_factors;
+    std::array<Inverse, 4> m_inverses;
     std::size_t m_next = 0;
     Eigen::MatrixXd m_work;
 };
