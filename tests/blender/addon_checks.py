@@ -2,7 +2,7 @@
 # printed as one JSON line for tests/blender/test_blender_addon.cpp to judge.
 # Usage: BLENDER_USER_SCRIPTS=blender (the checkout's, with addons/softtouch_wobble) SOFTTOUCH_CLI=softtouch-cli
 #        blender -b --factory-startup --python addon_checks.py -- CHECK WORKDIR
-# CHECK: register, bake, pinned, reload, open, bad-preset, cancel.
+# CHECK: register, bake, pinned, reload, cycle, open, bad-preset, cancel.
 import addon_utils
 import hashlib
 import json
@@ -188,6 +188,38 @@ if check in ('bake', 'pinned', 'reload'):
         found['worst'] = found['wobble']
     else:
         found.update(against_cli(obj, scene, project, armature_only, wobbled, d))
+    report(**found)
+
+if check == 'cycle':
+    # A loop plays as a cycle on every frame, before and after the range it was baked over, as the rig's cyclic
+    # action does; it needs no trusted scripts. A one-shot bake after it plays the range once again.
+    obj, scene = guppy_scene()
+    action = obj.parent.animation_data.action
+    for fc in action.fcurves:  # the swim repeats, as an animator sets up a cycle
+        fc.modifiers.new('CYCLES')
+    action.update_tag()
+    rest = np.array([v.co for v in obj.data.vertices])
+    low, high = rest[:, 0].min(), rest[:, 0].max()
+    ramp_group(obj, 'goal', lambda co: float(np.clip((co.x - low) / (high - low), 0.0, 1.0)))
+    errors = bake()
+    if errors:
+        report(errors=errors)
+    inside = {k: evaluated(obj, scene, k) for k in (0, 5, 17, 23)}
+    d = diagonal(inside[0])
+    found = {'autoExec': bpy.context.preferences.filepaths.use_scripts_auto_execute,
+             'drivers': [[fc.data_path, fc.driver.is_simple_expression, fc.driver.is_valid]
+                         for fc in (obj.animation_data.drivers if obj.animation_data else [])],
+             'worst': max(float(np.linalg.norm(evaluated(obj, scene, k + shift) - points, axis=1).max())
+                          for k, points in inside.items() for shift in (-24, 24, 48)) / d,
+             'wobbleAfter': max(float(np.linalg.norm(evaluated(obj, scene, k + 24) -
+                                                     evaluated(obj, scene, k + 24, wobble=False), axis=1).max())
+                                for k in inside) / d}
+    obj.softtouch.loop = False
+    errors = bake()
+    if errors:
+        report(errors=errors)
+    found['driversAfterOneShot'] = len(obj.animation_data.drivers) if obj.animation_data else 0
+    found['playModeAfterOneShot'] = obj.modifiers['SoftTouch wobble'].play_mode
     report(**found)
 
 if check == 'bad-preset':

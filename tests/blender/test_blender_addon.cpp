@@ -62,6 +62,7 @@ private slots:
     void bakeIsTheCliBakeOfTheWrittenProject();
     void goalOfOneIsTheRigsOwnMotion();
     void reloadBakesTheProjectAsTheEditorSavedIt();
+    void loopPlaysAsACycleOnEveryFrame();
     void openInSoftTouchStartsTheEditorOnTheProject();
     void badPresetIsOneErrorAndChangesNothing();
     void cancelLeavesNothing();
@@ -123,6 +124,25 @@ void TestBlenderAddon::reloadBakesTheProjectAsTheEditorSavedIt() {
     QVERIFY(found["matchedBy"].toDouble() <= 1e-6);
     QVERIFY(found["worst"].toDouble() <= 1e-6);
     QVERIFY(found["keysUnchanged"].toBool());
+}
+
+void TestBlenderAddon::loopPlaysAsACycleOnEveryFrame() {
+    // The guppy's one-second swim baked as a loop over frames 0-23: a frame a cycle before, after or two after
+    // is the same pose, the wobble included; the driver that cycles it is a simple expression, which Blender runs
+    // with scripts untrusted (as here). A one-shot bake after it takes the cycle away.
+    QTemporaryDir work;
+    const QJsonObject found = runCheck("cycle", work);
+    QVERIFY2(!found.contains("error") && !found.contains("errors"), qPrintable(QJsonDocument(found).toJson()));
+    QVERIFY(!found["autoExec"].toBool());
+    const QJsonArray drivers = found["drivers"].toArray();
+    QCOMPARE(drivers.size(), 1);
+    QCOMPARE(drivers[0].toArray()[0].toString(), QString("modifiers[\"SoftTouch wobble\"].eval_frame"));
+    QVERIFY(drivers[0].toArray()[1].toBool());  // simple expression
+    QVERIFY(drivers[0].toArray()[2].toBool());  // valid
+    QVERIFY2(found["worst"].toDouble() <= 1e-6, qPrintable(QString::number(found["worst"].toDouble())));
+    QVERIFY(found["wobbleAfter"].toDouble() >= 0.005);  // past the range the wobble still plays
+    QCOMPARE(found["driversAfterOneShot"].toInt(), 0);
+    QCOMPARE(found["playModeAfterOneShot"].toString(), QString("SCENE"));
 }
 
 void TestBlenderAddon::openInSoftTouchStartsTheEditorOnTheProject() {

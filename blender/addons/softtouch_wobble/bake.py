@@ -320,10 +320,11 @@ class BakeJob:
                     matrix = np.linalg.inv(np.array(self.obj.matrix_world))
                     local[k] = world[k] @ matrix[:3, :3].T + matrix[:3, 3]
             pc2.write(self._staged('cache'), local, self.frame_start)
+            loops = project.clip_loops(self.paths['project'] if self.rebake else self._staged('project'))
             moved = ['cache'] if self.rebake else ['glb', 'project', 'cache']
             for key in moved:
                 os.replace(self._staged(key), self.paths[key])
-            set_modifier(self.obj, self.paths['cache'], self.frame_start)
+            set_modifier(self.obj, self.paths['cache'], self.frame_start, len(local) if loops else 0)
         except (OSError, ValueError) as e:
             raise BakeError(str(e)) from e
         finally:
@@ -375,16 +376,26 @@ class BakeJob:
             os.rmdir(folder)
 
 
-def set_modifier(obj, cache, frame_start):
+def set_modifier(obj, cache, frame_start, cycle=0):
     """Adds or updates the Mesh Cache modifier that plays `cache` from `frame_start`, right after the last
-    armature (before anything that changes the vertex count)."""
+    armature (before anything that changes the vertex count). With `cycle` (a loop's frames), it plays the cache as
+    that cycle on every frame, before and after the range, as a cyclic action repeats: a driver maps the scene's
+    frame to the cache's, a simple expression Blender evaluates without running Python (so it plays in a file
+    whose scripts are not trusted)."""
     modifier = obj.modifiers.get(MODIFIER) or obj.modifiers.new(MODIFIER, 'MESH_CACHE')
     modifier.cache_format = 'PC2'
     modifier.filepath = bpy.path.relpath(cache) if bpy.data.filepath else cache
     modifier.frame_start = frame_start
     modifier.frame_scale = 1.0
-    modifier.play_mode = 'SCENE'
     modifier.time_mode = 'FRAME'
+    modifier.driver_remove('eval_frame')
+    if cycle:
+        modifier.play_mode = 'CUSTOM'
+        driver = modifier.driver_add('eval_frame').driver
+        driver.type = 'SCRIPTED'
+        driver.expression = f'fmod(fmod(frame - {frame_start}, {cycle}) + {cycle}, {cycle})'
+    else:
+        modifier.play_mode = 'SCENE'
     modifier.deform_mode = 'OVERWRITE'
     modifier.interpolation = 'LINEAR'
     modifier.forward_axis, modifier.up_axis = 'POS_Y', 'POS_Z'

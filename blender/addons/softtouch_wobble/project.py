@@ -53,6 +53,13 @@ def build(settings, glb_name, points):
     }
 
 
+def clip_loops(path):
+    """Whether the project at `path` (as the add-on or the editor wrote it) plays its "wobble" clip as a loop."""
+    with open(path) as f:
+        clips = json.load(f).get('clips', {}).get('library', [])
+    return any(c.get('name') == CLIP and c.get('loop', False) for c in clips)
+
+
 def write(path, project):
     """Writes the project through a temporary file beside it."""
     partial = path + '.partial'
