@@ -2,7 +2,7 @@
 # printed as one JSON line for tests/blender/test_blender_addon.cpp to judge.
 # Usage: BLENDER_USER_SCRIPTS=blender (the checkout's, with addons/softtouch_wobble) SOFTTOUCH_CLI=softtouch-cli
 #        blender -b --factory-startup --python addon_checks.py -- CHECK WORKDIR
-# CHECK: register, bake, pinned, reload, cycle, open, bad-preset, cancel.
+# CHECK: register, bake, pinned, reload, cycle, shapekeys, open, bad-preset, cancel.
 import addon_utils
 import hashlib
 import json
@@ -220,6 +220,40 @@ if check == 'cycle':
         report(errors=errors)
     found['driversAfterOneShot'] = len(obj.animation_data.drivers) if obj.animation_data else 0
     found['playModeAfterOneShot'] = obj.modifiers['SoftTouch wobble'].play_mode
+    report(**found)
+
+if check == 'shapekeys':
+    # Shape keys alone, no armature: a long body bent by one key, keyed 0, 1, 0 over the second (frame 24 = 0).
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    enable()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12)
+    obj = bpy.context.object
+    obj.scale = (0.6, 0.2, 0.25)
+    bpy.ops.object.transform_apply(scale=True)
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 0, 23
+    obj.shape_key_add(name='Basis')
+    bend = obj.shape_key_add(name='Bend', from_mix=False)
+    for point, v in zip(bend.data, obj.data.vertices):
+        point.co = (v.co.x, v.co.y + 0.5 * v.co.x * v.co.x, v.co.z)
+    for frame, value in ((0, 0.0), (12, 1.0), (24, 0.0)):
+        bend.value = value
+        bend.keyframe_insert('value', frame=frame)
+    obj.softtouch.folder = os.path.join(work, 'softtouch') + '/'
+    obj.softtouch.loop = True
+    ramp_group(obj, 'goal', lambda co: float(np.clip((co.x + 0.6) / 1.2, 0.0, 1.0)))
+    before = keys()
+    errors = bake()
+    if errors:
+        report(errors=errors)
+    project = os.path.join(work, 'softtouch', obj.name + '.softtouch')
+    shaped = [evaluated(obj, scene, f, wobble=False) for f in FRAMES]
+    wobbled = [evaluated(obj, scene, f) for f in FRAMES]
+    d = diagonal(shaped[0])
+    found = {'modifiers': [[m.name, m.type] for m in obj.modifiers], 'keysUnchanged': keys() == before,
+             'bend': max(float(np.linalg.norm(s - shaped[0], axis=1).max()) for s in shaped) / d,
+             'wobble': max(float(np.linalg.norm(w - a, axis=1).max()) for w, a in zip(wobbled, shaped)) / d}
+    found.update(against_cli(obj, scene, project, shaped, wobbled, d))
     report(**found)
 
 if check == 'bad-preset':

@@ -63,6 +63,7 @@ private slots:
     void goalOfOneIsTheRigsOwnMotion();
     void reloadBakesTheProjectAsTheEditorSavedIt();
     void loopPlaysAsACycleOnEveryFrame();
+    void shapeKeysAloneAreTheMotionItWobblesOn();
     void openInSoftTouchStartsTheEditorOnTheProject();
     void badPresetIsOneErrorAndChangesNothing();
     void cancelLeavesNothing();
@@ -143,6 +144,22 @@ void TestBlenderAddon::loopPlaysAsACycleOnEveryFrame() {
     QVERIFY(found["wobbleAfter"].toDouble() >= 0.005);  // past the range the wobble still plays
     QCOMPARE(found["driversAfterOneShot"].toInt(), 0);
     QCOMPARE(found["playModeAfterOneShot"].toString(), QString("SCENE"));
+}
+
+void TestBlenderAddon::shapeKeysAloneAreTheMotionItWobblesOn() {
+    // A body with no armature, bent by one animated shape key: the bake follows the bend (its wobble is a small
+    // part of it, not the whole bend missing) and is the CLI's bake of the written project.
+    QTemporaryDir work;
+    const QJsonObject found = runCheck("shapekeys", work);
+    QVERIFY2(!found.contains("error") && !found.contains("errors"), qPrintable(QJsonDocument(found).toJson()));
+    QCOMPARE(strings(found["modifiers"]), QStringList{"SoftTouch wobble/MESH_CACHE"});
+    QCOMPARE(found["cacheFrames"].toInt(), 24);
+    QVERIFY(found["matchedBy"].toDouble() <= 1e-6);
+    QVERIFY(found["worst"].toDouble() <= 1e-6);
+    const double bend = found["bend"].toDouble(), wobble = found["wobble"].toDouble();
+    QVERIFY2(bend >= 0.1, qPrintable(QString::number(bend)));  // the key moves the body
+    QVERIFY2(wobble >= 0.005 && wobble <= 0.25 * bend, qPrintable(QString("wobble %1, bend %2").arg(wobble).arg(bend)));
+    QVERIFY(found["keysUnchanged"].toBool());
 }
 
 void TestBlenderAddon::openInSoftTouchStartsTheEditorOnTheProject() {
