@@ -23,9 +23,20 @@ namespace softtouch::ui {
 KeyframePanel::KeyframePanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
     : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
     auto* layout = new QGridLayout(this);
+    m_sets = new QComboBox;
+    m_sets->setObjectName("keySet");
+    m_sets->setToolTip(tr("The keyframe set these keys belong to: each set is its own animation, with its own clips. "
+                          "The timeline's dope sheet shows the same set."));
+    auto* newSet = new QPushButton(tr("New set"));
+    newSet->setObjectName("newKeySet");
+    newSet->setToolTip(tr("Start another keyframe set, empty, beside the others."));
+    auto* sets = new QHBoxLayout;
+    sets->addWidget(m_sets, 1);
+    sets->addWidget(newSet);
+    layout->addLayout(sets, 0, 0);
     m_list = new QListWidget;
     m_list->setObjectName("keys");
-    layout->addWidget(m_list, 0, 0, 7, 1);
+    layout->addWidget(m_list, 1, 0, 6, 1);
     m_frame = new QSpinBox;
     m_frame->setObjectName("keyFrame");
     m_frame->setRange(0, 1000000);
@@ -87,13 +98,63 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
     connect(m_interpolation, &QComboBox::activated, this, [this](int item) {
         setInterpolation(m_list->currentRow(), KeyInterpolation(m_interpolation->itemData(item).toInt()));
     });
+    connect(m_sets, &QComboBox::activated, this, [this](int item) { setKeySet(m_sets->itemText(item).toStdString()); });
+    connect(newSet, &QPushButton::clicked, this, [this] { newKeySet(); });
     connect(document, &Document::clipsChanged, this, &KeyframePanel::refresh);
-    connect(document, &Document::sceneReplaced, this, &KeyframePanel::refresh);
+    connect(document, &Document::sceneReplaced, this, &KeyframePanel::pickSetOf);
+    pickSetOf();
+}
+
+void KeyframePanel::pickSetOf() {
+    const ClipLibrary& library = m_document->project().clips;
+    m_set = library.findKeyframes(kDefaultSet) || library.keyframes.empty() ? kDefaultSet : library.keyframes.front().name;
     refresh();
+    emit keySetChanged();
+}
+
+void KeyframePanel::setKeySet(const std::string& name) {
+    if (name == m_set)
+        return;
+    m_set = name;
+    {
+        const QSignalBlocker quiet(m_list);
+        m_list->setCurrentRow(-1);  // a row of the other set's keys means nothing here
+    }
+    refresh();
+    emit keySetChanged();
+}
+
+bool KeyframePanel::newKeySet() {
+    const Scene& scene = m_document->scene();
+    const ClipLibrary& library = m_document->project().clips;
+    int n = 2;
+    while (library.findKeyframes(std::string(kDefaultSet) + " " + std::to_string(n)))
+        ++n;
+    NamedKeyframes fresh;
+    fresh.name = std::string(kDefaultSet) + " " + std::to_string(n);
+    for (const SceneObject& o : scene.objects)
+        fresh.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
+    ClipLibrary after = library;
+    after.keyframes.push_back(fresh);
+    m_set = fresh.name;  // shown once the library has it
+    m_document->undoStack()->push(new ClipsEditCommand(m_document, library, std::move(after),
+                                                       tr("New key set %1").arg(QString::fromStdString(fresh.name))));
+    emit keySetChanged();
+    return true;
+}
+
+void KeyframePanel::refreshSets() {
+    const QSignalBlocker quiet(m_sets);
+    m_sets->clear();
+    for (const NamedKeyframes& k : m_document->project().clips.keyframes)
+        m_sets->addItem(QString::fromStdString(k.name));
+    if (m_sets->findText(QString::fromStdString(m_set)) < 0)
+        m_sets->addItem(QString::fromStdString(m_set));  // no keys yet: the first key makes it
+    m_sets->setCurrentIndex(m_sets->findText(QString::fromStdString(m_set)));
 }
 
 std::vector<LatticeKey> KeyframePanel::keys() const {
-    const NamedKeyframes* set = m_document->project().clips.findKeyframes(kSetName);
+    const NamedKeyframes* set = m_document->project().clips.findKeyframes(m_set);
     const auto object = std::size_t(m_viewport->currentObject());
     if (!set || object >= set->objects.size())
         return {};
@@ -108,11 +169,11 @@ bool KeyframePanel::edit(const QString& text, const std::function<Status(Keyfram
     ClipLibrary after = m_document->project().clips;
     NamedKeyframes* set = nullptr;
     for (NamedKeyframes& k : after.keyframes)
-        if (k.name == kSetName)
+        if (k.name == m_set)
             set = &k;
     if (!set) {
         NamedKeyframes fresh;
-        fresh.name = kSetName;
+        fresh.name = m_set;
         for (const SceneObject& o : scene.objects)
             fresh.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
         after.keyframes.push_back(std::move(fresh));
@@ -239,7 +300,7 @@ bool KeyframePanel::setInterpolation(const QList<int>& indices, KeyInterpolation
 void KeyframePanel::showKey(int index) {
     const std::vector<LatticeKey> k = keys();
     const SceneSimulation* sim = m_simulation->simulation();
-    const NamedKeyframes* set = m_document->project().clips.findKeyframes(kSetName);
+    const NamedKeyframes* set = m_document->project().clips.findKeyframes(m_set);
     m_interpolation->setEnabled(index >= 0 && std::size_t(index) < k.size());
     if (index < 0 || std::size_t(index) >= k.size() || !sim || !set)
         return;
@@ -268,7 +329,7 @@ bool KeyframePanel::makeClip(bool goals) {
     const ClipLibrary& library = m_document->project().clips;
     Clip clip;
     clip.source = ClipSource::Keyframes;
-    clip.sourceName = kSetName;
+    clip.sourceName = m_set;
     clip.fps = m_document->scene().world.fps;
     clip.startSeconds = k.front().seconds;
     clip.frames = std::max(1, int(std::lround((k.back().seconds - k.front().seconds) * clip.fps)) + 1);
@@ -277,9 +338,9 @@ bool KeyframePanel::makeClip(bool goals) {
         clip.goals->weight = m_goalStrength->value();
     }
     int n = 1;
-    while (library.findClip("keys clip" + (n > 1 ? " " + std::to_string(n) : "")))
+    while (library.findClip(m_set + " clip" + (n > 1 ? " " + std::to_string(n) : "")))
         ++n;
-    clip.name = "keys clip" + (n > 1 ? " " + std::to_string(n) : "");
+    clip.name = m_set + " clip" + (n > 1 ? " " + std::to_string(n) : "");
     ClipLibrary after = library;
     after.clips.push_back(clip);
     if (Status s = after.validate(m_document->scene()); !s) {
@@ -293,6 +354,7 @@ bool KeyframePanel::makeClip(bool goals) {
 }
 
 void KeyframePanel::refresh() {
+    refreshSets();
     const QSignalBlocker block(m_list);
     const int selected = m_list->currentRow();
     m_list->clear();

@@ -144,6 +144,7 @@ void MainWindow::buildDocks() {
     auto* timelineDock = dock(tr("Timeline"), "timelineDock", m_timeline, Qt::BottomDockWidgetArea);
     timelineDock->setMaximumHeight(300);  // the ruler and a dope sheet of a few rows
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
+    m_timeline->setKeySetSource([this] { return m_keyframes->keySet(); });
     auto* keysDock = dock(tr("Keys"), "keysDock", m_keyframes, Qt::BottomDockWidgetArea);
     keysDock->setMaximumHeight(220);
     // Beside the timeline, not a tab behind it: an animator keys while looking at the ruler.
@@ -164,6 +165,7 @@ void MainWindow::buildDocks() {
     connect(m_document, &Document::clipsChanged, ruler, showKeys);
     connect(m_document, &Document::sceneReplaced, ruler, showKeys);
     connect(m_viewport, &Viewport::selectionChanged, ruler, showKeys);  // also sent when the current object changes
+    connect(m_keyframes, &KeyframePanel::keySetChanged, ruler, showKeys);
     connect(ruler, &FrameRuler::keySelected, m_keyframes, &KeyframePanel::showKey);
     connect(ruler, &FrameRuler::playheadMoved, m_keyframes,
             [this, ruler](int frame) { m_keyframes->setKeyTime(ruler->secondsOfFrame(frame)); });
@@ -178,6 +180,7 @@ void MainWindow::buildDocks() {
     // edited there several at a time, each edit one undo step of the keys panel.
     DopeSheet* sheet = m_timeline->dopeSheet();
     connect(m_viewport, &Viewport::selectionChanged, m_timeline, &TimelinePanel::refreshDopeSheet);
+    connect(m_keyframes, &KeyframePanel::keySetChanged, m_timeline, &TimelinePanel::refreshDopeSheet);
     connect(sheet, &DopeSheet::keySelected, m_keyframes, &KeyframePanel::showKey);
     connect(sheet, &DopeSheet::keysMoved, m_keyframes,
             [this](const QList<int>& keys, double seconds, bool copy) { m_keyframes->moveKeys(keys, seconds, copy); });

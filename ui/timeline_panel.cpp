@@ -220,7 +220,8 @@ double TimelinePanel::fps() const { return m_document->scene().world.fps; }
 void TimelinePanel::refreshDopeSheet() {
     const Scene& scene = m_document->scene();
     const ClipLibrary& library = m_document->project().clips;
-    const NamedKeyframes* keys = library.findKeyframes(KeyframePanel::kSetName);
+    const std::string set = m_keySet ? m_keySet() : std::string(KeyframePanel::kDefaultSet);
+    const NamedKeyframes* keys = library.findKeyframes(set);
     const int current = m_currentObject ? m_currentObject() : 0;
     std::vector<DopeSheet::Row> rows;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -238,7 +239,7 @@ void TimelinePanel::refreshDopeSheet() {
     // The clips of those keys, as the stretch of key time each plays.
     for (std::size_t c = 0; c < library.clips.size(); ++c) {
         const Clip& clip = library.clips[c];
-        if (clip.source != ClipSource::Keyframes || clip.sourceName != KeyframePanel::kSetName)
+        if (clip.source != ClipSource::Keyframes || clip.sourceName != set)
             continue;
         DopeSheet::Row row;
         row.label = QString::fromStdString(clip.name);

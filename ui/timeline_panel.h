@@ -108,6 +108,8 @@ public slots:
     void setPreviewAssets(io::PreviewAssets assets) { m_previewAssets = std::move(assets); }
     /// The object "only the current object" exports (the main window passes the viewport's).
     void setCurrentObjectSource(std::function<int()> current) { m_currentObject = std::move(current); }
+    /// Where the dope sheet learns which keyframe set it shows (the keys panel's; "keys" without one).
+    void setKeySetSource(std::function<std::string()> set) { m_keySet = std::move(set); }
     /// The name of the clip Export… writes now: the selected clip's, or "" (the drivers) when none is selected.
     std::string exportedClipName() const;
     /// Where the export and render dialogs start: beside the project (else the home folder), named after
@@ -168,6 +170,7 @@ private:
     NodeFrames m_clipFrames;   ///< The selected clip, evaluated.
     std::function<render::CameraPlacement()> m_viewCamera;  ///< See setViewCamera().
     std::function<int()> m_currentObject;                   ///< See setCurrentObjectSource().
+    std::function<std::string()> m_keySet;                  ///< See setKeySetSource().
     int m_clipShown = -1;      ///< Which clip m_clipFrames holds ...
     std::uint64_t m_clipRevision = 0;  ///< ... evaluated at this document revision.
 };

@@ -200,6 +200,7 @@ private slots:
     void keysHoldOrGoStraightAsTheRulerMenuSays();
     void dopeSheetShowsEveryObjectsKeysAndTheirClips();
     void dopeSheetEditsSeveralKeysAsOne();
+    void keySetsAreMadeAndChosenInTheKeysPanel();
     void trimmedTakeClipExportsItsRange();
     void clipsRenameDuplicateRetimeDeleteAndPlay();
     void scriptedDeviceDrivesTheFishAtHapticRate();

@@ -140,3 +140,65 @@ void TestEditor::dopeSheetEditsSeveralKeysAsOne() {
     for (int k = 0; k < 4; ++k)
         QCOMPARE(keys->keys()[std::size_t(k)].seconds, before[std::size_t(k)].seconds);
 }
+
+void TestEditor::keySetsAreMadeAndChosenInTheKeysPanel() {
+    // A second keyframe set beside "keys": made with New set (one undo step), keyed and clipped on its own, and
+    // chosen in the Key set box; the dope sheet and the ruler show the chosen set's keys and clips only.
+    MainWindow& w = *m_window;
+    KeyframePanel* keys = w.keyframes();
+    SimulationController* sim = w.simulation();
+    DopeSheet* sheet = w.timeline()->dopeSheet();
+    FrameRuler* ruler = w.timeline()->ruler();
+    QUndoStack* undo = w.document()->undoStack();
+    const ClipLibrary& library = w.document()->project().clips;
+    sim->setDriversEnabled(false);
+    auto* box = keys->findChild<QComboBox*>("keySet");
+    QVERIFY(box);
+    QCOMPARE(box->currentText(), QString("keys"));
+    std::vector<Vec3> pose = w.document()->scene().objects[0].lattice.restNodes();
+    QVERIFY(keys->keyPose(0.0));
+    pose[0] += Vec3(0, 0.05, 0);
+    QVERIFY(sim->setObjectPose(0, pose));
+    QVERIFY(keys->keyPose(1.0));
+    QVERIFY(keys->makeClip(false));
+
+    const int before = undo->index();
+    QTest::mouseClick(keys->findChild<QPushButton*>("newKeySet"), Qt::LeftButton);
+    QCOMPARE(keys->keySet(), std::string("keys 2"));
+    QCOMPARE(box->currentText(), QString("keys 2"));
+    QCOMPARE(undo->index(), before + 1);
+    QVERIFY(library.findKeyframes("keys 2") && keys->keys().empty());
+    QVERIFY(sheet->rows()[0].keys.empty());
+    QCOMPARE(int(sheet->rows().size()), 1);  // the "keys" clip is not this set's
+    QVERIFY(ruler->keys().empty());
+
+    // Keys and a clip of the new set leave "keys" as it was.
+    QVERIFY(keys->keyPose(0.5));
+    pose[1] += Vec3(0.04, 0, 0);
+    QVERIFY(sim->setObjectPose(0, pose));
+    QVERIFY(keys->keyPose(1.5));
+    QVERIFY(keys->makeClip(true));
+    QCOMPARE(library.clips.back().sourceName, std::string("keys 2"));
+    QCOMPARE(library.clips.back().name, std::string("keys 2 clip"));
+    QCOMPARE(library.findKeyframes("keys")->objects[0].keys().size(), std::size_t(2));
+    QCOMPARE(sheet->rows()[0].keys, (std::vector<double>{0.5, 1.5}));
+    QCOMPARE(int(sheet->rows().size()), 2);
+    QCOMPARE(sheet->rows()[1].clip, int(library.clips.size()) - 1);
+
+    // The box, from the keyboard: back to "keys", its keys and clip on the dope sheet and the ruler.
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Up);
+    QCOMPARE(keys->keySet(), std::string("keys"));
+    QCOMPARE(box->count(), 2);
+    QCOMPARE(sheet->rows()[0].keys, (std::vector<double>{0.0, 1.0}));
+    QCOMPARE(sheet->rows()[1].clip, int(library.clips.size()) - 2);
+    QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+
+    // Undo takes the second set's edits back, then the set itself.
+    for (int i = 0; i < 4; ++i)
+        undo->undo();
+    QCOMPARE(undo->index(), before);
+    QVERIFY(!library.findKeyframes("keys 2"));
+    QCOMPARE(box->count(), 1);
+    QCOMPARE(library.findKeyframes("keys")->objects[0].keys().size(), std::size_t(2));
+}

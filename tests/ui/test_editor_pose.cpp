@@ -150,7 +150,7 @@ void TestEditor::poseToolMovesRotatesScalesAndKeys() {
     const std::vector<LatticeKey> keyed = w.keyframes()->keys();
     QCOMPARE(keyed.size(), std::size_t(1));
     QCOMPARE(keyed[0].nodes.size(), std::size_t(1));
-    const NamedKeyframes* set = w.document()->project().clips.findKeyframes(KeyframePanel::kSetName);
+    const NamedKeyframes* set = w.document()->project().clips.findKeyframes(KeyframePanel::kDefaultSet);
     QVERIFY(set);
     const std::vector<Vec3> restNodes = w.document()->scene().objects[0].lattice.restNodes();
     QVERIFY((set->objects[0].pose(keyed[0].seconds, restNodes)[std::size_t(n)] - gizmoed[std::size_t(n)]).norm() < 1e-9);
