@@ -145,6 +145,7 @@ void MainWindow::buildDocks() {
     timelineDock->setMaximumHeight(300);  // the ruler and a dope sheet of a few rows
     m_keyframes = new KeyframePanel(m_document, m_simulation, m_viewport);
     m_timeline->setKeySetSource([this] { return m_keyframes->keySet(); });
+    connect(m_timeline, &TimelinePanel::keyedClipChosen, m_keyframes, &KeyframePanel::setKeySet);
     auto* keysDock = dock(tr("Keys"), "keysDock", m_keyframes, Qt::BottomDockWidgetArea);
     keysDock->setMaximumHeight(220);
     // Beside the timeline, not a tab behind it: an animator keys while looking at the ruler.

@@ -334,6 +334,8 @@ void TimelinePanel::selectClip(int row) {
     showRanges();
     showClipFrame(row, 0);
     showLoopState();
+    if (clip.source == ClipSource::Keyframes)
+        emit keyedClipChosen(clip.sourceName);
 }
 
 void TimelinePanel::showFrame(int frame) {

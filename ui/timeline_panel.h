@@ -48,6 +48,10 @@ public:
     /// Number of takes (recorded sessions) in the project.
     int takeCount() const;
 
+signals:
+    /// A clip of keyframe set `set` was chosen in the Clips list: the keys panel shows that set.
+    void keyedClipChosen(const std::string& set);
+
 public slots:
     void toggleRecording();
     /// Shows take `index` at `frame` (replayed exactly).

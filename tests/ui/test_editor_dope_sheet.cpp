@@ -194,11 +194,24 @@ void TestEditor::keySetsAreMadeAndChosenInTheKeysPanel() {
     QCOMPARE(sheet->rows()[1].clip, int(library.clips.size()) - 2);
     QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
 
+    // Choosing a clip of the second set in the Clips list shows that set.
+    auto* clipList = w.timeline()->findChild<QListWidget*>("clips");
+    QListWidgetItem* second = clipList->item(int(library.clips.size()) - 1);
+    QTest::mouseClick(clipList->viewport(), Qt::LeftButton, {}, clipList->visualItemRect(second).center());
+    QCOMPARE(keys->keySet(), std::string("keys 2"));
+    QCOMPARE(box->currentText(), QString("keys 2"));
+    QCOMPARE(sheet->rows()[0].keys, (std::vector<double>{0.5, 1.5}));
+    clipList->setCurrentRow(-1);
+
     // Undo takes the second set's edits back, then the set itself.
     for (int i = 0; i < 4; ++i)
         undo->undo();
     QCOMPARE(undo->index(), before);
     QVERIFY(!library.findKeyframes("keys 2"));
+    QCOMPARE(box->count(), 2);  // still shown, with no keys: the first key makes it again
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Up);
+    QCOMPARE(keys->keySet(), std::string("keys"));
     QCOMPARE(box->count(), 1);
     QCOMPARE(library.findKeyframes("keys")->objects[0].keys().size(), std::size_t(2));
 }
