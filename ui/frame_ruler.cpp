@@ -102,6 +102,11 @@ int FrameRuler::keyAt(const QPointF& pos) const {
     return best;
 }
 
+void FrameRuler::setKeysLabel(const QString& label) {
+    m_keysLabel = label;
+    update();
+}
+
 void FrameRuler::paintEvent(QPaintEvent*) {
     QPainter painter(this);
     painter.setRenderHint(QPainter::Antialiasing);
@@ -109,7 +114,9 @@ void FrameRuler::paintEvent(QPaintEvent*) {
     if (m_gutter > 0.0) {  // the dope sheet's names below; here, what the row of ticks is
         painter.fillRect(QRectF(0, 0, m_gutter, height()), palette().window());
         painter.setPen(palette().color(QPalette::PlaceholderText));
-        painter.drawText(QRectF(4, kKeysY - 9, m_gutter - 6, 18), Qt::AlignLeft | Qt::AlignVCenter, tr("keys"));
+        const QRectF label(4, kKeysY - 9, m_gutter - 6, 18);
+        painter.drawText(label, Qt::AlignLeft | Qt::AlignVCenter,
+                         painter.fontMetrics().elidedText(m_keysLabel, Qt::ElideRight, int(label.width())));
     }
     // Frame numbers every `step` frames, at least 48 px apart; a small tick on every frame when there is room.
     const double perFrame = (width() - m_gutter - 2.0 * kMargin) / std::max(1, m_lastFrame);

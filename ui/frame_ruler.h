@@ -61,6 +61,9 @@ public:
     /// not given).
     void setKeys(std::vector<double> seconds, std::vector<KeyInterpolation> interpolation = {});
     const std::vector<double>& keys() const { return m_keys; }
+    /// What the row of key ticks is called in the gutter: the key set they belong to ("keys" until set).
+    void setKeysLabel(const QString& label);
+    const QString& keysLabel() const { return m_keysLabel; }
     /// The selected key (-1: none).
     int selectedKey() const { return m_selectedKey; }
 
@@ -116,6 +119,7 @@ private:
     int m_frame = 0;
     std::optional<std::pair<int, int>> m_inOut;
     std::vector<double> m_keys;
+    QString m_keysLabel = QStringLiteral("keys");
     std::vector<KeyInterpolation> m_interpolation;  ///< Per key.
     std::vector<Range> m_ranges;
     int m_selectedKey = -1;

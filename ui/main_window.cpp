@@ -162,6 +162,7 @@ void MainWindow::buildDocks() {
             interpolation.push_back(k.interpolation);
         }
         ruler->setKeys(std::move(seconds), std::move(interpolation));
+        ruler->setKeysLabel(QString::fromStdString(m_keyframes->keySet()));
     };
     connect(m_document, &Document::clipsChanged, ruler, showKeys);
     connect(m_document, &Document::sceneReplaced, ruler, showKeys);

@@ -171,6 +171,7 @@ void TestEditor::keySetsAreMadeAndChosenInTheKeysPanel() {
     QVERIFY(sheet->rows()[0].keys.empty());
     QCOMPARE(int(sheet->rows().size()), 1);  // the "keys" clip is not this set's
     QVERIFY(ruler->keys().empty());
+    QCOMPARE(ruler->keysLabel(), QString("keys 2"));  // the ruler's row of ticks says whose keys they are
 
     // Keys and a clip of the new set leave "keys" as it was.
     QVERIFY(keys->keyPose(0.5));
@@ -193,6 +194,7 @@ void TestEditor::keySetsAreMadeAndChosenInTheKeysPanel() {
     QCOMPARE(sheet->rows()[0].keys, (std::vector<double>{0.0, 1.0}));
     QCOMPARE(sheet->rows()[1].clip, int(library.clips.size()) - 2);
     QCOMPARE(ruler->keys(), (std::vector<double>{0.0, 1.0}));
+    QCOMPARE(ruler->keysLabel(), QString("keys"));
 
     // Choosing a clip of the second set in the Clips list shows that set.
     auto* clipList = w.timeline()->findChild<QListWidget*>("clips");
