@@ -106,8 +106,7 @@ KeyframePanel::KeyframePanel(Document* document, SimulationController* simulatio
 }
 
 void KeyframePanel::pickSetOf() {
-    const ClipLibrary& library = m_document->project().clips;
-    m_set = library.findKeyframes(kDefaultSet) || library.keyframes.empty() ? kDefaultSet : library.keyframes.front().name;
+    m_set = kDefaultSet;  // refresh() moves on to the first set where the project has sets but not this one
     refresh();
     emit keySetChanged();
 }
@@ -354,6 +353,13 @@ bool KeyframePanel::makeClip(bool goals) {
 }
 
 void KeyframePanel::refresh() {
+    // The shown set is one of the project's, or "keys" in a project with none yet (the first key makes it): a
+    // project opens on "keys" or its first set, and a set an undo took away gives way to them.
+    const ClipLibrary& library = m_document->project().clips;
+    if (!library.keyframes.empty() && !library.findKeyframes(m_set)) {
+        m_set = library.findKeyframes(kDefaultSet) ? kDefaultSet : library.keyframes.front().name;
+        emit keySetChanged();
+    }
     refreshSets();
     const QSignalBlocker block(m_list);
     const int selected = m_list->currentRow();

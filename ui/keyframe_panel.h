@@ -71,7 +71,7 @@ private:
     void refresh();
     /// The Key set box: the library's sets, and the shown one where it has no keys yet.
     void refreshSets();
-    /// A new document: its "keys", else its first set, else "keys".
+    /// A new document: its "keys", else its first set, else "keys" (refresh() keeps to that rule).
     void pickSetOf();
     /// The Key frame field's time in seconds, beside it.
     void showSeconds();
