@@ -20,6 +20,19 @@
 
 namespace softtouch::ui {
 
+namespace {
+
+/// A keyframe set named `name` with no keys, one animation per object of `scene` on its lattice's nodes.
+NamedKeyframes emptyKeySet(const std::string& name, const Scene& scene) {
+    NamedKeyframes set;
+    set.name = name;
+    for (const SceneObject& o : scene.objects)
+        set.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
+    return set;
+}
+
+}  // namespace
+
 KeyframePanel::KeyframePanel(Document* document, SimulationController* simulation, Viewport* viewport, QWidget* parent)
     : QWidget(parent), m_document(document), m_simulation(simulation), m_viewport(viewport) {
     auto* layout = new QGridLayout(this);
@@ -129,10 +142,7 @@ bool KeyframePanel::newKeySet() {
     int n = 2;
     while (library.findKeyframes(std::string(kDefaultSet) + " " + std::to_string(n)))
         ++n;
-    NamedKeyframes fresh;
-    fresh.name = std::string(kDefaultSet) + " " + std::to_string(n);
-    for (const SceneObject& o : scene.objects)
-        fresh.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
+    NamedKeyframes fresh = emptyKeySet(std::string(kDefaultSet) + " " + std::to_string(n), scene);
     ClipLibrary after = library;
     after.keyframes.push_back(fresh);
     m_set = fresh.name;  // shown once the library has it
@@ -171,11 +181,7 @@ bool KeyframePanel::edit(const QString& text, const std::function<Status(Keyfram
         if (k.name == m_set)
             set = &k;
     if (!set) {
-        NamedKeyframes fresh;
-        fresh.name = m_set;
-        for (const SceneObject& o : scene.objects)
-            fresh.objects.emplace_back(std::size_t(o.lattice.nodeCount()));
-        after.keyframes.push_back(std::move(fresh));
+        after.keyframes.push_back(emptyKeySet(m_set, scene));
         set = &after.keyframes.back();
     }
     if (object >= set->objects.size() || set->objects[object].nodeCount() != std::size_t(scene.objects[object].lattice.nodeCount())) {
